@@ -1,0 +1,24 @@
+"""marinecdpr: cable-driven parallel robots on a moving ship.
+
+The public entry points are :func:`load_scenario` and :func:`plan`; the numerical
+layers (:mod:`~marinecdpr.kinematics`, :mod:`~marinecdpr.dynamics`,
+:mod:`~marinecdpr.tension`) are pure functions on arrays shaped ``(n_steps, ...)``.
+"""
+
+from .errors import InfeasibleError, MarineCDPRError, ScenarioError
+from .planning import Plan, iter_plan, plan
+from .scenario import Scenario, builtin_scenarios, load_scenario
+
+__all__ = [
+    "load_scenario",
+    "builtin_scenarios",
+    "plan",
+    "iter_plan",
+    "Plan",
+    "Scenario",
+    "MarineCDPRError",
+    "ScenarioError",
+    "InfeasibleError",
+]
+
+__version__ = "0.1.0"

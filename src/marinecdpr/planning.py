@@ -1,0 +1,237 @@
+"""Tension planning: the scenario's trajectory on the moving ship, step by step as arrays.
+
+:func:`plan` runs the whole chain for a scenario, over the whole time series at
+once (in chunks that keep temporaries in cache and memory bounded):
+ship motion -> platform motion -> cable kinematics -> required wrench ->
+pseudo-inverse tensions (eq. 18) -> the chosen method's tensions.
+:func:`iter_plan` yields the same results chunk by chunk, for records too long
+to hold.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterator
+
+import numpy as np
+
+from .basemotion import evaluate_base_motion, still_ship
+from .dynamics import disturbance_in_C, uncontrolled, wrench_terms
+from .kinematics import cable_kinematics
+from .scenario import Scenario
+from .tension import distribute_tensions, pseudo_inverse_tensions
+from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
+
+__all__ = ["Plan", "plan", "iter_plan", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
+
+DEFAULT_CHUNK_STEPS = 8192
+TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
+"""Names of pose / twist components in C (positions m, angles rad)."""
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A tension plan over a time series. Arrays share the first axis ``n_steps``.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n_steps,)
+        s.
+    pose : ndarray, shape (n_steps, 6)
+        ``(x, y, z, rx, ry, rz)`` of P in C, m and rad.
+    twist, twist_dot : ndarray, shape (n_steps, 6)
+        (v_PC, omega_PC) in C and its derivative.
+    lengths, length_rates : ndarray, shape (n_steps, n_cables)
+        Cable lengths (m) and their rates (m/s).
+    wrench : ndarray, shape (n_steps, 6)
+        Required wrench w in C (eq. 15), N and N m.
+    C_s, F_s : ndarray, shape (n_steps, 6)
+        Ship-induced inertial terms and external interference (eqs. 15-16), in C.
+    tensions_pinv : ndarray, shape (n_steps, n_cables)
+        Pseudo-inverse tensions T_s (eq. 18), N; may be negative.
+    tensions : ndarray, shape (n_steps, n_cables)
+        The method's tensions, N; NaN where infeasible.
+    feasible : ndarray of bool, shape (n_steps,)
+    reaction : ndarray, shape (n_steps, 6 - k)
+        Wrench the hull or guide supplies in the DOFs the cables do not control
+        (``reaction_dofs``), in C; NaN where infeasible.
+    reaction_dofs : tuple of str
+        Names of the uncontrolled twist components, e.g. ("y", "rx", "rz").
+    method, base_model : str
+    """
+
+    t: np.ndarray
+    pose: np.ndarray
+    twist: np.ndarray
+    twist_dot: np.ndarray
+    lengths: np.ndarray
+    length_rates: np.ndarray
+    wrench: np.ndarray
+    C_s: np.ndarray
+    F_s: np.ndarray
+    tensions_pinv: np.ndarray
+    tensions: np.ndarray
+    feasible: np.ndarray
+    reaction: np.ndarray
+    reaction_dofs: tuple[str, ...]
+    method: str
+    base_model: str
+
+    @property
+    def n_steps(self) -> int:
+        return self.t.size
+
+    @property
+    def all_feasible(self) -> bool:
+        return bool(self.feasible.all())
+
+    def infeasibility(self) -> str | None:
+        """One line naming the infeasible steps, or None if every step is feasible."""
+        bad = np.flatnonzero(~self.feasible)
+        if bad.size == 0:
+            return None
+        i = bad[0]
+        pose = ", ".join(
+            f"{name} = {self.pose[i, j] if j < 3 else np.degrees(self.pose[i, j]):.4g}"
+            f"{' m' if j < 3 else ' deg'}"
+            for j, name in enumerate(TWIST_NAMES)
+        )
+        return (
+            f"the cables cannot hold the platform within their tension limits at "
+            f"{bad.size} of {self.n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
+        )
+
+
+_ARRAY_FIELDS = (
+    "t", "pose", "twist", "twist_dot", "lengths", "length_rates", "wrench", "C_s", "F_s",
+    "tensions_pinv", "tensions", "feasible", "reaction",
+)
+
+
+def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str) -> dict:
+    robot = scenario.robot
+    platform = evaluate_trajectory(scenario.trajectory, t)
+    check_in_frame(platform, robot, t)
+    ship = (
+        still_ship(t.size) if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, t)
+    )
+    twist = platform.twist
+    kin = cable_kinematics(
+        platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
+    )
+    f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
+    f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
+    terms = wrench_terms(
+        platform.x_PC_C, twist, platform.twist_dot, platform.R_PC, ship,
+        frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
+        mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
+        f_ext_C=f_C, m_ext_C=m_C,
+    )
+    w = terms.total
+    c = list(robot.controlled)
+    J = kin.J_tilde[:, :, c]
+    T_s, ok = pseudo_inverse_tensions(J, w[:, c])
+    sol = distribute_tensions(
+        J, w[:, c], robot.tension_min, robot.tension_max, method=method, T_s=T_s, ok=ok
+    )
+    u = list(uncontrolled(robot.controlled))
+    # the guide supplies what the cables do not: w - J~^T T in the uncontrolled DOFs
+    reaction = w[:, u] - np.einsum("nmk,nm->nk", kin.J_tilde[:, :, u], sol.tensions)
+    return dict(
+        t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
+        lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,
+        C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
+        feasible=sol.feasible, reaction=reaction,
+    )
+
+
+def _options(scenario: Scenario, method: str | None, base_model: str | None) -> tuple[str, str]:
+    method = method or scenario.planning.method
+    base_model = base_model or scenario.planning.base_model
+    if base_model not in ("moving", "fixed"):
+        raise ValueError(f"base_model must be 'moving' or 'fixed', not {base_model!r}")
+    return method, base_model
+
+
+def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
+    names = tuple(TWIST_NAMES[i] for i in uncontrolled(scenario.robot.controlled))
+    return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model)
+
+
+def iter_plan(
+    scenario: Scenario,
+    *,
+    method: str | None = None,
+    base_model: str | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+) -> Iterator[Plan]:
+    """Plan the scenario chunk by chunk; memory stays bounded by ``chunk_steps``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    method : str, optional
+        Tension method; default the scenario's ``planning.method``.
+    base_model : {"moving", "fixed"}, optional
+        Default the scenario's ``planning.base_model``.
+    chunk_steps : int
+        Steps per yielded :class:`Plan`.
+
+    Yields
+    ------
+    Plan
+        Consecutive pieces of the plan.
+
+    Raises
+    ------
+    ScenarioError
+        If the trajectory leaves the frame.
+    """
+    method, base_model = _options(scenario, method, base_model)
+    n = scenario.time.n_steps
+    step = scenario.time.step_s
+    for start in range(0, n, chunk_steps):
+        t = np.arange(start, min(start + chunk_steps, n)) * step
+        yield _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+
+
+def plan(
+    scenario: Scenario,
+    *,
+    method: str | None = None,
+    base_model: str | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+) -> Plan:
+    """Plan cable tensions for the scenario's trajectory on its moving ship.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        From :func:`~marinecdpr.load_scenario`.
+    method : str, optional
+        Tension method (see :mod:`marinecdpr.tension`); default the scenario's.
+    base_model : {"moving", "fixed"}, optional
+        "fixed" plans as if the ship were still (the traditional model).
+    chunk_steps : int
+        Steps computed at once; results do not depend on it.
+
+    Returns
+    -------
+    Plan
+        Infeasible steps are flagged (``feasible``), with NaN tensions; see
+        :meth:`Plan.infeasibility`.
+    """
+    method, base_model = _options(scenario, method, base_model)
+    n = scenario.time.n_steps
+    if n <= chunk_steps:
+        t = np.arange(n) * scenario.time.step_s
+        return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+    out: dict[str, np.ndarray] = {}
+    for piece in iter_plan(scenario, method=method, base_model=base_model, chunk_steps=chunk_steps):
+        i0 = int(round(piece.t[0] / scenario.time.step_s))
+        for name in _ARRAY_FIELDS:
+            arr = getattr(piece, name)
+            if name not in out:
+                out[name] = np.empty((n,) + arr.shape[1:], dtype=arr.dtype)
+            out[name][i0 : i0 + arr.shape[0]] = arr
+    return _make_plan(scenario, out, method, base_model)

@@ -1,0 +1,560 @@
+"""Scenario files: the robot, the ship, its motion, the trajectory, the plan's options.
+
+A scenario is a TOML file (see ``docs/scenario.md`` for every key and its unit) or
+a built-in name (``paper``). Keys carry their unit in their name (``mass_kg``,
+``amplitude_deg``); angles in files are in degrees, everything is SI otherwise.
+
+Structure and types are checked by pydantic; physical sense (a positive definite
+inertia, T_min < T_max, enough cables, distinct anchors, a planar trajectory for a
+planar robot) by validators on the models. Every failure surfaces as one
+:class:`~marinecdpr.errors.ScenarioError` naming the source and the key.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from functools import cached_property
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictFloat,
+    StrictStr,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from .errors import ScenarioError
+
+__all__ = [
+    "Scenario",
+    "Robot",
+    "Cable",
+    "load_scenario",
+    "builtin_scenarios",
+    "SHIP_DOFS",
+    "CONTROLLED_DOFS",
+    "TENSION_METHODS",
+]
+
+SHIP_DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+"""Ship degrees of freedom, in the order of the 6-vector eta = (x, y, z, roll, pitch, yaw)."""
+
+CONTROLLED_DOFS = {"planar": (0, 2, 4), "spatial": (0, 1, 2, 3, 4, 5)}
+"""Indices into the twist (v_x, v_y, v_z, w_x, w_y, w_z) in C that the cables control."""
+
+TENSION_METHODS = (
+    "pseudo_inverse",
+    "minimum_variance",
+    "closed_form",
+    "improved_closed_form",
+    "minimum_norm",
+)
+
+Vec3 = tuple[StrictFloat, StrictFloat, StrictFloat]
+PositiveFloat = Annotated[StrictFloat, Field(gt=0)]
+NonNegativeFloat = Annotated[StrictFloat, Field(ge=0)]
+ANCHOR_TOLERANCE_M = 1e-9
+
+
+class _KeyedError(ValueError):
+    """A validator's error that names a key below the model that raised it."""
+
+    def __init__(self, key: str, message: str):
+        self.key = key
+        super().__init__(message)
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+# --------------------------------------------------------------------------- robot
+class Cable(_Model):
+    """One cable: where it leaves the frame and where it holds the platform."""
+
+    frame_anchor_m: Vec3
+    """c_i in frame C, m."""
+    platform_anchor_m: Vec3
+    """p_i in frame P (origin at the platform's centre of mass), m."""
+    tension_min_N: NonNegativeFloat | None = None
+    """Smallest allowed tension, N (default: ``robot.tension_min_N``)."""
+    tension_max_N: PositiveFloat | None = None
+    """Largest allowed tension, N (default: ``robot.tension_max_N``)."""
+
+
+class Robot(_Model):
+    """The cable robot: platform, cables and which degrees of freedom they control."""
+
+    dofs: Literal["planar", "spatial"] = "planar"
+    mass_kg: PositiveFloat
+    inertia_kg_m2: list[StrictFloat] | list[list[StrictFloat]]
+    """About the centre of mass in P: 3 principal moments or a 3x3 matrix."""
+    tension_min_N: NonNegativeFloat | None = None
+    tension_max_N: PositiveFloat | None = None
+    cables: list[Cable] = Field(min_length=1)
+
+    @field_validator("inertia_kg_m2")
+    @classmethod
+    def _check_inertia(cls, value: Any) -> Any:
+        I = np.asarray(value, dtype=float)
+        if I.shape == (3,):
+            I = np.diag(I)
+        elif I.shape != (3, 3):
+            raise ValueError(
+                f"expected 3 principal moments or a 3x3 matrix, got shape {I.shape}"
+            )
+        scale = max(float(np.abs(I).max()), 1e-300)
+        if not np.allclose(I, I.T, rtol=0, atol=1e-12 * scale):
+            raise ValueError("inertia matrix is not symmetric")
+        eig = np.linalg.eigvalsh(I)
+        if eig[0] <= 0:
+            raise ValueError(f"inertia is not positive definite (eigenvalues {eig.round(6).tolist()})")
+        if eig[0] + eig[1] < eig[2] * (1 - 1e-9):
+            raise ValueError(
+                "no rigid body has this inertia: principal moments break the triangle "
+                f"inequality ({eig[0]:g} + {eig[1]:g} < {eig[2]:g})"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _check_cables(self) -> "Robot":
+        n_dof = len(CONTROLLED_DOFS[self.dofs])
+        if len(self.cables) < n_dof:
+            raise _KeyedError(
+                "cables",
+                f"{len(self.cables)} cables cannot control the {n_dof} degrees of freedom "
+                f"of a {self.dofs} robot (need at least {n_dof})",
+            )
+        for i, cable in enumerate(self.cables, start=1):
+            lo = cable.tension_min_N if cable.tension_min_N is not None else self.tension_min_N
+            hi = cable.tension_max_N if cable.tension_max_N is not None else self.tension_max_N
+            for name, val in (("tension_min_N", lo), ("tension_max_N", hi)):
+                if val is None:
+                    raise _KeyedError(
+                        f"cables[{i}].{name}", f"missing, and no robot.{name} default is given"
+                    )
+            if lo >= hi:
+                raise _KeyedError(
+                    f"cables[{i}]",
+                    f"tension_min_N ({lo:g}) must be below tension_max_N ({hi:g})",
+                )
+        for attr, what in (("frame_anchor_m", "frame"), ("platform_anchor_m", "platform")):
+            pts = np.array([getattr(c, attr) for c in self.cables])
+            d = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=-1)
+            i, j = np.nonzero(np.triu(d <= ANCHOR_TOLERANCE_M, k=1))
+            if i.size:
+                raise _KeyedError(
+                    f"cables[{j[0] + 1}].{attr}",
+                    f"same {what} anchor as cable {i[0] + 1} ({pts[i[0]].tolist()} m)",
+                )
+        return self
+
+    # Arrays the numerical layers use.
+    @property
+    def n_cables(self) -> int:
+        return len(self.cables)
+
+    @property
+    def controlled(self) -> tuple[int, ...]:
+        """Twist components the cables control (indices into (v, omega) in C)."""
+        return CONTROLLED_DOFS[self.dofs]
+
+    @property
+    def frame_anchors(self) -> np.ndarray:
+        """c_i^C, shape (n_cables, 3), m."""
+        return np.array([c.frame_anchor_m for c in self.cables], dtype=float)
+
+    @property
+    def platform_anchors(self) -> np.ndarray:
+        """p_i^P, shape (n_cables, 3), m."""
+        return np.array([c.platform_anchor_m for c in self.cables], dtype=float)
+
+    @property
+    def inertia(self) -> np.ndarray:
+        """I_PP, shape (3, 3), kg m^2, about the centre of mass in P."""
+        I = np.asarray(self.inertia_kg_m2, dtype=float)
+        return np.diag(I) if I.shape == (3,) else I
+
+    @property
+    def tension_min(self) -> np.ndarray:
+        """T_min per cable, shape (n_cables,), N."""
+        return np.array(
+            [c.tension_min_N if c.tension_min_N is not None else self.tension_min_N for c in self.cables],
+            dtype=float,
+        )
+
+    @property
+    def tension_max(self) -> np.ndarray:
+        """T_max per cable, shape (n_cables,), N."""
+        return np.array(
+            [c.tension_max_N if c.tension_max_N is not None else self.tension_max_N for c in self.cables],
+            dtype=float,
+        )
+
+
+# ---------------------------------------------------------------------- ship, sea
+class Ship(_Model):
+    """Where the robot stands on the ship."""
+
+    frame_origin_m: Vec3 = (0.0, 0.0, 0.0)
+    """Origin of the robot frame C in the ship frame S, m (C's axes are S's)."""
+
+
+class StillMotion(_Model):
+    """A ship that does not move (S coincides with O)."""
+
+    type: Literal["still"]
+
+
+class SineComponent(_Model):
+    """``offset + amplitude * sin(2 pi t / period_s + phase)`` on one ship DOF."""
+
+    dof: Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]
+    amplitude_m: StrictFloat | None = None
+    amplitude_deg: StrictFloat | None = None
+    offset_m: StrictFloat | None = None
+    offset_deg: StrictFloat | None = None
+    period_s: PositiveFloat
+    phase_deg: StrictFloat = 0.0
+
+    @model_validator(mode="after")
+    def _check_units(self) -> "SineComponent":
+        angular = self.dof in ("roll", "pitch", "yaw")
+        want, wrong = ("deg", "m") if angular else ("m", "deg")
+        kind = "an angle" if angular else "a displacement"
+        for stem in ("amplitude", "offset"):
+            if getattr(self, f"{stem}_{wrong}") is not None:
+                raise _KeyedError(
+                    f"{stem}_{wrong}", f"{self.dof} is {kind}: give {stem}_{want}, not {stem}_{wrong}"
+                )
+        if getattr(self, f"amplitude_{want}") is None:
+            raise _KeyedError(f"amplitude_{want}", f"missing (the amplitude of {self.dof})")
+        return self
+
+    @property
+    def amplitude(self) -> float:
+        """Amplitude in SI (m or rad)."""
+        return self._si(self.amplitude_m, self.amplitude_deg)
+
+    @property
+    def offset(self) -> float:
+        """Mean value in SI (m or rad)."""
+        return self._si(self.offset_m, self.offset_deg)
+
+    @staticmethod
+    def _si(metres: float | None, degrees: float | None) -> float:
+        if degrees is not None:
+            return math.radians(degrees)
+        return metres or 0.0
+
+
+class SinusoidalMotion(_Model):
+    """A sum of sinusoids on the ship's six degrees of freedom."""
+
+    type: Literal["sinusoidal"]
+    components: list[SineComponent] = Field(min_length=1)
+
+
+BaseMotion = Annotated[Union[StillMotion, SinusoidalMotion], Field(discriminator="type")]
+
+
+# ----------------------------------------------------------------------- trajectory
+class CircleTrajectory(_Model):
+    """``center + r (cos(2 pi t/T + phase) e1 + sin(2 pi t/T + phase) e2)`` in C (eq. 21)."""
+
+    type: Literal["circle"]
+    center_m: Vec3
+    radius_m: PositiveFloat
+    period_s: PositiveFloat
+    phase_deg: StrictFloat = 0.0
+    plane: Literal["xz", "xy", "yz"] = "xz"
+    """Axes (e1, e2) of the circle's plane: "xz" runs x = cos, z = sin as in eq. 21."""
+    orientation_deg: Vec3 = (0.0, 0.0, 0.0)
+    """Constant platform orientation (rx, ry, rz) in C, deg."""
+
+
+class Waypoint(_Model):
+    time_s: NonNegativeFloat
+    position_m: Vec3
+    orientation_deg: Vec3 = (0.0, 0.0, 0.0)
+
+
+class WaypointsTrajectory(_Model):
+    """Rest-to-rest quintic segments through poses; holds the first and last pose outside."""
+
+    type: Literal["waypoints"]
+    waypoints: list[Waypoint] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _check_times(self) -> "WaypointsTrajectory":
+        for i in range(1, len(self.waypoints)):
+            if self.waypoints[i].time_s <= self.waypoints[i - 1].time_s:
+                raise _KeyedError(
+                    f"waypoints[{i + 1}].time_s",
+                    f"must be later than waypoint {i}'s ({self.waypoints[i - 1].time_s:g} s)",
+                )
+        return self
+
+
+class LineTrajectory(_Model):
+    """A straight rest-to-rest move (quintic time law) between two poses."""
+
+    type: Literal["line"]
+    start_position_m: Vec3
+    end_position_m: Vec3
+    start_orientation_deg: Vec3 = (0.0, 0.0, 0.0)
+    end_orientation_deg: Vec3 | None = None
+    """Defaults to the start orientation."""
+    start_time_s: NonNegativeFloat = 0.0
+    duration_s: PositiveFloat
+
+    def as_waypoints(self) -> WaypointsTrajectory:
+        end_rot = self.end_orientation_deg or self.start_orientation_deg
+        return WaypointsTrajectory(
+            type="waypoints",
+            waypoints=[
+                Waypoint(time_s=self.start_time_s, position_m=self.start_position_m,
+                         orientation_deg=self.start_orientation_deg),
+                Waypoint(time_s=self.start_time_s + self.duration_s,
+                         position_m=self.end_position_m, orientation_deg=end_rot),
+            ],
+        )
+
+
+Trajectory = Annotated[
+    Union[CircleTrajectory, WaypointsTrajectory, LineTrajectory], Field(discriminator="type")
+]
+
+
+# ------------------------------------------------------------------ the rest
+class Disturbance(_Model):
+    """External force f_r and moment m_r on the platform (eq. 12): constant plus sinusoid."""
+
+    frame: Literal["O", "C", "P"] = "O"
+    """Frame the vectors are given in: O (earth, as the paper), C (ship-fixed) or P (platform)."""
+    force_N: Vec3 = (0.0, 0.0, 0.0)
+    moment_N_m: Vec3 = (0.0, 0.0, 0.0)
+    force_amplitude_N: Vec3 = (0.0, 0.0, 0.0)
+    moment_amplitude_N_m: Vec3 = (0.0, 0.0, 0.0)
+    period_s: PositiveFloat | None = None
+    phase_deg: StrictFloat = 0.0
+
+    @model_validator(mode="after")
+    def _check_period(self) -> "Disturbance":
+        if self.period_s is None and any(self.force_amplitude_N + self.moment_amplitude_N_m):
+            raise _KeyedError("period_s", "missing: a sinusoidal disturbance needs its period")
+        return self
+
+
+class Time(_Model):
+    step_s: PositiveFloat = 0.001
+    duration_s: PositiveFloat
+
+    @property
+    def n_steps(self) -> int:
+        """Number of samples, both ends included."""
+        return int(math.floor(self.duration_s / self.step_s + 1e-9)) + 1
+
+
+class Planning(_Model):
+    method: Literal[
+        "pseudo_inverse", "minimum_variance", "closed_form", "improved_closed_form", "minimum_norm"
+    ] = "minimum_variance"
+    base_model: Literal["moving", "fixed"] = "moving"
+    """"fixed" plans as if the ship were still (the traditional model), for comparison."""
+
+
+class Environment(_Model):
+    gravity_m_s2: PositiveFloat = 9.8
+    """Magnitude of gravity; it points along -z of O."""
+
+
+class Scenario(_Model):
+    """A complete description of one robot, one ship motion and one task."""
+
+    name: StrictStr = "scenario"
+    description: StrictStr = ""
+    robot: Robot
+    ship: Ship = Ship()
+    base_motion: BaseMotion = StillMotion(type="still")
+    trajectory: Trajectory
+    disturbance: Disturbance = Disturbance()
+    time: Time
+    planning: Planning = Planning()
+    environment: Environment = Environment()
+
+    @model_validator(mode="after")
+    def _check_planar_trajectory(self) -> "Scenario":
+        if self.robot.dofs != "planar":
+            return self
+        traj = self.trajectory
+        msg_rot = "a planar robot turns only about y: rx and rz must be 0"
+        if isinstance(traj, CircleTrajectory):
+            if traj.plane != "xz":
+                raise _KeyedError("trajectory.plane", "a planar robot moves in the x-z plane of C: use \"xz\"")
+            if traj.orientation_deg[0] or traj.orientation_deg[2]:
+                raise _KeyedError("trajectory.orientation_deg", msg_rot)
+            return self
+        if isinstance(traj, LineTrajectory):
+            poses = [("start_", traj.start_position_m, traj.start_orientation_deg),
+                     ("end_", traj.end_position_m, traj.end_orientation_deg or (0.0, 0.0, 0.0))]
+        else:
+            poses = [(f"waypoints[{i}].", w.position_m, w.orientation_deg)
+                     for i, w in enumerate(traj.waypoints, start=1)]
+        y0 = poses[0][1][1]
+        for prefix, pos, rot in poses:
+            if rot[0] or rot[2]:
+                raise _KeyedError(f"trajectory.{prefix}orientation_deg", msg_rot)
+            if pos[1] != y0:
+                raise _KeyedError(
+                    f"trajectory.{prefix}position_m",
+                    f"a planar robot moves in the x-z plane of C: y must stay {y0:g} m",
+                )
+        return self
+
+    @cached_property
+    def t(self) -> np.ndarray:
+        """Sample times, shape (n_steps,), s."""
+        return np.arange(self.time.n_steps) * self.time.step_s
+
+    def with_changes(self, **sections: Any) -> "Scenario":
+        """A validated copy with top-level sections replaced, e.g. ``planning={...}``."""
+        data = self.model_dump()
+        for key, value in sections.items():
+            data[key] = value.model_dump() if isinstance(value, BaseModel) else value
+        return Scenario.model_validate(data)
+
+
+# --------------------------------------------------------------------- loading
+def builtin_scenarios() -> list[str]:
+    """Names of the scenarios shipped with the package."""
+    folder = resources.files("marinecdpr") / "scenarios"
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
+    """Read and validate a scenario from a TOML file or a built-in name.
+
+    Parameters
+    ----------
+    path_or_name : str or Path
+        A path to a ``.toml`` file, or the name of a built-in scenario
+        (see :func:`builtin_scenarios`).
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the source, the key and what was expected.
+    """
+    path = Path(path_or_name)
+    if path.is_file():
+        source = str(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ScenarioError(f"cannot read the file ({exc})", source=source) from None
+    elif str(path_or_name) in builtin_scenarios():
+        source = f"built-in scenario '{path_or_name}'"
+        text = (resources.files("marinecdpr") / "scenarios" / f"{path_or_name}.toml").read_text(
+            encoding="utf-8"
+        )
+    else:
+        raise ScenarioError(
+            f"no such file, and no built-in scenario of that name "
+            f"(built-ins: {', '.join(builtin_scenarios())})",
+            source=str(path_or_name),
+        )
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"not valid TOML: {exc}", source=source) from None
+    return scenario_from_dict(data, source=source)
+
+
+def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Scenario:
+    """Validate a scenario given as nested dicts (as read from TOML)."""
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as exc:
+        raise _to_scenario_error(exc, data, source) from None
+
+
+def _to_scenario_error(exc: ValidationError, data: Any, source: str | None) -> ScenarioError:
+    errors = exc.errors()
+    err = errors[0]
+    key_parts: list[str] = []
+    node: Any = data
+    model: Any = Scenario
+    for part in err["loc"]:
+        if isinstance(part, int):
+            key_parts[-1] += f"[{part + 1}]"
+            node = node[part] if isinstance(node, list) and part < len(node) else None
+            continue
+        # Discriminated unions add the tag ("circle") to the location: skip it.
+        if isinstance(node, dict) and part not in node and node.get("type") == part:
+            continue
+        key_parts.append(part)
+        node = node.get(part) if isinstance(node, dict) else None
+    message = err["msg"].removeprefix("Value error, ")
+    error_obj = (err.get("ctx") or {}).get("error")
+    if isinstance(error_obj, _KeyedError):
+        key_parts.append(error_obj.key)
+    if err["type"] == "extra_forbidden":
+        message = "unknown key" + _suggest(err["loc"], data)
+    elif err["type"] == "missing":
+        message = "missing"
+    elif err["type"] not in ("value_error", "assertion_error") and "input" in err:
+        message += f" (got {err['input']!r})"
+    if len(errors) > 1:
+        message += f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
+    return ScenarioError(message, source=source, key=".".join(key_parts) or None)
+
+
+def _suggest(loc: tuple, data: Any) -> str:
+    """' (did you mean X?)' for a misspelt key, from the model's field names."""
+    model: Any = Scenario
+    node: Any = data
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, list) else None
+            continue
+        field = getattr(model, "model_fields", {}).get(part)
+        node = node.get(part) if isinstance(node, dict) else None
+        if field is None:
+            # a union tag: pick the member named by "type"
+            continue
+        model = _field_model(field.annotation, node)
+    fields = list(getattr(model, "model_fields", {}))
+    close = difflib.get_close_matches(str(loc[-1]), fields, n=1, cutoff=0.5)
+    hint = f"; did you mean '{close[0]}'?" if close else ""
+    return f"{hint} (expected one of: {', '.join(fields)})" if fields else hint
+
+
+def _field_model(annotation: Any, node: Any) -> Any:
+    """The pydantic model class a field's annotation holds, resolving lists and unions."""
+    stack = [annotation]
+    candidates = []
+    while stack:
+        ann = stack.pop()
+        if isinstance(ann, type) and issubclass(ann, BaseModel):
+            candidates.append(ann)
+        stack.extend(getattr(ann, "__args__", ()) or ())
+        stack.extend(getattr(ann, "__metadata__", ()) and () or ())
+        origin = getattr(ann, "__origin__", None)
+        if origin is Annotated:
+            stack.append(ann.__origin__)
+    if isinstance(node, dict):
+        for cand in candidates:
+            tag = cand.model_fields.get("type")
+            if tag is not None and node.get("type") in getattr(tag.annotation, "__args__", ()):
+                return cand
+    return candidates[0] if candidates else None

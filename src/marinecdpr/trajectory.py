@@ -1,0 +1,222 @@
+"""The platform's planned motion in the robot frame C, and the disturbance on it.
+
+A pose is ``(x, y, z, rx, ry, rz)``: the position of P's origin (the platform's
+centre of mass) in C, m, and the SNAME Euler angles of R_PC = R_P^C =
+Rz(rz) Ry(ry) Rx(rx), rad. A planar robot uses x, z and ry (= theta_y) only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ScenarioError
+from .rotations import body_rates_from_euler, matrix_from_euler
+from .scenario import (
+    CircleTrajectory,
+    Disturbance,
+    LineTrajectory,
+    Robot,
+    WaypointsTrajectory,
+)
+
+__all__ = [
+    "PlatformMotion",
+    "platform_motion",
+    "evaluate_trajectory",
+    "evaluate_disturbance",
+    "check_in_frame",
+]
+
+
+@dataclass(frozen=True)
+class PlatformMotion:
+    """Planned platform motion relative to C (all arrays share ``n_steps``).
+
+    Attributes
+    ----------
+    pose, pose_dot, pose_ddot : ndarray, shape (n_steps, 6)
+        ``(x, y, z, rx, ry, rz)`` in C (m, rad) and its time derivatives.
+    R_PC : ndarray, shape (n_steps, 3, 3)
+        R_P^C: maps P-frame vectors to C.
+    omega_PC_C, alpha_PC_C : ndarray, shape (n_steps, 3)
+        Angular velocity and acceleration of P relative to C, in C.
+    """
+
+    pose: np.ndarray
+    pose_dot: np.ndarray
+    pose_ddot: np.ndarray
+    R_PC: np.ndarray
+    omega_PC_C: np.ndarray
+    alpha_PC_C: np.ndarray
+
+    @property
+    def x_PC_C(self) -> np.ndarray:
+        """Position of P in C, shape (n_steps, 3), m."""
+        return self.pose[:, :3]
+
+    @property
+    def v_PC_C(self) -> np.ndarray:
+        """Velocity of P relative to C, in C, shape (n_steps, 3), m/s."""
+        return self.pose_dot[:, :3]
+
+    @property
+    def a_PC_C(self) -> np.ndarray:
+        """Acceleration of P relative to C, in C, shape (n_steps, 3), m/s^2."""
+        return self.pose_ddot[:, :3]
+
+    @property
+    def twist(self) -> np.ndarray:
+        """``(v_PC, omega_PC)`` in C, shape (n_steps, 6)."""
+        return np.concatenate([self.v_PC_C, self.omega_PC_C], axis=1)
+
+    @property
+    def twist_dot(self) -> np.ndarray:
+        """``(a_PC, alpha_PC)`` in C, shape (n_steps, 6)."""
+        return np.concatenate([self.a_PC_C, self.alpha_PC_C], axis=1)
+
+
+def platform_motion(pose: np.ndarray, pose_dot: np.ndarray, pose_ddot: np.ndarray) -> PlatformMotion:
+    """Rotation and angular rates of the platform from its pose and pose derivatives.
+
+    Parameters
+    ----------
+    pose, pose_dot, pose_ddot : ndarray, shape (n_steps, 6)
+        ``(x, y, z, rx, ry, rz)`` of P in C (m, rad) and derivatives.
+    """
+    pose = np.asarray(pose, dtype=float)
+    pose_dot = np.asarray(pose_dot, dtype=float)
+    pose_ddot = np.asarray(pose_ddot, dtype=float)
+    R = matrix_from_euler(pose[:, 3:])
+    omega_b, alpha_b = body_rates_from_euler(pose[:, 3:], pose_dot[:, 3:], pose_ddot[:, 3:])
+    # d(R omega_b)/dt = R alpha_b, so both rates rotate into C with R.
+    omega = np.einsum("nij,nj->ni", R, omega_b)
+    alpha = np.einsum("nij,nj->ni", R, alpha_b)
+    return PlatformMotion(pose, pose_dot, pose_ddot, R, omega, alpha)
+
+
+def _quintic(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rest-to-rest time law s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 and its derivatives."""
+    t2 = tau * tau
+    s = t2 * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
+    ds = 30.0 * t2 * (1.0 + tau * (-2.0 + tau))
+    dds = 60.0 * tau * (1.0 + tau * (-3.0 + 2.0 * tau))
+    return s, ds, dds
+
+
+def evaluate_trajectory(
+    config: CircleTrajectory | WaypointsTrajectory | LineTrajectory, t: np.ndarray
+) -> PlatformMotion:
+    """The planned platform motion a scenario's ``[trajectory]`` describes.
+
+    Parameters
+    ----------
+    config : CircleTrajectory, WaypointsTrajectory or LineTrajectory
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    """
+    t = np.asarray(t, dtype=float)
+    n = t.size
+    pose = np.zeros((n, 6))
+    pose_dot = np.zeros((n, 6))
+    pose_ddot = np.zeros((n, 6))
+    if isinstance(config, LineTrajectory):
+        config = config.as_waypoints()
+    if isinstance(config, CircleTrajectory):
+        # eq. (21): x = r cos(w t) + x0, z = r sin(w t) + z0 for plane "xz"
+        e1, e2 = {"xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}[config.plane]
+        w = 2.0 * np.pi / config.period_s
+        phase = w * t + np.radians(config.phase_deg)
+        c, s = np.cos(phase), np.sin(phase)
+        r = config.radius_m
+        pose[:, :3] = config.center_m
+        pose[:, e1] += r * c
+        pose[:, e2] += r * s
+        pose_dot[:, e1] = -r * w * s
+        pose_dot[:, e2] = r * w * c
+        pose_ddot[:, e1] = -r * w * w * c
+        pose_ddot[:, e2] = -r * w * w * s
+        pose[:, 3:] = np.radians(config.orientation_deg)
+    else:
+        times = np.array([wp.time_s for wp in config.waypoints])
+        knots = np.array(
+            [list(wp.position_m) + list(np.radians(wp.orientation_deg)) for wp in config.waypoints]
+        )
+        seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+        dur = times[seg + 1] - times[seg]
+        tau = np.clip((t - times[seg]) / dur, 0.0, 1.0)
+        s, ds, dds = _quintic(tau)
+        delta = knots[seg + 1] - knots[seg]
+        pose[:] = knots[seg] + delta * s[:, None]
+        pose_dot[:] = delta * (ds / dur)[:, None]
+        pose_ddot[:] = delta * (dds / dur**2)[:, None]
+    return platform_motion(pose, pose_dot, pose_ddot)
+
+
+def evaluate_disturbance(config: Disturbance, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """External force f_r and moment m_r on the platform, in ``config.frame``.
+
+    Parameters
+    ----------
+    config : Disturbance
+    t : ndarray, shape (n_steps,)
+        Times, s.
+
+    Returns
+    -------
+    f_r : ndarray, shape (n_steps, 3)
+        Force at the centre of mass, N.
+    m_r : ndarray, shape (n_steps, 3)
+        Moment, N m.
+    """
+    t = np.asarray(t, dtype=float)
+    f = np.broadcast_to(np.asarray(config.force_N, dtype=float), (t.size, 3)).copy()
+    m = np.broadcast_to(np.asarray(config.moment_N_m, dtype=float), (t.size, 3)).copy()
+    if config.period_s is not None:
+        s = np.sin(2.0 * np.pi * t / config.period_s + np.radians(config.phase_deg))[:, None]
+        f += s * np.asarray(config.force_amplitude_N)
+        m += s * np.asarray(config.moment_amplitude_N_m)
+    return f, m
+
+
+def check_in_frame(motion: PlatformMotion, robot: Robot, t: np.ndarray) -> None:
+    """Raise if the platform's centre or an anchor leaves the frame.
+
+    The frame is the axis-aligned box of the frame anchors in C; an axis along
+    which all frame anchors share one coordinate (a suspended robot's height, a
+    planar robot's y) is not checked.
+
+    Parameters
+    ----------
+    motion : PlatformMotion
+    robot : Robot
+    t : ndarray, shape (n_steps,)
+        Times, s, to name where the platform leaves.
+
+    Raises
+    ------
+    ScenarioError
+        With key ``trajectory``, the first time and the point outside.
+    """
+    c = robot.frame_anchors
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    tol = 1e-9 * max(1.0, float(np.abs(c).max()))
+    # points: centre and anchors in C, shape (n_steps, 1 + n_cables, 3)
+    anchors = np.einsum("nij,kj->nki", motion.R_PC, robot.platform_anchors)
+    pts = motion.x_PC_C[:, None, :] + np.concatenate(
+        [np.zeros((len(t), 1, 3)), anchors], axis=1
+    )
+    for axis in range(3):
+        if hi[axis] - lo[axis] <= tol:
+            continue
+        bad = (pts[:, :, axis] < lo[axis] - tol) | (pts[:, :, axis] > hi[axis] + tol)
+        if bad.any():
+            step, point = np.argwhere(bad)[0]
+            what = "the platform's centre" if point == 0 else f"platform anchor {point}"
+            raise ScenarioError(
+                f"the platform leaves the frame at t = {t[step]:.3f} s: {what} is at "
+                f"{'xyz'[axis]} = {pts[step, point, axis]:.4g} m, outside the frame anchors' "
+                f"range [{lo[axis]:g}, {hi[axis]:g}] m",
+                key="trajectory",
+            )
