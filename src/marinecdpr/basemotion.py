@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .rotations import body_rates_from_euler, matrix_from_euler
+from .rotations import euler_kinematics
 from .scenario import SHIP_DOFS, SinusoidalMotion, StillMotion
 
 __all__ = ["ShipMotion", "ship_motion", "evaluate_base_motion", "still_ship"]
@@ -74,8 +74,8 @@ def ship_motion(eta: np.ndarray, eta_dot: np.ndarray, eta_ddot: np.ndarray) -> S
     eta = np.asarray(eta, dtype=float)
     eta_dot = np.asarray(eta_dot, dtype=float)
     eta_ddot = np.asarray(eta_ddot, dtype=float)
-    omega, alpha = body_rates_from_euler(eta[:, 3:], eta_dot[:, 3:], eta_ddot[:, 3:])
-    return ShipMotion(eta, eta_dot, eta_ddot, matrix_from_euler(eta[:, 3:]), omega, alpha)
+    R, omega, alpha = euler_kinematics(eta[:, 3:], eta_dot[:, 3:], eta_ddot[:, 3:])
+    return ShipMotion(eta, eta_dot, eta_ddot, R, omega, alpha)
 
 
 def still_ship(n_steps: int) -> ShipMotion:
@@ -97,15 +97,20 @@ def evaluate_base_motion(config: StillMotion | SinusoidalMotion, t: np.ndarray) 
     t = np.asarray(t, dtype=float)
     if isinstance(config, StillMotion):
         return still_ship(t.size)
-    eta = np.zeros((t.size, 6))
+    # time-last buffers (see _vec): one contiguous row per DOF
+    eta = np.zeros((6, t.size))
     eta_dot = np.zeros_like(eta)
     eta_ddot = np.zeros_like(eta)
+    trig: dict[tuple[float, float], tuple[np.ndarray, np.ndarray]] = {}
     for comp in config.components:
         k = SHIP_DOFS.index(comp.dof)
         w = 2.0 * np.pi / comp.period_s
-        phase = w * t + np.radians(comp.phase_deg)
-        s, c = np.sin(phase), np.cos(phase)
-        eta[:, k] += comp.offset + comp.amplitude * s
-        eta_dot[:, k] += comp.amplitude * w * c
-        eta_ddot[:, k] -= comp.amplitude * w * w * s
-    return ship_motion(eta, eta_dot, eta_ddot)
+        key = (w, comp.phase_deg)
+        if key not in trig:  # components often share a frequency and phase
+            phase = w * t + np.radians(comp.phase_deg)
+            trig[key] = (np.sin(phase), np.cos(phase))
+        s, c = trig[key]
+        eta[k] += comp.offset + comp.amplitude * s
+        eta_dot[k] += comp.amplitude * w * c
+        eta_ddot[k] -= comp.amplitude * w * w * s
+    return ship_motion(eta.T, eta_dot.T, eta_ddot.T)

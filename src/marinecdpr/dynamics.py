@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _vec as vec
 from .basemotion import ShipMotion
 
 __all__ = [
@@ -68,16 +69,6 @@ class WrenchTerms:
         return self.relative + self.gravity + self.C_s + self.gravity_tilt + self.external
 
 
-def _rotate(R: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """R @ v for stacks: R (n, 3, 3), v (n, 3)."""
-    return np.einsum("nij,nj->ni", R, v)
-
-
-def _rotate_T(R: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """R^T @ v for stacks: R (n, 3, 3), v (n, 3)."""
-    return np.einsum("nji,nj->ni", R, v)
-
-
 def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarray:
     """M_s = diag(m E, R_PC I_PP R_PC^T) in C.
 
@@ -94,10 +85,18 @@ def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarr
     M : ndarray, shape (n_steps, 6, 6)
     """
     n = R_PC.shape[0]
-    M = np.zeros((n, 6, 6))
-    M[:, 0, 0] = M[:, 1, 1] = M[:, 2, 2] = mass
-    M[:, 3:, 3:] = np.einsum("nij,jk,nlk->nil", R_PC, I_PP, R_PC)
-    return M
+    xx, yy, zz, xy, xz, yz = vec.rotate_inertia(R_PC, np.asarray(I_PP, dtype=float))
+    zero = np.zeros(n)
+    mass_row = [mass + zero, zero, zero]
+    return vec.pack(
+        [mass_row + [zero] * 3,
+         [zero, mass + zero, zero] + [zero] * 3,
+         [zero, zero, mass + zero] + [zero] * 3,
+         [zero] * 3 + [xx, xy, xz],
+         [zero] * 3 + [xy, yy, yz],
+         [zero] * 3 + [xz, yz, zz]],
+        n,
+    )
 
 
 def disturbance_in_C(
@@ -112,11 +111,14 @@ def disturbance_in_C(
     frame : {"O", "C", "P"}
     R_SO, R_PC : ndarray, shape (n_steps, 3, 3)
     """
-    if frame == "O":
-        return _rotate_T(R_SO, f), _rotate_T(R_SO, m)
-    if frame == "P":
-        return _rotate(R_PC, f), _rotate(R_PC, m)
-    return np.asarray(f, dtype=float), np.asarray(m, dtype=float)
+    f = np.asarray(f, dtype=float)
+    m = np.asarray(m, dtype=float)
+    if frame == "C":
+        return f, m
+    n = f.shape[0]
+    rot = vec.matTvec if frame == "O" else vec.matvec
+    R = R_SO if frame == "O" else R_PC
+    return vec.pack(rot(R, vec.comps(f)), n), vec.pack(rot(R, vec.comps(m)), n)
 
 
 def wrench_terms(
@@ -161,47 +163,49 @@ def wrench_terms(
     WrenchTerms
     """
     n = x_PC.shape[0]
-    v, w_pc = twist[:, :3], twist[:, 3:]
-    a, al_pc = twist_dot[:, :3], twist_dot[:, 3:]
-    w_s, al_s = ship.omega_SO_S, ship.alpha_SO_S
-    r = x_PC + np.asarray(frame_origin_S, dtype=float)  # x_PS^S
+    twist = np.asarray(twist, dtype=float)
+    twist_dot = np.asarray(twist_dot, dtype=float)
+    v, w_pc = vec.comps(twist[:, :3]), vec.comps(twist[:, 3:])
+    a, al_pc = vec.comps(twist_dot[:, :3]), vec.comps(twist_dot[:, 3:])
+    w_s, al_s = vec.comps(ship.omega_SO_S), vec.comps(ship.alpha_SO_S)
+    origin = np.asarray(frame_origin_S, dtype=float)
+    r = [x_PC[:, i] + origin[i] for i in range(3)]  # x_PS^S
+    I_C = vec.rotate_inertia(R_PC, np.asarray(I_PP, dtype=float))  # R_PC I_PP R_PC^T
 
-    I_C = np.einsum("nij,jk,nlk->nil", R_PC, I_PP, R_PC)
+    def I_dot(x):
+        return vec.sym_matvec(I_C, x)
 
-    def I_dot(x: np.ndarray) -> np.ndarray:
-        return np.einsum("nij,nj->ni", I_C, x)
+    I_w_pc = I_dot(w_pc)
+    gyro_pc = vec.cross(w_pc, I_w_pc)
+    relative = vec.scale(mass, a) + vec.add(I_dot(al_pc), gyro_pc)
 
-    relative = np.empty((n, 6))
-    relative[:, :3] = mass * a
-    relative[:, 3:] = I_dot(al_pc) + np.cross(w_pc, I_dot(w_pc))
-
-    C_s = np.empty((n, 6))
     # eq. (9) in S: base, Euler, centripetal and Coriolis accelerations
-    C_s[:, :3] = mass * (
-        _rotate_T(ship.R_SO, ship.a_SO_O)
-        + np.cross(al_s, r)
-        + np.cross(w_s, np.cross(w_s, r))
-        + 2.0 * np.cross(w_s, v)
+    a_base = vec.matTvec(ship.R_SO, vec.comps(ship.a_SO_O))
+    acc = vec.add(
+        a_base,
+        vec.cross(al_s, r),
+        vec.cross(w_s, vec.cross(w_s, r)),
+        vec.scale(2.0, vec.cross(w_s, v)),
     )
-    W = w_s + w_pc  # eq. (10) in S
-    C_s[:, 3:] = (
-        I_dot(al_s + np.cross(w_s, w_pc))  # eq. (11) in S
-        + np.cross(W, I_dot(W))
-        - np.cross(w_pc, I_dot(w_pc))
+    W = vec.add(w_s, w_pc)  # eq. (10) in S
+    # eq. (11) in S, and the gyroscopic term beyond the platform's own
+    mom = vec.add(I_dot(vec.add(al_s, vec.cross(w_s, w_pc))), vec.cross(W, I_dot(W)))
+    C_s = vec.scale(mass, acc) + [mom[i] - gyro_pc[i] for i in range(3)]
+
+    # gravity (0, 0, -g) in O, and in S: R_SO^T g_O = -g (third row of R_SO)
+    g_S = [-gravity * ship.R_SO[:, 2, i] for i in range(3)]
+    zero = np.zeros(n)
+    grav = [zero, zero, mass * gravity + zero, zero, zero, zero]
+    tilt = [-mass * g_S[0], -mass * g_S[1], mass * (-gravity - g_S[2]), zero, zero, zero]
+    if f_ext_C is None:
+        f_ext_C = np.zeros((n, 3))
+    if m_ext_C is None:
+        m_ext_C = np.zeros((n, 3))
+    external = [-f_ext_C[:, i] for i in range(3)] + [-m_ext_C[:, i] for i in range(3)]
+    return WrenchTerms(
+        vec.pack(relative, n), vec.pack(grav, n), vec.pack(C_s, n), vec.pack(tilt, n),
+        vec.pack(external, n),
     )
-
-    g_O = np.array([0.0, 0.0, -gravity])
-    grav = np.zeros((n, 6))
-    grav[:, :3] = -mass * g_O
-    tilt = np.zeros((n, 6))
-    tilt[:, :3] = mass * (g_O - _rotate_T(ship.R_SO, np.broadcast_to(g_O, (n, 3))))
-
-    external = np.zeros((n, 6))
-    if f_ext_C is not None:
-        external[:, :3] = -f_ext_C
-    if m_ext_C is not None:
-        external[:, 3:] = -m_ext_C
-    return WrenchTerms(relative, grav, C_s, tilt, external)
 
 
 def uncontrolled(controlled: tuple[int, ...]) -> tuple[int, ...]:

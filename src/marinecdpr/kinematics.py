@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _vec as vec
+
 __all__ = ["CableKinematics", "cable_kinematics", "global_jacobian"]
 
 
@@ -26,12 +28,8 @@ class CableKinematics:
 
     Attributes
     ----------
-    vectors : ndarray, shape (n_steps, n_cables, 3)
-        l_i, platform anchor to frame anchor, m (eq. 2).
     lengths : ndarray, shape (n_steps, n_cables)
         |l_i|, m.
-    units : ndarray, shape (n_steps, n_cables, 3)
-        u_i = l_i / |l_i|.
     anchors_C : ndarray, shape (n_steps, n_cables, 3)
         R_PC p_i, the platform anchors relative to P's origin, in C, m.
     J_tilde : ndarray, shape (n_steps, n_cables, 6)
@@ -40,12 +38,20 @@ class CableKinematics:
         l_i' = -J~ (v_PC, omega_PC) (eq. 5), m/s, when a twist was given.
     """
 
-    vectors: np.ndarray
     lengths: np.ndarray
-    units: np.ndarray
     anchors_C: np.ndarray
     J_tilde: np.ndarray
     length_rates: np.ndarray | None
+
+    @property
+    def units(self) -> np.ndarray:
+        """u_i = l_i / |l_i|, shape (n_steps, n_cables, 3) (the first columns of J~)."""
+        return self.J_tilde[:, :, :3]
+
+    @property
+    def vectors(self) -> np.ndarray:
+        """l_i, platform anchor to frame anchor, shape (n_steps, n_cables, 3), m (eq. 2)."""
+        return self.units * self.lengths[:, :, None]
 
 
 def cable_kinematics(
@@ -77,19 +83,34 @@ def cable_kinematics(
     """
     x_PC = np.asarray(x_PC, dtype=float)
     R_PC = np.asarray(R_PC, dtype=float)
-    # R_PC p_i for every step and cable: (n, m, 3)
-    r = np.einsum("nij,mj->nmi", R_PC, np.asarray(p_P, dtype=float))
-    l_vec = np.asarray(c_C, dtype=float)[None, :, :] - x_PC[:, None, :] - r  # eq. (2)
-    lengths = np.sqrt(np.einsum("nmi,nmi->nm", l_vec, l_vec))
+    c_C = np.asarray(c_C, dtype=float)
+    p_P = np.asarray(p_P, dtype=float)
+    n, m = x_PC.shape[0], c_C.shape[0]
+    # Components as (n_cables, n_steps) arrays; results are packed time-last.
+    r = [sum(p_P[:, j, None] * R_PC[:, a, j] for j in range(3)) for a in range(3)]  # R_PC p_i
+    l_vec = [c_C[:, a, None] - x_PC[:, a] - r[a] for a in range(3)]  # eq. (2)
+    lengths = np.sqrt(vec.dot(l_vec, l_vec))
     with np.errstate(invalid="ignore", divide="ignore"):
-        u = l_vec / lengths[:, :, None]
-    J = np.empty(l_vec.shape[:2] + (6,))
-    J[:, :, :3] = u
-    J[:, :, 3:] = np.cross(r, u)  # eq. (6)
+        inv = 1.0 / lengths
+    u = vec.scale(inv, l_vec)
+    rxu = vec.cross(r, u)  # eq. (6)
+    J = np.empty((6, m, n))
+    for a in range(3):
+        J[a] = u[a]
+        J[3 + a] = rxu[a]
     rates = None
     if twist is not None:
-        rates = -np.einsum("nmk,nk->nm", J, np.asarray(twist, dtype=float))  # eq. (5)
-    return CableKinematics(l_vec, lengths, u, r, J, rates)
+        twist = np.asarray(twist, dtype=float)
+        rates = -sum(J[k] * twist[:, k] for k in range(6)).T  # eq. (5)
+    anchors = np.empty((3, m, n))
+    for a in range(3):
+        anchors[a] = r[a]
+    return CableKinematics(
+        lengths=lengths.T,
+        anchors_C=anchors.transpose(2, 1, 0),
+        J_tilde=J.transpose(2, 1, 0),
+        length_rates=rates,
+    )
 
 
 def global_jacobian(J_tilde: np.ndarray, R_SO: np.ndarray) -> np.ndarray:
@@ -104,7 +125,10 @@ def global_jacobian(J_tilde: np.ndarray, R_SO: np.ndarray) -> np.ndarray:
     -------
     J : ndarray, shape (n_steps, n_cables, 6)
     """
-    J = np.empty_like(J_tilde)
-    J[..., :3] = np.einsum("nij,nmj->nmi", R_SO, J_tilde[..., :3])
-    J[..., 3:] = np.einsum("nij,nmj->nmi", R_SO, J_tilde[..., 3:])
-    return J
+    R = np.asarray(R_SO, dtype=float)[:, None]  # broadcast over cables
+    parts = vec.matvec(R, [J_tilde[..., a] for a in range(3)])
+    parts += vec.matvec(R, [J_tilde[..., 3 + a] for a in range(3)])
+    J = np.empty((6,) + J_tilde.shape[:2])
+    for k in range(6):
+        J[k] = parts[k]
+    return np.moveaxis(J, 0, -1)

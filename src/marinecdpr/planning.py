@@ -24,7 +24,7 @@ from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajector
 
 __all__ = ["Plan", "plan", "iter_plan", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
 
-DEFAULT_CHUNK_STEPS = 8192
+DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 """Names of pose / twist components in C (positions m, angles rad)."""
 
@@ -108,10 +108,14 @@ _ARRAY_FIELDS = (
 )
 
 
+def _columns(J: np.ndarray, dofs: list[int]) -> np.ndarray:
+    """J[:, :, dofs], keeping J's (time-last) memory layout."""
+    return J.transpose(2, 1, 0)[dofs].transpose(2, 1, 0)
+
+
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str) -> dict:
     robot = scenario.robot
     platform = evaluate_trajectory(scenario.trajectory, t)
-    check_in_frame(platform, robot, t)
     ship = (
         still_ship(t.size) if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, t)
     )
@@ -119,6 +123,7 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str)
     kin = cable_kinematics(
         platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
     )
+    check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
     terms = wrench_terms(
@@ -129,14 +134,15 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str)
     )
     w = terms.total
     c = list(robot.controlled)
-    J = kin.J_tilde[:, :, c]
+    J = _columns(kin.J_tilde, c)
     T_s, ok = pseudo_inverse_tensions(J, w[:, c])
     sol = distribute_tensions(
         J, w[:, c], robot.tension_min, robot.tension_max, method=method, T_s=T_s, ok=ok
     )
     u = list(uncontrolled(robot.controlled))
     # the guide supplies what the cables do not: w - J~^T T in the uncontrolled DOFs
-    reaction = w[:, u] - np.einsum("nmk,nm->nk", kin.J_tilde[:, :, u], sol.tensions)
+    J_u = _columns(kin.J_tilde, u)
+    reaction = w[:, u] - sum(J_u[:, i] * sol.tensions[:, i, None] for i in range(J_u.shape[1]))
     return dict(
         t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
         lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,

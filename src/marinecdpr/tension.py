@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _vec as vec
+
 __all__ = [
     "TensionSolution",
     "pseudo_inverse_tensions",
@@ -68,26 +70,51 @@ class TensionSolution:
     feasible: np.ndarray
 
 
-def _gram_solve(J: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve (J^T J) x = b per step.
+def _cols(J: np.ndarray) -> list[list[np.ndarray]]:
+    """J~ entries as ``cols[i][a]``: cable i, DOF a, each of shape (n_steps,)."""
+    return [[J[:, i, a] for a in range(J.shape[2])] for i in range(J.shape[1])]
+
+
+def _JT(cols: list, T: list) -> list:
+    """J~^T T: the wrench of tensions T (list over cables), as a list over DOFs."""
+    return [sum(cols[i][a] * T[i] for i in range(len(cols))) for a in range(len(cols[0]))]
+
+
+def _Jx(cols: list, x: list) -> list:
+    """J~ x: a list over cables."""
+    return [sum(row[a] * x[a] for a in range(len(x))) for row in cols]
+
+
+def _stack(T: list, n: int) -> np.ndarray:
+    """A list over cables of (n_steps,) arrays as an (n_steps, n_cables) view."""
+    out = np.empty((len(T), n))
+    for i, Ti in enumerate(T):
+        out[i] = Ti
+    return out.T
+
+
+def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
+    """Solve (J~^T J~) x = b per step.
 
     Parameters
     ----------
-    J : ndarray, shape (n_steps, n_cables, k)
-    b : ndarray, shape (n_steps, k)
+    cols : list over cables of lists over DOFs of arrays, shape (n_steps,)
+        J~ (see :func:`_cols`).
+    b : list over DOFs of arrays, shape (n_steps,)
 
     Returns
     -------
-    x : ndarray, shape (n_steps, k)
-        NaN where J^T J is singular.
+    x : list over DOFs of arrays, shape (n_steps,)
+        NaN where J~^T J~ is singular.
     ok : ndarray of bool, shape (n_steps,)
-        J has full column rank (reciprocal condition above 1e-12).
+        J~ has full column rank (reciprocal condition above 1e-12).
     """
-    k = J.shape[2]
-    G = np.einsum("nmi,nmj->nij", J, J)
+    k = len(b)
+    G = [[sum(row[p] * row[q] for row in cols) if p <= q else None for q in range(k)]
+         for p in range(k)]
     if k == 3:
-        a, b_, c = G[:, 0, 0], G[:, 0, 1], G[:, 0, 2]
-        d, e, f = G[:, 1, 1], G[:, 1, 2], G[:, 2, 2]
+        a, b_, c = G[0][0], G[0][1], G[0][2]
+        d, e, f = G[1][1], G[1][2], G[2][2]
         A00, A01, A02 = d * f - e * e, c * e - b_ * f, b_ * e - c * d
         A11, A12, A22 = a * f - c * c, b_ * c - a * e, a * d - b_ * b_
         det = a * A00 + b_ * A01 + c * A02
@@ -95,17 +122,22 @@ def _gram_solve(J: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         with np.errstate(invalid="ignore", divide="ignore"):
             ok = np.abs(det) > _RCOND * scale
             inv_det = np.where(ok, 1.0 / np.where(ok, det, 1.0), np.nan)
-        x = np.empty_like(b)
-        x[:, 0] = (A00 * b[:, 0] + A01 * b[:, 1] + A02 * b[:, 2]) * inv_det
-        x[:, 1] = (A01 * b[:, 0] + A11 * b[:, 1] + A12 * b[:, 2]) * inv_det
-        x[:, 2] = (A02 * b[:, 0] + A12 * b[:, 1] + A22 * b[:, 2]) * inv_det
+        x = [
+            (A00 * b[0] + A01 * b[1] + A02 * b[2]) * inv_det,
+            (A01 * b[0] + A11 * b[1] + A12 * b[2]) * inv_det,
+            (A02 * b[0] + A12 * b[1] + A22 * b[2]) * inv_det,
+        ]
         return x, ok
-    eig = np.linalg.eigvalsh(G)
+    Gm = np.empty((n, k, k))
+    for p in range(k):
+        for q in range(p, k):
+            Gm[:, p, q] = Gm[:, q, p] = G[p][q]
+    eig = np.linalg.eigvalsh(Gm)
     ok = eig[:, 0] > _RCOND * np.maximum(eig[:, -1], np.finfo(float).tiny)
-    G = np.where(ok[:, None, None], G, np.eye(k))
-    x = np.linalg.solve(G, b[..., None])[..., 0]
+    Gm[~ok] = np.eye(k)
+    x = np.linalg.solve(Gm, np.stack(b, axis=1)[..., None])[..., 0]
     x[~ok] = np.nan
-    return x, ok
+    return [x[:, a] for a in range(k)], ok
 
 
 def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -125,8 +157,10 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
     ok : ndarray of bool, shape (n_steps,)
         J~ has full column rank.
     """
-    x, ok = _gram_solve(J, w)
-    return np.einsum("nmk,nk->nm", J, x), ok
+    n = J.shape[0]
+    cols = _cols(J)
+    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n)
+    return _stack(_Jx(cols, x), n), ok
 
 
 def null_space(J: np.ndarray) -> np.ndarray:
@@ -144,29 +178,48 @@ def null_space(J: np.ndarray) -> np.ndarray:
     """
     n, m, k = J.shape
     if m - k == 1:
-        # N_j = (-1)^j det(J~ without row j): J~^T N = 0 (a determinant with a repeated row).
-        rows = [np.delete(J, j, axis=1) for j in range(m)]
-        if k == 3:
-            dets = [np.einsum("ni,ni->n", R[:, 0], np.cross(R[:, 1], R[:, 2])) for R in rows]
-        else:
-            dets = [np.linalg.det(R) for R in rows]
-        N = np.stack([(-1.0) ** j * d for j, d in enumerate(dets)], axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            N /= np.linalg.norm(N, axis=1, keepdims=True)
+        N = _stack(_null_vector(_cols(J), n), n)
         return N[:, :, None]
-    U = np.linalg.svd(J, full_matrices=True)[0]
+    U = np.linalg.svd(np.asarray(J), full_matrices=True)[0]
     return U[:, :, k:]
 
 
-def _within(T: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    tol = TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
+def _null_vector(cols: list, n: int) -> list:
+    """Unit null vector of J~^T for r = 1, as a list over cables.
+
+    N_j = (-1)^j det(J~ without row j): J~^T N = 0 since each entry of J~^T N is
+    the determinant of a matrix with a repeated row.
+    """
+    m, k = len(cols), len(cols[0])
+    dets = []
+    for j in range(m):
+        rows = cols[:j] + cols[j + 1:]
+        if k == 3:
+            dets.append(vec.dot(rows[0], vec.cross(rows[1], rows[2])))
+        else:
+            dets.append(np.linalg.det(np.stack([np.stack(r, axis=-1) for r in rows], axis=1)))
+    N = [d if j % 2 == 0 else -d for j, d in enumerate(dets)]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        inv = 1.0 / np.sqrt(sum(Nj * Nj for Nj in N))
+    return [Nj * inv for Nj in N]
+
+
+def _tol(hi: np.ndarray) -> float:
+    return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
+
+
+def _within(T: list, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Every tension (a list over cables) within its limits, per step."""
+    tol = _tol(hi)
     with np.errstate(invalid="ignore"):
-        return np.all((T >= lo - tol) & (T <= hi + tol), axis=1)
+        inside = [(Ti >= lo[i] - tol) & (Ti <= hi[i] + tol) for i, Ti in enumerate(T)]
+    return np.logical_and.reduce(inside)
 
 
-def _finish(T: np.ndarray, feasible: np.ndarray) -> TensionSolution:
-    T = np.where(feasible[:, None], T, np.nan)
-    return TensionSolution(T, feasible)
+def _finish(T: list, feasible: np.ndarray, n: int) -> TensionSolution:
+    out = _stack(T, n)
+    out[~feasible] = np.nan
+    return TensionSolution(out, feasible)
 
 
 def _least_distance(
@@ -181,38 +234,42 @@ def _least_distance(
     """Exactly minimise |T - target|^2 subject to J~^T T = w and lo <= T <= hi."""
     n, m, k = J.shape
     r = m - k
+    Ts = [T_s[:, i] for i in range(m)]
     if r == 0:
-        return _finish(T_s, ok & _within(T_s, lo, hi))
-    N = null_space(J)
+        return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if r == 1:
-        N1 = N[:, :, 0]
+        N = _null_vector(_cols(J), n)
         # lambda* = N^T (target - T_s) / N^T N, with N^T N = 1
-        lam = np.einsum("nm,nm->n", N1, target - T_s)
+        lam = sum(N[i] * (target[i] - Ts[i]) for i in range(m))
         # Corrected bounds of eq. (20) (MODEL_NOTES): a_i, b_i per cable with N_i != 0.
-        tiny = 1e-12
+        low, high = np.full(n, -np.inf), np.full(n, np.inf)
+        fixed_ok = np.ones(n, dtype=bool)
         with np.errstate(invalid="ignore", divide="ignore"):
-            nz = np.abs(N1) > tiny
-            safe = np.where(nz, N1, 1.0)
-            a = (lo - T_s) / safe
-            b = (hi - T_s) / safe
-            low = np.where(nz, np.minimum(a, b), -np.inf).max(axis=1)
-            high = np.where(nz, np.maximum(a, b), np.inf).min(axis=1)
-            # a cable the null space cannot change must already be within its limits
-            fixed_ok = np.all(nz | ((T_s >= lo) & (T_s <= hi)), axis=1)
-        lam = np.clip(lam, low, high)
-        T = T_s + lam[:, None] * N1
+            for i in range(m):
+                nz = np.abs(N[i]) > 1e-12
+                inv = 1.0 / np.where(nz, N[i], 1.0)
+                a = (lo[i] - Ts[i]) * inv
+                b = (hi[i] - Ts[i]) * inv
+                low = np.where(nz, np.maximum(low, np.minimum(a, b)), low)
+                high = np.where(nz, np.minimum(high, np.maximum(a, b)), high)
+                # a cable the null space cannot change must already be within its limits
+                fixed_ok &= nz | ((Ts[i] >= lo[i]) & (Ts[i] <= hi[i]))
+        lam = np.minimum(np.maximum(lam, low), high)
+        T = [Ts[i] + lam * N[i] for i in range(m)]
         feasible = ok & fixed_ok & (low <= high) & _within(T, lo, hi)
-        return _finish(T, feasible)
+        return _finish(T, feasible, n)
     # r > 1: the unconstrained optimum, then an exact QP where it breaks a limit.
-    T = T_s + np.einsum("nmr,nr->nm", N, np.einsum("nmr,nm->nr", N, target - T_s))
+    N = null_space(J)
+    T_u = T_s + np.einsum("nmr,nr->nm", N, np.einsum("nmr,nm->nr", N, target - T_s))
+    T = [T_u[:, i] for i in range(m)]
     inside = ok & _within(T, lo, hi)
     feasible = inside.copy()
-    for i in np.flatnonzero(ok & ~inside):
-        sol = _qp_step(J[i], w[i], target, lo, hi)
+    for s in np.flatnonzero(ok & ~inside):
+        sol = _qp_step(J[s], w[s], target, lo, hi)
         if sol is not None:
-            T[i] = sol
-            feasible[i] = True
-    return _finish(T, feasible)
+            T_u[s] = sol
+            feasible[s] = True
+    return _finish([T_u[:, i] for i in range(m)], feasible, n)
 
 
 def _qp_step(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray):
@@ -232,34 +289,35 @@ def _improved_closed_form(
     J: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, ok: np.ndarray
 ) -> TensionSolution:
     n, m, k = J.shape
+    cols = _cols(J)
     mid = 0.5 * (lo + hi)
-    tol = TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
-    free = np.ones((n, m), dtype=bool)
-    T_fixed = np.zeros((n, m))
-    T_out = np.full((n, m), np.nan)
+    tol = _tol(hi)
+    free = np.ones((m, n), dtype=bool)
+    T_fixed = np.zeros((m, n))
+    T_out = np.full((m, n), np.nan)
     feasible = np.zeros(n, dtype=bool)
     active = ok.copy()
-    steps = np.arange(n)
-    for it in range(m - k + 1):
+    for _ in range(m - k + 1):
         if not active.any():
             break
-        Jf = J * free[:, :, None]
-        tm = np.where(free, mid, 0.0)
-        rhs = w - np.einsum("nmk,nm->nk", J, T_fixed) - np.einsum("nmk,nm->nk", Jf, tm)
-        x, rank_ok = _gram_solve(Jf, rhs)
-        T = tm + np.einsum("nmk,nk->nm", Jf, x) + T_fixed
+        # closed form on the free cables, the fixed ones' wrench moved to the right
+        cols_f = [[c * free[i] for c in row] for i, row in enumerate(cols)]
+        tm = [np.where(free[i], mid[i], 0.0) for i in range(m)]
+        rhs = [w[:, a] - fa - ta for a, fa, ta in
+               zip(range(k), _JT(cols, list(T_fixed)), _JT(cols_f, tm))]
+        x, rank_ok = _gram_solve(cols_f, rhs, n)
+        T = np.array([tm[i] + Jx + T_fixed[i] for i, Jx in enumerate(_Jx(cols_f, x))])
         with np.errstate(invalid="ignore"):
-            viol = np.where(free, np.maximum(np.maximum(lo - T, T - hi), 0.0), 0.0)
-        done = active & rank_ok & (viol.max(axis=1) <= tol)
-        T_out[done] = T[done]
+            viol = np.where(free, np.maximum(np.maximum(lo[:, None] - T, T - hi[:, None]), 0.0), 0.0)
+        done = active & rank_ok & (viol.max(axis=0) <= tol)
+        T_out[:, done] = T[:, done]
         feasible |= done
         active &= rank_ok & ~done
-        worst = np.argmax(viol, axis=1)
-        idx = steps[active]
-        j = worst[active]
-        free[idx, j] = False
-        T_fixed[idx, j] = np.where(T[idx, j] < lo[j], lo[j], hi[j])
-    return TensionSolution(T_out, feasible)
+        steps = np.flatnonzero(active)
+        j = np.argmax(viol[:, steps], axis=0)
+        free[j, steps] = False
+        T_fixed[j, steps] = np.where(T[j, steps] < lo[j], lo[j], hi[j])
+    return TensionSolution(T_out.T, feasible)
 
 
 def distribute_tensions(
@@ -301,16 +359,19 @@ def distribute_tensions(
     if T_s is None or ok is None:
         T_s, ok = pseudo_inverse_tensions(J, w)
     mid = 0.5 * (lo + hi)
+    n, m = T_s.shape
     if method == "pseudo_inverse":
-        return _finish(T_s, ok & _within(T_s, lo, hi))
+        Ts = [T_s[:, i] for i in range(m)]
+        return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if method == "minimum_variance":
         return _least_distance(J, w, mid, lo, hi, T_s, ok)
     if method == "minimum_norm":
         return _least_distance(J, w, np.zeros_like(mid), lo, hi, T_s, ok)
     if method == "closed_form":
-        x, _ = _gram_solve(J, w - np.einsum("nmk,m->nk", J, mid))
-        T = mid + np.einsum("nmk,nk->nm", J, x)
-        return _finish(T, ok & _within(T, lo, hi))
+        cols = _cols(J)
+        x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n)
+        T = [mid[i] + Jx for i, Jx in enumerate(_Jx(cols, x))]
+        return _finish(T, ok & _within(T, lo, hi), n)
     if method == "improved_closed_form":
         return _improved_closed_form(J, w, lo, hi, ok)
     raise ValueError(

@@ -11,13 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _vec as vec
 from .errors import ScenarioError
-from .rotations import body_rates_from_euler, matrix_from_euler
+from .rotations import euler_kinematics
 from .scenario import (
     CircleTrajectory,
     Disturbance,
     LineTrajectory,
-    Robot,
     WaypointsTrajectory,
 )
 
@@ -88,11 +88,11 @@ def platform_motion(pose: np.ndarray, pose_dot: np.ndarray, pose_ddot: np.ndarra
     pose = np.asarray(pose, dtype=float)
     pose_dot = np.asarray(pose_dot, dtype=float)
     pose_ddot = np.asarray(pose_ddot, dtype=float)
-    R = matrix_from_euler(pose[:, 3:])
-    omega_b, alpha_b = body_rates_from_euler(pose[:, 3:], pose_dot[:, 3:], pose_ddot[:, 3:])
+    R, omega_b, alpha_b = euler_kinematics(pose[:, 3:], pose_dot[:, 3:], pose_ddot[:, 3:])
     # d(R omega_b)/dt = R alpha_b, so both rates rotate into C with R.
-    omega = np.einsum("nij,nj->ni", R, omega_b)
-    alpha = np.einsum("nij,nj->ni", R, alpha_b)
+    n = pose.shape[0]
+    omega = vec.pack(vec.matvec(R, vec.comps(omega_b)), n)
+    alpha = vec.pack(vec.matvec(R, vec.comps(alpha_b)), n)
     return PlatformMotion(pose, pose_dot, pose_ddot, R, omega, alpha)
 
 
@@ -118,9 +118,10 @@ def evaluate_trajectory(
     """
     t = np.asarray(t, dtype=float)
     n = t.size
-    pose = np.zeros((n, 6))
-    pose_dot = np.zeros((n, 6))
-    pose_ddot = np.zeros((n, 6))
+    # time-last buffers (see _vec); the (n_steps, 6) views are taken at the end
+    pose = np.zeros((6, n))
+    pose_dot = np.zeros((6, n))
+    pose_ddot = np.zeros((6, n))
     if isinstance(config, LineTrajectory):
         config = config.as_waypoints()
     if isinstance(config, CircleTrajectory):
@@ -130,14 +131,14 @@ def evaluate_trajectory(
         phase = w * t + np.radians(config.phase_deg)
         c, s = np.cos(phase), np.sin(phase)
         r = config.radius_m
-        pose[:, :3] = config.center_m
-        pose[:, e1] += r * c
-        pose[:, e2] += r * s
-        pose_dot[:, e1] = -r * w * s
-        pose_dot[:, e2] = r * w * c
-        pose_ddot[:, e1] = -r * w * w * c
-        pose_ddot[:, e2] = -r * w * w * s
-        pose[:, 3:] = np.radians(config.orientation_deg)
+        pose[:3] = np.asarray(config.center_m)[:, None]
+        pose[e1] += r * c
+        pose[e2] += r * s
+        pose_dot[e1] = -r * w * s
+        pose_dot[e2] = r * w * c
+        pose_ddot[e1] = -r * w * w * c
+        pose_ddot[e2] = -r * w * w * s
+        pose[3:] = np.radians(config.orientation_deg)[:, None]
     else:
         times = np.array([wp.time_s for wp in config.waypoints])
         knots = np.array(
@@ -147,11 +148,11 @@ def evaluate_trajectory(
         dur = times[seg + 1] - times[seg]
         tau = np.clip((t - times[seg]) / dur, 0.0, 1.0)
         s, ds, dds = _quintic(tau)
-        delta = knots[seg + 1] - knots[seg]
-        pose[:] = knots[seg] + delta * s[:, None]
-        pose_dot[:] = delta * (ds / dur)[:, None]
-        pose_ddot[:] = delta * (dds / dur**2)[:, None]
-    return platform_motion(pose, pose_dot, pose_ddot)
+        delta = (knots[seg + 1] - knots[seg]).T
+        pose[:] = knots[seg].T + delta * s
+        pose_dot[:] = delta * (ds / dur)
+        pose_ddot[:] = delta * (dds / dur**2)
+    return platform_motion(pose.T, pose_dot.T, pose_ddot.T)
 
 
 def evaluate_disturbance(config: Disturbance, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -180,7 +181,7 @@ def evaluate_disturbance(config: Disturbance, t: np.ndarray) -> tuple[np.ndarray
     return f, m
 
 
-def check_in_frame(motion: PlatformMotion, robot: Robot, t: np.ndarray) -> None:
+def check_in_frame(x_PC: np.ndarray, anchors_C: np.ndarray, c_C: np.ndarray, t: np.ndarray) -> None:
     """Raise if the platform's centre or an anchor leaves the frame.
 
     The frame is the axis-aligned box of the frame anchors in C; an axis along
@@ -189,8 +190,12 @@ def check_in_frame(motion: PlatformMotion, robot: Robot, t: np.ndarray) -> None:
 
     Parameters
     ----------
-    motion : PlatformMotion
-    robot : Robot
+    x_PC : ndarray, shape (n_steps, 3)
+        Platform centre in C, m.
+    anchors_C : ndarray, shape (n_steps, n_cables, 3)
+        Platform anchors relative to the centre, in C (R_PC p_i), m.
+    c_C : ndarray, shape (n_cables, 3)
+        Frame anchors in C, m.
     t : ndarray, shape (n_steps,)
         Times, s, to name where the platform leaves.
 
@@ -199,24 +204,24 @@ def check_in_frame(motion: PlatformMotion, robot: Robot, t: np.ndarray) -> None:
     ScenarioError
         With key ``trajectory``, the first time and the point outside.
     """
-    c = robot.frame_anchors
-    lo, hi = c.min(axis=0), c.max(axis=0)
-    tol = 1e-9 * max(1.0, float(np.abs(c).max()))
-    # points: centre and anchors in C, shape (n_steps, 1 + n_cables, 3)
-    anchors = np.einsum("nij,kj->nki", motion.R_PC, robot.platform_anchors)
-    pts = motion.x_PC_C[:, None, :] + np.concatenate(
-        [np.zeros((len(t), 1, 3)), anchors], axis=1
-    )
+    lo, hi = c_C.min(axis=0), c_C.max(axis=0)
+    tol = 1e-9 * max(1.0, float(np.abs(c_C).max()))
     for axis in range(3):
         if hi[axis] - lo[axis] <= tol:
             continue
-        bad = (pts[:, :, axis] < lo[axis] - tol) | (pts[:, :, axis] > hi[axis] + tol)
-        if bad.any():
-            step, point = np.argwhere(bad)[0]
-            what = "the platform's centre" if point == 0 else f"platform anchor {point}"
-            raise ScenarioError(
-                f"the platform leaves the frame at t = {t[step]:.3f} s: {what} is at "
-                f"{'xyz'[axis]} = {pts[step, point, axis]:.4g} m, outside the frame anchors' "
-                f"range [{lo[axis]:g}, {hi[axis]:g}] m",
-                key="trajectory",
-            )
+        x = x_PC[:, axis]
+        ext = anchors_C[:, :, axis]
+        # quick test on the extremes, then locate the first offender
+        if (x + ext.min(axis=1)).min() >= lo[axis] - tol and (x + ext.max(axis=1)).max() <= hi[axis] + tol \
+                and x.min() >= lo[axis] - tol and x.max() <= hi[axis] + tol:
+            continue
+        pts = np.concatenate([x[:, None], x[:, None] + ext], axis=1)
+        bad = (pts < lo[axis] - tol) | (pts > hi[axis] + tol)
+        step, point = np.argwhere(bad)[0]
+        what = "the platform's centre" if point == 0 else f"platform anchor {point}"
+        raise ScenarioError(
+            f"the platform leaves the frame at t = {t[step]:.3f} s: {what} is at "
+            f"{'xyz'[axis]} = {pts[step, point]:.4g} m, outside the frame anchors' "
+            f"range [{lo[axis]:g}, {hi[axis]:g}] m",
+            key="trajectory",
+        )

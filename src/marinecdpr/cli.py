@@ -1,0 +1,138 @@
+"""The ``marinecdpr`` command: parses arguments, calls the library, prints.
+
+Exit codes: 0 success; 2 bad input (a scenario or an option); 3 the cables cannot
+hold the platform somewhere on the plan (outputs are still written, complete).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from .errors import MarineCDPRError
+from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
+
+EXIT_BAD_INPUT = 2
+EXIT_INFEASIBLE = 3
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Cable-driven parallel robots on a moving ship.",
+    pretty_exceptions_show_locals=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+
+def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
+    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def _out_dir(out: Path) -> Path:
+    if out.exists() and not out.is_dir():
+        _fail(f"--out {out}: exists and is not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        _fail(f"--out {out}: cannot create the folder ({exc.strerror})")
+    return out
+
+
+@app.command()
+def plan(
+    scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for plan.csv and figures."),
+    method: Optional[str] = typer.Option(
+        None, help=f"Tension method (default: the scenario's): {', '.join(TENSION_METHODS)}."
+    ),
+    fixed_base: bool = typer.Option(
+        False, "--fixed-base", help="Plan as if the ship were still (the traditional model)."
+    ),
+    allow_infeasible: bool = typer.Option(
+        False, help="Exit 0 even where the cables cannot hold the platform."
+    ),
+) -> None:
+    """Plan cable tensions along the scenario's trajectory on its moving ship."""
+    from .planning import plan as make_plan
+    from .reports import plot_tensions, write_plan_csv
+
+    if method is not None and method not in TENSION_METHODS:
+        _fail(f"--method {method}: expected one of {', '.join(TENSION_METHODS)}")
+    try:
+        sc = load_scenario(scenario)
+        t0 = time.perf_counter()
+        result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
+        elapsed = time.perf_counter() - t0
+    except MarineCDPRError as exc:
+        _fail(str(exc))
+    folder = _out_dir(out)
+    csv_path = write_plan_csv(result, sc, folder / "plan.csv")
+    fig_path = plot_tensions(result, sc, folder / "tensions.png")
+
+    table = Table(title=f"plan: {sc.name} ({result.method}, {result.base_model} base)")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    table.add_row("steps", f"{result.n_steps} ({elapsed * 1e3:.1f} ms)")
+    table.add_row("feasible steps", f"{int(result.feasible.sum())} of {result.n_steps}")
+    table.add_row("eq. 18 tensions (N)", f"{_nanmin(result.tensions_pinv):.2f} .. {_nanmax(result.tensions_pinv):.2f}")
+    table.add_row("planned tensions (N)", f"{_nanmin(result.tensions):.2f} .. {_nanmax(result.tensions):.2f}")
+    table.add_row("written", f"{csv_path}\n{fig_path}")
+    console.print(table)
+    problem = result.infeasibility()
+    if problem is not None:
+        err_console.print(f"[bold yellow]infeasible:[/] {sc.name}: {problem}", highlight=False,
+                          soft_wrap=True)
+        if not allow_infeasible:
+            raise typer.Exit(EXIT_INFEASIBLE)
+
+
+def _nanmin(a) -> float:
+    import numpy as np
+
+    return float(np.nanmin(a)) if np.isfinite(a).any() else float("nan")
+
+
+def _nanmax(a) -> float:
+    import numpy as np
+
+    return float(np.nanmax(a)) if np.isfinite(a).any() else float("nan")
+
+
+@app.command()
+def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-in name.")) -> None:
+    """Validate a scenario file and print what it describes."""
+    try:
+        sc = load_scenario(scenario)
+    except MarineCDPRError as exc:
+        _fail(str(exc))
+    r = sc.robot
+    console.print(
+        f"{scenario}: ok: '{sc.name}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "
+        f"base motion {sc.base_motion.type}; trajectory {sc.trajectory.type}; "
+        f"{sc.time.n_steps} steps of {sc.time.step_s:g} s; method {sc.planning.method}",
+        highlight=False,
+    )
+
+
+@app.command()
+def scenarios() -> None:
+    """List the built-in scenarios."""
+    for name in builtin_scenarios():
+        console.print(name, highlight=False)
+
+
+def main() -> None:
+    """Console entry point."""
+    app()
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
