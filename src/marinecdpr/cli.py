@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from .errors import MarineCDPRError
+from .errors import MarineCDPRError, ScenarioError
 from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
 
 EXIT_BAD_INPUT = 2
@@ -71,8 +71,8 @@ def plan(
         t0 = time.perf_counter()
         result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
         elapsed = time.perf_counter() - t0
-    except MarineCDPRError as exc:
-        _fail(str(exc))
+    except ScenarioError as exc:
+        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
     folder = _out_dir(out)
     csv_path = write_plan_csv(result, sc, folder / "plan.csv")
     fig_path = plot_tensions(result, sc, folder / "tensions.png")

@@ -489,50 +489,111 @@ def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Sc
 
 
 def _to_scenario_error(exc: ValidationError, data: Any, source: str | None) -> ScenarioError:
-    errors = exc.errors()
+    """The first validation error as one line: the dotted key (entries counted from 1)."""
+    # a misspelt key explains the "missing" error that comes with it: report it first
+    errors = sorted(exc.errors(), key=lambda e: e["type"] != "extra_forbidden")
     err = errors[0]
+    loc = list(err["loc"])
+    kind = err["type"]
+    message = err["msg"].removeprefix("Value error, ")
+    if kind in ("missing", "too_short", "too_long") and loc and isinstance(loc[-1], int) \
+            or kind in ("too_short", "too_long"):
+        # a vector with the wrong number of entries: name the vector, not its element
+        if isinstance(loc[-1], int):
+            loc.pop()
+        value = _lookup(data, loc)
+        got = len(value) if isinstance(value, (list, tuple)) else type(value).__name__
+        message = f"expected 3 numbers [x, y, z], got {got}" if kind != "too_short" else message
+    elif kind == "extra_forbidden":
+        message = "unknown key" + _suggest(err["loc"], data)
+    elif kind == "missing":
+        message = "missing"
+    elif kind in ("union_tag_invalid", "union_tag_not_found"):
+        loc.append("type")
+        got = _lookup(data, loc)
+        message = (f"expected one of {_union_tags(loc[:-1])}"
+                   + (" (missing)" if got is None else f" (got {got!r})"))
+    elif kind not in ("value_error", "assertion_error") and "input" in err:
+        shown = repr(err["input"])
+        message += f" (got {shown if len(shown) <= 60 else shown[:57] + '...'})"
     key_parts: list[str] = []
-    node: Any = data
-    model: Any = Scenario
-    for part in err["loc"]:
+    for part in _strip_tags(data, loc):
         if isinstance(part, int):
             key_parts[-1] += f"[{part + 1}]"
-            node = node[part] if isinstance(node, list) and part < len(node) else None
-            continue
-        # Discriminated unions add the tag ("circle") to the location: skip it.
-        if isinstance(node, dict) and part not in node and node.get("type") == part:
-            continue
-        key_parts.append(part)
-        node = node.get(part) if isinstance(node, dict) else None
-    message = err["msg"].removeprefix("Value error, ")
+        else:
+            key_parts.append(str(part))
     error_obj = (err.get("ctx") or {}).get("error")
     if isinstance(error_obj, _KeyedError):
         key_parts.append(error_obj.key)
-    if err["type"] == "extra_forbidden":
-        message = "unknown key" + _suggest(err["loc"], data)
-    elif err["type"] == "missing":
-        message = "missing"
-    elif err["type"] not in ("value_error", "assertion_error") and "input" in err:
-        message += f" (got {err['input']!r})"
-    if len(errors) > 1:
-        message += f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
+    # the field a misspelt key was meant to be is reported missing too: not another problem
+    others = [e for e in errors[1:] if not (
+        kind == "extra_forbidden" and e["type"] == "missing" and f"'{e['loc'][-1]}'?" in message)]
+    if others:
+        message += f" (and {len(others)} more problem{'s' if len(others) > 1 else ''})"
     return ScenarioError(message, source=source, key=".".join(key_parts) or None)
 
 
+def _union_tags(loc: list) -> str:
+    """The ``type`` values a union field at ``loc`` accepts, quoted."""
+    model: Any = Scenario
+    for part in loc:
+        fields = getattr(model, "model_fields", {})
+        if isinstance(part, str) and part in fields:
+            model = fields[part].annotation
+    tags: list[str] = []
+    stack = [model]
+    while stack:
+        ann = stack.pop()
+        if isinstance(ann, type) and issubclass(ann, BaseModel):
+            tag = ann.model_fields.get("type")
+            tags += list(getattr(tag.annotation, "__args__", ())) if tag else []
+        else:
+            stack.extend(getattr(ann, "__args__", ()))
+            if hasattr(ann, "__metadata__"):
+                stack.append(ann.__origin__)
+    return ", ".join(f"'{t}'" for t in sorted(tags))
+
+
+def _strip_tags(data: Any, loc: list) -> list:
+    """The location without the tags ("circle") pydantic inserts after a union field."""
+    out: list = []
+    node: Any = data
+    after_field = False
+    for part in loc:
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, list) and part < len(node) else None
+            after_field = False
+        elif after_field and isinstance(node, dict) and node.get("type") == part:
+            after_field = False  # the tag: skip it, once
+            continue
+        else:
+            node = node.get(part) if isinstance(node, dict) else None
+            after_field = True
+        out.append(part)
+    return out
+
+
+def _lookup(data: Any, loc: list) -> Any:
+    """The raw value at a pydantic location; None if absent."""
+    node = data
+    for part in _strip_tags(data, loc):
+        if isinstance(part, int):
+            node = node[part] if isinstance(node, list) and part < len(node) else None
+        else:
+            node = node.get(part) if isinstance(node, dict) else None
+    return node
+
+
 def _suggest(loc: tuple, data: Any) -> str:
-    """' (did you mean X?)' for a misspelt key, from the model's field names."""
+    """'; did you mean X? (expected one of: ...)' for a misspelt key."""
     model: Any = Scenario
     node: Any = data
-    for part in loc[:-1]:
+    for part in _strip_tags(data, list(loc[:-1])):
         if isinstance(part, int):
-            node = node[part] if isinstance(node, list) else None
+            node = node[part] if isinstance(node, list) and part < len(node) else None
             continue
-        field = getattr(model, "model_fields", {}).get(part)
         node = node.get(part) if isinstance(node, dict) else None
-        if field is None:
-            # a union tag: pick the member named by "type"
-            continue
-        model = _field_model(field.annotation, node)
+        model = _field_model(model.model_fields[part].annotation, node)
     fields = list(getattr(model, "model_fields", {}))
     close = difflib.get_close_matches(str(loc[-1]), fields, n=1, cutoff=0.5)
     hint = f"; did you mean '{close[0]}'?" if close else ""
@@ -540,18 +601,16 @@ def _suggest(loc: tuple, data: Any) -> str:
 
 
 def _field_model(annotation: Any, node: Any) -> Any:
-    """The pydantic model class a field's annotation holds, resolving lists and unions."""
-    stack = [annotation]
-    candidates = []
+    """The model class a field holds (through lists, unions and Annotated), picked by "type"."""
+    candidates, stack = [], [annotation]
     while stack:
         ann = stack.pop()
         if isinstance(ann, type) and issubclass(ann, BaseModel):
             candidates.append(ann)
-        stack.extend(getattr(ann, "__args__", ()) or ())
-        stack.extend(getattr(ann, "__metadata__", ()) and () or ())
-        origin = getattr(ann, "__origin__", None)
-        if origin is Annotated:
-            stack.append(ann.__origin__)
+        else:
+            stack.extend(getattr(ann, "__args__", ()))
+            if getattr(ann, "__origin__", None) is not None and hasattr(ann, "__metadata__"):
+                stack.append(ann.__origin__)
     if isinstance(node, dict):
         for cand in candidates:
             tag = cand.model_fields.get("type")

@@ -201,7 +201,7 @@ def _null_vector(cols: list, n: int) -> list:
     N = [d if j % 2 == 0 else -d for j, d in enumerate(dets)]
     with np.errstate(invalid="ignore", divide="ignore"):
         inv = 1.0 / np.sqrt(sum(Nj * Nj for Nj in N))
-    return [Nj * inv for Nj in N]
+        return [Nj * inv for Nj in N]
 
 
 def _tol(hi: np.ndarray) -> float:

@@ -1,0 +1,37 @@
+"""Shared fixtures: the paper scenario and small scenario builders."""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from importlib import resources
+
+import pytest
+
+import marinecdpr
+from marinecdpr.scenario import scenario_from_dict
+
+
+def paper_dict() -> dict:
+    """The built-in paper scenario as nested dicts (a fresh copy to edit)."""
+    text = (resources.files("marinecdpr") / "scenarios" / "paper.toml").read_text()
+    return copy.deepcopy(tomllib.loads(text))
+
+
+def make_scenario(edit=None, **sections):
+    """The paper scenario with sections replaced and/or an edit function applied."""
+    data = paper_dict()
+    data.update(sections)
+    if edit is not None:
+        edit(data)
+    return scenario_from_dict(data, source="test")
+
+
+@pytest.fixture(scope="session")
+def paper():
+    return marinecdpr.load_scenario("paper")
+
+
+@pytest.fixture(scope="session")
+def paper_plan(paper):
+    return marinecdpr.plan(paper)
