@@ -6,6 +6,7 @@ layers (:mod:`~marinecdpr.kinematics`, :mod:`~marinecdpr.dynamics`,
 """
 
 from .errors import InfeasibleError, MarineCDPRError, ScenarioError
+from .memory import keep_freed_memory
 from .planning import Plan, iter_plan, plan
 from .scenario import Scenario, builtin_scenarios, load_scenario
 
@@ -19,6 +20,7 @@ __all__ = [
     "MarineCDPRError",
     "ScenarioError",
     "InfeasibleError",
+    "keep_freed_memory",
 ]
 
 __version__ = "0.1.0"

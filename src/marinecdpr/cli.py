@@ -13,9 +13,11 @@ from typing import Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 from .errors import MarineCDPRError, ScenarioError
+from .memory import keep_freed_memory
 from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
 
 EXIT_BAD_INPUT = 2
@@ -32,7 +34,7 @@ err_console = Console(stderr=True)
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
-    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    err_console.print(f"[bold red]error:[/] {escape(message)}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)
 
 
@@ -88,7 +90,7 @@ def plan(
     console.print(table)
     problem = result.infeasibility()
     if problem is not None:
-        err_console.print(f"[bold yellow]infeasible:[/] {sc.name}: {problem}", highlight=False,
+        err_console.print(f"[bold yellow]infeasible:[/] {escape(sc.name)}: {escape(problem)}", highlight=False,
                           soft_wrap=True)
         if not allow_infeasible:
             raise typer.Exit(EXIT_INFEASIBLE)
@@ -131,6 +133,7 @@ def scenarios() -> None:
 
 def main() -> None:
     """Console entry point."""
+    keep_freed_memory()
     app()
 
 

@@ -72,6 +72,8 @@ class TensionSolution:
 
 def _cols(J: np.ndarray) -> list[list[np.ndarray]]:
     """J~ entries as ``cols[i][a]``: cable i, DOF a, each of shape (n_steps,)."""
+    if J.strides[0] != J.itemsize:  # not time-last: one copy makes every entry contiguous
+        J = np.ascontiguousarray(J.transpose(1, 2, 0)).transpose(2, 0, 1)
     return [[J[:, i, a] for a in range(J.shape[2])] for i in range(J.shape[1])]
 
 
@@ -140,6 +142,11 @@ def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
     return [x[:, a] for a in range(k)], ok
 
 
+def _pinv_cols(cols: list, w: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n)
+    return _stack(_Jx(cols, x), n), ok
+
+
 def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Minimum-norm solution of J~^T T = w (eq. 18): T_s = J~ (J~^T J~)^-1 w.
 
@@ -157,10 +164,7 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
     ok : ndarray of bool, shape (n_steps,)
         J~ has full column rank.
     """
-    n = J.shape[0]
-    cols = _cols(J)
-    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n)
-    return _stack(_Jx(cols, x), n), ok
+    return _pinv_cols(_cols(J), np.asarray(w, dtype=float), J.shape[0])
 
 
 def null_space(J: np.ndarray) -> np.ndarray:
@@ -191,14 +195,15 @@ def _null_vector(cols: list, n: int) -> list:
     the determinant of a matrix with a repeated row.
     """
     m, k = len(cols), len(cols[0])
-    dets = []
-    for j in range(m):
-        rows = cols[:j] + cols[j + 1:]
-        if k == 3:
-            dets.append(vec.dot(rows[0], vec.cross(rows[1], rows[2])))
-        else:
-            dets.append(np.linalg.det(np.stack([np.stack(r, axis=-1) for r in rows], axis=1)))
-    N = [d if j % 2 == 0 else -d for j, d in enumerate(dets)]
+    if k == 3:
+        # the four 3x3 minors of a 4x3 matrix share two cross products
+        r0, r1, r2, r3 = cols
+        c23, c01 = vec.cross(r2, r3), vec.cross(r0, r1)
+        N = [vec.dot(r1, c23), -vec.dot(r0, c23), vec.dot(c01, r3), -vec.dot(c01, r2)]
+    else:
+        dets = [np.linalg.det(np.stack([np.stack(r, axis=-1) for r in cols[:j] + cols[j + 1:]], axis=1))
+                for j in range(m)]
+        N = [d if j % 2 == 0 else -d for j, d in enumerate(dets)]
     with np.errstate(invalid="ignore", divide="ignore"):
         inv = 1.0 / np.sqrt(sum(Nj * Nj for Nj in N))
         return [Nj * inv for Nj in N]
@@ -224,6 +229,7 @@ def _finish(T: list, feasible: np.ndarray, n: int) -> TensionSolution:
 
 def _least_distance(
     J: np.ndarray,
+    cols: list,
     w: np.ndarray,
     target: np.ndarray,
     lo: np.ndarray,
@@ -238,7 +244,7 @@ def _least_distance(
     if r == 0:
         return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if r == 1:
-        N = _null_vector(_cols(J), n)
+        N = _null_vector(cols, n)
         # lambda* = N^T (target - T_s) / N^T N, with N^T N = 1
         lam = sum(N[i] * (target[i] - Ts[i]) for i in range(m))
         # Corrected bounds of eq. (20) (MODEL_NOTES): a_i, b_i per cable with N_i != 0.
@@ -247,9 +253,14 @@ def _least_distance(
         with np.errstate(invalid="ignore", divide="ignore"):
             for i in range(m):
                 nz = np.abs(N[i]) > 1e-12
-                inv = 1.0 / np.where(nz, N[i], 1.0)
+                all_nz = bool(nz.all())
+                inv = 1.0 / (N[i] if all_nz else np.where(nz, N[i], 1.0))
                 a = (lo[i] - Ts[i]) * inv
                 b = (hi[i] - Ts[i]) * inv
+                if all_nz:
+                    np.maximum(low, np.minimum(a, b), out=low)
+                    np.minimum(high, np.maximum(a, b), out=high)
+                    continue
                 low = np.where(nz, np.maximum(low, np.minimum(a, b)), low)
                 high = np.where(nz, np.minimum(high, np.maximum(a, b)), high)
                 # a cable the null space cannot change must already be within its limits
@@ -286,10 +297,9 @@ def _qp_step(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, h
 
 
 def _improved_closed_form(
-    J: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, ok: np.ndarray
+    cols: list, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, ok: np.ndarray
 ) -> TensionSolution:
-    n, m, k = J.shape
-    cols = _cols(J)
+    n, m, k = w.shape[0], len(cols), len(cols[0])
     mid = 0.5 * (lo + hi)
     tol = _tol(hi)
     free = np.ones((m, n), dtype=bool)
@@ -356,24 +366,25 @@ def distribute_tensions(
     w = np.asarray(w, dtype=float)
     lo = np.asarray(t_min, dtype=float)
     hi = np.asarray(t_max, dtype=float)
+    cols = _cols(J)
+    n = J.shape[0]
     if T_s is None or ok is None:
-        T_s, ok = pseudo_inverse_tensions(J, w)
+        T_s, ok = _pinv_cols(cols, w, n)
     mid = 0.5 * (lo + hi)
-    n, m = T_s.shape
+    m = T_s.shape[1]
     if method == "pseudo_inverse":
         Ts = [T_s[:, i] for i in range(m)]
         return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if method == "minimum_variance":
-        return _least_distance(J, w, mid, lo, hi, T_s, ok)
+        return _least_distance(J, cols, w, mid, lo, hi, T_s, ok)
     if method == "minimum_norm":
-        return _least_distance(J, w, np.zeros_like(mid), lo, hi, T_s, ok)
+        return _least_distance(J, cols, w, np.zeros_like(mid), lo, hi, T_s, ok)
     if method == "closed_form":
-        cols = _cols(J)
         x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n)
         T = [mid[i] + Jx for i, Jx in enumerate(_Jx(cols, x))]
         return _finish(T, ok & _within(T, lo, hi), n)
     if method == "improved_closed_form":
-        return _improved_closed_form(J, w, lo, hi, ok)
+        return _improved_closed_form(cols, w, lo, hi, ok)
     raise ValueError(
         f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
         "closed_form, improved_closed_form or minimum_norm)"
