@@ -89,3 +89,40 @@ def test_spatial_inertia_rotates_the_tensor():
     R = np.array([[[0.0, -1, 0], [1, 0, 0], [0, 0, 1]]])  # 90 deg about z
     M = spatial_inertia(R, 2.0, np.diag([1.0, 2.0, 3.0]))
     np.testing.assert_allclose(M[0], np.diag([2.0, 2, 2, 2, 1, 3]), atol=1e-15)
+
+
+def test_absolute_motion_matches_finite_differences_and_eq13_equals_eq15(paper):
+    """Eqs. (7)-(11) against differences of x_PO and R_SO R_PC; eq. (13) in O is S times eq. (15)."""
+    from marinecdpr.dynamics import absolute_motion, inertial_frame_terms
+    from marinecdpr.rotations import skew
+    from test_against_reference import TRAJ, I_PP
+
+    h = 1e-5
+    t = np.linspace(0.25, 3.75, 8)  # away from the waypoints, where the jerk jumps
+    tt = np.concatenate([t - h, t, t + h])
+    ship = evaluate_base_motion(SIX_DOF_SEA, tt)
+    plat = evaluate_trajectory(TRAJ, tt)
+    origin = np.asarray(paper.ship.frame_origin_m)
+    absm = absolute_motion(plat.x_PC_C, plat.twist, plat.twist_dot, ship, frame_origin_S=origin)
+    n = t.size
+    mid = slice(n, 2 * n)
+
+    def d(x):
+        return (x[2 * n:] - x[:n]) / (2 * h)
+
+    np.testing.assert_allclose(absm.v_PO_O[mid], d(absm.x_PO_O), atol=1e-7)
+    np.testing.assert_allclose(absm.a_PO_O[mid], d(absm.v_PO_O), atol=1e-6)
+    np.testing.assert_allclose(absm.alpha_PO_O[mid], d(absm.omega_PO_O), atol=1e-6)
+    R_PO = np.einsum("nij,njk->nik", ship.R_SO, plat.R_PC)
+    np.testing.assert_allclose(d(R_PO), skew(absm.omega_PO_O[mid]) @ R_PO[mid], atol=1e-7)
+
+    m, g = 5.0, 9.8
+    M, C, G = inertial_frame_terms(ship.R_SO, plat.R_PC, absm.omega_PO_O, mass=m, I_PP=I_PP, gravity=g)
+    X_dd = np.concatenate([absm.a_PO_O, absm.alpha_PO_O], axis=1)
+    X_d = np.concatenate([absm.v_PO_O, absm.omega_PO_O], axis=1)
+    lhs_O = np.einsum("nij,nj->ni", M, X_dd) + np.einsum("nij,nj->ni", C, X_d) - G  # eq. (13), F_r = 0
+    w_C = wrench_terms(plat.x_PC_C, plat.twist, plat.twist_dot, plat.R_PC, ship, frame_origin_S=origin,
+                       mass=m, I_PP=I_PP, gravity=g).total
+    S = np.zeros((tt.size, 6, 6))
+    S[:, :3, :3] = S[:, 3:, 3:] = ship.R_SO
+    np.testing.assert_allclose(lhs_O, np.einsum("nij,nj->ni", S, w_C), atol=1e-10)  # eq. (15)

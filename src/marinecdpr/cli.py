@@ -16,7 +16,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from .errors import MarineCDPRError, ScenarioError
+from .errors import ScenarioError
 from .memory import keep_freed_memory
 from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
 
@@ -110,11 +110,14 @@ def _nanmax(a) -> float:
 
 @app.command()
 def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-in name.")) -> None:
-    """Validate a scenario file and print what it describes."""
+    """Validate a scenario file (keys, units, physics, trajectory inside the frame)."""
+    from .planning import check_trajectory
+
     try:
         sc = load_scenario(scenario)
-    except MarineCDPRError as exc:
-        _fail(str(exc))
+        check_trajectory(sc)
+    except ScenarioError as exc:
+        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
     r = sc.robot
     console.print(
         f"{scenario}: ok: '{sc.name}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "

@@ -29,8 +29,12 @@ import numpy as np
 
 from . import _vec as vec
 from .basemotion import ShipMotion
+from .rotations import skew
 
 __all__ = [
+    "AbsoluteMotion",
+    "absolute_motion",
+    "inertial_frame_terms",
     "WrenchTerms",
     "wrench_terms",
     "spatial_inertia",
@@ -67,6 +71,97 @@ class WrenchTerms:
     def total(self) -> np.ndarray:
         """The wrench w of eq. (15), shape (n_steps, 6)."""
         return self.relative + self.gravity + self.C_s + self.gravity_tilt + self.external
+
+
+@dataclass(frozen=True)
+class AbsoluteMotion:
+    """The platform's motion in the inertial frame O (eqs. 7-11); each (n_steps, 3).
+
+    Attributes
+    ----------
+    x_PO_O, v_PO_O, a_PO_O : ndarray
+        Position (m), velocity (m/s) and acceleration (m/s^2) of P's centre of mass in O.
+    omega_PO_O, alpha_PO_O : ndarray
+        Angular velocity (rad/s) and acceleration (rad/s^2) of P in O.
+    """
+
+    x_PO_O: np.ndarray
+    v_PO_O: np.ndarray
+    a_PO_O: np.ndarray
+    omega_PO_O: np.ndarray
+    alpha_PO_O: np.ndarray
+
+
+def absolute_motion(
+    x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray, ship: ShipMotion,
+    *, frame_origin_S: np.ndarray,
+) -> AbsoluteMotion:
+    """Where the platform is and how it moves in O, from its motion on the ship.
+
+    Parameters
+    ----------
+    x_PC : ndarray, shape (n_steps, 3)
+        Position of P in C, m.
+    twist, twist_dot : ndarray, shape (n_steps, 6)
+        (v_PC, omega_PC) in C and its derivative.
+    ship : ShipMotion
+    frame_origin_S : ndarray, shape (3,)
+        Origin of C in S, m.
+
+    Returns
+    -------
+    AbsoluteMotion
+    """
+    n = x_PC.shape[0]
+    R = ship.R_SO
+    r = [x_PC[:, i] + float(frame_origin_S[i]) for i in range(3)]  # x_PS^S
+    w_s, al_s = vec.comps(ship.omega_SO_S), vec.comps(ship.alpha_SO_S)
+    v, w_pc = vec.comps(twist[:, :3]), vec.comps(twist[:, 3:])
+    a, al_pc = vec.comps(twist_dot[:, :3]), vec.comps(twist_dot[:, 3:])
+    x = vec.add(vec.comps(ship.x_SO_O), vec.matvec(R, r))  # eq. (7)
+    vel = vec.add(vec.comps(ship.eta_dot[:, :3]), vec.matvec(R, vec.add(vec.cross(w_s, r), v)))  # eq. (8)
+    acc = vec.add(vec.comps(ship.a_SO_O), vec.matvec(R, vec.add(  # eq. (9), products taken in S
+        vec.cross(al_s, r), vec.cross(w_s, vec.cross(w_s, r)), vec.scale(2.0, vec.cross(w_s, v)), a)))
+    omega = vec.matvec(R, vec.add(w_s, w_pc))  # eq. (10)
+    alpha = vec.matvec(R, vec.add(al_s, vec.cross(w_s, w_pc), al_pc))  # eq. (11)
+    return AbsoluteMotion(*(vec.pack(q, n) for q in (x, vel, acc, omega, alpha)))
+
+
+def inertial_frame_terms(
+    R_SO: np.ndarray, R_PC: np.ndarray, omega_PO_O: np.ndarray, *, mass: float,
+    I_PP: np.ndarray, gravity: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """M, C and G of eq. (13): M X'' + C X' - G - F_r = J^T T, all in O.
+
+    Parameters
+    ----------
+    R_SO, R_PC : ndarray, shape (n_steps, 3, 3)
+    omega_PO_O : ndarray, shape (n_steps, 3)
+        Platform angular velocity in O, rad/s.
+    mass : float
+        kg.
+    I_PP : ndarray, shape (3, 3)
+        kg m^2.
+    gravity : float
+        m/s^2 (gravity is (0, 0, -g) in O).
+
+    Returns
+    -------
+    M : ndarray, shape (n_steps, 6, 6)
+        diag(m E, I) with I = R_SO R_PC I_PP R_PC^T R_SO^T.
+    C : ndarray, shape (n_steps, 6, 6)
+        diag(0, [omega_PO x] I).
+    G : ndarray, shape (n_steps, 6)
+        (m g, 0) with g = (0, 0, -g): the paper's "G = [0 0 mg 0 0 0]" with its g = -9.8.
+    """
+    R_PO = np.einsum("nij,njk->nik", R_SO, R_PC)
+    M = spatial_inertia(R_PO, mass, I_PP)
+    n = M.shape[0]
+    C = np.zeros((n, 6, 6))
+    C[:, 3:, 3:] = np.einsum("nij,njk->nik", skew(omega_PO_O), M[:, 3:, 3:])
+    G = np.zeros((n, 6))
+    G[:, 2] = -mass * gravity
+    return M, C, G
 
 
 def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarray:

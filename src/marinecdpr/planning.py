@@ -22,7 +22,7 @@ from .scenario import Scenario
 from .tension import distribute_tensions, pseudo_inverse_tensions
 from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
-__all__ = ["Plan", "plan", "iter_plan", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
+__all__ = ["Plan", "plan", "iter_plan", "check_trajectory", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
 
 DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -149,6 +149,25 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str)
         C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
         feasible=sol.feasible, reaction=reaction,
     )
+
+
+def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> None:
+    """Raise :class:`ScenarioError` if the trajectory leaves the frame (no dynamics solved).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    chunk_steps : int
+        Steps evaluated at once.
+    """
+    robot = scenario.robot
+    n, step = scenario.time.n_steps, scenario.time.step_s
+    for start in range(0, n, chunk_steps):
+        t = np.arange(start, min(start + chunk_steps, n)) * step
+        platform = evaluate_trajectory(scenario.trajectory, t)
+        kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors,
+                               robot.platform_anchors)
+        check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
 
 
 def _options(scenario: Scenario, method: str | None, base_model: str | None) -> tuple[str, str]:
