@@ -15,7 +15,6 @@ from __future__ import annotations
 import difflib
 import math
 import tomllib
-from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -96,21 +95,31 @@ class Robot(_Model):
 
     dofs: Literal["planar", "spatial"] = "planar"
     mass_kg: PositiveFloat
-    inertia_kg_m2: list[StrictFloat] | list[list[StrictFloat]]
+    inertia_kg_m2: Any
     """About the centre of mass in P: 3 principal moments or a 3x3 matrix."""
     tension_min_N: NonNegativeFloat | None = None
     tension_max_N: PositiveFloat | None = None
     cables: list[Cable] = Field(min_length=1)
 
-    @field_validator("inertia_kg_m2")
+    @field_validator("inertia_kg_m2", mode="before")
     @classmethod
     def _check_inertia(cls, value: Any) -> Any:
-        I = np.asarray(value, dtype=float)
-        if I.shape == (3,):
-            I = np.diag(I)
-        elif I.shape != (3, 3):
+        def is_number(x: Any) -> bool:
+            return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+        if isinstance(value, (list, tuple)) and len(value) == 3 and all(map(is_number, value)):
+            I = np.diag(np.asarray(value, dtype=float))
+            value = tuple(float(v) for v in value)
+        elif (isinstance(value, (list, tuple)) and len(value) == 3
+              and all(isinstance(r, (list, tuple)) and len(r) == 3 and all(map(is_number, r))
+                      for r in value)):
+            I = np.asarray(value, dtype=float)
+            value = tuple(tuple(float(v) for v in r) for r in value)
+        else:
+            shown = repr(value)
             raise ValueError(
-                f"expected 3 principal moments or a 3x3 matrix, got shape {I.shape}"
+                "expected 3 principal moments or a 3x3 matrix of numbers, got "
+                + (shown if len(shown) <= 60 else shown[:57] + "...")
             )
         scale = max(float(np.abs(I).max()), 1e-300)
         if not np.allclose(I, I.T, rtol=0, atol=1e-12 * scale):
@@ -421,11 +430,6 @@ class Scenario(_Model):
                 )
         return self
 
-    @cached_property
-    def t(self) -> np.ndarray:
-        """Sample times, shape (n_steps,), s."""
-        return np.arange(self.time.n_steps) * self.time.step_s
-
     def with_changes(self, **sections: Any) -> "Scenario":
         """A validated copy with top-level sections replaced, e.g. ``planning={...}``."""
         data = self.model_dump()
@@ -496,14 +500,13 @@ def _to_scenario_error(exc: ValidationError, data: Any, source: str | None) -> S
     loc = list(err["loc"])
     kind = err["type"]
     message = err["msg"].removeprefix("Value error, ")
-    if kind in ("missing", "too_short", "too_long") and loc and isinstance(loc[-1], int) \
-            or kind in ("too_short", "too_long"):
-        # a vector with the wrong number of entries: name the vector, not its element
+    if (kind == "missing" and loc and isinstance(loc[-1], int)) or kind in ("too_long", "tuple_type"):
+        # a 3-vector with the wrong number of entries: name the vector, not its element
         if isinstance(loc[-1], int):
             loc.pop()
         value = _lookup(data, loc)
-        got = len(value) if isinstance(value, (list, tuple)) else type(value).__name__
-        message = f"expected 3 numbers [x, y, z], got {got}" if kind != "too_short" else message
+        got = f"{len(value)}" if isinstance(value, list) else repr(value)
+        message = f"expected 3 numbers [x, y, z], got {got}"
     elif kind == "extra_forbidden":
         message = "unknown key" + _suggest(err["loc"], data)
     elif kind == "missing":
