@@ -252,22 +252,26 @@ def _least_distance(
         fixed_ok = np.ones(n, dtype=bool)
         with np.errstate(invalid="ignore", divide="ignore"):
             for i in range(m):
-                nz = np.abs(N[i]) > 1e-12
-                all_nz = bool(nz.all())
-                inv = 1.0 / (N[i] if all_nz else np.where(nz, N[i], 1.0))
-                a = (lo[i] - Ts[i]) * inv
-                b = (hi[i] - Ts[i]) * inv
-                if all_nz:
+                absN = np.abs(N[i])
+                if absN.min() > 1e-12:  # the usual case: every step's N_i is nonzero
+                    inv = 1.0 / N[i]
+                    a = (lo[i] - Ts[i]) * inv
+                    b = (hi[i] - Ts[i]) * inv
                     np.maximum(low, np.minimum(a, b), out=low)
                     np.minimum(high, np.maximum(a, b), out=high)
                     continue
+                nz = absN > 1e-12
+                inv = 1.0 / np.where(nz, N[i], 1.0)
+                a = (lo[i] - Ts[i]) * inv
+                b = (hi[i] - Ts[i]) * inv
                 low = np.where(nz, np.maximum(low, np.minimum(a, b)), low)
                 high = np.where(nz, np.minimum(high, np.maximum(a, b)), high)
                 # a cable the null space cannot change must already be within its limits
                 fixed_ok &= nz | ((Ts[i] >= lo[i]) & (Ts[i] <= hi[i]))
         lam = np.minimum(np.maximum(lam, low), high)
         T = [Ts[i] + lam * N[i] for i in range(m)]
-        feasible = ok & fixed_ok & (low <= high) & _within(T, lo, hi)
+        # lambda in [low, high] puts every cable within its limits (to rounding)
+        feasible = ok & fixed_ok & (low <= high)
         return _finish(T, feasible, n)
     # r > 1: the unconstrained optimum, then an exact QP where it breaks a limit.
     N = null_space(J)
