@@ -6,7 +6,7 @@ one line that names what is wrong and where (file, key, time step).
 
 from __future__ import annotations
 
-__all__ = ["MarineCDPRError", "ScenarioError", "InfeasibleError"]
+__all__ = ["MarineCDPRError", "ScenarioError", "InfeasibleError", "SimulationDivergedError"]
 
 
 class MarineCDPRError(Exception):
@@ -37,3 +37,7 @@ class ScenarioError(MarineCDPRError, ValueError):
 
 class InfeasibleError(MarineCDPRError, ValueError):
     """The cables cannot hold the platform: no tensions within limits give the wrench."""
+
+
+class SimulationDivergedError(MarineCDPRError, ArithmeticError):
+    """A simulated run left its plan by far or produced a non-finite state."""

@@ -22,7 +22,7 @@ from .scenario import Scenario
 from .tension import distribute_tensions, pseudo_inverse_tensions
 from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
-__all__ = ["Plan", "plan", "iter_plan", "check_trajectory", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
+__all__ = ["Plan", "plan", "plan_at", "iter_plan", "check_trajectory", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
 
 DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -246,16 +246,35 @@ def plan(
         Infeasible steps are flagged (``feasible``), with NaN tensions; see
         :meth:`Plan.infeasibility`.
     """
+    t = np.arange(scenario.time.n_steps) * scenario.time.step_s
+    return plan_at(scenario, t, method=method, base_model=base_model, chunk_steps=chunk_steps)
+
+
+def plan_at(
+    scenario: Scenario,
+    t: np.ndarray,
+    *,
+    method: str | None = None,
+    base_model: str | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+) -> Plan:
+    """The plan at any times, e.g. mid-steps for a zero-order hold (see :func:`plan`).
+
+    Parameters
+    ----------
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    """
     method, base_model = _options(scenario, method, base_model)
-    n = scenario.time.n_steps
+    t = np.asarray(t, dtype=float)
+    n = t.size
     if n <= chunk_steps:
-        t = np.arange(n) * scenario.time.step_s
         return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
     out: dict[str, np.ndarray] = {}
-    for piece in iter_plan(scenario, method=method, base_model=base_model, chunk_steps=chunk_steps):
-        i0 = int(round(piece.t[0] / scenario.time.step_s))
+    for i0 in range(0, n, chunk_steps):
+        piece = _plan_chunk(scenario, t[i0 : i0 + chunk_steps], method, base_model)
         for name in _ARRAY_FIELDS:
-            arr = getattr(piece, name)
+            arr = piece[name]
             if name not in out:
                 out[name] = np.empty((n,) + arr.shape[1:], dtype=arr.dtype)
             out[name][i0 : i0 + arr.shape[0]] = arr

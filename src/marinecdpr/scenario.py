@@ -382,6 +382,69 @@ class Planning(_Model):
     """"fixed" plans as if the ship were still (the traditional model), for comparison."""
 
 
+class CableModel(_Model):
+    """How a cable turns a command into tension (the virtual prototype's actuators)."""
+
+    model: Literal["ideal", "elastic"] = "ideal"
+    """ideal: the commanded tension acts (as in the paper). elastic: a cable on a winch."""
+    stiffness_EA_N: PositiveFloat | None = None
+    """Axial stiffness E A of an elastic cable, N: tension = E A (L - L0) / L0 + damping."""
+    damping_N_s_m: NonNegativeFloat = 0.0
+    """Axial damping of an elastic cable, N per (m/s) of stretch rate."""
+    winch: Literal["length", "tension"] = "length"
+    """length: the winch pays out a commanded unstretched length L0; tension: it tracks a
+    commanded tension (with its tension sensor)."""
+    winch_time_constant_s: NonNegativeFloat = 0.0
+    """First-order lag of the winch on its command (0: none)."""
+
+    @model_validator(mode="after")
+    def _check_stiffness(self) -> "CableModel":
+        if self.model == "elastic" and self.stiffness_EA_N is None:
+            raise _KeyedError("stiffness_EA_N", "missing: an elastic cable needs its axial stiffness")
+        return self
+
+
+class Noise(_Model):
+    """Gaussian noise (standard deviations) on what the closed-loop controller measures."""
+
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    pose_m: NonNegativeFloat = 0.0
+    pose_deg: NonNegativeFloat = 0.0
+    velocity_m_s: NonNegativeFloat = 0.0
+    rate_deg_s: NonNegativeFloat = 0.0
+    tension_N: NonNegativeFloat = 0.0
+    """On the winch's tension sensor (tension-controlled winches)."""
+    ship_position_m: NonNegativeFloat = 0.0
+    ship_angle_deg: NonNegativeFloat = 0.0
+    ship_velocity_m_s: NonNegativeFloat = 0.0
+    ship_rate_deg_s: NonNegativeFloat = 0.0
+    ship_acceleration_m_s2: NonNegativeFloat = 0.0
+    ship_angular_acceleration_deg_s2: NonNegativeFloat = 0.0
+
+
+class Control(_Model):
+    """Closed-loop computed-torque gains: a critically damped second-order error by default."""
+
+    bandwidth_hz: PositiveFloat = 5.0
+    damping_ratio: PositiveFloat = 1.0
+
+
+class Simulation(_Model):
+    """The virtual prototype: which plant, its cables, the controller's gains and sensors."""
+
+    plant: Literal["mujoco", "own"] = "mujoco"
+    """mujoco: the independent physics engine; own: this package's forward dynamics (RK4)."""
+    integrator: Literal["RK4", "Euler", "implicitfast"] = "RK4"
+    """MuJoCo's integrator (the own plant always uses RK4)."""
+    cables: CableModel = CableModel()
+    noise: Noise = Noise()
+    control: Control = Control()
+    initial_error_m: Vec3 = (0.0, 0.0, 0.0)
+    """Platform position error at t = 0 (actual minus planned), in C, m."""
+    initial_error_deg: Vec3 = (0.0, 0.0, 0.0)
+    """Platform orientation error at t = 0 (rx, ry, rz), deg."""
+
+
 class Environment(_Model):
     gravity_m_s2: PositiveFloat = 9.8
     """Magnitude of gravity; it points along -z of O."""
@@ -399,6 +462,7 @@ class Scenario(_Model):
     disturbance: Disturbance = Disturbance()
     time: Time
     planning: Planning = Planning()
+    simulation: Simulation = Simulation()
     environment: Environment = Environment()
 
     @model_validator(mode="after")

@@ -1,0 +1,144 @@
+"""A MuJoCo model of any scenario's robot on its ship: the independent virtual prototype.
+
+World frame = O (z up, gravity (0, 0, -g)). Bodies:
+
+``ship``
+    A very heavy rigid body (:data:`SHIP_MASS_KG`, isotropic inertia
+    :data:`SHIP_INERTIA_KG_M2`, gravity compensated) on six joints in the order
+    slide x, slide y, slide z, hinge z (yaw), hinge y (pitch), hinge x (roll): MuJoCo
+    applies a body's joints in order, each about the axes left by the previous ones,
+    so the ship's orientation is Rz(yaw) Ry(pitch) Rx(roll) = R_SO and its joint
+    positions and velocities are the ship coordinates eta and their rates. The
+    simulation drives these joints with generalised forces (feed-forward of the
+    analytic motion plus a stiff servo), so the ship has true velocity and
+    acceleration; the cables' reaction barely moves a ship this heavy.
+``frame``
+    Robot frame C, fixed to the ship at ``ship.frame_origin_m``; holds the frame anchors.
+``platform``
+    The platform, origin at its centre of mass: slide x, slide z, hinge y relative to
+    C for a planar robot; slide x, y, z and a ball joint for a spatial one.
+
+Each cable is a spatial tendon from its frame anchor to its platform anchor, pulled by
+a motor with gear -1, so ``ctrl = tension`` (N) shortens the cable.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .scenario import Scenario
+
+__all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2"]
+
+SHIP_MASS_KG = 1.0e7
+SHIP_INERTIA_KG_M2 = 1.0e8
+INTEGRATORS = {"RK4": "RK4", "Euler": "Euler", "implicitfast": "implicitfast"}
+
+
+@dataclass(frozen=True)
+class MujocoModel:
+    """A compiled model and where its pieces are.
+
+    Attributes
+    ----------
+    model : mujoco.MjModel
+    xml : str
+        The MJCF it was compiled from.
+    ship_dofs : ndarray of int, shape (6,)
+        DOF addresses of (x, y, z, yaw, pitch, roll).
+    platform_qpos, platform_dofs : ndarray of int
+        qpos and DOF addresses of the platform's joints (planar: x, z, theta_y;
+        spatial: x, y, z then the ball's quaternion w, x, y, z / angular velocity).
+    platform_body : int
+    """
+
+    model: object
+    xml: str
+    ship_dofs: np.ndarray
+    platform_qpos: np.ndarray
+    platform_dofs: np.ndarray
+    platform_body: int
+
+
+def _v(x) -> str:
+    return " ".join(f"{float(a):.17g}" for a in np.ravel(x))
+
+
+def build_xml(scenario: Scenario) -> str:
+    """The MJCF text of the scenario's virtual prototype (see the module docstring)."""
+    r = scenario.robot
+    I = r.inertia
+    full = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+    step = scenario.time.step_s
+    g = scenario.environment.gravity_m_s2
+    integ = INTEGRATORS[scenario.simulation.integrator]
+    frame_sites = "\n".join(
+        f'        <site name="c{i}" pos="{_v(c)}" size="0.01"/>' for i, c in enumerate(r.frame_anchors, 1))
+    plat_sites = "\n".join(
+        f'          <site name="p{i}" pos="{_v(p)}" size="0.01"/>' for i, p in enumerate(r.platform_anchors, 1))
+    if r.dofs == "planar":
+        joints = ('<joint name="px" type="slide" axis="1 0 0"/>'
+                  '<joint name="pz" type="slide" axis="0 0 1"/>'
+                  '<joint name="pry" type="hinge" axis="0 1 0"/>')
+    else:
+        joints = ('<joint name="px" type="slide" axis="1 0 0"/>'
+                  '<joint name="py" type="slide" axis="0 1 0"/>'
+                  '<joint name="pz" type="slide" axis="0 0 1"/>'
+                  '<joint name="pball" type="ball"/>')
+    tendons = "\n".join(
+        f'    <spatial name="cable{i}" width="0.003"><site site="c{i}"/><site site="p{i}"/></spatial>'
+        for i in range(1, r.n_cables + 1))
+    motors = "\n".join(f'    <motor name="T{i}" tendon="cable{i}" gear="-1"/>'
+                       for i in range(1, r.n_cables + 1))
+    Ms, Is = SHIP_MASS_KG, SHIP_INERTIA_KG_M2
+    return f"""<mujoco model="{scenario.name}">
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="{step:.17g}" gravity="0 0 {-g:.17g}" integrator="{integ}">
+    <flag contact="disable"/>
+  </option>
+  <worldbody>
+    <body name="ship" gravcomp="1">
+      <joint name="ship_x" type="slide" axis="1 0 0"/>
+      <joint name="ship_y" type="slide" axis="0 1 0"/>
+      <joint name="ship_z" type="slide" axis="0 0 1"/>
+      <joint name="ship_yaw" type="hinge" axis="0 0 1"/>
+      <joint name="ship_pitch" type="hinge" axis="0 1 0"/>
+      <joint name="ship_roll" type="hinge" axis="1 0 0"/>
+      <inertial pos="0 0 0" mass="{Ms:.17g}" diaginertia="{Is:.17g} {Is:.17g} {Is:.17g}"/>
+      <body name="frame" pos="{_v(scenario.ship.frame_origin_m)}">
+{frame_sites}
+        <body name="platform" pos="0 0 0">
+          {joints}
+          <inertial pos="0 0 0" mass="{r.mass_kg:.17g}" fullinertia="{_v(full)}"/>
+{plat_sites}
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+{tendons}
+  </tendon>
+  <actuator>
+{motors}
+  </actuator>
+</mujoco>
+"""
+
+
+def build_model(scenario: Scenario) -> MujocoModel:
+    """Compile the scenario's MuJoCo model."""
+    import mujoco
+
+    xml = build_xml(scenario)
+    model = mujoco.MjModel.from_xml_string(xml)
+    jid = lambda name: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)  # noqa: E731
+    ship = np.array([model.jnt_dofadr[jid(f"ship_{n}")] for n in ("x", "y", "z", "yaw", "pitch", "roll")])
+    names = ("px", "pz", "pry") if scenario.robot.dofs == "planar" else ("px", "py", "pz", "pball")
+    qpos = np.concatenate([np.arange(model.jnt_qposadr[jid(n)],
+                                     model.jnt_qposadr[jid(n)] + (4 if n == "pball" else 1)) for n in names])
+    dofs = np.concatenate([np.arange(model.jnt_dofadr[jid(n)],
+                                     model.jnt_dofadr[jid(n)] + (3 if n == "pball" else 1)) for n in names])
+    body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "platform")
+    return MujocoModel(model, xml, ship, qpos, dofs, body)
