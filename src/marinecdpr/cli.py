@@ -1,7 +1,8 @@
 """The ``marinecdpr`` command: parses arguments, calls the library, prints.
 
 Exit codes: 0 success; 2 bad input (a scenario or an option); 3 the cables cannot
-hold the platform somewhere on the plan (outputs are still written, complete).
+hold the platform somewhere on the plan (``plan`` still writes its outputs, complete);
+4 a simulation diverged.
 """
 
 from __future__ import annotations
@@ -16,12 +17,13 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from .errors import ScenarioError
+from .errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from .memory import keep_freed_memory
 from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
 
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
+EXIT_DIVERGED = 4
 
 app = typer.Typer(
     add_completion=False,
@@ -106,6 +108,67 @@ def _nanmax(a) -> float:
     import numpy as np
 
     return float(np.nanmax(a)) if np.isfinite(a).any() else float("nan")
+
+
+@app.command()
+def simulate(
+    scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for the CSVs, figures and report."),
+    plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
+    duration: Optional[float] = typer.Option(None, min=0.0, help="Simulate only the first seconds."),
+) -> None:
+    """The main job: plan, then fly the plan on the virtual prototype, open and closed loop,
+    and the fixed-base plan on the moving ship; write plan.csv, sim_<run>.csv, figures like
+    the paper's 5-7, summary.json and report.html."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from .analysis import PAPER_REPORTED, virtual_prototype
+    from .reports import RUN_TITLES, write_virtual_prototype
+    from .simulation import RUNS
+
+    if plant is not None and plant not in ("mujoco", "own"):
+        _fail(f"--plant {plant}: expected mujoco or own")
+    try:
+        sc = load_scenario(scenario)
+        if duration is not None:
+            sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
+    except ScenarioError as exc:
+        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+    t0 = time.perf_counter()
+    with Progress(TextColumn("{task.description:<34}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
+                  TimeElapsedColumn(), console=err_console, transient=False,
+                  disable=not err_console.is_terminal) as bar:
+        tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
+
+        def progress(run: str, done: int, total: int) -> None:
+            bar.update(tasks[run], completed=done, total=total)
+
+        try:
+            vp = virtual_prototype(sc, plant=plant, progress=progress)
+        except ScenarioError as exc:
+            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+        except InfeasibleError as exc:
+            _fail(str(exc), EXIT_INFEASIBLE)
+        except SimulationDivergedError as exc:
+            _fail(str(exc), EXIT_DIVERGED)
+    elapsed = time.perf_counter() - t0
+    paths = write_virtual_prototype(vp, _out_dir(out))
+
+    s = vp.summary
+    table = Table(title=f"simulate: {sc.name} ({s['steps']} steps, {elapsed:.1f} s, "
+                        f"plant {vp.results['open_loop'].plant})")
+    table.add_column("max |error|")
+    table.add_column("paper", justify="right")
+    for run in RUNS:
+        table.add_column(RUN_TITLES[run], justify="right")
+    for label, key, scale, unit in (("x", "max_abs_error_x_m", 1e3, "mm"), ("z", "max_abs_error_z_m", 1e3, "mm"),
+                                    ("angle", "max_abs_error_theta_deg", 1.0, "deg")):
+        table.add_row(f"{label} ({unit})", f"{PAPER_REPORTED[key] * scale:.3g}",
+                      *(f"{s[run][key] * scale:.3g}" for run in RUNS))
+    table.add_row("cable length (mm)", "150",
+                  *(f"{max(s[run]['max_abs_cable_length_error_m']) * 1e3:.3g}" for run in RUNS))
+    console.print(table)
+    console.print(f"written to {out}/: " + ", ".join(p.name for p in paths), highlight=False)
 
 
 @app.command()

@@ -1,4 +1,4 @@
-"""Files a plan produces: ``plan.csv`` and the tension figure (like the paper's figure 5).
+"""Files a plan and its simulations produce: CSVs, figures like the paper's 5-7, a report.
 
 Every file is written to a temporary name beside its target and renamed into
 place when complete, so an interrupted run never leaves a half-written file.
@@ -17,7 +17,18 @@ import numpy as np
 from .planning import TWIST_NAMES, Plan
 from .scenario import Scenario
 
-__all__ = ["plan_columns", "write_plan_csv", "plot_tensions", "atomic_path"]
+__all__ = [
+    "atomic_path",
+    "plan_columns",
+    "write_plan_csv",
+    "plot_tensions",
+    "write_sim_csv",
+    "plot_cable_lengths",
+    "plot_tracking",
+    "write_json",
+    "write_report_html",
+    "write_virtual_prototype",
+]
 
 
 @contextmanager
@@ -47,12 +58,8 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     names : list of str
     values : ndarray, shape (n_steps, n_columns)
     """
-    dofs = scenario.robot.controlled
-    pose_names = ["x", "z", "theta_y"] if scenario.robot.dofs == "planar" else list(TWIST_NAMES)
-    pose = plan.pose[:, list(dofs)].copy()
-    for col, i in enumerate(dofs):
-        if i >= 3:
-            pose[:, col] = np.degrees(pose[:, col])
+    pose_names, dofs = _pose_names(scenario)
+    pose = _pose_columns(plan.pose, dofs)
     n = scenario.robot.n_cables
     names = (
         ["t"] + pose_names + [f"L{i}" for i in range(1, n + 1)]
@@ -65,14 +72,33 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     return names, values
 
 
+def _pose_names(scenario: Scenario) -> tuple[list[str], list[int]]:
+    if scenario.robot.dofs == "planar":
+        return ["x", "z", "theta_y"], [0, 2, 4]
+    return list(TWIST_NAMES), list(range(6))
+
+
+def _pose_columns(pose: np.ndarray, dofs: list[int]) -> np.ndarray:
+    """The pose's controlled columns, angles in degrees."""
+    out = pose[:, dofs].copy()
+    for col, i in enumerate(dofs):
+        if i >= 3:
+            out[:, col] = np.degrees(out[:, col])
+    return out
+
+
 def write_plan_csv(plan: Plan, scenario: Scenario, path: Path) -> Path:
     """Write :func:`plan_columns` as CSV (NaN written as an empty field)."""
     names, values = plan_columns(plan, scenario)
+    return _write_csv(names, values, path)
+
+
+def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool = True) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             fh.write(",".join(names) + "\n")
-            fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d"])
+            fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d" if int_last else "%.10g"])
             text_rows = (fmt % tuple(row) for row in values)
             fh.write("\n".join(text_rows).replace("nan", ""))
             fh.write("\n")
@@ -114,3 +140,215 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
         fig.savefig(tmp, dpi=120)
     plt.close(fig)
     return path
+
+
+# ------------------------------------------------------------------ simulations
+RUN_TITLES = {
+    "open_loop": "open loop (plan fed forward)",
+    "closed_loop": "closed loop (computed torque)",
+    "fixed_base_open_loop": "fixed-base plan, open loop",
+}
+RUN_COLOURS = {"open_loop": "C0", "closed_loop": "C2", "fixed_base_open_loop": "C3"}
+
+
+def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
+    """``sim_<run>.csv``: t; planned and actual pose (``x_plan``.., ``x``..; m, deg);
+    planned and actual cable lengths (``Lplan1``.., ``L1``..; m); applied and commanded
+    tensions (``T1``.., ``Tcmd1``..; N)."""
+    pose_names, dofs = _pose_names(scenario)
+    n = scenario.robot.n_cables
+    names = (["t"] + [f"{p}_plan" for p in pose_names] + pose_names
+             + [f"Lplan{i}" for i in range(1, n + 1)] + [f"L{i}" for i in range(1, n + 1)]
+             + [f"T{i}" for i in range(1, n + 1)] + [f"Tcmd{i}" for i in range(1, n + 1)])
+    values = np.column_stack([
+        res.t, _pose_columns(res.pose_planned, dofs), _pose_columns(res.pose, dofs),
+        res.lengths_planned, res.lengths, res.tensions, res.tensions_commanded])
+    return _write_csv(names, values, path, int_last=False)
+
+
+def _save(fig, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    with atomic_path(path, suffix=path.suffix) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
+    """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
+    plt = _pyplot()
+    n = scenario.robot.n_cables
+    fig, axes = plt.subplots(n, 2, figsize=(11, 1.9 * n + 1), sharex=True, squeeze=False,
+                             constrained_layout=True)
+    first = next(iter(results.values()))
+    for i in range(n):
+        ax, ax_e = axes[i]
+        ax.plot(first.t, first.lengths_planned[:, i], "k--", lw=1.2, label="planned (kinematics)")
+        for name, res in results.items():
+            ax.plot(res.t, res.lengths[:, i], color=RUN_COLOURS.get(name), lw=1,
+                    label=f"actual, {RUN_TITLES.get(name, name)}")
+            ax_e.plot(res.t, 1e3 * (res.lengths[:, i] - res.lengths_planned[:, i]),
+                      color=RUN_COLOURS.get(name), lw=1)
+        ax.set_ylabel(f"L{i + 1} (m)")
+        ax_e.set_ylabel(f"L{i + 1} error (mm)")
+        ax.grid(alpha=0.3)
+        ax_e.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7, loc="upper right")
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 1].set_xlabel("t (s)")
+    fig.suptitle(f"Cable lengths, planned and on the virtual prototype: {scenario.name}", fontsize=11)
+    return _save(fig, path)
+
+
+def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
+    """Like the paper's figure 7: planned and actual pose, and the tracking errors."""
+    plt = _pyplot()
+    pose_names, dofs = _pose_names(scenario)
+    fig, axes = plt.subplots(len(dofs), 2, figsize=(11, 2.2 * len(dofs) + 1), sharex=True,
+                             squeeze=False, constrained_layout=True)
+    first = next(iter(results.values()))
+    for row, (name_p, i) in enumerate(zip(pose_names, dofs)):
+        ax, ax_e = axes[row]
+        angle = i >= 3
+        k, unit = (np.degrees(1.0), "deg") if angle else (1.0, "m")
+        ke, unit_e = (np.degrees(1.0), "deg") if angle else (1e3, "mm")
+        ax.plot(first.t, k * first.pose_planned[:, i], "k--", lw=1.2, label="planned")
+        for name, res in results.items():
+            ax.plot(res.t, k * res.pose[:, i], color=RUN_COLOURS.get(name), lw=1,
+                    label=RUN_TITLES.get(name, name))
+            ax_e.plot(res.t, ke * res.pose_error[:, i], color=RUN_COLOURS.get(name), lw=1)
+        ax.set_ylabel(f"{name_p} ({unit})")
+        ax_e.set_ylabel(f"{name_p} error ({unit_e})")
+        ax.grid(alpha=0.3)
+        ax_e.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7, loc="upper right")
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 1].set_xlabel("t (s)")
+    fig.suptitle(f"Tracking on the virtual prototype: {scenario.name}", fontsize=11)
+    return _save(fig, path)
+
+
+def write_json(data: dict, path: Path) -> Path:
+    import json
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    return path
+
+
+def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path) -> Path:
+    """One self-contained page: the scenario, every figure, and the paper's errors beside ours."""
+    import base64
+    import html
+
+    from .analysis import PAPER_REPORTED
+
+    runs = [r for r in ("open_loop", "closed_loop", "fixed_base_open_loop") if r in summary]
+    esc = html.escape
+
+    def fmt(v: float, unit: str) -> str:
+        return f"{v * 1e3:.3g} mm" if unit == "m" else f"{v:.3g} deg"
+
+    rows = []
+    metrics = [("max |error| x", "max_abs_error_x_m", "m"), ("max |error| z", "max_abs_error_z_m", "m"),
+               ("max |error| angle", "max_abs_error_theta_deg", "deg")]
+    for label, key, unit in metrics:
+        cells = "".join(f"<td>{fmt(summary[r][key], unit)}</td>" for r in runs)
+        rows.append(f"<tr><th>{label}</th><td>{fmt(PAPER_REPORTED[key], unit)}</td>{cells}</tr>")
+    cells = "".join(
+        f"<td>{fmt(max(summary[r]['max_abs_cable_length_error_m']), 'm')} (cable "
+        f"{int(np.argmax(summary[r]['max_abs_cable_length_error_m'])) + 1})</td>" for r in runs)
+    rows.append(f"<tr><th>max |error| cable length</th><td>150 mm (cable 2)</td>{cells}</tr>")
+    cells = "".join(f"<td>{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N</td>"
+                    for r in runs)
+    rows.append(f"<tr><th>applied tensions</th><td>10 .. 450 N (limits)</td>{cells}</tr>")
+    head = "".join(f"<th>{esc(RUN_TITLES[r])}</th>" for r in runs)
+    sim = scenario.simulation
+    r = scenario.robot
+    facts = [
+        ("robot", f"{r.dofs}, {r.n_cables} cables, {r.mass_kg:g} kg, tensions "
+                  f"{r.tension_min.min():g} .. {r.tension_max.max():g} N"),
+        ("base motion", scenario.base_motion.type + (
+            "" if scenario.base_motion.type == "still" else ": " + ", ".join(
+                f"{c.dof} {c.amplitude_deg if c.amplitude_deg is not None else c.amplitude_m:g}"
+                f"{' deg' if c.amplitude_deg is not None else ' m'} / {c.period_s:g} s"
+                for c in scenario.base_motion.components))),
+        ("trajectory", scenario.trajectory.type),
+        ("time", f"{scenario.time.duration_s:g} s at {scenario.time.step_s * 1e3:g} ms "
+                 f"({summary['steps']} steps)"),
+        ("tensions", f"{summary['method'].replace('_', ' ')}; eq. (18) from "
+                     f"{summary['pinv_tension_min_N']:.1f} N; optimised {summary['opt_tension_min_N']:.1f}"
+                     f" .. {summary['opt_tension_max_N']:.1f} N"),
+        ("plant", f"{sim.plant} ({sim.integrator}), cables {sim.cables.model}"
+                  + (f", EA {sim.cables.stiffness_EA_N:g} N, {sim.cables.winch} winch, lag "
+                     f"{sim.cables.winch_time_constant_s * 1e3:g} ms" if sim.cables.model == "elastic" else "")),
+        ("closed loop", f"computed torque, {sim.control.bandwidth_hz:g} Hz, damping "
+                        f"{sim.control.damping_ratio:g}"),
+    ]
+    fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
+    imgs = []
+    for caption, fig_path in figures.items():
+        data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
+        imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
+                    f"<figcaption>{esc(caption)}</figcaption></figure>")
+    page = f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>marinecdpr: {esc(scenario.name)}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: left; }}
+thead th {{ background: #f2f2f2; }}
+figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
+figcaption {{ color: #555; font-size: 0.9em; }}
+</style></head><body>
+<h1>Virtual prototype: {esc(scenario.name)}</h1>
+<p>{esc(scenario.description)}</p>
+<h2>Scenario</h2><table>{fact_rows}</table>
+<h2>Tracking errors, the paper's and ours</h2>
+<table><thead><tr><th></th><th>paper (Adams, open loop)</th>{head}</tr></thead>
+<tbody>{''.join(rows)}</tbody></table>
+<p>Errors are actual minus planned over the whole run. The paper's figures are from its
+section 4.2 (open loop on Adams, 1 ms exchange).</p>
+<h2>Figures</h2>
+{''.join(imgs)}
+</body></html>
+"""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(page, encoding="utf-8")
+    return path
+
+
+def write_virtual_prototype(vp, folder: Path) -> list[Path]:
+    """Every file of the main job in ``folder``: plan.csv, sim_<run>.csv, the figures,
+    summary.json and report.html. Returns the paths written."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    sc = vp.scenario
+    paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
+    for name, res in vp.results.items():
+        paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
+    figures = {
+        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation":
+            plot_tensions(vp.plan, sc, folder / "tensions.png"),
+        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)":
+            plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png"),
+        "Figure 7: planned and actual pose, and the tracking errors":
+            plot_tracking(vp.results, sc, folder / "tracking.png"),
+    }
+    paths += list(figures.values())
+    paths.append(write_json(vp.summary, folder / "summary.json"))
+    paths.append(write_report_html(vp.summary, sc, figures, folder / "report.html"))
+    return paths

@@ -32,7 +32,7 @@ from numba import njit
 from . import kernels as K
 from .basemotion import evaluate_base_motion
 from .dynamics import disturbance_in_C
-from .errors import SimulationDivergedError
+from .errors import InfeasibleError, SimulationDivergedError
 from .planning import Plan, plan_at
 from .rotations import matrix_from_euler
 from .scenario import Scenario
@@ -93,7 +93,7 @@ def _euler_from_R(R, out):
 
 
 @njit(cache=_cache)
-def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff,
+def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
              closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
              cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app):
@@ -143,7 +143,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         T_cmd[:] = T_ff[k]
     # a length-controlled winch pays out the reference length less the stretch the
     # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
-    L0_cmd = L_ff[k] / (1.0 + T_cmd / EA)
+    # (the cable's damping adds c L' of the plan: the stretch makes the rest)
+    L0_cmd = L_ff[k] / (1.0 + (T_cmd - damping * Ld_ff[k]) / EA)
     if closed and tau > 0.0:
         # the controller knows its winches' lag: it leads the planned part of the command
         # by tau times the plan's (smooth) rate, u = r + tau r'
@@ -152,7 +153,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         if winch == 1:
             T_cmd += tau * (T_ff[kf] - T_ff[kb]) / dt
         else:
-            L0_cmd += tau * (L_ff[kf] / (1.0 + T_ff[kf] / EA) - L_ff[kb] / (1.0 + T_ff[kb] / EA)) / dt
+            L0_cmd += tau * (L_ff[kf] / (1.0 + (T_ff[kf] - damping * Ld_ff[kf]) / EA)
+                             - L_ff[kb] / (1.0 + (T_ff[kb] - damping * Ld_ff[kb]) / EA)) / dt
     if cable_model == 0:
         T_app[:] = T_cmd
     elif winch == 0:
@@ -203,9 +205,10 @@ def _diverged(x, ref_x):
 
 
 @njit(cache=_cache)
-def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, planar, pq, pd, ship_dofs, body,
+def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
+                     ship_dofs, body,
                      tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O,
-                     ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff,
+                     ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                      closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
                      c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
                      cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
@@ -249,12 +252,21 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, planar, pq, pd, ship_do
     J = np.empty((n, 6))
     K.cables_step(x, R, c_C, p_P, L, J)
     Ldot = _length_rates(J, v, w)
-    fb = _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff,
+    fb = _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                   closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
                   c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
                   cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app)
     _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
-    ctrl[:] = T_app
+    if cable_model == 1 and winch == 0:
+        # the cable is a spring MuJoCo integrates: taut above L0 (dead band [0, L0])
+        ctrl[:] = 0.0
+        for i in range(n):
+            ten_k[i] = EA / L0[i]
+            ten_spring[i, 0] = 0.0
+            ten_spring[i, 1] = L0[i]
+            ten_c[i] = damping if L[i] > L0[i] else 0.0
+    else:
+        ctrl[:] = T_app
     for j in range(6):
         dof = ship_dofs[j]
         qfrc[dof] = (tau_ff[k, j] + kp_s[j] * (q_des[k, j] - qpos[dof])
@@ -279,9 +291,13 @@ def _quat_to_R(q, R):
 
 
 @njit(cache=_cache)
-def _own_rhs(y, T, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P, mass, I_PP, g,
-             origin, controlled, dy):
-    """d/dt of y = (x, quaternion of R_PC, v, omega) in C, tensions held."""
+def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P, mass, I_PP, g,
+             origin, controlled, springs, EA, damping, L0, dy):
+    """d/dt of y = (x, quaternion of R_PC, v, omega) in C.
+
+    Tensions are held over the step, except elastic cables on length-controlled winches
+    (``springs``): their tension follows the state, with the winch's L0 held.
+    """
     x, q, v, w = y[0:3], y[3:7], y[7:10], y[10:13]
     q = q / np.sqrt(np.sum(q * q))
     R = np.empty((3, 3))
@@ -290,6 +306,13 @@ def _own_rhs(y, T, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P, mas
     L = np.empty(n)
     J = np.empty((n, 6))
     K.cables_step(x, R, c_C, p_P, L, J)
+    T = T_held
+    if springs:
+        T = np.zeros(n)
+        Ldot = _length_rates(J, v, w)
+        for i in range(n):
+            if L[i] > L0[i]:
+                T[i] = max(0.0, EA * (L[i] - L0[i]) / L0[i] + damping * Ldot[i])
     bias = np.empty(6)
     zero = np.zeros(3)
     K.wrench_step(x, v, zero, R, w, zero, R_SO_h[j], w_s_h[j], al_s_h[j], a_SO_h[j], origin,
@@ -308,7 +331,7 @@ def _own_rhs(y, T, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P, mas
 
 @njit(cache=_cache)
 def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
-              ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff,
+              ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
               closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
               c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
               cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
@@ -328,20 +351,21 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         K.cables_step(x, R, c_C, p_P, L, J)
         Ldot = _length_rates(J, v, w)
         fallbacks += _command(k, h, x.copy(), R, v.copy(), w.copy(), L, Ldot, ref_x, ref_R, ref_v,
-                              ref_w, ref_a, ref_al, T_ff, L_ff, closed, kp, kd, eta_m, noise_pose,
+                              ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff, closed, kp, kd, eta_m, noise_pose,
                               noise_twist, noise_T, f_C, m_C, c_C, p_P, mass, I_PP, g, origin,
                               controlled, lo, hi, method, cable_model, EA, damping, winch, lag,
                               tau, L0, T_state, T_cmd, T_app)
         _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
         j = 2 * k
+        springs = cable_model == 1 and winch == 0
         _own_rhs(y, T_app, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C, p_P, mass, I_PP, g,
-                 origin, controlled, k1_)
+                 origin, controlled, springs, EA, damping, L0, k1_)
         _own_rhs(y + 0.5 * h * k1_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C,
-                 p_P, mass, I_PP, g, origin, controlled, k2_)
+                 p_P, mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k2_)
         _own_rhs(y + 0.5 * h * k2_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C,
-                 p_P, mass, I_PP, g, origin, controlled, k3_)
+                 p_P, mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k3_)
         _own_rhs(y + h * k3_, T_app, j + 2, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C, p_P,
-                 mass, I_PP, g, origin, controlled, k4_)
+                 mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k4_)
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
     return fallbacks, -1
@@ -397,6 +421,8 @@ def simulate(
 
     Raises
     ------
+    InfeasibleError
+        If the plan to fly (moving-base, or fixed-base for that run) is infeasible.
     SimulationDivergedError
         If the platform ends up more than 10 m from its plan or its state is not finite.
     """
@@ -414,12 +440,17 @@ def simulate(
     ref = reference if reference is not None else plan_at(scenario, t, method=method)
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
     ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model)
+    for p in (ref, ff):
+        if not p.feasible[:n].all():
+            raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: "
+                                  f"{p.infeasibility()}")
     mid_pose = np.ascontiguousarray(ff.pose)
     mid_twist = np.ascontiguousarray(ff.twist)
     mid_acc = np.ascontiguousarray(ff.twist_dot)
     mid_R = np.ascontiguousarray(matrix_from_euler(mid_pose[:, 3:]))
-    T_ff = np.ascontiguousarray(np.where(np.isnan(ff.tensions), ff.tensions_pinv, ff.tensions))
+    T_ff = np.ascontiguousarray(ff.tensions)
     L_ff = np.ascontiguousarray(ff.lengths)
+    Ld_ff = np.ascontiguousarray(ff.length_rates)
 
     # ship motion on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     t_half = np.arange(2 * n + 1) * (0.5 * h)
@@ -478,7 +509,7 @@ def simulate(
     v0, w0 = ref.twist[0, :3].copy(), ref.twist[0, 3:].copy()
     L_init = np.empty(robot.n_cables)
     K.cables_step(x0, R0, c_C, p_P, L_init, np.empty((robot.n_cables, 6)))
-    L0 = L_init / (1.0 + T_ff[0] / EA)
+    L0 = L_init / (1.0 + (T_ff[0] - cab.damping_N_s_m * Ld_ff[0]) / EA)
     T_state = T_ff[0].copy()
     T_cmd = np.empty(robot.n_cables)
     T_app = np.empty(robot.n_cables)
@@ -487,7 +518,7 @@ def simulate(
     Tcmd_log, Tapp_log = np.empty((n, m)), np.empty((n, m))
 
     shared = (mid_pose[:, :3], mid_R, mid_twist[:, :3], mid_twist[:, 3:], mid_acc[:, :3], mid_acc[:, 3:],
-              T_ff, L_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C,
+              T_ff, L_ff, Ld_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C,
               c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code,
               cable_model, EA, cab.damping_N_s_m, winch, lag, float(cab.winch_time_constant_s),
               L0, T_state, T_cmd, T_app,
@@ -570,10 +601,12 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
     step = mujoco.mj_step
     exch = _mujoco_exchange
     qpos, qvel, ctrl, qfrc, xfrc = data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied
+    ten_k, ten_spring, ten_c = model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping
     body = mm.platform_body
     every = 500
     for k in range(n):
-        fb = exch(k, h, qpos, qvel, ctrl, qfrc, xfrc, planar, pq, pd, ship_dofs, body,
+        fb = exch(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
+                  ship_dofs, body,
                   tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, *shared)
         if fb < 0:
             raise SimulationDivergedError(_diverged_message(scenario, run, t[k]))
