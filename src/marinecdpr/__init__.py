@@ -21,6 +21,20 @@ __all__ = [
     "ScenarioError",
     "InfeasibleError",
     "keep_freed_memory",
+    "simulate",
+    "virtual_prototype",
+    "SimResult",
 ]
+
+_LAZY = {"simulate": "simulation", "SimResult": "simulation", "virtual_prototype": "analysis"}
+
+
+def __getattr__(name: str):
+    """The simulation layer (numba, MuJoCo) loads on first use, not with the package."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __version__ = "0.1.0"

@@ -42,7 +42,7 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
     orientation for a spatial one, which also gets ``y``, ``rx``, ``ry``, ``rz``),
     ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
     ``tension_max_N`` (applied), ``rms_error_x_m``, ``rms_error_z_m``,
-    ``controller_fallbacks``, ``plant``.
+    ``controller_fallbacks``, ``ship_tracking_error`` (m or rad), ``plant``.
     """
     err = res.pose_error
     out: dict = {}
@@ -62,6 +62,7 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
     out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
     out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
     out["controller_fallbacks"] = res.controller_fallbacks
+    out["ship_tracking_error"] = res.ship_tracking_error
     out["plant"] = res.plant
     return out
 

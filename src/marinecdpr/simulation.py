@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from numba import njit
+from numba import njit, objmode
 
 from . import kernels as K
 from .basemotion import evaluate_base_motion
@@ -65,6 +65,9 @@ class SimResult:
     controller_fallbacks : int
         Closed-loop steps where the per-step tension problem had no solution within
         limits and the feed-forward tensions were commanded instead.
+    ship_tracking_error : float
+        Largest deviation of the plant's ship from its prescribed motion (m or rad;
+        0 for the own plant, which moves the ship exactly).
     """
 
     run: str
@@ -77,6 +80,7 @@ class SimResult:
     tensions_commanded: np.ndarray
     tensions: np.ndarray
     controller_fallbacks: int
+    ship_tracking_error: float
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -95,7 +99,7 @@ def _euler_from_R(R, out):
 @njit(cache=_cache)
 def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
              closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
-             c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
+             c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
              cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app):
     """One exchange: controller command, then the cable/actuator model. Returns 1 on fallback.
 
@@ -136,7 +140,12 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         L_m = np.empty(n)
         J = np.empty((n, 6))
         K.cables_step(x_m, R_m, c_C, p_P, L_m, J)
-        if not K.tensions_step(J, wr, controlled, lo, hi, method, T_cmd):
+        ok = K.tensions_step(J, wr, controlled, lo, hi, method, T_cmd)
+        if not ok and exact_in_python:
+            # the kernel has no exact per-step solver for this method: ask the library's
+            with objmode(ok="boolean"):
+                ok = _python_tensions(J, wr, controlled, lo, hi, method, T_cmd)
+        if not ok:
             T_cmd[:] = T_ff[k]
             fallback = 1
     else:
@@ -206,11 +215,11 @@ def _diverged(x, ref_x):
 
 @njit(cache=_cache)
 def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
-                     ship_dofs, body,
+                     ship_dofs, body, ship_err,
                      tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O,
                      ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                      closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
-                     c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
+                     c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
                      cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
                      pose_log, len_log, Tcmd_log, Tapp_log):
     """Read MuJoCo's state, command, write ctrl and the ship's drive. Returns -1 if diverged."""
@@ -254,7 +263,7 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
     Ldot = _length_rates(J, v, w)
     fb = _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                   closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
-                  c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
+                  c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
                   cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app)
     _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
     if cable_model == 1 and winch == 0:
@@ -269,6 +278,7 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
         ctrl[:] = T_app
     for j in range(6):
         dof = ship_dofs[j]
+        ship_err[0] = max(ship_err[0], abs(qpos[dof] - q_des[k, j]))
         qfrc[dof] = (tau_ff[k, j] + kp_s[j] * (q_des[k, j] - qpos[dof])
                      + kd_s[j] * (qd_des[k, j] - qvel[dof]))
     xfrc[body, :3] = f_O[k]
@@ -333,7 +343,7 @@ def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P
 def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
               ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
               closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
-              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
+              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
               cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
               pose_log, len_log, Tcmd_log, Tapp_log):
     """Steps k0..k1-1 of the own plant (RK4). Returns (fallbacks, -1 or the diverged step)."""
@@ -353,7 +363,8 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         fallbacks += _command(k, h, x.copy(), R, v.copy(), w.copy(), L, Ldot, ref_x, ref_R, ref_v,
                               ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff, closed, kp, kd, eta_m, noise_pose,
                               noise_twist, noise_T, f_C, m_C, c_C, p_P, mass, I_PP, g, origin,
-                              controlled, lo, hi, method, cable_model, EA, damping, winch, lag,
+                              controlled, lo, hi, method, exact_in_python, cable_model, EA,
+                              damping, winch, lag,
                               tau, L0, T_state, T_cmd, T_app)
         _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
         j = 2 * k
@@ -369,6 +380,17 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
     return fallbacks, -1
+
+
+def _python_tensions(J, w, controlled, lo, hi, method, T) -> bool:
+    """The library's exact solver for one step (methods the kernel does not do per step)."""
+    from .tension import distribute_tensions
+
+    names = {code: name for name, code in K.METHOD_CODES.items()}
+    c = np.asarray(controlled)
+    sol = distribute_tensions(J[None][:, :, c], w[None, c], lo, hi, method=names[int(method)])
+    T[:] = sol.tensions[0]
+    return bool(sol.feasible[0])
 
 
 # ------------------------------------------------------------------- orchestration
@@ -500,6 +522,9 @@ def simulate(
     lo, hi = robot.tension_min, robot.tension_max
     g = scenario.environment.gravity_m_s2
     method_code = K.METHOD_CODES[method]
+    redundancy = robot.n_cables - len(robot.controlled)
+    exact_in_python = method == "improved_closed_form" or (
+        method in ("minimum_variance", "minimum_norm") and redundancy > 1)
 
     # initial state: on the plan, plus the scenario's initial error
     ref_pose = np.ascontiguousarray(ref.pose[:n])
@@ -519,12 +544,13 @@ def simulate(
 
     shared = (mid_pose[:, :3], mid_R, mid_twist[:, :3], mid_twist[:, 3:], mid_acc[:, :3], mid_acc[:, 3:],
               T_ff, L_ff, Ld_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C,
-              c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code,
+              c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code, exact_in_python,
               cable_model, EA, cab.damping_N_s_m, winch, lag, float(cab.winch_time_constant_s),
               L0, T_state, T_cmd, T_app,
               pose_log, len_log, Tcmd_log, Tapp_log)
     chunk = 500
     fallbacks = 0
+    ship_error = 0.0  # the own plant moves the ship exactly
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         halves = (np.ascontiguousarray(ship_h.R_SO), np.ascontiguousarray(ship_h.omega_SO_S),
@@ -538,13 +564,14 @@ def simulate(
             if progress is not None:
                 progress(min(n, k0 + chunk), n)
     else:
-        fallbacks = _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C,
-                                shared, progress)
+        fallbacks, ship_error = _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C,
+                                            shared, progress)
     pose_log[:, 3:] = np.unwrap(pose_log[:, 3:], axis=0)
     return SimResult(
         run=run, plant=plant, t=t, pose_planned=ref_pose, pose=pose_log,
         lengths_planned=np.ascontiguousarray(ref.lengths[:n]), lengths=len_log,
         tensions_commanded=Tcmd_log, tensions=Tapp_log, controller_fallbacks=int(fallbacks),
+        ship_tracking_error=ship_error,
     )
 
 
@@ -598,6 +625,7 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
         data.qvel[pd[:3]] = v0
         data.qvel[pd[3:]] = R0.T @ w0
     fallbacks = 0
+    ship_err = np.zeros(1)
     step = mujoco.mj_step
     exch = _mujoco_exchange
     qpos, qvel, ctrl, qfrc, xfrc = data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied
@@ -606,7 +634,7 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
     every = 500
     for k in range(n):
         fb = exch(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
-                  ship_dofs, body,
+                  ship_dofs, body, ship_err,
                   tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, *shared)
         if fb < 0:
             raise SimulationDivergedError(_diverged_message(scenario, run, t[k]))
@@ -616,4 +644,4 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
             progress(k + 1, n)
     if progress is not None:
         progress(n, n)
-    return fallbacks
+    return fallbacks, float(ship_err[0])
