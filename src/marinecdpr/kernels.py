@@ -140,6 +140,39 @@ def cables_step(x, R_PC, c_C, p_P, lengths, J):
 
 
 @njit(cache=_cache)
+def _lu_det_solve(A, b):
+    """Determinant of A (k, k) and, in b, the solution of A x = b (Gaussian elimination with
+    partial pivoting; A and b are overwritten). For the small systems here it is an order of
+    magnitude faster than a LAPACK call."""
+    k = A.shape[0]
+    det = 1.0
+    for col in range(k):
+        piv = col
+        for r in range(col + 1, k):
+            if abs(A[r, col]) > abs(A[piv, col]):
+                piv = r
+        if A[piv, col] == 0.0:
+            return 0.0
+        if piv != col:
+            det = -det
+            for c in range(k):
+                A[col, c], A[piv, c] = A[piv, c], A[col, c]
+            b[col], b[piv] = b[piv], b[col]
+        det *= A[col, col]
+        for r in range(col + 1, k):
+            f = A[r, col] / A[col, col]
+            for c in range(col, k):
+                A[r, c] -= f * A[col, c]
+            b[r] -= f * b[col]
+    for r in range(k - 1, -1, -1):
+        acc = b[r]
+        for c in range(r + 1, k):
+            acc -= A[r, c] * b[c]
+        b[r] = acc / A[r, r]
+    return det
+
+
+@njit(cache=_cache)
 def tensions_step(J, w, controlled, lo, hi, method, T):
     """Tensions at one step, written to T (n,); returns True if within limits.
 
@@ -156,7 +189,14 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
         wc[a] = w[controlled[a]]
         for i in range(n):
             A[i, a] = J[i, controlled[a]]
-    G = A.T @ A
+    G = np.zeros((k, k))
+    for a in range(k):
+        for b in range(a, k):
+            acc = 0.0
+            for i in range(n):
+                acc += A[i, a] * A[i, b]
+            G[a, b] = acc
+            G[b, a] = acc
     mid = 0.5 * (lo + hi)
     if method == 4 or (method >= 2 and n - k != 1):
         T[:] = np.nan
@@ -164,30 +204,36 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
     scale = 0.0
     for a in range(k):
         scale = max(scale, G[a, a])
-    if abs(np.linalg.det(G)) <= 1e-12 * scale**k:
+    x = wc
+    if method == 1:
+        for a in range(k):
+            for i in range(n):
+                x[a] -= A[i, a] * mid[i]
+    if abs(_lu_det_solve(G, x)) <= 1e-12 * scale**k:
         T[:] = np.nan
         return False
-    rhs = wc.copy()
-    if method == 1:
-        rhs -= A.T @ mid
-    x = np.linalg.solve(G, rhs)
-    Ts = A @ x
-    if method == 1:
-        Ts += mid
+    Ts = np.empty(n)
+    for i in range(n):
+        acc = mid[i] if method == 1 else 0.0
+        for a in range(k):
+            acc += A[i, a] * x[a]
+        Ts[i] = acc
     if method >= 2:
         # null vector of A^T from the signed k x k minors (r = 1), then clip lambda (eq. 20)
         N = np.empty(n)
         sub = np.empty((k, k))
+        rhs = np.zeros(k)
         for j in range(n):
             row = 0
             for i in range(n):
                 if i != j:
                     sub[row, :] = A[i, :]
                     row += 1
-            N[j] = np.linalg.det(sub) * (1.0 if j % 2 == 0 else -1.0)
+            N[j] = _lu_det_solve(sub, rhs) * (1.0 if j % 2 == 0 else -1.0)
         N /= np.sqrt(np.sum(N * N))
-        target = mid if method == 2 else np.zeros(n)
-        lam = np.sum(N * (target - Ts))
+        lam = 0.0
+        for i in range(n):
+            lam += N[i] * ((mid[i] if method == 2 else 0.0) - Ts[i])
         low, high = -np.inf, np.inf
         for i in range(n):
             if abs(N[i]) > 1e-12:
@@ -222,9 +268,16 @@ def forward_step(J, T, bias, R_PC, mass, I_PP, controlled, out):
     M = np.zeros((6, 6))
     for i in range(3):
         M[i, i] = mass
-    RI = R_PC @ I_PP
-    M[3:, 3:] = RI @ R_PC.T
-    f = J.T @ T - bias
+        for j in range(3):
+            acc = 0.0
+            for a in range(3):
+                for b in range(3):
+                    acc += R_PC[i, a] * I_PP[a, b] * R_PC[j, b]
+            M[3 + i, 3 + j] = acc
+    f = -bias.copy()
+    for a in range(6):
+        for i in range(J.shape[0]):
+            f[a] += J[i, a] * T[i]
     k = controlled.shape[0]
     Mc = np.empty((k, k))
     fc = np.empty(k)
@@ -232,7 +285,7 @@ def forward_step(J, T, bias, R_PC, mass, I_PP, controlled, out):
         fc[a] = f[controlled[a]]
         for b in range(k):
             Mc[a, b] = M[controlled[a], controlled[b]]
-    acc = np.linalg.solve(Mc, fc)
+    _lu_det_solve(Mc, fc)
     out[:] = 0.0
     for a in range(k):
-        out[controlled[a]] = acc[a]
+        out[controlled[a]] = fc[a]

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from numba import njit, objmode
+from numba import njit, objmode, types
 
 from . import kernels as K
 from .basemotion import evaluate_base_motion
@@ -90,6 +90,17 @@ class SimResult:
 
 # ----------------------------------------------------------------- compiled parts
 @njit(cache=_cache)
+def _mm3(A, B, out, transpose_B=False):
+    """out = A @ B (or A @ B^T) for 3x3 matrices, without BLAS's per-call cost."""
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += A[i, k] * (B[j, k] if transpose_B else B[k, j])
+            out[i, j] = acc
+
+
+@njit(cache=_cache)
 def _euler_from_R(R, out):
     out[0] = np.arctan2(R[2, 1], R[2, 2])
     out[1] = np.arcsin(min(1.0, max(-1.0, -R[2, 0])))
@@ -113,7 +124,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         Rn = np.empty((3, 3))
         tmp = np.empty(3)
         K.euler_step(noise_pose[k, 3:], np.zeros(3), np.zeros(3), Rn, tmp, tmp)
-        R_m = Rn @ R
+        R_m = np.empty((3, 3))
+        _mm3(Rn, R, R_m)
         v_m = v + noise_twist[k, :3]
         w_m = w + noise_twist[k, 3:]
         # ... predicted to mid-step, where the held command acts on average
@@ -121,7 +133,9 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         x_m = x_m + hh * v_m
         v_m = v_m + hh * ref_a[k]
         Wx = np.array([[0.0, -w_m[2], w_m[1]], [w_m[2], 0.0, -w_m[0]], [-w_m[1], w_m[0], 0.0]])
-        R_m = R_m + hh * (Wx @ R_m)
+        WR = np.empty((3, 3))
+        _mm3(Wx, R_m, WR)
+        R_m = R_m + hh * WR
         w_m = w_m + hh * ref_al[k]
         eta_p = eta_m[0, k] + hh * eta_m[1, k]
         deta_p = eta_m[1, k] + hh * eta_m[2, k]
@@ -130,7 +144,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         al_s = np.empty(3)
         K.euler_step(eta_p[3:], deta_p[3:], eta_m[2, k, 3:], R_SO, w_s, al_s)
         # computed torque on the mid-step reference: a = a_ref + Kd e_v + Kp e, rotation error in C
-        E = ref_R[k] @ R_m.T
+        E = np.empty((3, 3))
+        _mm3(ref_R[k], R_m, E, True)
         e_rot = 0.5 * np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]])
         a_cmd = ref_a[k] + kd * (ref_v[k] - v_m) + kp * (ref_x[k] - x_m)
         al_cmd = ref_al[k] + kd * (ref_w[k] - w_m) + kp * e_rot
@@ -252,8 +267,8 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
         R[2, 0] = 2 * (qx * qz - qy * qw)
         R[2, 1] = 2 * (qy * qz + qx * qw)
         R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
-        wl = np.array([qvel[pd[3]], qvel[pd[4]], qvel[pd[5]]])
-        w[:] = R @ wl  # the ball's angular velocity is in the platform frame
+        for i in range(3):  # the ball's angular velocity is in the platform frame
+            w[i] = R[i, 0] * qvel[pd[3]] + R[i, 1] * qvel[pd[4]] + R[i, 2] * qvel[pd[5]]
     if _diverged(x, ref_x[k]):
         return -1
     n = c_C.shape[0]
@@ -580,6 +595,44 @@ def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
             f"{DIVERGENCE_M:g} m from its plan or its state is not finite")
 
 
+def _mujoco_library() -> bool:
+    """Make MuJoCo's C library known to numba by name; False if it cannot be found."""
+    import glob
+    import os
+
+    import mujoco
+    from llvmlite import binding
+
+    libs = glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*"))
+    if not libs or not hasattr(mujoco.MjModel, "_address"):
+        return False
+    binding.load_library_permanently(libs[0])
+    return True
+
+
+# mj_step(const mjModel*, mjData*), resolved by symbol name so that the loop can be cached;
+# the pointers travel as 64-bit integers (the same in the C calling convention)
+_c_mj_step = types.ExternalFunction("mj_step", types.void(types.uint64, types.uint64))
+
+
+@njit(cache=_cache)
+def _compiled_loop(k0, k1, model_addr, data_addr, h, args):
+    """Exchange and step, k0..k1-1, all compiled. Returns (fallbacks, -1 or the diverged step)."""
+    fallbacks = 0
+    for k in range(k0, k1):
+        fb = _exchange_args(k, h, args)
+        if fb < 0:
+            return fallbacks, k
+        fallbacks += fb
+        _c_mj_step(model_addr, data_addr)
+    return fallbacks, -1
+
+
+@njit(cache=_cache)
+def _exchange_args(k, h, a):
+    return _mujoco_exchange(k, h, *a)
+
+
 def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared, progress):
     import mujoco
 
@@ -626,22 +679,30 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
         data.qvel[pd[3:]] = R0.T @ w0
     fallbacks = 0
     ship_err = np.zeros(1)
-    step = mujoco.mj_step
-    exch = _mujoco_exchange
     qpos, qvel, ctrl, qfrc, xfrc = data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied
     ten_k, ten_spring, ten_c = model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping
-    body = mm.platform_body
+    args = (qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd, ship_dofs,
+            mm.platform_body, ship_err, tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, *shared)
+    compiled = _mujoco_library()
     every = 500
-    for k in range(n):
-        fb = exch(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
-                  ship_dofs, body, ship_err,
-                  tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, *shared)
-        if fb < 0:
-            raise SimulationDivergedError(_diverged_message(scenario, run, t[k]))
+    for k0 in range(0, n, every):
+        k1 = min(n, k0 + every)
+        if compiled:
+            fb, bad = _compiled_loop(k0, k1, model._address, data._address, h, args)
+        else:  # the same, one Python call per step
+            fb, bad = 0, -1
+            for k in range(k0, k1):
+                f = _exchange_args(k, h, args)
+                if f < 0:
+                    bad = k
+                    break
+                fb += f
+                mujoco.mj_step(model, data)
         fallbacks += fb
-        step(model, data)
-        if progress is not None and k % every == every - 1:
-            progress(k + 1, n)
+        if bad >= 0:
+            raise SimulationDivergedError(_diverged_message(scenario, run, t[bad]))
+        if progress is not None:
+            progress(k1, n)
     if progress is not None:
         progress(n, n)
     return fallbacks, float(ship_err[0])
