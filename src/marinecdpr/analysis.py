@@ -41,7 +41,8 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
     (theta_y for a planar robot; the rotation angle between planned and actual
     orientation for a spatial one, which also gets ``y``, ``rx``, ``ry``, ``rz``),
     ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
-    ``tension_max_N`` (applied), ``rms_error_x_m``, ``rms_error_z_m``,
+    ``tension_max_N`` (applied), ``tension_limit_excess_N`` (how far applied tensions left
+    their limits, 0 if never), ``rms_error_x_m``, ``rms_error_z_m``,
     ``controller_fallbacks``, ``ship_tracking_error`` (m or rad), ``plant``.
     """
     err = res.pose_error
@@ -59,6 +60,9 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
         float(v) for v in np.abs(res.lengths - res.lengths_planned).max(axis=0)]
     out["tension_min_N"] = float(res.tensions.min())
     out["tension_max_N"] = float(res.tensions.max())
+    lo, hi = scenario.robot.tension_min, scenario.robot.tension_max
+    # by how much the applied tensions left their limits (elastic dynamics, lag, noise)
+    out["tension_limit_excess_N"] = float(max(0.0, (lo - res.tensions).max(), (res.tensions - hi).max()))
     out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
     out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
     out["controller_fallbacks"] = res.controller_fallbacks

@@ -113,7 +113,7 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     robot = scenario.robot
-    fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True, constrained_layout=True)
+    fig, axes = plt.subplots(2, 1, figsize=(11, 7.5), sharex=True, constrained_layout=True)
     titles = (
         "(a) pseudo-inverse tensions, eq. (18)",
         f"(b) {plan.method.replace('_', ' ')} tensions ({plan.base_model} base)",
@@ -121,14 +121,18 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     for ax, T, title in zip(axes, (plan.tensions_pinv, plan.tensions), titles):
         for i in range(robot.n_cables):
             ax.plot(plan.t, T[:, i], label=f"cable {i + 1}", lw=1.2)
-        for lim, name in ((robot.tension_min, "T_min"), (robot.tension_max, "T_max")):
-            for v in np.unique(lim):
-                ax.axhline(v, color="k", ls="--", lw=0.8)
+        for j, v in enumerate(np.unique(np.concatenate([robot.tension_min, robot.tension_max]))):
+            ax.axhline(v, color="k", ls="--", lw=0.8, label="limits" if j == 0 else None)
         ax.axhline(0.0, color="0.6", lw=0.6)
         ax.set_ylabel("tension (N)")
         ax.set_title(title, loc="left", fontsize=10)
         ax.grid(alpha=0.3)
-    axes[0].legend(ncol=min(4, robot.n_cables), fontsize=8, loc="upper right")
+    # (a) keeps its own range: eq. (18)'s tensions are small and may be negative
+    lo_a, hi_a = np.nanmin(plan.tensions_pinv), np.nanmax(plan.tensions_pinv)
+    pad = 0.1 * max(hi_a - lo_a, 1.0)
+    axes[0].set_ylim(min(lo_a, 0.0) - pad, max(hi_a, robot.tension_min.max()) + pad)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(8, robot.n_cables + 1), fontsize=9)
     if not plan.all_feasible:
         bad = ~plan.feasible
         axes[1].fill_between(plan.t, 0, 1, where=bad, color="red", alpha=0.15,
@@ -149,6 +153,17 @@ RUN_TITLES = {
     "fixed_base_open_loop": "fixed-base plan, open loop",
 }
 RUN_COLOURS = {"open_loop": "C0", "closed_loop": "C2", "fixed_base_open_loop": "C3"}
+
+
+def _drawing_order(results: dict):
+    """Runs in drawing order: the closed loop, usually the smallest error, last (on top)."""
+    order = ["fixed_base_open_loop", "open_loop", "closed_loop"]
+    return sorted(results.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else -1)
+
+
+def _legend_on_top(fig, ax) -> None:
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=9)
 
 
 def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
@@ -189,22 +204,22 @@ def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
     """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
     plt = _pyplot()
     n = scenario.robot.n_cables
-    fig, axes = plt.subplots(n, 2, figsize=(11, 1.9 * n + 1), sharex=True, squeeze=False,
+    fig, axes = plt.subplots(n, 2, figsize=(11, 1.9 * n + 1.5), sharex=True, squeeze=False,
                              constrained_layout=True)
     first = next(iter(results.values()))
     for i in range(n):
         ax, ax_e = axes[i]
-        ax.plot(first.t, first.lengths_planned[:, i], "k--", lw=1.2, label="planned (kinematics)")
-        for name, res in results.items():
-            ax.plot(res.t, res.lengths[:, i], color=RUN_COLOURS.get(name), lw=1,
+        for name, res in _drawing_order(results):
+            ax.plot(res.t, res.lengths[:, i], color=RUN_COLOURS.get(name), lw=0.9,
                     label=f"actual, {RUN_TITLES.get(name, name)}")
             ax_e.plot(res.t, 1e3 * (res.lengths[:, i] - res.lengths_planned[:, i]),
-                      color=RUN_COLOURS.get(name), lw=1)
+                      color=RUN_COLOURS.get(name), lw=0.7)
+        ax.plot(first.t, first.lengths_planned[:, i], "k--", lw=1.0, label="planned (kinematics)")
         ax.set_ylabel(f"L{i + 1} (m)")
         ax_e.set_ylabel(f"L{i + 1} error (mm)")
         ax.grid(alpha=0.3)
         ax_e.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, loc="upper right")
+    _legend_on_top(fig, axes[0, 0])
     axes[-1, 0].set_xlabel("t (s)")
     axes[-1, 1].set_xlabel("t (s)")
     fig.suptitle(f"Cable lengths, planned and on the virtual prototype: {scenario.name}", fontsize=11)
@@ -215,7 +230,7 @@ def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
     """Like the paper's figure 7: planned and actual pose, and the tracking errors."""
     plt = _pyplot()
     pose_names, dofs = _pose_names(scenario)
-    fig, axes = plt.subplots(len(dofs), 2, figsize=(11, 2.2 * len(dofs) + 1), sharex=True,
+    fig, axes = plt.subplots(len(dofs), 2, figsize=(11, 2.2 * len(dofs) + 1.5), sharex=True,
                              squeeze=False, constrained_layout=True)
     first = next(iter(results.values()))
     for row, (name_p, i) in enumerate(zip(pose_names, dofs)):
@@ -223,16 +238,16 @@ def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
         angle = i >= 3
         k, unit = (np.degrees(1.0), "deg") if angle else (1.0, "m")
         ke, unit_e = (np.degrees(1.0), "deg") if angle else (1e3, "mm")
-        ax.plot(first.t, k * first.pose_planned[:, i], "k--", lw=1.2, label="planned")
-        for name, res in results.items():
-            ax.plot(res.t, k * res.pose[:, i], color=RUN_COLOURS.get(name), lw=1,
+        for name, res in _drawing_order(results):
+            ax.plot(res.t, k * res.pose[:, i], color=RUN_COLOURS.get(name), lw=0.9,
                     label=RUN_TITLES.get(name, name))
-            ax_e.plot(res.t, ke * res.pose_error[:, i], color=RUN_COLOURS.get(name), lw=1)
+            ax_e.plot(res.t, ke * res.pose_error[:, i], color=RUN_COLOURS.get(name), lw=0.7)
+        ax.plot(first.t, k * first.pose_planned[:, i], "k--", lw=1.0, label="planned")
         ax.set_ylabel(f"{name_p} ({unit})")
         ax_e.set_ylabel(f"{name_p} error ({unit_e})")
         ax.grid(alpha=0.3)
         ax_e.grid(alpha=0.3)
-    axes[0, 0].legend(fontsize=7, loc="upper right")
+    _legend_on_top(fig, axes[0, 0])
     axes[-1, 0].set_xlabel("t (s)")
     axes[-1, 1].set_xlabel("t (s)")
     fig.suptitle(f"Tracking on the virtual prototype: {scenario.name}", fontsize=11)
@@ -259,7 +274,12 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     esc = html.escape
 
     def fmt(v: float, unit: str) -> str:
-        return f"{v * 1e3:.3g} mm" if unit == "m" else f"{v:.3g} deg"
+        if unit == "deg":
+            return f"{v:.3g} deg"
+        for scale, name in ((1e3, "mm"), (1e6, "µm"), (1e9, "nm")):
+            if v * scale >= 1.0 or name == "nm":
+                return f"{v * scale:.3g} {name}"
+        return f"{v:.3g} m"
 
     rows = []
     metrics = [("max |error| x", "max_abs_error_x_m", "m"), ("max |error| z", "max_abs_error_z_m", "m"),
@@ -273,7 +293,12 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     rows.append(f"<tr><th>max |error| cable length</th><td>150 mm (cable 2)</td>{cells}</tr>")
     cells = "".join(f"<td>{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N</td>"
                     for r in runs)
-    rows.append(f"<tr><th>applied tensions</th><td>10 .. 450 N (limits)</td>{cells}</tr>")
+    rows.append(f"<tr><th>applied tensions</th><td>–</td>{cells}</tr>")
+    cells = "".join(
+        "<td>within</td>" if summary[r]["tension_limit_excess_N"] == 0 else
+        f"<td><b>outside by {summary[r]['tension_limit_excess_N']:.2f} N</b></td>" for r in runs)
+    limits = (f"{scenario.robot.tension_min.min():g} .. {scenario.robot.tension_max.max():g} N")
+    rows.append(f"<tr><th>tension limits ({limits})</th><td>–</td>{cells}</tr>")
     head = "".join(f"<th>{esc(RUN_TITLES[r])}</th>" for r in runs)
     sim = scenario.simulation
     r = scenario.robot
@@ -288,13 +313,13 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
         ("trajectory", scenario.trajectory.type),
         ("time", f"{scenario.time.duration_s:g} s at {scenario.time.step_s * 1e3:g} ms "
                  f"({summary['steps']} steps)"),
-        ("tensions", f"{summary['method'].replace('_', ' ')}; eq. (18) from "
-                     f"{summary['pinv_tension_min_N']:.1f} N; optimised {summary['opt_tension_min_N']:.1f}"
-                     f" .. {summary['opt_tension_max_N']:.1f} N"),
+        ("tensions", f"{summary['method'].replace('_', ' ')}: {summary['opt_tension_min_N']:.1f} .. "
+                     f"{summary['opt_tension_max_N']:.1f} N (pseudo-inverse, eq. 18, alone: down to "
+                     f"{summary['pinv_tension_min_N']:.1f} N)"),
         ("plant", f"{sim.plant} ({sim.integrator}), cables {sim.cables.model}"
                   + (f", EA {sim.cables.stiffness_EA_N:g} N, {sim.cables.winch} winch, lag "
                      f"{sim.cables.winch_time_constant_s * 1e3:g} ms" if sim.cables.model == "elastic" else "")),
-        ("closed loop", f"computed torque, {sim.control.bandwidth_hz:g} Hz, damping "
+        ("closed loop", f"computed torque, bandwidth {sim.control.bandwidth_hz:g} Hz, damping ratio "
                         f"{sim.control.damping_ratio:g}"),
     ]
     fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
@@ -306,21 +331,27 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>marinecdpr: {esc(scenario.name)}</title>
 <style>
-body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }}
+body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em;
+       color: #222; }}
 table {{ border-collapse: collapse; margin: 1em 0; }}
 th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: left; }}
 thead th {{ background: #f2f2f2; }}
 figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
 figcaption {{ color: #555; font-size: 0.9em; }}
 </style></head><body>
-<h1>Virtual prototype: {esc(scenario.name)}</h1>
+<h1>Virtual prototype, scenario: {esc(scenario.name)}</h1>
 <p>{esc(scenario.description)}</p>
 <h2>Scenario</h2><table>{fact_rows}</table>
 <h2>Tracking errors, the paper's and ours</h2>
 <table><thead><tr><th></th><th>paper (Adams, open loop)</th>{head}</tr></thead>
 <tbody>{''.join(rows)}</tbody></table>
-<p>Errors are actual minus planned over the whole run. The paper's figures are from its
-section 4.2 (open loop on Adams, 1 ms exchange).</p>
+<p>Errors are the largest of actual minus planned over the run. The paper's figures are
+from its section 4.2 (open loop on Adams, 1 ms exchange). With ideal cables our plan and
+the plant share one model, so open loop is exact but for the 1 ms hold of the tensions;
+the <i>fixed-base</i> column is the comparable one: a plan from a model that leaves out
+the ship, flown on the moving ship, errs as the paper's Adams run did. With elastic
+cables, winch lag and sensor noise, open loop has no damping of its own and noise drives
+its oscillations up; the closed loop holds them down.</p>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>

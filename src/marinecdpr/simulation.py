@@ -176,6 +176,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         dt = (kf - kb) * h
         if winch == 1:
             T_cmd += tau * (T_ff[kf] - T_ff[kb]) / dt
+            for i in range(n):  # a command stays within the cable's limits
+                T_cmd[i] = min(max(T_cmd[i], lo[i]), hi[i])
         else:
             L0_cmd += tau * (L_ff[kf] / (1.0 + (T_ff[kf] - damping * Ld_ff[kf]) / EA)
                              - L_ff[kb] / (1.0 + (T_ff[kb] - damping * Ld_ff[kb]) / EA)) / dt
