@@ -257,18 +257,8 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
         for i in range(3):
             x[i] = qpos[pq[i]]
             v[i] = qvel[pd[i]]
-        qw, qx, qy, qz = qpos[pq[3]], qpos[pq[4]], qpos[pq[5]], qpos[pq[6]]
-        nq = np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-        qw, qx, qy, qz = qw / nq, qx / nq, qy / nq, qz / nq
-        R[0, 0] = 1 - 2 * (qy * qy + qz * qz)
-        R[0, 1] = 2 * (qx * qy - qz * qw)
-        R[0, 2] = 2 * (qx * qz + qy * qw)
-        R[1, 0] = 2 * (qx * qy + qz * qw)
-        R[1, 1] = 1 - 2 * (qx * qx + qz * qz)
-        R[1, 2] = 2 * (qy * qz - qx * qw)
-        R[2, 0] = 2 * (qx * qz - qy * qw)
-        R[2, 1] = 2 * (qy * qz + qx * qw)
-        R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
+        q = np.array([qpos[pq[3]], qpos[pq[4]], qpos[pq[5]], qpos[pq[6]]])
+        _quat_to_R(q / np.sqrt(np.sum(q * q)), R)
         for i in range(3):  # the ball's angular velocity is in the platform frame
             w[i] = R[i, 0] * qvel[pd[3]] + R[i, 1] * qvel[pd[4]] + R[i, 2] * qvel[pd[5]]
     if _diverged(x, ref_x[k]):
