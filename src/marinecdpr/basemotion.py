@@ -11,11 +11,12 @@ dynamics need.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from .rotations import euler_kinematics
-from .scenario import SHIP_DOFS, SinusoidalMotion, StillMotion
+from .scenario import SHIP_DOFS, RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
 __all__ = ["ShipMotion", "ship_motion", "evaluate_base_motion", "still_ship"]
 
@@ -84,12 +85,14 @@ def still_ship(n_steps: int) -> ShipMotion:
     return ship_motion(z, z, z)
 
 
-def evaluate_base_motion(config: StillMotion | SinusoidalMotion, t: np.ndarray) -> ShipMotion:
+def evaluate_base_motion(
+    config: StillMotion | SinusoidalMotion | SeaStateMotion | RecordedMotion, t: np.ndarray
+) -> ShipMotion:
     """The ship's motion a scenario's ``[base_motion]`` describes, at times ``t``.
 
     Parameters
     ----------
-    config : StillMotion or SinusoidalMotion
+    config : StillMotion, SinusoidalMotion, SeaStateMotion or RecordedMotion
         The scenario's base motion.
     t : ndarray, shape (n_steps,)
         Times, s.
@@ -97,6 +100,12 @@ def evaluate_base_motion(config: StillMotion | SinusoidalMotion, t: np.ndarray) 
     t = np.asarray(t, dtype=float)
     if isinstance(config, StillMotion):
         return still_ship(t.size)
+    if isinstance(config, SeaStateMotion):
+        from .seastate import synthesize
+
+        return ship_motion(*synthesize(sea_record_of(config), t))
+    if isinstance(config, RecordedMotion):
+        return _recording(config.model_dump_json()).evaluate(t + config.start_s)
     # time-last buffers (see _vec): one contiguous row per DOF
     eta = np.zeros((6, t.size))
     eta_dot = np.zeros_like(eta)
@@ -114,3 +123,46 @@ def evaluate_base_motion(config: StillMotion | SinusoidalMotion, t: np.ndarray) 
         eta_dot[k] += comp.amplitude * w * c
         eta_ddot[k] -= comp.amplitude * w * w * s
     return ship_motion(eta.T, eta_dot.T, eta_ddot.T)
+
+
+@lru_cache(maxsize=32)
+def _rao(source_json: str):
+    from .rao import box_hull_rao, read_capytaine, read_rao_csv
+    from .scenario import RAOSource
+
+    src = RAOSource.model_validate_json(source_json)
+    if src.source == "csv":
+        return read_rao_csv(src.file)
+    if src.source == "capytaine":
+        return read_capytaine(src.file)
+    return box_hull_rao(length_m=src.length_m, beam_m=src.beam_m, draught_m=src.draught_m,
+                        gm_m=src.gm_m, roll_damping_ratio=src.roll_damping_ratio,
+                        omega=np.linspace(0.02, 6.0, 600), heading_deg=np.arange(0.0, 360.0, 5.0))
+
+
+@lru_cache(maxsize=64)
+def _sea_record(config_json: str):
+    from .seastate import sea_record
+
+    c = SeaStateMotion.model_validate_json(config_json)
+    return sea_record(
+        hs=c.hs_m, tp=c.tp_s, heading_deg=c.heading_deg, rao=_rao(c.rao.model_dump_json()),
+        spectrum=c.spectrum, gamma=c.gamma,
+        spreading_kind=None if c.spreading == "none" else c.spreading,
+        spreading_exponent=c.spreading_exponent, n_directions=c.n_directions,
+        record_s=c.record_s, seed=c.seed,
+    )
+
+
+def sea_record_of(config: SeaStateMotion):
+    """The :class:`~marinecdpr.seastate.SeaRecord` of a sea-state base motion (cached)."""
+    return _sea_record(config.model_dump_json())
+
+
+@lru_cache(maxsize=8)
+def _recording(config_json: str):
+    from .recorded import read_motion_csv
+
+    c = RecordedMotion.model_validate_json(config_json)
+    kwargs = {} if c.smoothing_s is None else {"smoothing_s": c.smoothing_s}
+    return read_motion_csv(c.file, z_axis=c.z_axis, angles=c.angles, **kwargs)

@@ -171,6 +171,116 @@ def simulate(
     console.print(f"written to {out}/: " + ", ".join(p.name for p in paths), highlight=False)
 
 
+def _progress_bar(label: str):
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    return Progress(TextColumn(f"{label:<16}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                    console=err_console, disable=not err_console.is_terminal)
+
+
+@app.command()
+def workspace(
+    scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for workspace.csv and workspace.png."),
+    axes: str = typer.Option("xz", help="Grid plane: two of x, y, z."),
+    points: str = typer.Option("30x20", help="Grid points along the two axes, e.g. 30x20."),
+    fixed: Optional[float] = typer.Option(None, help="The third coordinate, m (default: mid-frame)."),
+    duration: Optional[float] = typer.Option(None, min=0.0, help="Seconds of ship motion per pose."),
+    step: Optional[float] = typer.Option(None, min=0.0, help="Time step, s."),
+) -> None:
+    """Map where on the frame the platform can be held while the ship moves."""
+    from .reports import write_workspace
+    from .workspace import workspace_map
+
+    try:
+        n = tuple(int(k) for k in points.lower().split("x"))
+        assert len(n) == 2 and min(n) > 0
+    except (ValueError, AssertionError):
+        _fail(f"--points {points}: expected two positive integers like 30x20")
+    if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
+        _fail(f"--axes {axes}: expected two different letters of x, y, z")
+    sc = _load(scenario, duration, step)
+    with _progress_bar("workspace") as bar:
+        task = bar.add_task("", total=n[0] * n[1])
+        try:
+            ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed,
+                               progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+        except ScenarioError as exc:
+            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+    paths = write_workspace(ws, sc, _out_dir(out))
+    import numpy as np
+
+    inside = np.isfinite(ws.fraction_feasible)
+    always = int((ws.fraction_feasible[inside] == 1.0).sum())
+    console.print(f"{sc.name}: {always} of {int(inside.sum())} poses feasible throughout "
+                  f"({ws.n_steps} steps each); written: " + ", ".join(str(p) for p in paths), highlight=False)
+
+
+@app.command()
+def operability(
+    scenario: str = typer.Argument("paper_sea", help="A scenario with a sea_state base motion."),
+    scatter: Optional[Path] = typer.Option(None, help="Scatter diagram CSV (hs_m,tp_s,probability); "
+                                                      "default: the package's illustrative one."),
+    headings: str = typer.Option("180", help="Wave headings, deg, comma-separated."),
+    margin: float = typer.Option(0.0, min=0.0, help="Tension margin to the limits a workable sea keeps, N."),
+    duration: float = typer.Option(1200.0, min=0.0, help="Record length per sea state, s."),
+    step: float = typer.Option(0.02, min=0.0, help="Time step, s."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for operability.csv/.json/.png."),
+    serial: bool = typer.Option(False, "--serial", help="Run the cells in this process, not on Dask."),
+    workers: int = typer.Option(2, min=1, help="Local Dask workers."),
+    scheduler: Optional[str] = typer.Option(None, help="Address of a running Dask scheduler."),
+) -> None:
+    """In which sea states, over a scatter diagram, can the robot work?"""
+    from importlib import resources
+
+    from .operability import operability as run, read_scatter_csv
+    from .reports import write_operability
+
+    try:
+        heads = tuple(float(h) for h in headings.split(","))
+    except ValueError:
+        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
+    sc = _load(scenario, None, None)
+    try:
+        path = scatter or Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
+        diagram = read_scatter_csv(path)
+    except ScenarioError as exc:
+        _fail(str(exc))
+    n_cells = int((diagram.probability > 0).sum()) * len(heads)
+    t0 = time.perf_counter()
+    with _progress_bar("sea states") as bar:
+        task = bar.add_task("", total=n_cells)
+        try:
+            op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
+                     executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
+                     progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+        except ScenarioError as exc:
+            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+    elapsed = time.perf_counter() - t0
+    paths = write_operability(op, sc, _out_dir(out))
+    table = Table(title=f"operability: {sc.name} ({len(op.results)} sea states, {elapsed:.1f} s)")
+    table.add_column("heading (deg)")
+    table.add_column("operable", justify="right")
+    table.add_column("limiting Hs (m) for Tp = " + ", ".join(f"{tp:g}" for tp in diagram.tp) + " s")
+    for h in heads:
+        lims = ", ".join("-" if v != v else f"{v:g}" for v in op.limiting_hs[h])
+        table.add_row(f"{h:g}", f"{100 * op.per_heading[h]:.1f} %", lims)
+    console.print(table)
+    console.print(f"overall {100 * op.operability:.1f} %; written: " + ", ".join(str(p) for p in paths),
+                  highlight=False)
+
+
+def _load(scenario: str, duration: float | None, step: float | None):
+    try:
+        sc = load_scenario(scenario)
+        if duration is not None or step is not None:
+            sc = sc.with_changes(time={"step_s": step or sc.time.step_s,
+                                       "duration_s": duration or sc.time.duration_s})
+        return sc
+    except ScenarioError as exc:
+        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+
+
 @app.command()
 def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-in name.")) -> None:
     """Validate a scenario file (keys, units, physics, trajectory inside the frame)."""

@@ -28,6 +28,8 @@ __all__ = [
     "write_json",
     "write_report_html",
     "write_virtual_prototype",
+    "write_workspace",
+    "write_operability",
 ]
 
 
@@ -382,4 +384,85 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
     paths.append(write_report_html(vp.summary, sc, figures, folder / "report.html"))
+    return paths
+
+
+# ------------------------------------------------------------ workspace, operability
+def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
+    """``workspace.csv`` (one row per grid pose) and ``workspace.png`` (the maps)."""
+    plt = _pyplot()
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    U, V = np.meshgrid(ws.u, ws.v, indexing="ij")
+    names = [f"{ws.axes[0]}_m", f"{ws.axes[1]}_m", "fraction_feasible", "min_margin_N",
+             "pinv_fraction_feasible"]
+    values = np.column_stack([U.ravel(), V.ravel(), ws.fraction_feasible.ravel(),
+                              ws.min_margin_N.ravel(), ws.pinv_fraction_feasible.ravel()])
+    csv_path = _write_csv(names, values, folder / "workspace.csv", int_last=False)
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), constrained_layout=True)
+    extent = (ws.u[0], ws.u[-1], ws.v[0], ws.v[-1])
+    panels = (
+        (ws.fraction_feasible, "fraction of time feasible", "RdYlGn", (0, 1)),
+        (np.where(np.isfinite(ws.min_margin_N), ws.min_margin_N, np.nan),
+         "smallest tension margin (N), poses feasible throughout", "viridis", (None, None)),
+        (ws.pinv_fraction_feasible, "fraction of time eq. (18) alone is feasible", "RdYlGn", (0, 1)),
+    )
+    c = scenario.robot.frame_anchors
+    i_u, i_v = "xyz".index(ws.axes[0]), "xyz".index(ws.axes[1])
+    for ax, (data, title, cmap, (vmin, vmax)) in zip(axes, panels):
+        im = ax.imshow(data.T, origin="lower", extent=extent, cmap=cmap, vmin=vmin, vmax=vmax,
+                       aspect="equal", interpolation="nearest")
+        ax.plot(c[:, i_u], c[:, i_v], "ks", ms=6, label="frame anchors")
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(f"{ws.axes[0]} in C (m)")
+        ax.set_ylabel(f"{ws.axes[1]} in C (m)")
+        fig.colorbar(im, ax=ax, shrink=0.8)
+    fig.suptitle(f"Workspace under ship motion: {scenario.name} ({scenario.base_motion.type}, "
+                 f"{ws.n_steps} steps; {ws.fixed['axis']} = {ws.fixed['value_m']:g} m held)", fontsize=10)
+    return [csv_path, _save(fig, folder / "workspace.png")]
+
+
+def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
+    """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``."""
+    plt = _pyplot()
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N"]
+    values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
+                        r.fraction_feasible, r.min_margin_N] for r in op.results])
+    paths = [_write_csv(names, values, folder / "operability.csv", int_last=False)]
+    summary = {
+        "scenario": scenario.name,
+        "operability": op.operability,
+        "margin_N": op.margin_N,
+        "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
+        "limiting_hs_m": {f"{h:g}": {f"{tp:g}": (None if np.isnan(v) else float(v))
+                                     for tp, v in zip(op.scatter.tp, lim)}
+                          for h, lim in op.limiting_hs.items()},
+        "cells": len(op.results),
+        "steps_per_cell": op.results[0].n_steps if op.results else 0,
+    }
+    paths.append(write_json(summary, folder / "operability.json"))
+    k = len(op.headings_deg)
+    fig, axes = plt.subplots(1, k, figsize=(6.5 * k, 5.2), squeeze=False, constrained_layout=True)
+    from matplotlib.colors import ListedColormap
+
+    cmap = ListedColormap(["#d73027", "#1a9850"])
+    for ax, h in zip(axes[0], op.headings_deg):
+        grid = op.operable_grid(h)
+        ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=1, aspect="auto",
+                  extent=(-0.5, op.scatter.tp.size - 0.5, -0.5, op.scatter.hs.size - 0.5))
+        for i in range(op.scatter.hs.size):
+            for j in range(op.scatter.tp.size):
+                p = op.scatter.probability[i, j]
+                if p > 0:
+                    ax.text(j, i, f"{100 * p:.2g}", ha="center", va="center", fontsize=7, color="white")
+        ax.set_xticks(range(op.scatter.tp.size), [f"{v:g}" for v in op.scatter.tp])
+        ax.set_yticks(range(op.scatter.hs.size), [f"{v:g}" for v in op.scatter.hs])
+        ax.set_xlabel("Tp (s)")
+        ax.set_ylabel("Hs (m)")
+        ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %", fontsize=10)
+    fig.suptitle(f"Operability of {scenario.name} (green: workable with {op.margin_N:g} N margin; "
+                 "numbers: probability %)", fontsize=10)
+    paths.append(_save(fig, folder / "operability.png"))
     return paths

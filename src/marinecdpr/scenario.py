@@ -27,6 +27,7 @@ from pydantic import (
     StrictFloat,
     StrictStr,
     ValidationError,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -273,7 +274,90 @@ class SinusoidalMotion(_Model):
     components: list[SineComponent] = Field(min_length=1)
 
 
-BaseMotion = Annotated[Union[StillMotion, SinusoidalMotion], Field(discriminator="type")]
+def _resolve_file(value: str, info: ValidationInfo) -> str:
+    """A path relative to the scenario file's folder (or the working folder), made absolute."""
+    base = (info.context or {}).get("base_dir")
+    path = Path(value).expanduser()
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if not path.is_file():
+        raise ValueError(f"no such file: {path}")
+    return str(path.resolve())
+
+
+class RAOSource(_Model):
+    """Where the ship's response amplitude operators come from."""
+
+    source: Literal["box_hull", "csv", "capytaine"] = "box_hull"
+    file: StrictStr | None = None
+    """csv or capytaine: the file (relative paths from the scenario's folder)."""
+    length_m: PositiveFloat | None = None
+    beam_m: PositiveFloat | None = None
+    draught_m: PositiveFloat | None = None
+    gm_m: PositiveFloat | None = None
+    roll_damping_ratio: PositiveFloat = 0.05
+
+    @field_validator("file")
+    @classmethod
+    def _check_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        return None if value is None else _resolve_file(value, info)
+
+    @model_validator(mode="after")
+    def _check_source(self) -> "RAOSource":
+        if self.source == "box_hull":
+            for key in ("length_m", "beam_m", "draught_m", "gm_m"):
+                if getattr(self, key) is None:
+                    raise _KeyedError(key, "missing: the box-hull model needs the hull's length, "
+                                           "beam, draught and GM")
+        elif self.file is None:
+            raise _KeyedError("file", f"missing: a {self.source} RAO source needs its file")
+        return self
+
+
+class SeaStateMotion(_Model):
+    """Irregular seas: a wave spectrum turned into 6-DOF ship motion through RAOs."""
+
+    type: Literal["sea_state"]
+    spectrum: Literal["jonswap", "pierson_moskowitz"] = "jonswap"
+    hs_m: PositiveFloat
+    tp_s: PositiveFloat
+    gamma: Annotated[StrictFloat, Field(ge=1.0)] | None = None
+    """JONSWAP peak enhancement; default from Tp / sqrt(Hs) (DNV-RP-C205)."""
+    heading_deg: StrictFloat = 180.0
+    """Direction the waves travel towards, from the ship's +x, counter-clockwise: 180 = head seas."""
+    spreading: Literal["none", "cos2s", "cosn"] = "none"
+    spreading_exponent: PositiveFloat = 10.0
+    n_directions: Annotated[int, Field(ge=1, le=181, strict=True)] = 15
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    record_s: PositiveFloat = 1800.0
+    """Repeat period of the synthesised record (frequency step 2 pi / record_s)."""
+    rao: RAOSource
+
+
+class RecordedMotion(_Model):
+    """Ship motion measured on board, from a CSV file."""
+
+    type: Literal["recorded"]
+    file: StrictStr
+    """Columns time_s, surge_m, sway_m, heave_m, roll, pitch, yaw (relative paths from the
+    scenario's folder)."""
+    z_axis: Literal["up", "down"] = "up"
+    """up: x forward, y to port, z up (ours); down: x forward, y to starboard, z down."""
+    angles: Literal["deg", "rad"] = "deg"
+    smoothing_s: PositiveFloat | None = None
+    """Time scale of the smoothing spline that gives velocities and accelerations."""
+    start_s: NonNegativeFloat = 0.0
+    """Time in the record that the scenario's t = 0 corresponds to."""
+
+    @field_validator("file")
+    @classmethod
+    def _check_file(cls, value: str, info: ValidationInfo) -> str:
+        return _resolve_file(value, info)
+
+
+BaseMotion = Annotated[
+    Union[StillMotion, SinusoidalMotion, SeaStateMotion, RecordedMotion], Field(discriminator="type")
+]
 
 
 # ----------------------------------------------------------------------- trajectory
@@ -466,6 +550,14 @@ class Scenario(_Model):
     environment: Environment = Environment()
 
     @model_validator(mode="after")
+    def _check_record(self) -> "Scenario":
+        if isinstance(self.base_motion, SeaStateMotion) and self.base_motion.record_s < self.time.duration_s:
+            raise _KeyedError("base_motion.record_s",
+                              f"the sea-state record ({self.base_motion.record_s:g} s) would repeat within "
+                              f"the duration ({self.time.duration_s:g} s): make it at least as long")
+        return self
+
+    @model_validator(mode="after")
     def _check_planar_trajectory(self) -> "Scenario":
         if self.robot.dofs != "planar":
             return self
@@ -496,9 +588,9 @@ class Scenario(_Model):
 
     def with_changes(self, **sections: Any) -> "Scenario":
         """A validated copy with top-level sections replaced, e.g. ``planning={...}``."""
-        data = self.model_dump()
+        data = self.model_dump(exclude_none=True)
         for key, value in sections.items():
-            data[key] = value.model_dump() if isinstance(value, BaseModel) else value
+            data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
         return Scenario.model_validate(data)
 
 
@@ -545,13 +637,23 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"not valid TOML: {exc}", source=source) from None
-    return scenario_from_dict(data, source=source)
+    base_dir = path.parent if path.is_file() else Path.cwd()
+    return scenario_from_dict(data, source=source, base_dir=base_dir)
 
 
-def scenario_from_dict(data: dict[str, Any], *, source: str | None = None) -> Scenario:
-    """Validate a scenario given as nested dicts (as read from TOML)."""
+def scenario_from_dict(
+    data: dict[str, Any], *, source: str | None = None, base_dir: str | Path | None = None
+) -> Scenario:
+    """Validate a scenario given as nested dicts (as read from TOML).
+
+    Parameters
+    ----------
+    base_dir : str or Path, optional
+        Folder that relative file paths (RAOs, recorded motion) are taken from;
+        default the working folder.
+    """
     try:
-        return Scenario.model_validate(data)
+        return Scenario.model_validate(data, context={"base_dir": base_dir or Path.cwd()})
     except ValidationError as exc:
         raise _to_scenario_error(exc, data, source) from None
 

@@ -1,0 +1,290 @@
+"""In which sea states can the robot work? Operability over a scatter diagram.
+
+Each cell of a scatter diagram (Hs x Tp, with its probability) and each wave heading
+is one sea state. For each, the scenario's trajectory is planned over a long record of
+that sea (the scenario's ``[base_motion]`` must be a ``sea_state``: its RAOs,
+spectrum and spreading are kept, Hs, Tp, heading and seed are the cell's). A cell is
+workable when the tensions stay within limits at every step with at least the margin
+the user asks for. Cells are independent: they run serially or on Dask
+(``dask.distributed``), with the same results either way (each cell's seed is the
+template's seed plus the cell's index).
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .errors import ScenarioError
+from .planning import iter_plan
+from .scenario import Scenario, SeaStateMotion
+from .workspace import tension_margin
+
+__all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
+           "evaluate_cell", "operability"]
+
+
+@dataclass(frozen=True)
+class ScatterDiagram:
+    """Sea-state probabilities.
+
+    Attributes
+    ----------
+    hs : ndarray, shape (n_hs,)
+        Significant wave heights, m, increasing.
+    tp : ndarray, shape (n_tp,)
+        Peak periods, s, increasing.
+    probability : ndarray, shape (n_hs, n_tp)
+        Probability of each cell (zero where the pair does not occur); sums to 1.
+    """
+
+    hs: np.ndarray
+    tp: np.ndarray
+    probability: np.ndarray
+
+
+def read_scatter_csv(path: str | Path) -> ScatterDiagram:
+    """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability``, one row per cell.
+
+    Probabilities (or counts) are normalised to sum to 1; pairs left out have probability 0.
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the file, the row and the problem.
+    """
+    path = Path(path)
+    src = str(path)
+    try:
+        rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"cannot read the file ({exc})", source=src) from None
+    if not rows or [h.strip() for h in rows[0]] != ["hs_m", "tp_s", "probability"]:
+        raise ScenarioError("the header must be hs_m,tp_s,probability", source=src, key="row 1")
+    cells: dict[tuple[float, float], float] = {}
+    for i, row in enumerate(rows[1:], start=2):
+        if not row or not "".join(row).strip():
+            continue
+        if len(row) != 3:
+            raise ScenarioError(f"expected 3 values, got {len(row)}", source=src, key=f"row {i}")
+        try:
+            hs, tp, p = (float(x) for x in row)
+        except ValueError:
+            raise ScenarioError(f"not numbers: {','.join(row)}", source=src, key=f"row {i}") from None
+        if not (np.isfinite([hs, tp, p]).all() and hs > 0 and tp > 0 and p >= 0):
+            raise ScenarioError("hs_m and tp_s must be positive and probability non-negative",
+                                source=src, key=f"row {i}")
+        if (hs, tp) in cells:
+            raise ScenarioError(f"Hs {hs:g} m, Tp {tp:g} s appears twice", source=src, key=f"row {i}")
+        cells[(hs, tp)] = p
+    if not cells or sum(cells.values()) <= 0:
+        raise ScenarioError("no cell with a positive probability", source=src)
+    hs_v = np.array(sorted({k[0] for k in cells}))
+    tp_v = np.array(sorted({k[1] for k in cells}))
+    prob = np.zeros((hs_v.size, tp_v.size))
+    for (hs, tp), p in cells.items():
+        prob[np.searchsorted(hs_v, hs), np.searchsorted(tp_v, tp)] = p
+    return ScatterDiagram(hs_v, tp_v, prob / prob.sum())
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One sea state to evaluate."""
+
+    index: int
+    hs: float
+    tp: float
+    heading_deg: float
+    probability: float
+
+
+@dataclass(frozen=True)
+class CellResult:
+    """The verdict on one sea state."""
+
+    cell: Cell
+    operable: bool
+    fraction_feasible: float
+    min_margin_N: float
+    """Smallest distance of a tension to its limits over the record (-inf if some step is infeasible)."""
+    n_steps: int
+
+
+def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
+    sea = template.base_motion
+    return template.with_changes(
+        base_motion=sea.model_copy(update={
+            "hs_m": cell.hs, "tp_s": cell.tp, "heading_deg": cell.heading_deg,
+            "seed": sea.seed + cell.index, "record_s": max(sea.record_s, duration_s)}),
+        time={"step_s": step_s, "duration_s": duration_s},
+    )
+
+
+def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s: float,
+                  step_s: float) -> CellResult:
+    """Plan the template's trajectory over one sea state's record and judge it."""
+    sc = _cell_scenario(template, cell, duration_s, step_s)
+    lo, hi = sc.robot.tension_min, sc.robot.tension_max
+    ok, worst, n = 0, np.inf, 0
+    for piece in iter_plan(sc):
+        ok += int(piece.feasible.sum())
+        n += piece.n_steps
+        m = tension_margin(piece.tensions, lo, hi)
+        if np.isfinite(m).any():
+            worst = min(worst, float(np.nanmin(m)))
+    worst = worst if ok == n else -np.inf
+    return CellResult(cell, bool(ok == n and worst >= margin_N), ok / n, worst, n)
+
+
+@dataclass(frozen=True)
+class Operability:
+    """Operability over a scatter diagram and headings.
+
+    Attributes
+    ----------
+    scatter : ScatterDiagram
+    headings_deg : tuple of float
+    results : list of CellResult
+        One per cell with a positive probability and heading.
+    operability : float
+        Probability of a workable sea state, in [0, 1], headings equally likely.
+    per_heading : dict
+        Heading (deg) -> operability in that heading.
+    limiting_hs : dict
+        Heading -> array (n_tp,) of the largest Hs up to which every cell of that Tp is
+        workable (0 if even the smallest fails; NaN where the Tp column is empty).
+    margin_N : float
+    """
+
+    scatter: ScatterDiagram
+    headings_deg: tuple[float, ...]
+    results: list
+    operability: float
+    per_heading: dict
+    limiting_hs: dict
+    margin_N: float
+
+    def operable_grid(self, heading_deg: float) -> np.ndarray:
+        """(n_hs, n_tp): 1 workable, 0 not, NaN no such sea state."""
+        grid = np.full(self.scatter.probability.shape, np.nan)
+        for r in self.results:
+            if r.cell.heading_deg == heading_deg:
+                i = np.searchsorted(self.scatter.hs, r.cell.hs)
+                j = np.searchsorted(self.scatter.tp, r.cell.tp)
+                grid[i, j] = float(r.operable)
+        return grid
+
+
+def _cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
+    cells = []
+    for heading in headings:
+        for i, hs in enumerate(scatter.hs):
+            for j, tp in enumerate(scatter.tp):
+                if scatter.probability[i, j] > 0:
+                    cells.append(Cell(len(cells), float(hs), float(tp), float(heading),
+                                      float(scatter.probability[i, j])))
+    return cells
+
+
+def operability(
+    template: Scenario,
+    scatter: ScatterDiagram,
+    *,
+    headings_deg: tuple[float, ...] = (180.0,),
+    margin_N: float = 0.0,
+    duration_s: float = 1200.0,
+    step_s: float = 0.02,
+    executor: str = "serial",
+    scheduler: str | None = None,
+    workers: int = 2,
+    progress: Callable[[int, int], None] | None = None,
+) -> Operability:
+    """Decide, cell by cell, whether the robot can work, and sum up.
+
+    Parameters
+    ----------
+    template : Scenario
+        Robot, trajectory, tension method, and a ``sea_state`` base motion whose RAOs,
+        spectrum and spreading every cell uses.
+    scatter : ScatterDiagram
+    headings_deg : tuple of float
+        Wave headings to consider, equally likely, deg.
+    margin_N : float
+        Tension margin to the limits a workable sea state keeps at every step, N.
+    duration_s, step_s : float
+        Length and sampling of each cell's record (default 20 min at 50 Hz).
+    executor : {"serial", "dask"}
+        ``dask``: on a local cluster of ``workers`` processes, or on ``scheduler``.
+    scheduler : str, optional
+        Address of a running Dask scheduler (e.g. "tcp://10.0.0.5:8786").
+    progress : callable(done, total), optional
+    """
+    if not isinstance(template.base_motion, SeaStateMotion):
+        raise ScenarioError("operability needs a [base_motion] of type sea_state (its RAOs, spectrum "
+                            "and spreading are used in every cell)", key="base_motion.type")
+    headings = tuple(float(h) for h in headings_deg)
+    cells = _cells(scatter, headings)
+    kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s)
+    if executor == "serial":
+        results = []
+        for k, cell in enumerate(cells, start=1):
+            results.append(evaluate_cell(template, cell, **kwargs))
+            if progress is not None:
+                progress(k, len(cells))
+    elif executor == "dask":
+        results = _on_dask(template, cells, kwargs, scheduler, workers, progress)
+    else:
+        raise ValueError(f"executor must be 'serial' or 'dask', not {executor!r}")
+    results.sort(key=lambda r: r.cell.index)
+    return _summarise(scatter, headings, results, margin_N)
+
+
+def _on_dask(template, cells, kwargs, scheduler, workers, progress):
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise ScenarioError("Dask is not installed: pip install 'marinecdpr[dask]'") from None
+    cluster = None
+    if scheduler:
+        client = Client(scheduler, timeout="20s")
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+        client = Client(cluster)
+    try:
+        scattered = client.scatter(template, broadcast=True)
+        futures = [client.submit(evaluate_cell, scattered, cell, pure=False, **kwargs) for cell in cells]
+        results = []
+        for k, fut in enumerate(as_completed(futures), start=1):
+            results.append(fut.result())
+            if progress is not None:
+                progress(k, len(cells))
+        return results
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _summarise(scatter, headings, results, margin_N) -> Operability:
+    per_heading, limiting = {}, {}
+    for h in headings:
+        rs = [r for r in results if r.cell.heading_deg == h]
+        per_heading[h] = float(sum(r.cell.probability for r in rs if r.operable))
+        lim = np.full(scatter.tp.size, np.nan)
+        for j, tp in enumerate(scatter.tp):
+            col = sorted((r for r in rs if r.cell.tp == tp), key=lambda r: r.cell.hs)
+            if not col:
+                continue
+            lim[j] = 0.0
+            for r in col:
+                if not r.operable:
+                    break
+                lim[j] = r.cell.hs
+        limiting[h] = lim
+    total = float(np.mean([per_heading[h] for h in headings]))
+    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N))

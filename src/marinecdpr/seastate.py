@@ -1,0 +1,292 @@
+"""Irregular seas: wave spectra, directional spreading, and the ship motion they cause.
+
+Conventions (see ``docs/conventions.md``, "Sea states"):
+
+* Wave elevation at S's origin, a sum of regular components,
+  zeta(t) = sum_k Re(a_k exp(i (omega_k t + eps_k))).
+* A response is eta_j(t) = sum_k Re(RAO_j(omega_k, beta_k) a_k exp(i (omega_k t + eps_k)))
+  (:mod:`marinecdpr.rao` for the RAO conventions): velocities and accelerations follow
+  exactly, multiplying by i omega and -omega^2.
+* beta is the direction the waves travel towards, from the ship's +x axis,
+  counter-clockwise: 0 following, 90 from starboard, 180 head seas. The ship's own
+  yaw is not fed back into beta (first-order seakeeping).
+* Spectra are one-sided, S(omega) in m^2 s / rad, with integral Hs^2 / 16.
+
+The record: frequencies on a grid omega_k = k d_omega with d_omega = 2 pi / record_s,
+deterministic amplitudes a_k = sqrt(2 S(omega_k) D(theta) d_omega d_theta) and phases
+drawn from a seeded generator, so the record repeats only after ``record_s`` and the same
+seed always gives the same sea.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+__all__ = [
+    "dnv_gamma",
+    "jonswap",
+    "pierson_moskowitz",
+    "spreading",
+    "SeaRecord",
+    "sea_record",
+    "synthesize",
+    "wave_elevation",
+]
+
+
+def dnv_gamma(hs: float, tp: float) -> float:
+    """JONSWAP peak enhancement factor from DNV-RP-C205 (3.5.5.5), for Tp/sqrt(Hs)."""
+    r = tp / math.sqrt(hs)
+    if r <= 3.6:
+        return 5.0
+    if r >= 5.0:
+        return 1.0
+    return math.exp(5.75 - 1.15 * r)
+
+
+def pierson_moskowitz(omega: np.ndarray, hs: float, tp: float) -> np.ndarray:
+    """Pierson-Moskowitz spectrum (DNV-RP-C205 3.5.5.1).
+
+    Parameters
+    ----------
+    omega : ndarray
+        Angular frequencies, rad/s.
+    hs : float
+        Significant wave height, m.
+    tp : float
+        Peak period, s.
+
+    Returns
+    -------
+    S : ndarray, like omega
+        m^2 s / rad; 0 at omega <= 0.
+    """
+    omega = np.asarray(omega, dtype=float)
+    wp = 2.0 * np.pi / tp
+    S = np.zeros_like(omega)
+    pos = omega > 0
+    w = omega[pos]
+    S[pos] = 5.0 / 16.0 * hs**2 * wp**4 * w**-5 * np.exp(-1.25 * (w / wp) ** -4)
+    return S
+
+
+def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float | None = None) -> np.ndarray:
+    """JONSWAP spectrum in the form of DNV-RP-C205 (3.5.5.2).
+
+    S_J = (1 - 0.287 ln gamma) S_PM gamma^exp(-(omega - omega_p)^2 / (2 sigma^2 omega_p^2)),
+    sigma = 0.07 below the peak and 0.09 above it.
+
+    Parameters
+    ----------
+    omega : ndarray
+        rad/s.
+    hs, tp : float
+        m, s.
+    gamma : float, optional
+        Peak enhancement; default :func:`dnv_gamma` (hs, tp).
+    """
+    omega = np.asarray(omega, dtype=float)
+    gamma = dnv_gamma(hs, tp) if gamma is None else gamma
+    wp = 2.0 * np.pi / tp
+    sigma = np.where(omega <= wp, 0.07, 0.09)
+    peak = gamma ** np.exp(-0.5 * ((omega - wp) / (sigma * wp)) ** 2)
+    return (1.0 - 0.287 * np.log(gamma)) * pierson_moskowitz(omega, hs, tp) * peak
+
+
+def spreading(theta: np.ndarray, kind: str, exponent: float) -> np.ndarray:
+    """Directional spreading D(theta) about the mean direction (integral 1 over its support).
+
+    Parameters
+    ----------
+    theta : ndarray
+        Direction relative to the mean, rad.
+    kind : {"cos2s", "cosn"}
+        ``cos2s``: D = Gamma(s+1) / (2 sqrt(pi) Gamma(s+1/2)) cos^2s(theta/2), |theta| <= pi.
+        ``cosn`` (DNV-RP-C205 3.5.8): D = Gamma(1+n/2) / (sqrt(pi) Gamma(1/2+n/2)) cos^n(theta),
+        |theta| <= pi/2.
+    exponent : float
+        s or n.
+    """
+    theta = np.asarray(theta, dtype=float)
+    if kind == "cos2s":
+        s = exponent
+        c = math.exp(math.lgamma(s + 1) - math.lgamma(s + 0.5)) / (2 * math.sqrt(math.pi))
+        return np.where(np.abs(theta) <= np.pi, c * np.cos(theta / 2) ** (2 * s), 0.0)
+    if kind == "cosn":
+        n = exponent
+        c = math.exp(math.lgamma(1 + n / 2) - math.lgamma(0.5 + n / 2)) / math.sqrt(math.pi)
+        return np.where(np.abs(theta) <= np.pi / 2, c * np.abs(np.cos(theta)) ** n, 0.0)
+    raise ValueError(f"unknown spreading {kind!r} (expected cos2s or cosn)")
+
+
+@dataclass(frozen=True)
+class SeaRecord:
+    """A sea and the ship's response as sums of regular components.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (K,)
+        Component frequencies, multiples of d_omega = 2 pi / record_s, rad/s.
+    record_s : float
+        Repeat period, s.
+    amplitude : ndarray, shape (K, n_dir)
+        Wave amplitudes a_k, m, per direction.
+    phase : ndarray, shape (K, n_dir)
+        eps_k, rad.
+    heading_deg : ndarray, shape (n_dir,)
+        Wave directions beta, deg.
+    coeff : ndarray, complex, shape (6, K)
+        C_jk = sum over directions of RAO_j a e^{i eps}: eta_j(t) = Re sum_k C_jk e^{i omega_k t}.
+    """
+
+    omega: np.ndarray
+    record_s: float
+    amplitude: np.ndarray
+    phase: np.ndarray
+    heading_deg: np.ndarray
+    coeff: np.ndarray
+
+    @property
+    def hs_target(self) -> float:
+        """4 sqrt(m0) of the discrete spectrum, m."""
+        return 4.0 * math.sqrt(0.5 * float(np.sum(self.amplitude**2)))
+
+
+def sea_record(
+    *,
+    hs: float,
+    tp: float,
+    heading_deg: float,
+    rao,
+    spectrum: str = "jonswap",
+    gamma: float | None = None,
+    spreading_kind: str | None = None,
+    spreading_exponent: float = 10.0,
+    n_directions: int = 1,
+    record_s: float = 1800.0,
+    omega_max: float | None = None,
+    seed: int = 0,
+) -> SeaRecord:
+    """Build the components of a sea state and the ship's response coefficients.
+
+    Parameters
+    ----------
+    hs, tp : float
+        Significant wave height (m), peak period (s).
+    heading_deg : float
+        Mean wave direction beta, deg.
+    rao : marinecdpr.rao.RAO
+        The ship's RAOs (``rao.at(omega, heading_deg)`` -> complex (6, K)).
+    spectrum : {"jonswap", "pierson_moskowitz"}
+    gamma : float, optional
+        JONSWAP peak enhancement (default from DNV-RP-C205).
+    spreading_kind : {None, "cos2s", "cosn"}
+        None: long-crested (one direction).
+    spreading_exponent : float
+        s or n.
+    n_directions : int
+        Directions across the spreading function (odd numbers include the mean).
+    record_s : float
+        Repeat period of the record, s.
+    omega_max : float, optional
+        Highest component frequency, rad/s (default 6 omega_p).
+    seed : int
+        Seeds the random phases.
+    """
+    wp = 2.0 * np.pi / tp
+    d_omega = 2.0 * np.pi / record_s
+    omega_max = 6.0 * wp if omega_max is None else omega_max
+    k = np.arange(1, int(omega_max / d_omega) + 1)
+    omega = k * d_omega
+    if spectrum == "jonswap":
+        S = jonswap(omega, hs, tp, gamma)
+    elif spectrum == "pierson_moskowitz":
+        S = pierson_moskowitz(omega, hs, tp)
+    else:
+        raise ValueError(f"unknown spectrum {spectrum!r}")
+    if spreading_kind is None or n_directions <= 1:
+        rel = np.zeros(1)
+        weight = np.ones(1)
+    else:
+        half = np.pi if spreading_kind == "cos2s" else np.pi / 2
+        edges = np.linspace(-half, half, n_directions + 1)
+        rel = 0.5 * (edges[1:] + edges[:-1])
+        weight = spreading(rel, spreading_kind, spreading_exponent) * (edges[1] - edges[0])
+        weight /= weight.sum()  # the discrete spreading keeps all the energy: Hs is preserved
+    # drop components without energy, so the sums stay short
+    keep = S > 1e-12 * S.max()
+    omega, S = omega[keep], S[keep]
+    amplitude = np.sqrt(2.0 * S * d_omega)[:, None] * np.sqrt(weight)[None, :]
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0.0, 2.0 * np.pi, size=amplitude.shape)
+    headings = np.mod(heading_deg + np.degrees(rel), 360.0)
+    coeff = np.zeros((6, omega.size), dtype=complex)
+    for d, beta in enumerate(headings):
+        coeff += rao.at(omega, float(beta)) * (amplitude[:, d] * np.exp(1j * phase[:, d]))[None, :]
+    return SeaRecord(omega, float(record_s), amplitude, phase, headings, coeff)
+
+
+def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray, chunk: int = 4096) -> np.ndarray:
+    """Re sum_k coeff[:, k] e^{i omega_k t} for every t: shape (rows, len(t))."""
+    out = np.empty((coeff.shape[0], t.size))
+    for i in range(0, t.size, chunk):
+        E = np.exp(1j * np.outer(omega, t[i:i + chunk]))
+        out[:, i:i + chunk] = (coeff @ E).real
+    return out
+
+
+@lru_cache(maxsize=8)
+def _grid_record(rec_id: int, coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray:
+    """eta, eta', eta'' on the grid t_n = n record_s / m over one period (irfft)."""
+    coeff = np.frombuffer(coeff_bytes, dtype=complex).reshape(18, -1)
+    k_index = np.frombuffer(k_index_bytes, dtype=np.int64)
+    spec = np.zeros((18, m // 2 + 1), dtype=complex)
+    spec[:, k_index] = coeff
+    # irfft computes (1/m) sum over the full spectrum; Re sum_k C e^{i w t} = irfft(C m / 2)
+    return np.fft.irfft(spec * (m / 2.0), n=m, axis=1)
+
+
+def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The ship's coordinates eta and their exact derivatives at times t.
+
+    Times on the record's uniform grid (t = n record_s / m for an integer m up to 2^21)
+    use an inverse FFT over one period; other times a direct sum. Both are exact.
+
+    Parameters
+    ----------
+    rec : SeaRecord
+    t : ndarray, shape (n_steps,)
+        s.
+
+    Returns
+    -------
+    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
+        m and rad, and their first and second time derivatives.
+    """
+    t = np.asarray(t, dtype=float)
+    w = rec.omega
+    coeff = np.concatenate([rec.coeff, rec.coeff * (1j * w), rec.coeff * (-(w**2))])
+    grid = None
+    if t.size > 1:
+        dt = t[1] - t[0]
+        m = int(round(rec.record_s / dt)) if dt > 0 else 0
+        if 0 < m <= 2**21 and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s:
+            idx = np.rint(t / dt)
+            if np.allclose(idx * dt, t, rtol=0, atol=1e-9 * max(1.0, rec.record_s)):
+                k_index = np.rint(w / (2.0 * np.pi / rec.record_s)).astype(np.int64)
+                if k_index.max() <= m // 2:
+                    grid = _grid_record(id(rec), coeff.tobytes(), k_index.tobytes(), m)
+                    vals = grid[:, idx.astype(np.int64) % m]
+    if grid is None:
+        vals = _harmonic(coeff, w, t)
+    return vals[0:6].T, vals[6:12].T, vals[12:18].T
+
+
+def wave_elevation(rec: SeaRecord, t: np.ndarray) -> np.ndarray:
+    """Wave elevation at S's origin, shape (n_steps,), m."""
+    c = (rec.amplitude * np.exp(1j * rec.phase)).sum(axis=1)
+    return _harmonic(c[None, :], rec.omega, np.asarray(t, dtype=float))[0]

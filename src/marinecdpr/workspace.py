@@ -1,0 +1,132 @@
+"""Where on the frame the robot can hold the platform while the ship moves.
+
+For a grid of platform poses (held still relative to the frame) and the scenario's
+ship motion, the plan at every step says whether tensions within limits exist; the
+map reports, per pose, the fraction of time they do, the smallest tension margin, and
+the fraction of time the pseudo-inverse solution (eq. 18) alone is already within limits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .errors import ScenarioError
+from .planning import iter_plan
+from .scenario import Scenario
+
+__all__ = ["WorkspaceMap", "workspace_map", "tension_margin"]
+
+AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True)
+class WorkspaceMap:
+    """Feasibility over a grid of poses in C.
+
+    Attributes
+    ----------
+    axes : tuple of str
+        The two grid axes, e.g. ("x", "z").
+    u, v : ndarray, shape (n_u,), (n_v,)
+        Grid coordinates along them, m.
+    fraction_feasible : ndarray, shape (n_u, n_v)
+        Fraction of the time steps with tensions within limits (NaN: the platform
+        would leave the frame there).
+    min_margin_N : ndarray, shape (n_u, n_v)
+        Smallest distance of any tension to its limits over the record, N (negative
+        where some step is infeasible: by how much the pseudo-inverse-free optimum
+        misses is not defined, so -inf).
+    pinv_fraction_feasible : ndarray, shape (n_u, n_v)
+        Fraction of steps where eq. (18) alone is within limits.
+    fixed : dict
+        The other coordinate and the orientation held, m and deg.
+    n_steps : int
+        Time steps per pose.
+    """
+
+    axes: tuple[str, str]
+    u: np.ndarray
+    v: np.ndarray
+    fraction_feasible: np.ndarray
+    min_margin_N: np.ndarray
+    pinv_fraction_feasible: np.ndarray
+    fixed: dict
+    n_steps: int
+
+
+def tension_margin(T: np.ndarray, t_min: np.ndarray, t_max: np.ndarray) -> np.ndarray:
+    """Smallest distance of each step's tensions to their limits, shape (n_steps,), N (NaN if infeasible)."""
+    return np.minimum(T - t_min, t_max - T).min(axis=1)
+
+
+def workspace_map(
+    scenario: Scenario,
+    *,
+    axes: tuple[str, str] | None = None,
+    n: tuple[int, int] = (30, 20),
+    fixed_m: float | None = None,
+    orientation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    progress: Callable[[int, int], None] | None = None,
+) -> WorkspaceMap:
+    """Map the feasibility of held poses over the frame under the scenario's ship motion.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        Robot, ship motion, time grid and tension method; its trajectory is ignored.
+    axes : tuple of two of "x", "y", "z", optional
+        Grid plane; default ("x", "z"), the plane of a planar robot.
+    n : tuple of int
+        Grid points along each axis, spread over the frame anchors' range.
+    fixed_m : float, optional
+        The third coordinate (default: the middle of the frame along it; 0 for a planar robot's y).
+    orientation_deg : tuple of 3 float
+        Platform orientation held, (rx, ry, rz) deg.
+    progress : callable(done, total), optional
+    """
+    axes = axes or ("x", "z")
+    if len(axes) != 2 or any(a not in AXES for a in axes) or axes[0] == axes[1]:
+        raise ValueError(f"axes must be two of x, y, z, not {axes!r}")
+    c = scenario.robot.frame_anchors
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    i_u, i_v = AXES[axes[0]], AXES[axes[1]]
+    i_w = 3 - i_u - i_v
+    grid = [np.linspace(lo[i], hi[i], k + 2)[1:-1] for i, k in zip((i_u, i_v), n)]
+    if fixed_m is None:
+        fixed_m = 0.0 if scenario.robot.dofs == "planar" else 0.5 * (lo[i_w] + hi[i_w])
+    shape = (grid[0].size, grid[1].size)
+    frac = np.full(shape, np.nan)
+    margin = np.full(shape, np.nan)
+    pinv = np.full(shape, np.nan)
+    lo_T, hi_T = scenario.robot.tension_min, scenario.robot.tension_max
+    total = shape[0] * shape[1]
+    n_steps = scenario.time.n_steps
+    for a, u in enumerate(grid[0]):
+        for b, v in enumerate(grid[1]):
+            pos = [0.0, 0.0, 0.0]
+            pos[i_u], pos[i_v], pos[i_w] = float(u), float(v), float(fixed_m)
+            held = scenario.with_changes(trajectory={
+                "type": "line", "start_position_m": pos, "end_position_m": pos,
+                "start_orientation_deg": list(orientation_deg), "duration_s": 1.0})
+            try:
+                ok = pinv_ok = 0
+                worst = np.inf
+                for piece in iter_plan(held):
+                    ok += int(piece.feasible.sum())
+                    T_s = piece.tensions_pinv
+                    with np.errstate(invalid="ignore"):
+                        pinv_ok += int(np.all((T_s >= lo_T) & (T_s <= hi_T), axis=1).sum())
+                    m = tension_margin(piece.tensions, lo_T, hi_T)
+                    worst = min(worst, float(np.nanmin(m)) if np.isfinite(m).any() else np.inf)
+                frac[a, b] = ok / n_steps
+                pinv[a, b] = pinv_ok / n_steps
+                margin[a, b] = worst if ok == n_steps else -np.inf
+            except ScenarioError:
+                pass  # the platform would leave the frame: NaN
+            if progress is not None:
+                progress(a * shape[1] + b + 1, total)
+    fixed = {"axis": "xyz"[i_w], "value_m": float(fixed_m), "orientation_deg": list(orientation_deg)}
+    return WorkspaceMap((axes[0], axes[1]), grid[0], grid[1], frac, margin, pinv, fixed, n_steps)

@@ -1,0 +1,104 @@
+"""Wave spectra, spreading and the synthesised ship motion."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from marinecdpr.seastate import (SeaRecord, dnv_gamma, jonswap, pierson_moskowitz, sea_record, spreading,
+                                 synthesize, wave_elevation)
+
+
+class TableRAO:
+    """A stand-in RAO: fixed complex values per DOF, optionally scaled by cos(heading)."""
+
+    def __init__(self, values, heading_dependent=False):
+        self.values = np.asarray(values, dtype=complex)
+        self.heading_dependent = heading_dependent
+
+    def at(self, omega, heading_deg):
+        scale = math.cos(math.radians(heading_deg)) if self.heading_dependent else 1.0
+        return np.repeat(self.values[:, None] * scale, np.size(omega), axis=1)
+
+
+UNIT_HEAVE = TableRAO([0, 0, 1, 0, 0, 0])
+
+
+@pytest.mark.parametrize("hs,tp", [(1.0, 6.0), (2.5, 8.0), (4.0, 12.0)])
+def test_spectral_moments_give_hs(hs, tp):
+    """4 sqrt(m0) = Hs: exactly for Pierson-Moskowitz, within 2% for DNV's JONSWAP form."""
+    m0 = quad(lambda w: pierson_moskowitz(np.array([w]), hs, tp)[0], 0, np.inf, limit=200)[0]
+    assert 4 * math.sqrt(m0) == pytest.approx(hs, rel=1e-6)
+    for gamma in (1.0, 2.0, 3.3, 5.0):
+        m0 = quad(lambda w: jonswap(np.array([w]), hs, tp, gamma)[0], 0, 20, limit=400)[0]
+        assert 4 * math.sqrt(m0) == pytest.approx(hs, rel=0.02)
+
+
+def test_dnv_default_gamma():
+    assert dnv_gamma(4.0, 7.0) == 5.0            # Tp / sqrt(Hs) = 3.5 <= 3.6
+    assert dnv_gamma(1.0, 6.0) == 1.0            # 6 >= 5
+    assert dnv_gamma(4.0, 8.4) == pytest.approx(math.exp(5.75 - 1.15 * 4.2))
+    w = np.linspace(0.2, 3, 500)
+    assert np.argmax(jonswap(w, 2.0, 8.0)) == np.argmin(np.abs(w - 2 * np.pi / 8.0))  # peak at omega_p
+
+
+@pytest.mark.parametrize("kind,exp,half", [("cos2s", 1.0, np.pi), ("cos2s", 15.0, np.pi), ("cosn", 2.0, np.pi / 2),
+                                           ("cosn", 6.0, np.pi / 2)])
+def test_spreading_integrates_to_one(kind, exp, half):
+    assert quad(lambda t: spreading(np.array([t]), kind, exp)[0], -half, half)[0] == pytest.approx(1.0, rel=1e-9)
+    assert spreading(np.array([half * 1.01]), kind, exp)[0] == 0.0 or kind == "cos2s"
+
+
+def test_single_component_moves_the_ship_with_the_rao():
+    """A regular wave of amplitude a: eta_j = |RAO_j| a cos(w t + eps + arg RAO_j), derivatives exact."""
+    rao = np.array([0.1, 0, 0.9 * np.exp(-0.4j), 0.05j, 0, 0])
+    a, w, eps = 0.7, 0.8, 0.3
+    rec = SeaRecord(np.array([w]), 2 * np.pi / w, np.array([[a]]), np.array([[eps]]), np.array([180.0]),
+                    (rao * a * np.exp(1j * eps))[:, None])
+    t = np.linspace(0, 30, 301)
+    eta, deta, ddeta = synthesize(rec, t)
+    for j in range(6):
+        expected = abs(rao[j]) * a * np.cos(w * t + eps + np.angle(rao[j]))
+        np.testing.assert_allclose(eta[:, j], expected, atol=1e-12)
+        np.testing.assert_allclose(ddeta[:, j], -w * w * expected, atol=1e-12)
+    np.testing.assert_allclose(wave_elevation(rec, t), a * np.cos(w * t + eps), atol=1e-12)
+    np.testing.assert_allclose(deta[:, 2], -abs(rao[2]) * a * w * np.sin(w * t + eps + np.angle(rao[2])), atol=1e-12)
+
+
+def test_long_record_has_the_target_hs_and_does_not_repeat():
+    rec = sea_record(hs=2.0, tp=8.0, heading_deg=180.0, rao=UNIT_HEAVE, record_s=3 * 3600.0, seed=4)
+    t = np.arange(0.0, 3 * 3600.0, 0.25)
+    zeta = wave_elevation(rec, t)
+    assert 4 * zeta.std() == pytest.approx(2.0, rel=0.03)
+    heave = synthesize(rec, t)[0][:, 2]
+    np.testing.assert_allclose(heave, zeta, atol=1e-9)  # a unit heave RAO follows the wave
+    # no repetition inside the record: the first 10 minutes recur nowhere else
+    n = int(600 / 0.25)
+    lag = np.arange(n, t.size - n, 97)
+    best = max(np.corrcoef(zeta[:n], zeta[k:k + n])[0, 1] for k in lag)
+    assert best < 0.5
+
+
+def test_fft_and_direct_sum_agree_and_derivatives_are_exact():
+    rec = sea_record(hs=1.5, tp=7.0, heading_deg=150.0, rao=TableRAO([0.2, 0.1, 1.0, 0.02, 0.03, 0.01], True),
+                     spreading_kind="cos2s", spreading_exponent=8, n_directions=9, record_s=600.0, seed=1)
+    t_grid = np.arange(0, 600.0, 0.05)            # on the record's grid: inverse FFT
+    t_off = t_grid[:2000] + 0.0123                # off the grid: direct sums
+    a = synthesize(rec, t_grid)
+    b = synthesize(rec, t_off)
+    from marinecdpr.seastate import _harmonic
+    np.testing.assert_allclose(a[0][:2000], _harmonic(rec.coeff, rec.omega, t_grid[:2000]).T, atol=1e-10)
+    h = 1e-4
+    plus, minus = synthesize(rec, t_off + h), synthesize(rec, t_off - h)
+    np.testing.assert_allclose((plus[0] - minus[0]) / (2 * h), b[1], atol=1e-6)
+    np.testing.assert_allclose((plus[1] - minus[1]) / (2 * h), b[2], atol=1e-5)
+
+
+def test_spreading_keeps_the_energy_and_heading_enters_the_response():
+    long_crested = sea_record(hs=2.0, tp=9.0, heading_deg=180.0, rao=UNIT_HEAVE, seed=0)
+    spread = sea_record(hs=2.0, tp=9.0, heading_deg=180.0, rao=UNIT_HEAVE, spreading_kind="cosn",
+                        spreading_exponent=2, n_directions=21, seed=0)
+    assert spread.hs_target == pytest.approx(long_crested.hs_target, rel=1e-12)
+    beam = sea_record(hs=2.0, tp=9.0, heading_deg=90.0, rao=TableRAO([0, 0, 1, 0, 0, 0], True), seed=0)
+    assert np.abs(beam.coeff).max() < 1e-12  # cos(90 deg) = 0: this RAO does not feel beam seas
