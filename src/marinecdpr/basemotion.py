@@ -15,6 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .errors import ScenarioError
 from .rotations import euler_kinematics
 from .scenario import SHIP_DOFS, RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
@@ -105,7 +106,15 @@ def evaluate_base_motion(
 
         return ship_motion(*synthesize(sea_record_of(config), t))
     if isinstance(config, RecordedMotion):
-        return _recording(config.model_dump_json()).evaluate(t + config.start_s)
+        rec = _recording(config.model_dump_json())
+        t0, t1 = rec.time_range_s
+        ask = t + config.start_s
+        if t.size and (ask.min() < t0 - 1e-9 or ask.max() > t1 + 1e-9):
+            raise ScenarioError(
+                f"the scenario needs the record from {ask.min():g} s to {ask.max():g} s, but "
+                f"{config.file} covers {t0:g} s to {t1:g} s (shorten time.duration_s or move start_s)",
+                key="base_motion")
+        return rec.evaluate(ask)
     # time-last buffers (see _vec): one contiguous row per DOF
     eta = np.zeros((6, t.size))
     eta_dot = np.zeros_like(eta)

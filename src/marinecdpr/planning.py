@@ -152,7 +152,8 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str)
 
 
 def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> None:
-    """Raise :class:`ScenarioError` if the trajectory leaves the frame (no dynamics solved).
+    """Raise :class:`ScenarioError` if the trajectory leaves the frame or a motion file is bad
+    (no dynamics solved).
 
     Parameters
     ----------
@@ -162,6 +163,8 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
     """
     robot = scenario.robot
     n, step = scenario.time.n_steps, scenario.time.step_s
+    # reads and checks any file the ship's motion comes from, over the whole duration
+    evaluate_base_motion(scenario.base_motion, np.array([0.0, (n - 1) * step]))
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
         platform = evaluate_trajectory(scenario.trajectory, t)
