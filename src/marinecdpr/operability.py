@@ -4,8 +4,8 @@ Each cell of a scatter diagram (Hs x Tp, with its probability) and each wave hea
 is one sea state. For each, the scenario's trajectory is planned over a long record of
 that sea (the scenario's ``[base_motion]`` must be a ``sea_state``: its RAOs,
 spectrum and spreading are kept, Hs, Tp, heading and seed are the cell's). A cell is
-workable when the tensions stay within limits at every step with at least the margin
-the user asks for. Cells are independent: they run serially or on Dask
+workable when tensions exist within the limits tightened by the margin the user asks
+for (T_min + margin, T_max - margin) at every step. Cells are independent: they run serially or on Dask
 (``dask.distributed``), with the same results either way (each cell's seed is the
 template's seed plus the cell's index).
 """
@@ -20,6 +20,7 @@ from typing import Callable
 import numpy as np
 
 from .errors import ScenarioError
+from .memory import keep_freed_memory
 from .planning import iter_plan
 from .scenario import Scenario, SeaStateMotion
 from .workspace import tension_margin
@@ -110,7 +111,8 @@ class CellResult:
     operable: bool
     fraction_feasible: float
     min_margin_N: float
-    """Smallest distance of a tension to its limits over the record (-inf if some step is infeasible)."""
+    """Smallest distance of a planned tension to the untightened limits over the record
+    (at least the margin asked for; -inf if some step is infeasible)."""
     n_steps: int
 
 
@@ -126,9 +128,23 @@ def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: fl
 
 def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s: float,
                   step_s: float) -> CellResult:
-    """Plan the template's trajectory over one sea state's record and judge it."""
+    """Plan the template's trajectory over one sea state's record and judge it.
+
+    The cell is workable if tensions exist within the limits tightened by ``margin_N``
+    at every step: the plan is made with those tightened limits.
+    """
     sc = _cell_scenario(template, cell, duration_s, step_s)
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
+    if margin_N > 0:
+        if np.any(hi - lo <= 2 * margin_N):
+            raise ScenarioError(f"a {margin_N:g} N margin leaves no room between the tension limits",
+                                key="margin")
+        robot = sc.robot.model_dump(exclude_none=True)
+        robot.pop("tension_min_N", None)
+        robot.pop("tension_max_N", None)
+        for cable, a, b in zip(robot["cables"], lo, hi):
+            cable.update(tension_min_N=float(a + margin_N), tension_max_N=float(b - margin_N))
+        sc = sc.with_changes(robot=robot)
     ok, worst, n = 0, np.inf, 0
     for piece in iter_plan(sc):
         ok += int(piece.feasible.sum())
@@ -136,8 +152,9 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
         m = tension_margin(piece.tensions, lo, hi)
         if np.isfinite(m).any():
             worst = min(worst, float(np.nanmin(m)))
-    worst = worst if ok == n else -np.inf
-    return CellResult(cell, bool(ok == n and worst >= margin_N), ok / n, worst, n)
+    # feasible tensions are within limits up to rounding: no negative zero margins
+    worst = max(worst, 0.0) if ok == n else -np.inf
+    return CellResult(cell, bool(ok == n), ok / n, worst, n)
 
 
 @dataclass(frozen=True)
@@ -256,6 +273,9 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
                                dashboard_address=None)
         client = Client(cluster)
     try:
+        # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
+        # page-fault its memory back in; the workers keep it instead (see marinecdpr.memory)
+        client.run(keep_freed_memory)
         scattered = client.scatter(template, broadcast=True)
         futures = [client.submit(evaluate_cell, scattered, cell, pure=False, **kwargs) for cell in cells]
         results = []

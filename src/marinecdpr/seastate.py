@@ -38,6 +38,10 @@ __all__ = [
 ]
 
 
+FFT_MAX_SAMPLES = 2**18
+"""Largest record grid synthesised by inverse FFT (18 series of this many samples)."""
+
+
 def dnv_gamma(hs: float, tp: float) -> float:
     """JONSWAP peak enhancement factor from DNV-RP-C205 (3.5.5.5), for Tp/sqrt(Hs)."""
     r = tp / math.sqrt(hs)
@@ -253,8 +257,9 @@ def _grid_record(rec_id: int, coeff_bytes: bytes, k_index_bytes: bytes, m: int) 
 def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ship's coordinates eta and their exact derivatives at times t.
 
-    Times on the record's uniform grid (t = n record_s / m for an integer m up to 2^21)
-    use an inverse FFT over one period; other times a direct sum. Both are exact.
+    Times on the record's uniform grid (t = n record_s / m for an integer m up to
+    :data:`FFT_MAX_SAMPLES`) use an inverse FFT over one period, computed once per record;
+    other times a direct sum. Both are exact.
 
     Parameters
     ----------
@@ -274,7 +279,9 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     if t.size > 1:
         dt = t[1] - t[0]
         m = int(round(rec.record_s / dt)) if dt > 0 else 0
-        if 0 < m <= 2**21 and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s:
+        # one inverse FFT per record (cached, reused by every chunk of a plan), while the
+        # record's grid fits in memory (2^18 samples: 38 MB); direct sums beyond
+        if 0 < m <= FFT_MAX_SAMPLES and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s:
             idx = np.rint(t / dt)
             if np.allclose(idx * dt, t, rtol=0, atol=1e-9 * max(1.0, rec.record_s)):
                 k_index = np.rint(w / (2.0 * np.pi / rec.record_s)).astype(np.int64)

@@ -36,9 +36,9 @@ class WorkspaceMap:
         Fraction of the time steps with tensions within limits (NaN: the platform
         would leave the frame there).
     min_margin_N : ndarray, shape (n_u, n_v)
-        Smallest distance of any tension to its limits over the record, N (negative
-        where some step is infeasible: by how much the pseudo-inverse-free optimum
-        misses is not defined, so -inf).
+        Smallest distance of the chosen method's tensions to their limits over the
+        record, N (0 where the method rests a cable on a limit; -inf where some step is
+        infeasible).
     pinv_fraction_feasible : ndarray, shape (n_u, n_v)
         Fraction of steps where eq. (18) alone is within limits.
     fixed : dict
@@ -123,7 +123,7 @@ def workspace_map(
                     worst = min(worst, float(np.nanmin(m)) if np.isfinite(m).any() else np.inf)
                 frac[a, b] = ok / n_steps
                 pinv[a, b] = pinv_ok / n_steps
-                margin[a, b] = worst if ok == n_steps else -np.inf
+                margin[a, b] = max(worst, 0.0) if ok == n_steps else -np.inf
             except ScenarioError:
                 pass  # the platform would leave the frame: NaN
             if progress is not None:

@@ -1,0 +1,763 @@
+"""Response amplitude operators (RAOs) of the ship's six DOFs in regular waves.
+
+Conventions (fixed throughout the package):
+
+* **DOF order** ``(surge, sway, heave, roll, pitch, yaw)`` in the ship frame S
+  (x forward, y to port, z up; roll, pitch and yaw right-handed about +x, +y, +z).
+  Translations in m per m of wave amplitude, rotations in **rad** per m of wave
+  amplitude (files may use deg/m; see :func:`read_rao_csv`).
+* **Time convention**: a regular wave of amplitude ``a`` and phase ``eps`` has the
+  elevation ``zeta(t) = Re(a exp(i (omega t + eps)))`` at S's origin, and the ship
+  responds with ``eta_j(t) = Re(RAO_j a exp(i (omega t + eps)))``. So ``|RAO_j|`` is
+  the amplitude ratio and ``arg(RAO_j)`` the phase **lead** of the motion over the
+  wave elevation at S's origin.
+* **Wave heading** ``beta`` (deg): the direction the waves travel towards, from the
+  ship's +x axis, counter-clockwise about +z. 0 = following seas, 90 = waves
+  travelling towards +y (coming from starboard), 180 = head seas. In [0, 360).
+
+So a long wave (omega -> 0) makes the ship follow the sea surface: heave -> 1,
+pitch -> i k cos(beta) and roll -> -i k sin(beta) (k = omega^2 / g), because
+the surface ``zeta = a exp(i (omega t - k (x cos beta + y sin beta)))`` rises
+towards the bow (pitch down is positive) and towards port (roll up to port is
+positive) a quarter period after it rises at the origin.
+
+Sources of RAOs: a CSV table (:func:`read_rao_csv`, :func:`write_rao_csv`), a
+NetCDF file from the BEM code Capytaine (:func:`read_capytaine`) and a built-in
+box-hull approximation (:func:`box_hull_rao`).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from os import PathLike
+from typing import NoReturn
+
+import numpy as np
+
+from .errors import ScenarioError
+
+__all__ = [
+    "DOFS",
+    "RAO",
+    "read_rao_csv",
+    "write_rao_csv",
+    "read_capytaine",
+    "box_hull_rao",
+    "ROLL_GYRADIUS_OVER_BEAM",
+]
+
+DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+"""The DOF order of :attr:`RAO.values` (first axis)."""
+
+_ROTATIONS = np.array([False, False, False, True, True, True])
+_CSV_COLUMNS = ("omega_rad_s", "heading_deg", "dof", "amplitude", "phase_deg")
+
+
+# ---------------------------------------------------------------------------------------
+# The RAO table
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RAO:
+    """A ship's RAOs tabulated over wave frequency and heading.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n_omega,)
+        Wave angular frequencies, rad/s, strictly increasing, > 0.
+    heading_deg : ndarray, shape (n_heading,)
+        Wave headings beta (direction the waves travel towards, from S's +x,
+        counter-clockwise), deg, strictly increasing, in [0, 360).
+    values : ndarray of complex, shape (6, n_heading, n_omega)
+        RAO of ``(surge, sway, heave, roll, pitch, yaw)`` in S: m/m for
+        translations, rad/m for rotations; the argument is the phase lead over
+        the wave elevation at S's origin (module docstring).
+
+    The arrays are stored as read-only copies (float64 and complex128).
+    """
+
+    omega: np.ndarray
+    heading_deg: np.ndarray
+    values: np.ndarray
+
+    def __post_init__(self) -> None:
+        omega = np.array(self.omega, dtype=float)
+        heading = np.array(self.heading_deg, dtype=float)
+        values = np.array(self.values, dtype=complex)
+        if omega.ndim != 1 or omega.size == 0:
+            raise ValueError(f"omega must have shape (n_omega,) with n_omega >= 1; got {omega.shape}")
+        if heading.ndim != 1 or heading.size == 0:
+            raise ValueError(f"heading_deg must have shape (n_heading,) with n_heading >= 1; "
+                             f"got {heading.shape}")
+        if values.shape != (6, heading.size, omega.size):
+            raise ValueError(f"values must have shape (6, n_heading, n_omega) = "
+                             f"(6, {heading.size}, {omega.size}); got {values.shape}")
+        if not (np.all(np.isfinite(omega)) and np.all(omega > 0.0)):
+            raise ValueError("omega must be finite and > 0 rad/s")
+        if np.any(np.diff(omega) <= 0.0):
+            raise ValueError("omega must be strictly increasing")
+        if not (np.all(np.isfinite(heading)) and np.all(heading >= 0.0) and np.all(heading < 360.0)):
+            raise ValueError("heading_deg must be in [0, 360)")
+        if np.any(np.diff(heading) <= 0.0):
+            raise ValueError("heading_deg must be strictly increasing")
+        if not np.all(np.isfinite(values)):
+            raise ValueError("values must be finite")
+        for a in (omega, heading, values):
+            a.flags.writeable = False
+        object.__setattr__(self, "omega", omega)
+        object.__setattr__(self, "heading_deg", heading)
+        object.__setattr__(self, "values", values)
+
+    def at(self, omega: np.ndarray, heading_deg: float | np.ndarray) -> np.ndarray:
+        """The RAOs at given wave frequencies and heading, interpolated.
+
+        Linear interpolation of the complex values: in omega between tabulated
+        frequencies (the value at the smallest tabulated omega below it, zero
+        above the largest), and in heading with wrap-around over 360 deg (one
+        tabulated heading is used for all headings).
+
+        Parameters
+        ----------
+        omega : array_like, shape (n,) or scalar
+            Wave angular frequencies, rad/s.
+        heading_deg : float or array_like broadcastable to omega's shape
+            Wave heading(s) beta, deg (any real value; taken modulo 360).
+
+        Returns
+        -------
+        ndarray of complex, shape (6, n)
+            RAO of ``(surge, sway, heave, roll, pitch, yaw)``: m/m and rad/m.
+        """
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        if w.ndim != 1:
+            raise ValueError(f"omega must be a scalar or have shape (n,); got {w.shape}")
+        h = np.broadcast_to(np.asarray(heading_deg, dtype=float), w.shape)
+        # omega: bracketing indices i0, i1 and weight t (clipped: constant below, zero above)
+        tab = self.omega
+        if tab.size == 1:
+            i0 = np.zeros(w.size, dtype=np.intp)
+            i1 = i0
+            t = np.zeros(w.size)
+        else:
+            i0 = np.clip(np.searchsorted(tab, w, side="right") - 1, 0, tab.size - 2)
+            i1 = i0 + 1
+            t = np.clip((w - tab[i0]) / (tab[i1] - tab[i0]), 0.0, 1.0)
+        above = w > tab[-1]
+        # heading: bracketing indices j0, j1 over the circle and weight s
+        hd = self.heading_deg
+        n_h = hd.size
+        if n_h == 1:
+            j0 = np.zeros(w.size, dtype=np.intp)
+            j1 = j0
+            s = np.zeros(w.size)
+        else:
+            hm = np.mod(h, 360.0)
+            ext = np.concatenate(([hd[-1] - 360.0], hd, [hd[0] + 360.0]))
+            k = np.clip(np.searchsorted(ext, hm, side="right") - 1, 0, n_h)
+            s = (hm - ext[k]) / (ext[k + 1] - ext[k])
+            j0 = np.mod(k - 1, n_h)  # ext[k] is heading k - 1 (mod n_h)
+            j1 = np.mod(k, n_h)
+        v = self.values
+        lo = v[:, j0, i0] * (1.0 - t) + v[:, j0, i1] * t
+        hi = v[:, j1, i0] * (1.0 - t) + v[:, j1, i1] * t
+        out = lo * (1.0 - s) + hi * s
+        out[:, above] = 0.0
+        return out
+
+
+# ---------------------------------------------------------------------------------------
+# CSV
+# ---------------------------------------------------------------------------------------
+
+
+def read_rao_csv(path: str | PathLike) -> RAO:
+    """Read RAOs from a long-format CSV table.
+
+    Format: a header row naming the columns ``omega_rad_s, heading_deg, dof,
+    amplitude, phase_deg`` (any order; further columns are ignored), then one
+    row per (omega, heading, DOF):
+
+    ============  =========================================================
+    omega_rad_s   wave angular frequency, rad/s, > 0
+    heading_deg   wave heading beta (travel direction from +x, CCW), deg,
+                  in [0, 360)
+    dof           one of ``surge, sway, heave, roll, pitch, yaw``
+                  (case-insensitive)
+    amplitude     |RAO|, >= 0: **m/m** for surge, sway, heave; **deg/m**
+                  for roll, pitch, yaw (converted to rad/m)
+    phase_deg     arg(RAO), deg: the phase lead of the motion over the wave
+                  elevation at S's origin (module docstring)
+    ============  =========================================================
+
+    Every (omega, heading) pair must have all six DOFs, and the pairs must form
+    a full grid (every omega at every heading). Row order is free. Blank lines
+    and lines whose first field starts with ``#`` are skipped. Equal values are
+    compared exactly as parsed, so write the same frequency the same way in
+    every row.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file.
+
+    Returns
+    -------
+    RAO
+
+    Raises
+    ------
+    ScenarioError
+        If the file cannot be read or is malformed: a missing column, a row with
+        the wrong number of fields, an unknown DOF name, a field that is not a
+        finite number, an omega <= 0, a heading outside [0, 360), a negative
+        amplitude, a duplicate row or an incomplete grid. The one-line message
+        names the row (the file's line number, the header being row 1).
+    """
+    src = str(path)
+
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
+
+    header: list[str] | None = None
+    header_row = 0
+    rows: list[list[str]] = []
+    row_numbers: list[int] = []
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as f:
+            reader = csv.reader(f)
+            try:
+                for rec in reader:
+                    first_field = rec[0].strip() if rec else ""
+                    if first_field.startswith("#") or not (first_field or any(c.strip() for c in rec)):
+                        continue  # a comment or a blank line
+                    if header is None:
+                        header = [c.strip().lower() for c in rec]
+                        header_row = reader.line_num
+                    else:
+                        rows.append(rec)
+                        row_numbers.append(reader.line_num)
+            except (csv.Error, UnicodeDecodeError) as exc:
+                fail(f"row {reader.line_num}: not readable as CSV ({exc})")
+    except OSError as exc:
+        fail(f"cannot read the file ({exc.strerror or exc})")
+    expected = ",".join(_CSV_COLUMNS)
+    if header is None:
+        fail(f"empty file: expected a header row {expected}")
+    col: dict[str, int] = {}
+    for name in _CSV_COLUMNS:
+        if header.count(name) != 1:
+            what = "lacks" if name not in header else "repeats"
+            fail(f"row {header_row}: the header {what} column {name!r} (expected {expected})")
+        col[name] = header.index(name)
+    if not rows:
+        fail(f"row {header_row}: no data rows after the header")
+    lines = np.asarray(row_numbers)
+    for rec, line in zip(rows, row_numbers):
+        if len(rec) != len(header):
+            fail(f"row {line}: {len(rec)} fields, but the header has {len(header)}")
+
+    def column(name: str) -> list[str]:
+        return [rec[col[name]].strip() for rec in rows]
+
+    def numbers(name: str) -> np.ndarray:
+        text = column(name)
+        try:
+            x = np.asarray(text, dtype=float)
+        except ValueError:
+            x = None
+        if x is None or not np.all(np.isfinite(x)):
+            for i, s in enumerate(text):  # only on error: find the first bad field
+                try:
+                    ok = math.isfinite(float(s))
+                except ValueError:
+                    ok = False
+                if not ok:
+                    fail(f"row {row_numbers[i]}: {name} {s!r} is not a finite number")
+        return x
+
+    omega = numbers("omega_rad_s")
+    heading = numbers("heading_deg")
+    amplitude = numbers("amplitude")
+    phase = numbers("phase_deg")
+    names, inverse = np.unique(np.char.lower(np.asarray(column("dof"), dtype=str)), return_inverse=True)
+    known = np.array([DOFS.index(n) if n in DOFS else -1 for n in names.tolist()])
+    dof = known[inverse.ravel()]
+
+    def first(mask: np.ndarray) -> int | None:
+        hit = np.flatnonzero(mask)
+        return int(hit[0]) if hit.size else None
+
+    if (i := first(dof < 0)) is not None:
+        fail(f"row {lines[i]}: unknown dof {column('dof')[i]!r} (expected one of {', '.join(DOFS)})")
+    if (i := first(omega <= 0.0)) is not None:
+        fail(f"row {lines[i]}: omega_rad_s must be > 0; got {omega[i]:g}")
+    if (i := first((heading < 0.0) | (heading >= 360.0))) is not None:
+        fail(f"row {lines[i]}: heading_deg must be in [0, 360); got {heading[i]:g}")
+    if (i := first(amplitude < 0.0)) is not None:
+        fail(f"row {lines[i]}: negative amplitude {amplitude[i]:g}")
+
+    omegas, io = np.unique(omega, return_inverse=True)
+    headings, ih = np.unique(heading, return_inverse=True)
+    io, ih = io.ravel(), ih.ravel()
+    n_o, n_h = omegas.size, headings.size
+    key = (ih * n_o + io) * 6 + dof
+    order = np.argsort(key, kind="stable")
+    same = np.flatnonzero(key[order][1:] == key[order][:-1])
+    if same.size:
+        later, earlier = order[same + 1], order[same]
+        j = int(np.argmin(later))
+        i, e = int(later[j]), int(earlier[j])
+        fail(f"row {lines[i]}: duplicate of row {lines[e]} (omega {omega[i]:g} rad/s, "
+             f"heading {heading[i]:g} deg, dof {DOFS[dof[i]]})")
+    present = np.zeros(n_h * n_o * 6, dtype=bool)
+    present[key] = True
+    if not present.all():
+        m = int(np.flatnonzero(~present)[0])
+        pair, d = divmod(m, 6)
+        mh, mo = divmod(pair, n_o)
+        in_pair = first((ih == mh) & (io == mo))
+        if in_pair is not None:
+            fail(f"row {lines[in_pair]}: omega {omegas[mo]:g} rad/s at heading {headings[mh]:g} deg "
+                 f"lacks dof {DOFS[d]} (every (omega, heading) pair needs all six DOFs)")
+        i = first(io == mo)
+        fail(f"row {lines[i]}: omega {omegas[mo]:g} rad/s has no rows at heading {headings[mh]:g} deg "
+             f"(the (omega, heading) pairs must form a full grid)")
+    amp = np.where(_ROTATIONS[dof], np.radians(amplitude), amplitude)
+    values = np.zeros((6, n_h, n_o), dtype=complex)
+    values[dof, ih, io] = amp * np.exp(1j * np.radians(phase))
+    return RAO(omegas, headings, values)
+
+
+def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
+    """Write RAOs as the CSV table :func:`read_rao_csv` reads.
+
+    Rows are ordered by heading, then omega, then DOF; numbers are written with
+    the shortest text that reads back to the same float. Rotations are written
+    in deg/m, phases in deg in (-180, 180] (0 where the amplitude is 0).
+
+    Parameters
+    ----------
+    rao : RAO
+        The table to write.
+    path : str or path-like
+        The CSV file (overwritten).
+    """
+    n_h, n_o = rao.heading_deg.size, rao.omega.size
+    ih, io, d = np.meshgrid(np.arange(n_h), np.arange(n_o), np.arange(6), indexing="ij")
+    ih, io, d = ih.ravel(), io.ravel(), d.ravel()
+    v = rao.values[d, ih, io]
+    amp = np.abs(v)
+    amp = np.where(_ROTATIONS[d], np.degrees(amp), amp)
+    phase = np.where(amp > 0.0, np.degrees(np.angle(v)), 0.0)
+    phase = np.where(phase <= -180.0, phase + 360.0, phase) + 0.0  # (-180, 180], no -0.0
+    cols = [
+        map(repr, rao.omega[io].tolist()),
+        map(repr, rao.heading_deg[ih].tolist()),
+        (DOFS[k] for k in d.tolist()),
+        map(repr, amp.tolist()),
+        map(repr, phase.tolist()),
+    ]
+    body = "\n".join(",".join(r) for r in zip(*cols))
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        f.write(",".join(_CSV_COLUMNS) + "\n" + body + "\n")
+
+
+# ---------------------------------------------------------------------------------------
+# Capytaine
+# ---------------------------------------------------------------------------------------
+
+_FREQ_DIMS = ("omega", "freq", "period", "wavelength", "wavenumber")
+_CAPYTAINE_DOFS = {name: i for i, name in enumerate(DOFS)}  # "Surge" etc., case-insensitive
+
+
+def read_capytaine(path: str | PathLike) -> RAO:
+    """Read RAOs from a NetCDF file exported by the BEM code Capytaine.
+
+    The file is Capytaine's xarray Dataset saved with
+    ``capytaine.io.xarray.separate_complex_values(ds).to_netcdf(path)`` (or
+    ``capytaine.io.xarray.export_dataset``): complex variables are split along a
+    leading ``complex`` dimension with coordinates ``"re"``, ``"im"`` (variables
+    stored natively complex are also accepted). Two kinds of file are read:
+
+    * with an ``RAO`` variable (e.g. ``ds["RAO"] = capytaine.post_pro.rao(ds)``),
+      dimensions frequency, ``wave_direction`` and ``radiating_dof``;
+    * without it: the RAO is computed as Capytaine's ``post_pro.rao`` does, for
+      every frequency and wave direction, from ``excitation_force`` (or
+      ``Froude_Krylov_force + diffraction_force``; dims frequency,
+      ``wave_direction``, ``influenced_dof``), ``added_mass`` and
+      ``radiation_damping`` (frequency, ``influenced_dof``, ``radiating_dof``),
+      ``hydrostatic_stiffness`` and ``inertia_matrix`` (``influenced_dof``,
+      ``radiating_dof``; these two must have been added to the dataset)::
+
+          H = -omega^2 (M + A) - i omega B + K,      H X = F,
+
+      with H indexed [influenced_dof, radiating_dof] (all DOFs of the file in
+      the solve, generalised modes included).
+
+    Conversions to the package's conventions (module docstring):
+
+    * Capytaine's phasors use ``x(t) = Re(X exp(-i omega t))`` and its incoming
+      wave has unit elevation, zero phase, at (0, 0, 0); ours use
+      ``exp(+i omega t)``, so ``RAO = conj(X)``.
+    * ``wave_direction`` (rad, 0 = waves travelling towards +x, counter-clockwise)
+      becomes ``heading_deg`` in [0, 360) -- the same direction, in degrees.
+    * DOFs named ``Surge, Sway, Heave, Roll, Pitch, Yaw`` (case-insensitive) fill
+      the six rows (rotations in rad/m about Capytaine's rotation centre, which
+      should be S's origin); DOFs the file lacks get a zero RAO, other DOFs
+      (generalised modes) are dropped.
+    * The frequency is the dimension named ``omega``, ``freq`` (Hz),
+      ``period`` (s), ``wavelength`` or ``wavenumber`` (the latter two need the
+      ``omega`` coordinate Capytaine adds); rows are sorted by omega and
+      frequencies 0 and infinity (radiation-only cases) are dropped.
+    * Other dimensions (``g``, ``rho``, ``water_depth``, ``body_name``, ...) must
+      have a single value. Non-zero ``forward_speed`` is refused (the RAOs here
+      are per wave frequency for a ship without way).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The NetCDF file (read with xarray's h5netcdf engine).
+
+    Returns
+    -------
+    RAO
+
+    Raises
+    ------
+    ScenarioError
+        If xarray or h5netcdf is missing (install the ``bem`` extra), the file
+        cannot be read, or its content does not have Capytaine's layout.
+    """
+    src = str(path)
+
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
+
+    try:
+        import h5netcdf  # noqa: F401  (xarray's engine)
+        import h5py  # noqa: F401  (h5netcdf's HDF5 backend, an extra since h5netcdf 1.7)
+        import xarray as xr
+    except ImportError:
+        fail("reading a Capytaine file needs xarray, h5netcdf and h5py: install the `bem` extra "
+             "(pip install marinecdpr[bem])")
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as opened:
+            ds = opened.load()
+    except Exception as exc:  # h5py/h5netcdf/xarray raise many kinds for a bad file
+        first_line = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        fail(f"cannot read as a NetCDF file: {first_line}")
+    ds = _merge_complex_values(ds, fail)
+
+    if "forward_speed" in ds.variables:
+        speed = np.asarray(ds["forward_speed"].values, dtype=float)
+        if np.any(speed != 0.0):
+            fail(f"forward_speed {np.max(np.abs(speed)):g} m/s: only zero forward speed is supported")
+
+    if "RAO" in ds.data_vars:
+        rao = _with_direction_dim(ds["RAO"])
+        fdim = _frequency_dim(rao, "RAO", fail)
+        omega = _omega_values(ds, fdim, fail)
+        keep = np.isfinite(omega) & (omega > 0.0)
+        dofs = _labels(rao, "radiating_dof", "RAO", fail)
+        X = _arranged(rao, (fdim, "wave_direction", "radiating_dof"), "RAO", fail)[keep]
+        directions = _coordinate(rao, "wave_direction", fail)
+    else:
+        missing = [v for v in ("added_mass", "radiation_damping", "hydrostatic_stiffness", "inertia_matrix")
+                   if v not in ds.data_vars]
+        if "excitation_force" in ds.data_vars:
+            F_da = ds["excitation_force"]
+        elif "Froude_Krylov_force" in ds.data_vars and "diffraction_force" in ds.data_vars:
+            F_da = ds["Froude_Krylov_force"] + ds["diffraction_force"]
+        else:
+            F_da = None
+            missing.insert(0, "excitation_force (or Froude_Krylov_force and diffraction_force)")
+        if missing:
+            fail(f"no 'RAO' variable, and computing it needs {', '.join(missing)} in the file")
+        F_da = _with_direction_dim(F_da)
+        fdim = _frequency_dim(F_da, "excitation_force", fail)
+        omega = _omega_values(ds, fdim, fail)
+        keep = np.isfinite(omega) & (omega > 0.0)
+        dofs = _labels(ds["added_mass"], "radiating_dof", "added_mass", fail)
+        sel = {"influenced_dof": dofs, "radiating_dof": dofs}
+        try:
+            A = ds["added_mass"].sel(sel)
+            B = ds["radiation_damping"].sel(sel)
+            M = ds["inertia_matrix"].sel(sel)
+            K = ds["hydrostatic_stiffness"].sel(sel)
+            F_da = F_da.sel(influenced_dof=dofs)
+        except (KeyError, ValueError) as exc:
+            fail(f"the radiating and influenced DOFs do not match: {exc}")
+        mat = ("influenced_dof", "radiating_dof")
+        A = _arranged(A, (fdim,) + mat, "added_mass", fail)[keep]
+        B = _arranged(B, (fdim,) + mat, "radiation_damping", fail)[keep]
+        M = _arranged(M, mat, "inertia_matrix", fail)
+        K = _arranged(K, mat, "hydrostatic_stiffness", fail)
+        F = _arranged(F_da, (fdim, "wave_direction", "influenced_dof"), "excitation_force", fail)[keep]
+        w = omega[keep][:, None, None]
+        H = -w**2 * (M + A) - 1j * w * B + K  # Capytaine's rao_transfer_function
+        if not (np.all(np.isfinite(H)) and np.all(np.isfinite(F))):
+            fail("the added mass, damping, matrices or excitation force are not finite "
+                 "at a frequency in (0, inf)")
+        try:
+            X = np.linalg.solve(H[:, None], F[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            fail("the matrix -omega^2 (M + A) - i omega B + K is singular at a frequency")
+        directions = _coordinate(F_da, "wave_direction", fail)
+
+    omega = omega[keep]
+    if omega.size == 0:
+        fail("no frequency in (0, inf)")
+    if not np.all(np.isfinite(X)):
+        bad = np.argwhere(~np.isfinite(X))[0]
+        fail(f"RAO not finite at omega {omega[bad[0]]:g} rad/s")
+    rows = [(j, _CAPYTAINE_DOFS.get(name.lower())) for j, name in enumerate(dofs)]
+    rows = [(j, k) for j, k in rows if k is not None]
+    if not rows:
+        fail(f"no rigid-body DOF among {', '.join(dofs)} (expected Surge, Sway, Heave, Roll, Pitch, Yaw)")
+    headings = np.round(np.mod(np.degrees(directions), 360.0), 10)
+    headings[headings >= 360.0] -= 360.0
+    h_order = np.argsort(headings, kind="stable")
+    o_order = np.argsort(omega, kind="stable")
+    headings, omega = headings[h_order], omega[o_order]
+    if np.any(np.diff(headings) == 0.0):
+        fail(f"two wave directions give the same heading {headings[np.diff(headings) == 0.0][0]:g} deg")
+    if np.any(np.diff(omega) == 0.0):
+        fail(f"omega {omega[np.diff(omega) == 0.0][0]:g} rad/s appears twice")
+    X = X[o_order][:, h_order]  # (n_omega, n_heading, n_dof)
+    values = np.zeros((6, headings.size, omega.size), dtype=complex)
+    for j, k in rows:
+        values[k] = np.conj(X[:, :, j]).T  # exp(-i w t) -> exp(+i w t)
+    return RAO(omega, headings, values)
+
+
+def _label(x) -> str:
+    return x.decode() if isinstance(x, bytes) else str(x)
+
+
+def _merge_complex_values(ds, fail):
+    """Undo Capytaine's ``separate_complex_values``: re/im along ``complex`` -> complex."""
+    if "complex" not in ds.dims:
+        return ds
+    if "complex" in ds.coords:
+        labels = [_label(x) for x in np.atleast_1d(ds["complex"].values)]
+        if sorted(labels) != ["im", "re"]:
+            fail(f"the 'complex' coordinate is {labels}; expected ['re', 'im']")
+        i_re, i_im = labels.index("re"), labels.index("im")
+    elif ds.sizes["complex"] == 2:
+        i_re, i_im = 0, 1
+    else:
+        fail("the 'complex' dimension must have the two entries 're' and 'im'")
+    ds = ds.copy()
+    for name in list(ds.data_vars):
+        da = ds[name]
+        if "complex" in da.dims:
+            ds[name] = da.isel(complex=i_re, drop=True) + 1j * da.isel(complex=i_im, drop=True)
+    return ds.drop_vars("complex", errors="ignore")
+
+
+def _with_direction_dim(da):
+    """A scalar ``wave_direction`` coordinate (one direction selected) as a dimension of size 1."""
+    if "wave_direction" not in da.dims and "wave_direction" in da.coords and da["wave_direction"].ndim == 0:
+        return da.expand_dims("wave_direction")
+    return da
+
+
+def _frequency_dim(da, name: str, fail) -> str:
+    found = [d for d in _FREQ_DIMS if d in da.dims]
+    if len(found) != 1:
+        fail(f"{name} must have exactly one frequency dimension among {', '.join(_FREQ_DIMS)}; "
+             f"it has dimensions {', '.join(map(str, da.dims))}")
+    return found[0]
+
+
+def _omega_values(ds, fdim: str, fail) -> np.ndarray:
+    """Angular frequencies (rad/s) along the frequency dimension ``fdim``."""
+    if "omega" in ds.variables and ds["omega"].dims == (fdim,):
+        return np.asarray(ds["omega"].values, dtype=float)
+    if fdim == "freq":
+        return 2.0 * np.pi * np.asarray(ds["freq"].values, dtype=float)
+    if fdim == "period":
+        with np.errstate(divide="ignore"):
+            return 2.0 * np.pi / np.asarray(ds["period"].values, dtype=float)
+    fail(f"the frequency dimension is {fdim!r} but the file has no 'omega' coordinate along it")
+
+
+def _labels(da, dim: str, name: str, fail) -> list[str]:
+    if dim not in da.dims:
+        fail(f"{name} has no {dim!r} dimension (dimensions {', '.join(map(str, da.dims))})")
+    return [_label(x) for x in _coordinate(da, dim, fail)]
+
+
+def _coordinate(da, dim: str, fail) -> np.ndarray:
+    if dim not in da.dims:
+        fail(f"no {dim!r} dimension: the file lacks the diffraction (wave) results")
+    if dim not in da.coords:
+        fail(f"the {dim!r} dimension has no coordinate values")
+    return np.asarray(da[dim].values)
+
+
+def _arranged(da, dims: tuple[str, ...], name: str, fail) -> np.ndarray:
+    """``da``'s values with dimensions ``dims``; other dimensions must have one entry."""
+    for d in dims:
+        if d not in da.dims:
+            fail(f"{name} has no {d!r} dimension (dimensions {', '.join(map(str, da.dims))})")
+    for d in da.dims:
+        if d not in dims:
+            if da.sizes[d] != 1:
+                fail(f"{name} has {da.sizes[d]} values of {d!r}; export one case per file")
+            da = da.isel({d: 0})
+    return np.asarray(da.transpose(*dims).values)
+
+
+# ---------------------------------------------------------------------------------------
+# Box hull
+# ---------------------------------------------------------------------------------------
+
+ROLL_GYRADIUS_OVER_BEAM = 0.4
+"""The box hull's roll radius of gyration over its beam, added inertia included."""
+
+
+def _sincos_deg(deg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """sin and cos of angles in degrees, exactly 0 and +-1 at multiples of 90 deg."""
+    r = np.radians(deg)
+    s, c = np.sin(r), np.cos(r)
+    quarter = np.mod(deg, 90.0) == 0.0
+    q = np.mod(np.round(deg / 90.0), 4).astype(int)
+    s = np.where(quarter, np.array([0.0, 1.0, 0.0, -1.0])[q], s)
+    c = np.where(quarter, np.array([1.0, 0.0, -1.0, 0.0])[q], c)
+    return s, c
+
+
+def _slope_factor(u: np.ndarray) -> np.ndarray:
+    """3 (sin u - u cos u) / u^3: the waterplane-averaged slope of a wave, -> 1 as u -> 0."""
+    u = np.abs(u)
+    small = u < 1e-2
+    us = np.where(small, 1.0, u)
+    exact = 3.0 * (np.sin(us) - us * np.cos(us)) / us**3
+    u2 = u * u
+    series = 1.0 - u2 / 10.0 + u2 * u2 / 280.0
+    return np.where(small, series, exact)
+
+
+def box_hull_rao(
+    *,
+    length_m: float,
+    beam_m: float,
+    draught_m: float,
+    gm_m: float,
+    roll_damping_ratio: float,
+    omega: np.ndarray,
+    heading_deg: np.ndarray,
+    gml_m: float | None = None,
+    rho: float = 1025.0,
+    g: float = 9.81,
+) -> RAO:
+    """RAOs of a box-shaped hull at zero speed in deep water: an approximation.
+
+    A quick estimate for when no BEM data are at hand. Heave and pitch follow the
+    closed-form expressions of Jensen, Mansour & Olsen (2004), "Estimation of ship
+    motions using closed-form expressions", Ocean Engineering 31, 61-85, for zero
+    speed (alpha = 1) and block coefficient 1, written as complex RAOs; roll is a
+    damped one-DOF oscillator excited by the wave slope; **surge, sway and yaw are
+    zero**. S's origin is the box's centre on the waterline.
+
+    With k = omega^2/g, k_x = k cos(beta), k_y = k sin(beta), u = k_x L/2 and
+
+        kappa = exp(-k T)                       (Smith correction)
+        A     = 2 sin(k B/2) exp(-k T)          (2D radiated-wave amplitude ratio)
+        D     = A^2 / (k B)                     (heave damping over stiffness, omega b/c)
+        P     = 1 - k T + i D,   Q = 1 - 2 k T + i D
+
+    (strip theory for a uniformly loaded box with sectional added mass equal to
+    its mass, damping b = rho g^2 A^2 / omega^3, stiffness c = rho g B):
+
+        heave = kappa P / Q * sin(u) / u
+        pitch = kappa (P + delta) / (Q + delta) * i k_x R(u),
+                R(u) = 3 (sin u - u cos u) / u^3,
+                delta = 12 T GM_L / L^2 - 1
+        roll  = -i k_y R(k_y B/2) / (1 - r^2 + 2 i zeta r),
+                r = omega / omega_roll,  omega_roll = sqrt(g GM) / (0.4 B)
+
+    The magnitudes of heave and pitch are Jensen et al.'s eta |F| and eta |G|
+    (their eqs. for F, G, f and eta at zero speed); the phases follow from the same
+    strip-theory equations in this module's time convention. ``gml_m = None``
+    gives delta = 0, the paper's pitch stiffness rho g B L^3/12 (GM_L = L^2/(12 T),
+    the box's BM_L); a given GM_L sets the pitch stiffness to rho g LBT GM_L, added
+    to both sides so that pitch still follows the wave slope in long waves.
+
+    Roll: a one-DOF oscillator with restoring rho g LBT GM and inertia including
+    the added inertia through the radius of gyration 0.4 B
+    (:data:`ROLL_GYRADIUS_OVER_BEAM`, as in the IMO roll-period estimate
+    T = 2 C B / sqrt(GM), C ~ 0.4), damping ratio zeta as given, excited by the
+    wave slope k sin(beta) averaged over the beam (R, which makes roll fall off
+    in waves shorter than the beam). No depth (Smith) reduction is applied to
+    roll, which errs on the large side by up to a factor exp(k T). So roll is zero
+    in head and following seas, follows the slope in long beam waves
+    (-> -i k sin(beta)), and peaks at about slope / (2 zeta) at omega_roll in beam
+    seas.
+
+    Limits: no coupling, no forward speed, no viscous heave/pitch damping, no
+    beam-wise reduction of heave; realistic only for omega below a few times the
+    natural frequencies and for ship-like proportions.
+
+    Parameters
+    ----------
+    length_m, beam_m, draught_m : float
+        Box length L, beam B and draught T, m (> 0).
+    gm_m : float
+        Transverse metacentric height GM, m (> 0).
+    roll_damping_ratio : float
+        Roll damping over critical damping zeta (> 0).
+    omega : array_like, shape (n_omega,)
+        Wave angular frequencies, rad/s, strictly increasing, > 0.
+    heading_deg : array_like, shape (n_heading,)
+        Wave headings beta (travel direction from S's +x, CCW), deg, strictly
+        increasing in [0, 360).
+    gml_m : float, optional
+        Longitudinal metacentric height GM_L, m (> 0). Default: L^2 / (12 T).
+    rho : float
+        Water density, kg/m^3 (> 0; it cancels out of these ratios).
+    g : float
+        Gravitational acceleration, m/s^2.
+
+    Returns
+    -------
+    RAO
+    """
+    L, B, T = float(length_m), float(beam_m), float(draught_m)
+    params = {"length_m": L, "beam_m": B, "draught_m": T, "gm_m": gm_m,
+              "roll_damping_ratio": roll_damping_ratio, "rho": rho, "g": g}
+    if gml_m is not None:
+        params["gml_m"] = gml_m
+    for key, value in params.items():
+        if not (np.isfinite(value) and value > 0.0):
+            raise ValueError(f"{key} must be finite and > 0; got {value}")
+    zeta = float(roll_damping_ratio)
+    w = np.asarray(omega, dtype=float)
+    beta = np.asarray(heading_deg, dtype=float)
+    if w.ndim != 1 or beta.ndim != 1:
+        raise ValueError("omega and heading_deg must be 1-D arrays")
+    if np.any(w <= 0.0):
+        raise ValueError("omega must be > 0 rad/s")
+    sin_b, cos_b = _sincos_deg(beta)
+    k = (w * w / g)[None, :]  # (1, n_omega)
+    kx = k * cos_b[:, None]  # (n_heading, n_omega)
+    ky = k * sin_b[:, None]
+    kappa = np.exp(-k * T)
+    A = 2.0 * np.sin(0.5 * k * B) * kappa
+    D = A * A / (k * B)
+    P = 1.0 - k * T + 1j * D
+    Q = 1.0 - 2.0 * k * T + 1j * D
+    u = 0.5 * kx * L
+    delta = 0.0 if gml_m is None else 12.0 * T * float(gml_m) / L**2 - 1.0
+    heave = kappa * P / Q * np.sinc(u / np.pi)
+    pitch = kappa * (P + delta) / (Q + delta) * 1j * kx * _slope_factor(u)
+    omega_roll = math.sqrt(g * float(gm_m)) / (ROLL_GYRADIUS_OVER_BEAM * B)
+    r = w[None, :] / omega_roll
+    roll = -1j * ky * _slope_factor(0.5 * ky * B) / (1.0 - r * r + 2j * zeta * r)
+    values = np.zeros((6, beta.size, w.size), dtype=complex)
+    values[2], values[3], values[4] = heave, roll, pitch
+    return RAO(w, beta, values)
