@@ -80,3 +80,14 @@ def test_scatter_csv(tmp_path):
 def test_operability_needs_a_sea_state(paper):
     with pytest.raises(ScenarioError, match="needs a \\[base_motion\\] of type sea_state"):
         operability(paper, ScatterDiagram(np.array([1.0]), np.array([8.0]), np.ones((1, 1))))
+
+
+def test_tracking_error_criterion():
+    """With max_error_m, a cell also needs the closed loop to hold the platform close."""
+    diagram = ScatterDiagram(np.array([0.5, 3.0]), np.array([8.0]), np.full((2, 1), 0.5))
+    kw = dict(headings_deg=(90.0,), duration_s=20.0, step_s=0.01)
+    loose = operability(sea_robot(5.0), diagram, max_error_m=1.0, **kw)
+    assert all(r.operable and 0 < r.max_error_m < 1e-3 for r in loose.results)
+    tight = operability(sea_robot(5.0), diagram, max_error_m=1e-12, **kw)
+    assert not any(r.operable for r in tight.results)
+    assert [r.max_error_m for r in tight.results] == [r.max_error_m for r in loose.results]

@@ -229,6 +229,8 @@ def operability(
     serial: bool = typer.Option(False, "--serial", help="Run the cells in this process, not on Dask."),
     workers: int = typer.Option(2, min=1, help="Local Dask workers."),
     scheduler: Optional[str] = typer.Option(None, help="Address of a running Dask scheduler."),
+    max_error: Optional[float] = typer.Option(None, min=0.0, help="Also fly the closed loop in each "
+                                              "sea state and require its position error below this, m."),
 ) -> None:
     """In which sea states, over a scatter diagram, can the robot work?"""
     from importlib import resources
@@ -253,6 +255,7 @@ def operability(
         try:
             op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
                      executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
+                     max_error_m=max_error,
                      progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         except ScenarioError as exc:
             _fail(str(exc) if exc.source else f"{scenario}: {exc}")

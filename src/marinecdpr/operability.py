@@ -114,6 +114,8 @@ class CellResult:
     """Smallest distance of a planned tension to the untightened limits over the record
     (at least the margin asked for; -inf if some step is infeasible)."""
     n_steps: int
+    max_error_m: float = float("nan")
+    """Largest closed-loop position error (own plant) when asked for, m."""
 
 
 def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
@@ -127,11 +129,13 @@ def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: fl
 
 
 def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s: float,
-                  step_s: float) -> CellResult:
+                  step_s: float, max_error_m: float | None = None) -> CellResult:
     """Plan the template's trajectory over one sea state's record and judge it.
 
     The cell is workable if tensions exist within the limits tightened by ``margin_N``
-    at every step: the plan is made with those tightened limits.
+    at every step (the plan is made with those tightened limits) and, if
+    ``max_error_m`` is given, the closed loop flown on the own plant keeps the platform
+    within that distance of its plan.
     """
     sc = _cell_scenario(template, cell, duration_s, step_s)
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
@@ -154,7 +158,18 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
             worst = min(worst, float(np.nanmin(m)))
     # feasible tensions are within limits up to rounding: no negative zero margins
     worst = max(worst, 0.0) if ok == n else -np.inf
-    return CellResult(cell, bool(ok == n), ok / n, worst, n)
+    operable = ok == n
+    error = float("nan")
+    if max_error_m is not None and operable:
+        from .simulation import simulate
+
+        try:
+            res = simulate(sc, run="closed_loop", plant="own")
+            error = float(np.abs(res.pose_error[:, :3]).max())
+        except ArithmeticError:  # diverged
+            error = float("inf")
+        operable = error <= max_error_m
+    return CellResult(cell, bool(operable), ok / n, worst, n, error)
 
 
 @dataclass(frozen=True)
@@ -218,6 +233,7 @@ def operability(
     executor: str = "serial",
     scheduler: str | None = None,
     workers: int = 2,
+    max_error_m: float | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Operability:
     """Decide, cell by cell, whether the robot can work, and sum up.
@@ -238,6 +254,9 @@ def operability(
         ``dask``: on a local cluster of ``workers`` processes, or on ``scheduler``.
     scheduler : str, optional
         Address of a running Dask scheduler (e.g. "tcp://10.0.0.5:8786").
+    max_error_m : float, optional
+        Also fly the closed loop (own plant) in each cell and require its position error
+        to stay within this, m.
     progress : callable(done, total), optional
     """
     if not isinstance(template.base_motion, SeaStateMotion):
@@ -245,7 +264,7 @@ def operability(
                             "and spreading are used in every cell)", key="base_motion.type")
     headings = tuple(float(h) for h in headings_deg)
     cells = _cells(scatter, headings)
-    kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s)
+    kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m)
     if executor == "serial":
         results = []
         for k, cell in enumerate(cells, start=1):

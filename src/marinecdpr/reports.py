@@ -427,9 +427,10 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     plt = _pyplot()
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N"]
+    names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
+             "max_error_m"]
     values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
-                        r.fraction_feasible, r.min_margin_N] for r in op.results])
+                        r.fraction_feasible, r.min_margin_N, r.max_error_m] for r in op.results])
     paths = [_write_csv(names, values, folder / "operability.csv", int_last=False)]
     summary = {
         "scenario": scenario.name,
