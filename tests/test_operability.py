@@ -91,3 +91,15 @@ def test_tracking_error_criterion():
     tight = operability(sea_robot(5.0), diagram, max_error_m=1e-12, **kw)
     assert not any(r.operable for r in tight.results)
     assert [r.max_error_m for r in tight.results] == [r.max_error_m for r in loose.results]
+
+
+def test_operability_over_a_workspace_grid():
+    """Judging held poses over the frame: the workable share of the frame shrinks in rough seas."""
+    diagram = ScatterDiagram(np.array([0.1, 6.0]), np.array([10.0]), np.full((2, 1), 0.5))
+    kw = dict(headings_deg=(90.0,), duration_s=60.0, step_s=0.05, workspace=(8, 6))
+    op = operability(sea_robot(5.0), diagram, min_area=0.0, **kw)
+    calm, rough = op.results
+    assert 0.0 < rough.fraction_feasible < calm.fraction_feasible <= 1.0
+    strict = operability(sea_robot(5.0), diagram, min_area=0.5 * (calm.fraction_feasible + rough.fraction_feasible),
+                         **kw)
+    assert [r.operable for r in strict.results] == [True, False]

@@ -231,6 +231,10 @@ def operability(
     scheduler: Optional[str] = typer.Option(None, help="Address of a running Dask scheduler."),
     max_error: Optional[float] = typer.Option(None, min=0.0, help="Also fly the closed loop in each "
                                               "sea state and require its position error below this, m."),
+    workspace_grid: Optional[str] = typer.Option(None, "--workspace", help="Judge a grid of held poses "
+                                                 "(e.g. 12x8) instead of the trajectory."),
+    min_area: float = typer.Option(1.0, min=0.0, max=1.0, help="With --workspace: share of the frame's "
+                                   "poses that must stay feasible."),
 ) -> None:
     """In which sea states, over a scatter diagram, can the robot work?"""
     from importlib import resources
@@ -242,6 +246,13 @@ def operability(
         heads = tuple(float(h) for h in headings.split(","))
     except ValueError:
         _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
+    grid = None
+    if workspace_grid is not None:
+        try:
+            grid = tuple(int(k) for k in workspace_grid.lower().split("x"))
+            assert len(grid) == 2 and min(grid) > 0
+        except (ValueError, AssertionError):
+            _fail(f"--workspace {workspace_grid}: expected two positive integers like 12x8")
     sc = _load(scenario, None, None)
     try:
         path = scatter or Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
@@ -255,7 +266,7 @@ def operability(
         try:
             op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
                      executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
-                     max_error_m=max_error,
+                     max_error_m=max_error, workspace=grid, min_area=min_area,
                      progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         except ScenarioError as exc:
             _fail(str(exc) if exc.source else f"{scenario}: {exc}")

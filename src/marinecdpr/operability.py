@@ -26,7 +26,7 @@ from .scenario import Scenario, SeaStateMotion
 from .workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
-           "evaluate_cell", "operability"]
+           "evaluate_cell", "operability", "with_margin"]
 
 
 @dataclass(frozen=True)
@@ -110,6 +110,8 @@ class CellResult:
     cell: Cell
     operable: bool
     fraction_feasible: float
+    """Share of the record's steps with feasible tensions (with a workspace grid: share of
+    the frame's poses feasible throughout)."""
     min_margin_N: float
     """Smallest distance of a planned tension to the untightened limits over the record
     (at least the margin asked for; -inf if some step is infeasible)."""
@@ -128,29 +130,47 @@ def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: fl
     )
 
 
+def with_margin(scenario: Scenario, margin_N: float) -> Scenario:
+    """The scenario with every cable's tension limits tightened by ``margin_N``."""
+    if margin_N <= 0:
+        return scenario
+    lo, hi = scenario.robot.tension_min, scenario.robot.tension_max
+    if np.any(hi - lo <= 2 * margin_N):
+        raise ScenarioError(f"a {margin_N:g} N margin leaves no room between the tension limits",
+                            key="margin")
+    robot = scenario.robot.model_dump(exclude_none=True)
+    robot.pop("tension_min_N", None)
+    robot.pop("tension_max_N", None)
+    for cable, a, b in zip(robot["cables"], lo, hi):
+        cable.update(tension_min_N=float(a + margin_N), tension_max_N=float(b - margin_N))
+    return scenario.with_changes(robot=robot)
+
+
 def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s: float,
-                  step_s: float, max_error_m: float | None = None) -> CellResult:
-    """Plan the template's trajectory over one sea state's record and judge it.
+                  step_s: float, max_error_m: float | None = None,
+                  workspace: tuple[int, int] | None = None, min_area: float = 1.0) -> CellResult:
+    """Plan the template's trajectory (or hold a workspace grid) over one sea state and judge it.
 
     The cell is workable if tensions exist within the limits tightened by ``margin_N``
     at every step (the plan is made with those tightened limits) and, if
     ``max_error_m`` is given, the closed loop flown on the own plant keeps the platform
-    within that distance of its plan.
+    within that distance of its plan. With ``workspace = (n_u, n_v)`` the trajectory is
+    replaced by a grid of held poses over the frame (:func:`~marinecdpr.workspace.workspace_map`),
+    and the cell is workable if at least ``min_area`` of the poses inside the frame stay
+    feasible throughout; ``fraction_feasible`` is then that share of poses.
     """
     sc = _cell_scenario(template, cell, duration_s, step_s)
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
-    if margin_N > 0:
-        if np.any(hi - lo <= 2 * margin_N):
-            raise ScenarioError(f"a {margin_N:g} N margin leaves no room between the tension limits",
-                                key="margin")
-        robot = sc.robot.model_dump(exclude_none=True)
-        robot.pop("tension_min_N", None)
-        robot.pop("tension_max_N", None)
-        for cable, a, b in zip(robot["cables"], lo, hi):
-            cable.update(tension_min_N=float(a + margin_N), tension_max_N=float(b - margin_N))
-        sc = sc.with_changes(robot=robot)
+    tight = with_margin(sc, margin_N)
+    if workspace is not None:
+        from .workspace import workspace_map
+
+        ws = workspace_map(tight, n=workspace)
+        inside = np.isfinite(ws.fraction_feasible)
+        area = float((ws.fraction_feasible[inside] == 1.0).mean()) if inside.any() else 0.0
+        return CellResult(cell, area >= min_area, area, float("nan"), ws.n_steps)
     ok, worst, n = 0, np.inf, 0
-    for piece in iter_plan(sc):
+    for piece in iter_plan(tight):
         ok += int(piece.feasible.sum())
         n += piece.n_steps
         m = tension_margin(piece.tensions, lo, hi)
@@ -164,7 +184,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
         from .simulation import simulate
 
         try:
-            res = simulate(sc, run="closed_loop", plant="own")
+            res = simulate(tight, run="closed_loop", plant="own")
             error = float(np.abs(res.pose_error[:, :3]).max())
         except ArithmeticError:  # diverged
             error = float("inf")
@@ -234,6 +254,8 @@ def operability(
     scheduler: str | None = None,
     workers: int = 2,
     max_error_m: float | None = None,
+    workspace: tuple[int, int] | None = None,
+    min_area: float = 1.0,
     progress: Callable[[int, int], None] | None = None,
 ) -> Operability:
     """Decide, cell by cell, whether the robot can work, and sum up.
@@ -257,6 +279,11 @@ def operability(
     max_error_m : float, optional
         Also fly the closed loop (own plant) in each cell and require its position error
         to stay within this, m.
+    workspace : tuple of two int, optional
+        Judge a grid of held poses over the frame (this many points along x and z, or
+        the robot's first two axes) instead of the trajectory.
+    min_area : float
+        With ``workspace``: the share of the frame's poses that must stay feasible, 0..1.
     progress : callable(done, total), optional
     """
     if not isinstance(template.base_motion, SeaStateMotion):
@@ -264,7 +291,8 @@ def operability(
                             "and spreading are used in every cell)", key="base_motion.type")
     headings = tuple(float(h) for h in headings_deg)
     cells = _cells(scatter, headings)
-    kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m)
+    kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m,
+                  workspace=workspace, min_area=min_area)
     if executor == "serial":
         results = []
         for k, cell in enumerate(cells, start=1):
