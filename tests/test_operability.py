@@ -58,6 +58,12 @@ def test_dask_gives_the_serial_results():
     assert [(r.operable, r.fraction_feasible, r.min_margin_N) for r in serial.results] == \
         [(r.operable, r.fraction_feasible, r.min_margin_N) for r in parallel.results]
     assert seen[-1] == (8, 8)
+    # and on a scheduler that is already running (--scheduler ADDRESS)
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        remote = operability(sea_robot(), diagram, executor="dask", scheduler=cluster.scheduler_address, **kw)
+    assert [r.min_margin_N for r in remote.results] == [r.min_margin_N for r in serial.results]
 
 
 def test_scatter_csv(tmp_path):

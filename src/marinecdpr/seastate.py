@@ -243,7 +243,7 @@ def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray, chunk: int = 
     return out
 
 
-@lru_cache(maxsize=8)
+@lru_cache(maxsize=2)  # a record's grid can be tens of MB; a plan reuses one at a time
 def _grid_record(rec_id: int, coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray:
     """eta, eta', eta'' on the grid t_n = n record_s / m over one period (irfft)."""
     coeff = np.frombuffer(coeff_bytes, dtype=complex).reshape(18, -1)
