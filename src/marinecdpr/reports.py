@@ -202,58 +202,54 @@ def _pyplot():
     return plt
 
 
-def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
-    """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
+def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, actual_prefix: str,
+                       row_height: float, title: str, path: Path) -> Path:
+    """Two columns per row: planned and each run's actual value, and actual minus planned.
+
+    ``rows``: (label, unit, scale, error unit, error scale, value) with ``value(res, planned)``
+    the (n_steps,) series of a SimResult (planned or actual).
+    """
     plt = _pyplot()
-    n = scenario.robot.n_cables
-    fig, axes = plt.subplots(n, 2, figsize=(11, 1.9 * n + 1.5), sharex=True, squeeze=False,
-                             constrained_layout=True)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, row_height * len(rows) + 1.5), sharex=True,
+                             squeeze=False, constrained_layout=True)
     first = next(iter(results.values()))
-    for i in range(n):
-        ax, ax_e = axes[i]
+    for (ax, ax_e), (label, unit, k, unit_e, ke, value) in zip(axes, rows):
         for name, res in _drawing_order(results):
-            ax.plot(res.t, res.lengths[:, i], color=RUN_COLOURS.get(name), lw=0.9,
-                    label=f"actual, {RUN_TITLES.get(name, name)}")
-            ax_e.plot(res.t, 1e3 * (res.lengths[:, i] - res.lengths_planned[:, i]),
-                      color=RUN_COLOURS.get(name), lw=0.7)
-        ax.plot(first.t, first.lengths_planned[:, i], "k--", lw=1.0, label="planned (kinematics)")
-        ax.set_ylabel(f"L{i + 1} (m)")
-        ax_e.set_ylabel(f"L{i + 1} error (mm)")
+            ax.plot(res.t, k * value(res, False), color=RUN_COLOURS.get(name), lw=0.9,
+                    label=actual_prefix + RUN_TITLES.get(name, name))
+            ax_e.plot(res.t, ke * (value(res, False) - value(res, True)), color=RUN_COLOURS.get(name), lw=0.7)
+        ax.plot(first.t, k * value(first, True), "k--", lw=1.0, label=planned_label)
+        ax.set_ylabel(f"{label} ({unit})")
+        ax_e.set_ylabel(f"{label} error ({unit_e})")
         ax.grid(alpha=0.3)
         ax_e.grid(alpha=0.3)
     _legend_on_top(fig, axes[0, 0])
     axes[-1, 0].set_xlabel("t (s)")
     axes[-1, 1].set_xlabel("t (s)")
-    fig.suptitle(f"Cable lengths, planned and on the virtual prototype: {scenario.name}", fontsize=11)
+    fig.suptitle(title, fontsize=11)
     return _save(fig, path)
+
+
+def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
+    """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
+    rows = [(f"L{i + 1}", "m", 1.0, "mm", 1e3,
+             lambda res, planned, i=i: (res.lengths_planned if planned else res.lengths)[:, i])
+            for i in range(scenario.robot.n_cables)]
+    return _planned_vs_actual(results, rows, planned_label="planned (kinematics)", actual_prefix="actual, ",
+                              row_height=1.9, path=path,
+                              title=f"Cable lengths, planned and on the virtual prototype: {scenario.name}")
 
 
 def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
     """Like the paper's figure 7: planned and actual pose, and the tracking errors."""
-    plt = _pyplot()
     pose_names, dofs = _pose_names(scenario)
-    fig, axes = plt.subplots(len(dofs), 2, figsize=(11, 2.2 * len(dofs) + 1.5), sharex=True,
-                             squeeze=False, constrained_layout=True)
-    first = next(iter(results.values()))
-    for row, (name_p, i) in enumerate(zip(pose_names, dofs)):
-        ax, ax_e = axes[row]
-        angle = i >= 3
-        k, unit = (np.degrees(1.0), "deg") if angle else (1.0, "m")
-        ke, unit_e = (np.degrees(1.0), "deg") if angle else (1e3, "mm")
-        for name, res in _drawing_order(results):
-            ax.plot(res.t, k * res.pose[:, i], color=RUN_COLOURS.get(name), lw=0.9,
-                    label=RUN_TITLES.get(name, name))
-            ax_e.plot(res.t, ke * res.pose_error[:, i], color=RUN_COLOURS.get(name), lw=0.7)
-        ax.plot(first.t, k * first.pose_planned[:, i], "k--", lw=1.0, label="planned")
-        ax.set_ylabel(f"{name_p} ({unit})")
-        ax_e.set_ylabel(f"{name_p} error ({unit_e})")
-        ax.grid(alpha=0.3)
-        ax_e.grid(alpha=0.3)
-    _legend_on_top(fig, axes[0, 0])
-    axes[-1, 0].set_xlabel("t (s)")
-    axes[-1, 1].set_xlabel("t (s)")
-    fig.suptitle(f"Tracking on the virtual prototype: {scenario.name}", fontsize=11)
-    return _save(fig, path)
+    deg = float(np.degrees(1.0))
+    rows = [(name, "deg" if i >= 3 else "m", deg if i >= 3 else 1.0, "deg" if i >= 3 else "mm",
+             deg if i >= 3 else 1e3,
+             lambda res, planned, i=i: (res.pose_planned if planned else res.pose)[:, i])
+            for name, i in zip(pose_names, dofs)]
+    return _planned_vs_actual(results, rows, planned_label="planned", actual_prefix="", row_height=2.2,
+                              path=path, title=f"Tracking on the virtual prototype: {scenario.name}")
 
 
 def write_json(data: dict, path: Path) -> Path:
