@@ -100,3 +100,11 @@ def test_robot_level_limits_are_defaults_per_cable_overrides():
     del data["robot"]["tension_min_N"]
     with pytest.raises(ScenarioError, match=r"robot\.cables\[1\]\.tension_min_N: missing"):
         make_scenario(lambda d: d.update(robot=data["robot"]))
+
+
+def test_the_example_file_is_the_builtin_paper_scenario():
+    from importlib import resources
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "paper.toml"
+    assert example.read_text() == (resources.files("marinecdpr") / "scenarios" / "paper.toml").read_text()

@@ -117,9 +117,11 @@ def simulate(
     plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
     duration: Optional[float] = typer.Option(None, min=0.0, help="Simulate only the first seconds."),
 ) -> None:
-    """The main job: plan, then fly the plan on the virtual prototype, open and closed loop,
-    and the fixed-base plan on the moving ship; write plan.csv, sim_<run>.csv, figures like
-    the paper's 5-7, summary.json and report.html."""
+    """The main job: plan, fly the plan on the virtual prototype, write the report.
+
+    Runs open loop, closed loop and the fixed-base plan on the moving ship; writes
+    plan.csv, sim_<run>.csv, figures like the paper's 5-7, summary.json and report.html.
+    """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from .analysis import PAPER_REPORTED, virtual_prototype
