@@ -40,6 +40,11 @@ def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
     raise typer.Exit(code)
 
 
+def _fail_scenario(exc: ScenarioError, scenario: str) -> None:
+    """A scenario's error, prefixed with the scenario given when the error names no file."""
+    _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+
+
 def _out_dir(out: Path) -> Path:
     if out.exists() and not out.is_dir():
         _fail(f"--out {out}: exists and is not a folder")
@@ -76,7 +81,7 @@ def plan(
         result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
         elapsed = time.perf_counter() - t0
     except ScenarioError as exc:
-        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+        _fail_scenario(exc, scenario)
     folder = _out_dir(out)
     csv_path = write_plan_csv(result, sc, folder / "plan.csv")
     fig_path = plot_tensions(result, sc, folder / "tensions.png")
@@ -135,7 +140,7 @@ def simulate(
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
     except ScenarioError as exc:
-        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+        _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with Progress(TextColumn("{task.description:<34}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
                   TimeElapsedColumn(), console=err_console, transient=False,
@@ -148,7 +153,7 @@ def simulate(
         try:
             vp = virtual_prototype(sc, plant=plant, progress=progress)
         except ScenarioError as exc:
-            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+            _fail_scenario(exc, scenario)
         except InfeasibleError as exc:
             _fail(str(exc), EXIT_INFEASIBLE)
         except SimulationDivergedError as exc:
@@ -208,7 +213,7 @@ def workspace(
             ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed,
                                progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         except ScenarioError as exc:
-            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+            _fail_scenario(exc, scenario)
     paths = write_workspace(ws, sc, _out_dir(out))
     import numpy as np
 
@@ -271,7 +276,7 @@ def operability(
                      max_error_m=max_error, workspace=grid, min_area=min_area,
                      progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         except ScenarioError as exc:
-            _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+            _fail_scenario(exc, scenario)
     elapsed = time.perf_counter() - t0
     paths = write_operability(op, sc, _out_dir(out))
     table = Table(title=f"operability: {sc.name} ({len(op.results)} sea states, {elapsed:.1f} s)")
@@ -294,7 +299,7 @@ def _load(scenario: str, duration: float | None, step: float | None):
                                        "duration_s": duration or sc.time.duration_s})
         return sc
     except ScenarioError as exc:
-        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+        _fail_scenario(exc, scenario)
 
 
 @app.command()
@@ -306,7 +311,7 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         sc = load_scenario(scenario)
         check_trajectory(sc)
     except ScenarioError as exc:
-        _fail(str(exc) if exc.source else f"{scenario}: {exc}")
+        _fail_scenario(exc, scenario)
     r = sc.robot
     console.print(
         f"{scenario}: ok: '{sc.name}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "

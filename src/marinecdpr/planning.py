@@ -216,11 +216,15 @@ def iter_plan(
         If the trajectory leaves the frame.
     """
     method, base_model = _options(scenario, method, base_model)
-    n = scenario.time.n_steps
-    step = scenario.time.step_s
-    for start in range(0, n, chunk_steps):
-        t = np.arange(start, min(start + chunk_steps, n)) * step
-        yield _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+    t = np.arange(scenario.time.n_steps) * scenario.time.step_s
+    for arrays in _chunks(scenario, t, method, base_model, chunk_steps):
+        yield _make_plan(scenario, arrays, method, base_model)
+
+
+def _chunks(scenario: Scenario, t: np.ndarray, method: str, base_model: str, chunk_steps: int):
+    """The plan's arrays for consecutive pieces of ``t``."""
+    for i0 in range(0, t.size, chunk_steps):
+        yield _plan_chunk(scenario, t[i0 : i0 + chunk_steps], method, base_model)
 
 
 def plan(
@@ -274,11 +278,12 @@ def plan_at(
     if n <= chunk_steps:
         return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
     out: dict[str, np.ndarray] = {}
-    for i0 in range(0, n, chunk_steps):
-        piece = _plan_chunk(scenario, t[i0 : i0 + chunk_steps], method, base_model)
+    i0 = 0
+    for piece in _chunks(scenario, t, method, base_model, chunk_steps):
         for name in _ARRAY_FIELDS:
             arr = piece[name]
             if name not in out:
                 out[name] = np.empty((n,) + arr.shape[1:], dtype=arr.dtype)
             out[name][i0 : i0 + arr.shape[0]] = arr
+        i0 += piece["t"].size
     return _make_plan(scenario, out, method, base_model)

@@ -244,7 +244,7 @@ def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray, chunk: int = 
 
 
 @lru_cache(maxsize=2)  # a record's grid can be tens of MB; a plan reuses one at a time
-def _grid_record(rec_id: int, coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray:
+def _grid_record(coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray:
     """eta, eta', eta'' on the grid t_n = n record_s / m over one period (irfft)."""
     coeff = np.frombuffer(coeff_bytes, dtype=complex).reshape(18, -1)
     k_index = np.frombuffer(k_index_bytes, dtype=np.int64)
@@ -286,7 +286,7 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
             if np.allclose(idx * dt, t, rtol=0, atol=1e-9 * max(1.0, rec.record_s)):
                 k_index = np.rint(w / (2.0 * np.pi / rec.record_s)).astype(np.int64)
                 if k_index.max() <= m // 2:
-                    grid = _grid_record(id(rec), coeff.tobytes(), k_index.tobytes(), m)
+                    grid = _grid_record(coeff.tobytes(), k_index.tobytes(), m)
                     vals = grid[:, idx.astype(np.int64) % m]
     if grid is None:
         vals = _harmonic(coeff, w, t)

@@ -695,6 +695,4 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
             raise SimulationDivergedError(_diverged_message(scenario, run, t[bad]))
         if progress is not None:
             progress(k1, n)
-    if progress is not None:
-        progress(n, n)
     return fallbacks, float(ship_err[0])
