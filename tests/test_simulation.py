@@ -171,7 +171,8 @@ def test_simulate_command_writes_the_report(tmp_path):
     assert res.exit_code == 0, res.output
     names = {p.name for p in tmp_path.iterdir()}
     assert names == {"plan.csv", "sim_open_loop.csv", "sim_closed_loop.csv", "sim_fixed_base_open_loop.csv",
-                     "tensions.png", "cable_lengths.png", "tracking.png", "summary.json", "report.html"}
+                     "tensions.png", "cable_lengths.png", "tracking.png", "path.png", "summary.json", "report.html",
+                     ".marinecdpr-files"}
     s = json.loads((tmp_path / "summary.json").read_text())
     for key in ("pinv_tension_min_N", "opt_tension_min_N", "opt_tension_max_N"):
         assert isinstance(s[key], float)
@@ -184,8 +185,8 @@ def test_simulate_command_writes_the_report(tmp_path):
     sim = np.loadtxt(tmp_path / "sim_closed_loop.csv", delimiter=",", skiprows=1)
     assert sim.shape == (401, 1 + 3 + 3 + 4 + 4 + 4 + 4)
     html = (tmp_path / "report.html").read_text()
-    assert html.count('<img src="data:image/png;base64,') == 3 and "paper (Adams, open loop)" in html
-    assert "25 mm" in html  # the paper's x error beside ours
+    assert html.count('<img src="data:image/png;base64,') == 4 and "paper (Adams, open loop)" in html
+    assert "<th>x (mm)</th><td>25</td>" in html  # the paper's x error beside ours
 
 
 def test_simulate_command_failures(tmp_path):

@@ -11,17 +11,47 @@ from .planning import Plan, plan
 from .scenario import Scenario
 from .simulation import RUNS, SimResult, simulate
 
-__all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary"]
+__all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
+           "is_paper_scenario", "error_bounds"]
 
 PAPER_REPORTED = {
     "max_abs_error_x_m": 0.025,
     "max_abs_error_z_m": 0.013,
     "max_abs_error_theta_deg": 0.48,
-    "max_cable_length_error_m": 0.15,
+    "max_abs_cable_length_error_m": 0.15,
 }
 """The paper's section 4.2: Adams open loop, largest errors (cable length: cable 2)."""
 
+DEFAULT_ERROR_BOUND_FRACTION = 0.01
+"""Default bound on a run's position error: this fraction of the frame's largest extent."""
+
 _NAMES = ("x", "y", "z", "rx", "ry", "rz")
+_PAPER_SECTIONS = ("robot", "ship", "base_motion", "trajectory", "disturbance", "environment")
+
+
+def is_paper_scenario(scenario: Scenario) -> bool:
+    """True if the scenario is the paper's experiment: its robot, ship and ship motion,
+    trajectory, disturbance and gravity (cables, sensors and controller may differ).
+
+    Only then are the paper's reported errors a fair comparison.
+    """
+    from .scenario import load_scenario
+
+    paper = load_scenario("paper")
+    return all(getattr(scenario, k).model_dump() == getattr(paper, k).model_dump() for k in _PAPER_SECTIONS)
+
+
+def error_bounds(scenario: Scenario, max_error_m: float | None = None) -> tuple[float, float]:
+    """The bounds beyond which a run is flagged: (position and cable length, m; angle, deg).
+
+    ``max_error_m`` overrides ``simulation.max_error_m``, whose default is
+    :data:`DEFAULT_ERROR_BOUND_FRACTION` of the frame's largest extent.
+    """
+    pos = max_error_m if max_error_m is not None else scenario.simulation.max_error_m
+    if pos is None:
+        c = scenario.robot.frame_anchors
+        pos = DEFAULT_ERROR_BOUND_FRACTION * float((c.max(axis=0) - c.min(axis=0)).max())
+    return float(pos), float(scenario.simulation.max_error_deg)
 
 
 def _rotation_error_deg(res: SimResult) -> np.ndarray:
@@ -34,7 +64,7 @@ def _rotation_error_deg(res: SimResult) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-def run_summary(res: SimResult, scenario: Scenario) -> dict:
+def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None = None) -> dict:
     """The figures of one run.
 
     Keys: ``max_abs_error_x_m``, ``max_abs_error_z_m``, ``max_abs_error_theta_deg``
@@ -42,8 +72,11 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
     orientation for a spatial one, which also gets ``y``, ``rx``, ``ry``, ``rz``),
     ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
     ``tension_max_N`` (applied), ``tension_limit_excess_N`` (how far applied tensions left
-    their limits, 0 if never), ``rms_error_x_m``, ``rms_error_z_m``,
-    ``controller_fallbacks``, ``ship_tracking_error`` (m or rad), ``plant``.
+    their limits beyond the tension tolerance, 0 if never), ``rms_error_x_m``,
+    ``rms_error_z_m``, ``controller_fallbacks``, ``ship_tracking_error`` (m or rad),
+    ``plant``, ``within_error_bound`` (False if a position or cable-length error passed
+    :func:`error_bounds`' first value or the angle error its second) and
+    ``beyond_error_bound`` (the quantities that did, e.g. ``["x", "rz", "cable 3"]``).
     """
     err = res.pose_error
     out: dict = {}
@@ -62,17 +95,36 @@ def run_summary(res: SimResult, scenario: Scenario) -> dict:
     out["tension_max_N"] = float(res.tensions.max())
     lo, hi = scenario.robot.tension_min, scenario.robot.tension_max
     # by how much the applied tensions left their limits (elastic dynamics, lag, noise)
-    out["tension_limit_excess_N"] = float(max(0.0, (lo - res.tensions).max(), (res.tensions - hi).max()))
+    excess = float(max(0.0, (lo - res.tensions).max(), (res.tensions - hi).max()))
+    out["tension_limit_excess_N"] = excess if excess > _tension_tolerance(hi) else 0.0
     out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
     out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
     out["controller_fallbacks"] = res.controller_fallbacks
     out["ship_tracking_error"] = res.ship_tracking_error
     out["plant"] = res.plant
+    bound_m, bound_deg = error_bounds(scenario, max_error_m)
+    beyond = [name for name in ("x", "y", "z") if out.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
+    if scenario.robot.dofs == "planar":
+        beyond += ["theta_y"] if out["max_abs_error_theta_deg"] > bound_deg else []
+    else:
+        beyond += [name for name in ("rx", "ry", "rz") if out[f"max_abs_error_{name}_deg"] > bound_deg]
+    beyond += [f"cable {i + 1}" for i, v in enumerate(out["max_abs_cable_length_error_m"]) if v > bound_m]
+    out["within_error_bound"] = not beyond
+    out["beyond_error_bound"] = beyond
     return out
 
 
-def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario) -> dict:
-    """``summary.json``: each run's figures and the plan's tension range."""
+def _tension_tolerance(hi: np.ndarray) -> float:
+    from .tension import TENSION_TOLERANCE
+
+    return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
+
+
+def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
+            max_error_m: float | None = None) -> dict:
+    """``summary.json``: each run's figures, the plan's tension range, the error bounds,
+    and (for the paper's experiment only, see :func:`is_paper_scenario`) the paper's errors."""
+    bound_m, bound_deg = error_bounds(scenario, max_error_m)
     out: dict = {
         "scenario": scenario.name,
         "steps": int(plan.n_steps),
@@ -81,10 +133,14 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario) -> di
         "pinv_tension_min_N": float(np.nanmin(plan.tensions_pinv)),
         "opt_tension_min_N": float(np.nanmin(plan.tensions)),
         "opt_tension_max_N": float(np.nanmax(plan.tensions)),
-        "paper_reported": PAPER_REPORTED,
+        "error_bound_m": bound_m,
+        "error_bound_deg": bound_deg,
     }
+    if is_paper_scenario(scenario):
+        out["paper_reported"] = PAPER_REPORTED
     for name, res in results.items():
-        out[name] = run_summary(res, scenario)
+        out[name] = run_summary(res, scenario, max_error_m=max_error_m)
+    out["runs_beyond_error_bound"] = [name for name in results if not out[name]["within_error_bound"]]
     return out
 
 
@@ -103,6 +159,7 @@ def virtual_prototype(
     *,
     runs: tuple[str, ...] = RUNS,
     plant: str | None = None,
+    max_error_m: float | None = None,
     progress: Callable[[str, int, int], None] | None = None,
 ) -> VirtualPrototype:
     """Plan, then fly the plan on the virtual prototype (the main job, without files).
@@ -114,6 +171,9 @@ def virtual_prototype(
         Any of ``open_loop``, ``closed_loop``, ``fixed_base_open_loop``.
     plant : {"mujoco", "own"}, optional
         Default ``scenario.simulation.plant``.
+    max_error_m : float, optional
+        Position error bound beyond which a run is flagged (default: the scenario's,
+        see :func:`error_bounds`).
     progress : callable(run, done, total), optional
 
     Raises
@@ -125,4 +185,4 @@ def virtual_prototype(
     for run in runs:
         cb = None if progress is None else (lambda done, total, run=run: progress(run, done, total))
         results[run] = simulate(scenario, run=run, reference=p, plant=plant, progress=cb)
-    return VirtualPrototype(scenario, p, results, summary(p, results, scenario))
+    return VirtualPrototype(scenario, p, results, summary(p, results, scenario, max_error_m=max_error_m))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -35,6 +36,22 @@ console = Console()
 err_console = Console(stderr=True)
 
 
+def _version(value: bool) -> None:
+    if value:
+        from . import __version__
+
+        console.print(f"marinecdpr {__version__}", highlight=False)
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+) -> None:
+    """Cable-driven parallel robots on a moving ship."""
+
+
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
     err_console.print(f"[bold red]error:[/] {escape(message)}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)
@@ -43,16 +60,6 @@ def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
 def _fail_scenario(exc: ScenarioError, scenario: str) -> None:
     """A scenario's error, prefixed with the scenario given when the error names no file."""
     _fail(str(exc) if exc.source else f"{scenario}: {exc}")
-
-
-def _out_dir(out: Path) -> Path:
-    if out.exists() and not out.is_dir():
-        _fail(f"--out {out}: exists and is not a folder")
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        _fail(f"--out {out}: cannot create the folder ({exc.strerror})")
-    return out
 
 
 @app.command()
@@ -77,14 +84,16 @@ def plan(
         _fail(f"--method {method}: expected one of {', '.join(TENSION_METHODS)}")
     try:
         sc = load_scenario(scenario)
-        t0 = time.perf_counter()
-        result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
-        elapsed = time.perf_counter() - t0
+        _warn_scale(sc, scenario)
+        with _output(out) as folder:
+            t0 = time.perf_counter()
+            result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
+            elapsed = time.perf_counter() - t0
+            write_plan_csv(result, sc, folder / "plan.csv")
+            plot_tensions(result, sc, folder / "tensions.png")
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
-    folder = _out_dir(out)
-    csv_path = write_plan_csv(result, sc, folder / "plan.csv")
-    fig_path = plot_tensions(result, sc, folder / "tensions.png")
+    csv_path, fig_path = out / "plan.csv", out / "tensions.png"
 
     table = Table(title=f"plan: {sc.name} ({result.method}, {result.base_model} base)")
     table.add_column("quantity")
@@ -121,68 +130,191 @@ def simulate(
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for the CSVs, figures and report."),
     plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
     duration: Optional[float] = typer.Option(None, min=0.0, help="Simulate only the first seconds."),
+    max_error: Optional[float] = typer.Option(None, min=0.0, help="Flag runs whose position or cable-length "
+                                              "error passes this, m (default: the scenario's, 1% of the frame)."),
 ) -> None:
     """The main job: plan, fly the plan on the virtual prototype, write the report.
 
     Runs open loop, closed loop and the fixed-base plan on the moving ship; writes
-    plan.csv, sim_<run>.csv, figures like the paper's 5-7, summary.json and report.html.
+    plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
+    report.html.
     """
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from .analysis import PAPER_REPORTED, virtual_prototype
-    from .reports import RUN_TITLES, write_virtual_prototype
+    from .analysis import virtual_prototype
+    from .reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
     from .simulation import RUNS
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
     try:
         sc = load_scenario(scenario)
+        _warn_scale(sc, scenario)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
-    with Progress(TextColumn("{task.description:<34}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
-                  TimeElapsedColumn(), console=err_console, transient=False,
-                  disable=not err_console.is_terminal) as bar:
-        tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
+    with _output(out) as folder:
+        with Progress(TextColumn("{task.description:<34}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
+                      TimeElapsedColumn(), console=err_console, transient=False,
+                      disable=not err_console.is_terminal) as bar:
+            tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
-        def progress(run: str, done: int, total: int) -> None:
-            bar.update(tasks[run], completed=done, total=total)
+            def progress(run: str, done: int, total: int) -> None:
+                bar.update(tasks[run], completed=done, total=total)
 
-        try:
-            vp = virtual_prototype(sc, plant=plant, progress=progress)
-        except ScenarioError as exc:
-            _fail_scenario(exc, scenario)
-        except InfeasibleError as exc:
-            _fail(str(exc), EXIT_INFEASIBLE)
-        except SimulationDivergedError as exc:
-            _fail(str(exc), EXIT_DIVERGED)
+            try:
+                vp = virtual_prototype(sc, plant=plant, max_error_m=max_error, progress=progress)
+            except ScenarioError as exc:
+                _fail_scenario(exc, scenario)
+            except InfeasibleError as exc:
+                _fail(str(exc), EXIT_INFEASIBLE)
+            except SimulationDivergedError as exc:
+                _fail(str(exc), EXIT_DIVERGED)
+        paths = write_virtual_prototype(vp, folder)
     elapsed = time.perf_counter() - t0
-    paths = write_virtual_prototype(vp, _out_dir(out))
 
     s = vp.summary
-    table = Table(title=f"simulate: {sc.name} ({s['steps']} steps, {elapsed:.1f} s, "
-                        f"plant {vp.results['open_loop'].plant})")
-    table.add_column("max |error|")
-    table.add_column("paper", justify="right")
-    for run in RUNS:
-        table.add_column(RUN_TITLES[run], justify="right")
-    for label, key, scale, unit in (("x", "max_abs_error_x_m", 1e3, "mm"), ("z", "max_abs_error_z_m", 1e3, "mm"),
-                                    ("angle", "max_abs_error_theta_deg", 1.0, "deg")):
-        table.add_row(f"{label} ({unit})", f"{PAPER_REPORTED[key] * scale:.3g}",
-                      *(f"{s[run][key] * scale:.3g}" for run in RUNS))
-    table.add_row("cable length (mm)", "150",
-                  *(f"{max(s[run]['max_abs_cable_length_error_m']) * 1e3:.3g}" for run in RUNS))
+    header, rows = error_table(s, sc)
+    table = Table(title=f"simulate: {sc.name} ({s['steps']} steps, plant {vp.results['open_loop'].plant}, "
+                        f"{elapsed:.1f} s wall time)")
+    for i, h in enumerate(header):
+        table.add_column(h, justify="left" if i == 0 else "right")
+    for row in rows:
+        table.add_row(*row)
     console.print(table)
-    console.print(f"written to {out}/: " + ", ".join(p.name for p in paths), highlight=False)
+    for sentence in findings(s, sc):
+        console.print(sentence, highlight=False, markup=False)
+    for run in s["runs_beyond_error_bound"]:
+        err_console.print(f"warning: {run} leaves its plan beyond the error bound "
+                          f"({beyond_text(s[run]['beyond_error_bound'])}): see {out / 'report.html'}",
+                          highlight=False, markup=False, soft_wrap=True)
+    console.print(f"written to {out}/: " + ", ".join(p.name for p in paths), highlight=False, markup=False)
 
 
-def _progress_bar(label: str):
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+@contextmanager
+def _output(out: Path):
+    """The output folder, checked before the work starts and filled all at once at the end
+    (see :class:`marinecdpr.reports.StagedOutput`); a failure writing it is one line, exit 2."""
+    from .errors import OutputError
+    from .reports import StagedOutput
 
-    return Progress(TextColumn(f"{label:<16}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                    console=err_console, disable=not err_console.is_terminal)
+    try:
+        staged = StagedOutput(out)
+    except OutputError as exc:
+        _fail(f"--out {exc}")
+    try:
+        with staged as folder:
+            yield folder
+    except OSError as exc:
+        _fail(f"--out {out}: could not write the files ({exc.strerror or exc}); the folder keeps what it held")
+
+
+PROGRESS_LINE_FRACTION = 0.1
+"""Off a terminal, a progress line each time another this much of the work is done..."""
+PROGRESS_LINE_EVERY_S = 10.0
+"""... or when this long has passed since the last line (and a last line at the end)..."""
+PROGRESS_LINE_MIN_S = 1.0
+"""... but never sooner than this after the last line (a short job prints only its last line)."""
+
+
+def _seconds(s: float) -> str:
+    return f"{s:.1f} s" if s < 60 else f"{int(s // 60)} min {s % 60:02.0f} s"
+
+
+class _PlainProgress:
+    """Progress as plain lines on stderr, for pipes and logs; the interface of rich's ``Progress``
+    that the commands use (``add_task``, ``update``, a context manager)."""
+
+    def __init__(self, label: str, unit: str = ""):
+        self.label, self.unit = label, unit
+        self._tasks: list[dict] = []
+
+    def __enter__(self) -> "_PlainProgress":
+        return self
+
+    def __exit__(self, exc_type, *_) -> bool:
+        if exc_type is None:  # a last line for work that stopped short of its total
+            for task in self._tasks:
+                if task["done"] > task["printed"] and not task["finished"]:
+                    self._line(task, final=True)
+        return False
+
+    def add_task(self, description: str = "", total: float | None = None, **_) -> int:
+        now = time.perf_counter()
+        self._tasks.append(dict(description=description, total=total, done=0, printed=0, start=now,
+                                printed_at=now, finished=False))
+        return len(self._tasks) - 1
+
+    def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
+               advance: float | None = None, **_) -> None:
+        task = self._tasks[task_id]
+        if total is not None:
+            task["total"] = total
+        if completed is not None:
+            task["done"] = completed
+        if advance is not None:
+            task["done"] += advance
+        done, total = task["done"], task["total"]
+        if task["finished"] or done <= task["printed"]:
+            return
+        tenth = PROGRESS_LINE_FRACTION
+        since = time.perf_counter() - task["printed_at"]
+        if total and done >= total:
+            self._line(task, final=True)
+        elif since >= PROGRESS_LINE_MIN_S and (
+                (total and int(done / total / tenth) > int(task["printed"] / total / tenth))
+                or since >= PROGRESS_LINE_EVERY_S):
+            self._line(task)
+
+    def _line(self, task: dict, final: bool = False) -> None:
+        now = time.perf_counter()
+        elapsed = now - task["start"]
+        done, total = task["done"], task["total"]
+        name = ": ".join(x for x in (self.label, task["description"]) if x)
+        unit = f" {self.unit}" if self.unit else ""
+        of = f"{done:g} of {total:g}{unit}" if total else f"{done:g}{unit}"
+        if final:
+            rate = ""
+            if elapsed > 0:
+                per_s = done / elapsed
+                rate = f" ({per_s:.3g} {self.unit or 'done'}/s)" if per_s < 100 else f" ({per_s:,.0f} {self.unit or 'done'}/s)"
+            text = f"{name}: {of} in {_seconds(elapsed)}{rate}"
+        else:
+            pct = f" ({100 * done / total:.0f}%)" if total else ""
+            left = f", about {_seconds(elapsed * (total - done) / done)} left" if total and done else ""
+            text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
+        err_console.print(escape(text), highlight=False, soft_wrap=True)
+        task.update(printed=done, printed_at=now, finished=final)
+
+
+def _progress_bar(label: str, unit: str = ""):
+    """Progress on stderr: rich's bar on a terminal, plain lines (:class:`_PlainProgress`) otherwise.
+
+    Use as ``with _progress_bar("workspace", "poses") as bar: task = bar.add_task("", total=n);
+    ... bar.update(task, completed=done, total=n)``; several tasks may share it (named by their
+    description). :func:`_progress` wraps the one-task case.
+    """
+    if not err_console.is_terminal:
+        return _PlainProgress(label, unit)
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
+                               TimeRemainingColumn)
+
+    return Progress(TextColumn(escape(f"{label:<16}")), TextColumn("{task.description}"), BarColumn(),
+                    MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(), console=err_console)
+
+
+@contextmanager
+def _progress(label: str, total: int, unit: str = ""):
+    """One job's progress on stderr (see :func:`_progress_bar`); yields ``update(done, total=None)``."""
+    with _progress_bar(label, unit) as bar:
+        task = bar.add_task("", total=total)
+
+        def update(done: int, new_total: int | None = None) -> None:
+            bar.update(task, completed=done, total=total if new_total is None else new_total)
+
+        yield update
 
 
 @app.command()
@@ -207,20 +339,22 @@ def workspace(
     if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
     sc = _load(scenario, duration, step)
-    with _progress_bar("workspace") as bar:
-        task = bar.add_task("", total=n[0] * n[1])
-        try:
-            ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed,
-                               progress=lambda d, tot: bar.update(task, completed=d, total=tot))
-        except ScenarioError as exc:
-            _fail_scenario(exc, scenario)
-    paths = write_workspace(ws, sc, _out_dir(out))
+    t0 = time.perf_counter()
+    with _output(out) as folder:
+        with _progress("workspace", n[0] * n[1], "poses") as update:
+            try:
+                ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed, progress=update)
+            except ScenarioError as exc:
+                _fail_scenario(exc, scenario)
+        elapsed = time.perf_counter() - t0
+        paths = [out / p.name for p in write_workspace(ws, sc, folder)]
     import numpy as np
 
     inside = np.isfinite(ws.fraction_feasible)
     always = int((ws.fraction_feasible[inside] == 1.0).sum())
     console.print(f"{sc.name}: {always} of {int(inside.sum())} poses feasible throughout "
-                  f"({ws.n_steps} steps each); written: " + ", ".join(str(p) for p in paths), highlight=False)
+                  f"({ws.n_steps} steps each, {_seconds(elapsed)}); written: "
+                  + ", ".join(str(p) for p in paths), highlight=False)
 
 
 @app.command()
@@ -268,17 +402,18 @@ def operability(
         _fail(str(exc))
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
     t0 = time.perf_counter()
-    with _progress_bar("sea states") as bar:
-        task = bar.add_task("", total=n_cells)
-        try:
-            op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
-                     executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
-                     max_error_m=max_error, workspace=grid, min_area=min_area,
-                     progress=lambda d, tot: bar.update(task, completed=d, total=tot))
-        except ScenarioError as exc:
-            _fail_scenario(exc, scenario)
-    elapsed = time.perf_counter() - t0
-    paths = write_operability(op, sc, _out_dir(out))
+    with _output(out) as folder:
+        with _progress_bar("sea states") as bar:
+            task = bar.add_task("", total=n_cells)
+            try:
+                op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
+                         executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
+                         max_error_m=max_error, workspace=grid, min_area=min_area,
+                         progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+            except ScenarioError as exc:
+                _fail_scenario(exc, scenario)
+        elapsed = time.perf_counter() - t0
+        paths = [out / p.name for p in write_operability(op, sc, folder)]
     table = Table(title=f"operability: {sc.name} ({len(op.results)} sea states, {elapsed:.1f} s)")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
@@ -291,9 +426,19 @@ def operability(
                   highlight=False)
 
 
+def _warn_scale(sc, scenario: str) -> None:
+    """Print the scenario's scale warnings on stderr (a warning: the exit code is unchanged)."""
+    from .scenario import scale_warnings
+
+    for line in scale_warnings(sc):
+        err_console.print(f"[bold yellow]warning:[/] {escape(scenario)}: {escape(line)}", highlight=False,
+                          soft_wrap=True)
+
+
 def _load(scenario: str, duration: float | None, step: float | None):
     try:
         sc = load_scenario(scenario)
+        _warn_scale(sc, scenario)
         if duration is not None or step is not None:
             sc = sc.with_changes(time={"step_s": step or sc.time.step_s,
                                        "duration_s": duration or sc.time.duration_s})
@@ -309,6 +454,7 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
 
     try:
         sc = load_scenario(scenario)
+        _warn_scale(sc, scenario)
         check_trajectory(sc)
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
@@ -323,9 +469,12 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
 
 @app.command()
 def scenarios() -> None:
-    """List the built-in scenarios."""
-    for name in builtin_scenarios():
-        console.print(name, highlight=False)
+    """List the built-in scenarios, each with its description."""
+    names = builtin_scenarios()
+    width = max(len(n) for n in names)
+    for name in names:
+        console.print(f"{name:<{width}}  {load_scenario(name).description}", highlight=False, markup=False,
+                      soft_wrap=True)
 
 
 def main() -> None:

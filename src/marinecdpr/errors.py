@@ -6,7 +6,7 @@ one line that names what is wrong and where (file, key, time step).
 
 from __future__ import annotations
 
-__all__ = ["MarineCDPRError", "ScenarioError", "InfeasibleError", "SimulationDivergedError"]
+__all__ = ["MarineCDPRError", "ScenarioError", "InfeasibleError", "SimulationDivergedError", "OutputError"]
 
 
 class MarineCDPRError(Exception):
@@ -41,3 +41,7 @@ class InfeasibleError(MarineCDPRError, ValueError):
 
 class SimulationDivergedError(MarineCDPRError, ArithmeticError):
     """A simulated run left its plan by far or produced a non-finite state."""
+
+
+class OutputError(MarineCDPRError, OSError):
+    """An output folder cannot be created or written."""

@@ -18,7 +18,8 @@ import numpy as np
 from .basemotion import evaluate_base_motion, still_ship
 from .dynamics import disturbance_in_C, uncontrolled, wrench_terms
 from .kinematics import cable_kinematics
-from .scenario import Scenario
+from .rotations import matrix_from_euler
+from .scenario import Robot, Scenario
 from .tension import distribute_tensions, pseudo_inverse_tensions
 from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
@@ -27,6 +28,13 @@ __all__ = ["Plan", "plan", "plan_at", "iter_plan", "check_trajectory", "DEFAULT_
 DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
 """Names of pose / twist components in C (positions m, angles rad)."""
+
+
+def controlled_pose_names(controlled: tuple[int, ...]) -> list[str]:
+    """Names of the controlled pose components: ("x", "z", "theta_y") for a planar robot."""
+    if tuple(controlled) == (0, 2, 4):
+        return ["x", "z", "theta_y"]
+    return [TWIST_NAMES[j] for j in controlled]
 
 
 @dataclass(frozen=True)
@@ -58,6 +66,9 @@ class Plan:
     reaction_dofs : tuple of str
         Names of the uncontrolled twist components, e.g. ("y", "rx", "rz").
     method, base_model : str
+    robot : Robot, optional
+        The robot planned for; with it, :meth:`infeasibility` names the cables at their
+        limits.
     """
 
     t: np.ndarray
@@ -76,6 +87,7 @@ class Plan:
     reaction_dofs: tuple[str, ...]
     method: str
     base_model: str
+    robot: Robot | None = None
 
     @property
     def n_steps(self) -> int:
@@ -85,21 +97,93 @@ class Plan:
     def all_feasible(self) -> bool:
         return bool(self.feasible.all())
 
+    @property
+    def controlled(self) -> tuple[int, ...]:
+        """Twist components the cables control (indices into (v, omega) in C)."""
+        return tuple(j for j, name in enumerate(TWIST_NAMES) if name not in self.reaction_dofs)
+
     def infeasibility(self) -> str | None:
-        """One line naming the infeasible steps, or None if every step is feasible."""
+        """One line naming the infeasible steps, or None if every step is feasible.
+
+        It gives the first infeasible step's time and pose (the controlled DOFs) and,
+        when the plan knows its robot, which cables sit at which limit in the best
+        tensions within limits there and the wrench still missing (see
+        :meth:`limiting_cables`).
+        """
         bad = np.flatnonzero(~self.feasible)
         if bad.size == 0:
             return None
-        i = bad[0]
+        i = int(bad[0])
+        c = self.controlled
         pose = ", ".join(
             f"{name} = {self.pose[i, j] if j < 3 else np.degrees(self.pose[i, j]):.4g}"
             f"{' m' if j < 3 else ' deg'}"
-            for j, name in enumerate(TWIST_NAMES)
+            for name, j in zip(controlled_pose_names(c), c)
         )
-        return (
+        message = (
             f"the cables cannot hold the platform within their tension limits at "
             f"{bad.size} of {self.n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
         )
+        cause = self.limiting_cables(i)
+        return message if cause is None else f"{message}: {cause}"
+
+    def limiting_cables(self, i: int) -> str | None:
+        """Why step ``i`` is infeasible: the cables at their limits in the best attainable tensions.
+
+        Solves the bounded least-squares problem min |J~_c^T T - w_c| subject to
+        T_min <= T <= T_max at that step (moments weighted by 1 / the platform's
+        anchor radius, so both rows are forces) and names the cables that sit on a
+        limit in its solution, and the force and moment still missing,
+        ``w_c - J~_c^T T``. None if the plan does not know its robot.
+        """
+        from scipy.optimize import lsq_linear
+
+        robot = self.robot
+        if robot is None:
+            return None
+        c = list(self.controlled)
+        kin = cable_kinematics(self.pose[i : i + 1, :3], matrix_from_euler(self.pose[i : i + 1, 3:]),
+                               robot.frame_anchors, robot.platform_anchors)
+        A = kin.J_tilde[0][:, c].T
+        w = self.wrench[i, c]
+        if not (np.isfinite(A).all() and np.isfinite(w).all()):
+            return None
+        lo, hi = robot.tension_min, robot.tension_max
+        is_moment = np.array(c) >= 3
+        radius = max(float(np.linalg.norm(robot.platform_anchors, axis=1).max()), 1e-3)
+        weight = np.where(is_moment, 1.0 / radius, 1.0)
+        T = np.clip(lsq_linear(A * weight[:, None], w * weight, bounds=(lo, hi), method="bvls").x, lo, hi)
+        missing = w - A @ T
+        tol = 1e-6 * (float(hi.sum()) + float(np.abs(w * weight).max()))
+        force, moment = missing[~is_moment], missing[is_moment]
+        f, m = float(np.linalg.norm(force)), float(np.linalg.norm(moment))
+        singular = np.linalg.matrix_rank(A) < len(c)
+        if f <= tol and m <= tol * radius:
+            if singular:
+                return "the pose is singular there (J~ loses rank)"
+            return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
+                    f"method did not find them")
+        names = np.array(TWIST_NAMES)[c]
+        short = []
+        for value, part, unit, word, axis_word in ((f, force, "N", "force", "along"),
+                                                   (m, moment, "N m", "moment", "about")):
+            if value > (tol if unit == "N" else tol * radius):
+                k = int(np.argmax(np.abs(part)))
+                along = ""
+                if abs(part[k]) >= 0.9 * value:
+                    axis = names[~is_moment][k] if unit == "N" else names[is_moment][k][1]
+                    along = f" ({axis_word} {'+' if part[k] > 0 else '-'}{axis})"
+                short.append(f"{value:.4g} {unit} of {word}{along}")
+        at, n_at = [], 0
+        tol_T = 1e-6 * float(hi.max())
+        for label, on, limit in (("T_min", T <= lo + tol_T, lo), ("T_max", T >= hi - tol_T, hi)):
+            for value in sorted(set(limit[on].tolist())):
+                cables = [str(k + 1) for k in np.flatnonzero(on & (limit == value))]
+                n_at += len(cables)
+                at.append(f"cable{'s' if len(cables) > 1 else ''} {', '.join(cables)} at {label} = {value:g} N")
+        who = (", ".join(at[:-1]) + " and " + at[-1]) if len(at) > 1 else (at[0] if at else "the best tensions")
+        prefix = "J~ loses rank there (a singular pose); " if singular else ""
+        return f"{prefix}at best, {who} still leave{'s' if n_at == 1 else ''} {' and '.join(short)} short"
 
 
 _ARRAY_FIELDS = (
@@ -183,7 +267,7 @@ def _options(scenario: Scenario, method: str | None, base_model: str | None) -> 
 
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
     names = tuple(TWIST_NAMES[i] for i in uncontrolled(scenario.robot.controlled))
-    return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model)
+    return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model, robot=scenario.robot)
 
 
 def iter_plan(

@@ -1,23 +1,30 @@
 """Files a plan and its simulations produce: CSVs, figures like the paper's 5-7, a report.
 
 Every file is written to a temporary name beside its target and renamed into
-place when complete, so an interrupted run never leaves a half-written file.
+place when complete, so an interrupted run never leaves a half-written file; a
+command writes all its files into a staging folder first (:class:`StagedOutput`), so
+an output folder holds one complete run or the previous one, never a mixture.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
+import signal
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
 
 import numpy as np
 
+from .errors import OutputError
 from .planning import TWIST_NAMES, Plan
 from .scenario import Scenario
 
 __all__ = [
+    "StagedOutput",
     "atomic_path",
     "plan_columns",
     "write_plan_csv",
@@ -28,23 +35,120 @@ __all__ = [
     "write_json",
     "write_report_html",
     "write_virtual_prototype",
+    "plot_path",
+    "error_table",
+    "findings",
+    "describe_base_motion",
+    "length_unit",
+    "beyond_text",
     "write_workspace",
     "write_operability",
 ]
 
 
+def _file_mode() -> int:
+    """The mode a new file gets from open(): 0o666 less the process's umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 @contextmanager
 def atomic_path(path: Path, suffix: str = "") -> Iterator[Path]:
-    """A temporary path in ``path``'s folder, renamed to ``path`` if the block succeeds."""
+    """A temporary path in ``path``'s folder, renamed to ``path`` if the block succeeds.
+
+    The file ends with the mode ``open()`` would give it (the umask honoured), not the
+    temporary file's private 0600.
+    """
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
     os.close(fd)
     try:
         yield Path(tmp)
+        os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+MANIFEST = ".marinecdpr-files"
+"""Hidden file in an output folder listing the files of the run that wrote it."""
+
+
+class StagedOutput:
+    """An output folder that receives a command's files all at once.
+
+    Construct it before the work starts: it creates ``target`` (if needed) and a hidden
+    staging folder inside it, so a folder that cannot be written fails at once. Write
+    every file into the path the ``with`` block yields; when the block ends normally
+    the files replace those of the previous run (the ones its manifest lists; other
+    files in ``target`` are left alone), with SIGINT and SIGTERM held off for the few
+    renames. If the block raises, the staged files are deleted and ``target`` keeps the
+    previous run (or, if this created it, is removed again while still empty).
+
+    Raises
+    ------
+    OutputError
+        If ``target`` is not a folder or cannot be written.
+    """
+
+    def __init__(self, target: Path):
+        self.target = Path(target)
+        if self.target.exists() and not self.target.is_dir():
+            raise OutputError(f"{self.target}: exists and is not a folder")
+        self._created = not self.target.exists()
+        try:
+            self.target.mkdir(parents=True, exist_ok=True)
+            self.stage = Path(tempfile.mkdtemp(prefix=".staging-", dir=self.target))
+        except OSError as exc:
+            raise OutputError(f"{self.target}: cannot write there ({exc.strerror or exc})") from None
+
+    def __enter__(self) -> Path:
+        return self.stage
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                self._commit()
+        finally:
+            shutil.rmtree(self.stage, ignore_errors=True)
+            if exc_type is not None and self._created:
+                try:
+                    self.target.rmdir()  # only while empty
+                except OSError:
+                    pass
+
+    def _commit(self) -> None:
+        new = sorted(p.name for p in self.stage.iterdir())
+        manifest = self.target / MANIFEST
+        try:
+            old = set(manifest.read_text(encoding="utf-8").split("\n")) - {""}
+        except (OSError, UnicodeDecodeError):
+            old = set()
+        with _signals_held():
+            for name in sorted(old - set(new)):
+                stale = self.target / name
+                if "/" not in name and stale.is_file():
+                    stale.unlink()
+            for name in new:
+                os.replace(self.stage / name, self.target / name)
+            with atomic_path(manifest) as tmp:
+                tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM off (delivered after the block) in the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]:
@@ -133,19 +237,20 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     lo_a, hi_a = np.nanmin(plan.tensions_pinv), np.nanmax(plan.tensions_pinv)
     pad = 0.1 * max(hi_a - lo_a, 1.0)
     axes[0].set_ylim(min(lo_a, 0.0) - pad, max(hi_a, robot.tension_min.max()) + pad)
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(8, robot.n_cables + 1), fontsize=9)
     if not plan.all_feasible:
         bad = ~plan.feasible
         axes[1].fill_between(plan.t, 0, 1, where=bad, color="red", alpha=0.15,
-                             transform=axes[1].get_xaxis_transform(), label="infeasible")
+                             transform=axes[1].get_xaxis_transform(), label="infeasible steps")
+    handles, labels = [], []
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(8, len(labels)), fontsize=9)
     axes[1].set_xlabel("t (s)")
-    fig.suptitle(f"Cable tensions: {scenario.name}", fontsize=11)
-    path = Path(path)
-    with atomic_path(path, suffix=path.suffix) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    return path
+    fig.suptitle(f"Cable tensions: {_plain(scenario.name)}", fontsize=11)
+    return _save(fig, path, dpi=120)
 
 
 # ------------------------------------------------------------------ simulations
@@ -155,6 +260,10 @@ RUN_TITLES = {
     "fixed_base_open_loop": "fixed-base plan, open loop",
 }
 RUN_COLOURS = {"open_loop": "C0", "closed_loop": "C2", "fixed_base_open_loop": "C3"}
+# the open loop (the paper's test) is drawn wide and underneath, the closed loop dashed on
+# top, so that both stay visible where they coincide
+RUN_STYLES = {"fixed_base_open_loop": dict(lw=1.3, ls="-"), "open_loop": dict(lw=3.0, ls="-", alpha=0.55),
+              "closed_loop": dict(lw=1.1, ls=(0, (4, 2)))}
 
 
 def _drawing_order(results: dict):
@@ -163,9 +272,19 @@ def _drawing_order(results: dict):
     return sorted(results.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else -1)
 
 
-def _legend_on_top(fig, ax) -> None:
-    handles, labels = ax.get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=9)
+def _run_style(name: str) -> dict:
+    return dict(color=RUN_COLOURS.get(name), **RUN_STYLES.get(name, dict(lw=1.0)))
+
+
+def _legend_below(fig, axes) -> None:
+    """One legend for the figure, below the axes, from every labelled artist of ``axes``."""
+    handles, labels = [], []
+    for ax in np.ravel(axes):
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize=9)
 
 
 def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
@@ -183,12 +302,12 @@ def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
     return _write_csv(names, values, path, int_last=False)
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig, path: Path, dpi: int = 110) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(path)
     with atomic_path(path, suffix=path.suffix) as tmp:
-        fig.savefig(tmp, dpi=110)
+        fig.savefig(tmp, dpi=dpi)
     plt.close(fig)
     return path
 
@@ -202,28 +321,47 @@ def _pyplot():
     return plt
 
 
-def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, actual_prefix: str,
-                       row_height: float, title: str, path: Path) -> Path:
-    """Two columns per row: planned and each run's actual value, and actual minus planned.
+LENGTH_UNITS = ((1.0, "m"), (1e-3, "mm"), (1e-6, "µm"), (1e-9, "nm"))
+"""Units a length is shown in, largest first, with their size in metres."""
 
-    ``rows``: (label, unit, scale, error unit, error scale, value) with ``value(res, planned)``
-    the (n_steps,) series of a SimResult (planned or actual).
+
+def length_unit(largest_m: float) -> tuple[float, str]:
+    """The unit (metres per unit, name) in which ``largest_m`` reads as 1 to 999 (nm at least)."""
+    for size, name in LENGTH_UNITS:
+        if abs(largest_m) >= size:
+            return size, name
+    return LENGTH_UNITS[-1]
+
+
+def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, row_height: float, title: str,
+                       path: Path) -> Path:
+    """Two columns per row: planned and each run's actual value, and |actual - planned| on a
+    log scale (so runs whose errors differ by orders of magnitude all show), in a unit
+    chosen from the data.
+
+    ``rows``: (label, angular, value) with ``value(res, planned)`` the (n_steps,) series
+    of a SimResult (planned or actual) in m, or in deg if ``angular``.
     """
     plt = _pyplot()
     fig, axes = plt.subplots(len(rows), 2, figsize=(11, row_height * len(rows) + 1.5), sharex=True,
                              squeeze=False, constrained_layout=True)
     first = next(iter(results.values()))
-    for (ax, ax_e), (label, unit, k, unit_e, ke, value) in zip(axes, rows):
+    for (ax, ax_e), (label, angular, value) in zip(axes, rows):
+        errors = {name: np.abs(value(res, False) - value(res, True)) for name, res in results.items()}
+        largest = max(float(e.max()) for e in errors.values())
+        size, unit_e = (1.0, "deg") if angular else length_unit(largest)
         for name, res in _drawing_order(results):
-            ax.plot(res.t, k * value(res, False), color=RUN_COLOURS.get(name), lw=0.9,
-                    label=actual_prefix + RUN_TITLES.get(name, name))
-            ax_e.plot(res.t, ke * (value(res, False) - value(res, True)), color=RUN_COLOURS.get(name), lw=0.7)
-        ax.plot(first.t, k * value(first, True), "k--", lw=1.0, label=planned_label)
-        ax.set_ylabel(f"{label} ({unit})")
-        ax_e.set_ylabel(f"{label} error ({unit_e})")
+            ax.plot(res.t, value(res, False), label=RUN_TITLES.get(name, name), **_run_style(name))
+            err = errors[name] / size
+            ax_e.plot(res.t, np.where(err > 0, err, np.nan), color=RUN_COLOURS.get(name), lw=0.8)
+        ax.plot(first.t, value(first, True), "k:", lw=1.1, label=planned_label)
+        ax.set_ylabel(f"{label} ({'deg' if angular else 'm'})")
+        ax_e.set_ylabel(f"|{label} error| ({unit_e})")
+        if largest > 0:
+            ax_e.set_yscale("log")
         ax.grid(alpha=0.3)
-        ax_e.grid(alpha=0.3)
-    _legend_on_top(fig, axes[0, 0])
+        ax_e.grid(alpha=0.3, which="both")
+    _legend_below(fig, axes[0, 0])
     axes[-1, 0].set_xlabel("t (s)")
     axes[-1, 1].set_xlabel("t (s)")
     fig.suptitle(title, fontsize=11)
@@ -232,24 +370,49 @@ def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, actual_
 
 def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
     """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
-    rows = [(f"L{i + 1}", "m", 1.0, "mm", 1e3,
-             lambda res, planned, i=i: (res.lengths_planned if planned else res.lengths)[:, i])
+    rows = [(f"L{i + 1}", False, lambda res, planned, i=i: (res.lengths_planned if planned else res.lengths)[:, i])
             for i in range(scenario.robot.n_cables)]
-    return _planned_vs_actual(results, rows, planned_label="planned (kinematics)", actual_prefix="actual, ",
-                              row_height=1.9, path=path,
-                              title=f"Cable lengths, planned and on the virtual prototype: {scenario.name}")
+    return _planned_vs_actual(results, rows, planned_label="planned (kinematics)", row_height=1.9, path=path,
+                              title=f"Cable lengths, planned and on the virtual prototype: {_plain(scenario.name)}")
 
 
 def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
     """Like the paper's figure 7: planned and actual pose, and the tracking errors."""
     pose_names, dofs = _pose_names(scenario)
-    deg = float(np.degrees(1.0))
-    rows = [(name, "deg" if i >= 3 else "m", deg if i >= 3 else 1.0, "deg" if i >= 3 else "mm",
-             deg if i >= 3 else 1e3,
-             lambda res, planned, i=i: (res.pose_planned if planned else res.pose)[:, i])
+    rows = [(name, i >= 3, lambda res, planned, i=i: (np.degrees if i >= 3 else np.asarray)(
+                (res.pose_planned if planned else res.pose)[:, i]))
             for name, i in zip(pose_names, dofs)]
-    return _planned_vs_actual(results, rows, planned_label="planned", actual_prefix="", row_height=2.2,
-                              path=path, title=f"Tracking on the virtual prototype: {scenario.name}")
+    return _planned_vs_actual(results, rows, planned_label="planned", row_height=2.2, path=path,
+                              title=f"Tracking on the virtual prototype: {_plain(scenario.name)}")
+
+
+def plot_path(results: dict, scenario: Scenario, path: Path) -> Path:
+    """The platform's path in C, planned and of each run, with the frame anchors: the x-z
+    plane for a planar robot; x-z and x-y for a spatial one."""
+    plt = _pyplot()
+    planes = [(0, 2)] if scenario.robot.dofs == "planar" else [(0, 2), (0, 1)]
+    fig, axes = plt.subplots(1, len(planes), figsize=(6.5 * len(planes), 6.0), squeeze=False,
+                             constrained_layout=True)
+    c = scenario.robot.frame_anchors
+    first = next(iter(results.values()))
+    for ax, (i, j) in zip(axes[0], planes):
+        ax.plot(c[:, i], c[:, j], "ks", ms=7, label="frame anchors")
+        for name, res in _drawing_order(results):
+            ax.plot(res.pose[:, i], res.pose[:, j], label=RUN_TITLES.get(name, name), **_run_style(name))
+        ax.plot(first.pose_planned[:, i], first.pose_planned[:, j], "k:", lw=1.1, label="planned")
+        ax.plot(*first.pose_planned[0, [i, j]], "ko", ms=5, label="start")
+        ax.set_xlabel(f"{'xyz'[i]} in C (m)")
+        ax.set_ylabel(f"{'xyz'[j]} in C (m)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+    _legend_below(fig, axes[0, 0])
+    fig.suptitle(f"Platform path in the robot frame C: {_plain(scenario.name)}", fontsize=11)
+    return _save(fig, path)
+
+
+def _plain(text: str) -> str:
+    """``text`` for a matplotlib title, read literally (no mathtext)."""
+    return text.replace("$", r"\$")
 
 
 def write_json(data: dict, path: Path) -> Path:
@@ -261,53 +424,153 @@ def write_json(data: dict, path: Path) -> Path:
     return path
 
 
+def _sim_runs(summary: dict) -> list[str]:
+    return [r for r in ("open_loop", "closed_loop", "fixed_base_open_loop") if r in summary]
+
+
+def _error_rows(summary: dict, scenario: Scenario) -> list[tuple[str, str, list[float], float | None]]:
+    """(label, kind, each run's value, the paper's value or None) of every tracking error:
+    each controlled DOF, the spatial rotation angle, and the largest cable-length error.
+    kind is "m" or "deg"."""
+    runs = _sim_runs(summary)
+    paper = summary.get("paper_reported")
+    rows = []
+    for name, i in zip(*_pose_names(scenario)):
+        if i < 3:
+            key = f"max_abs_error_{TWIST_NAMES[i]}_m"
+            rows.append((name, "m", [summary[r][key] for r in runs], paper.get(key) if paper else None))
+        elif scenario.robot.dofs == "planar":
+            key = "max_abs_error_theta_deg"
+            rows.append((name, "deg", [summary[r][key] for r in runs], paper.get(key) if paper else None))
+        else:
+            rows.append((name, "deg", [summary[r][f"max_abs_error_{name}_deg"] for r in runs], None))
+    if scenario.robot.dofs != "planar":
+        rows.append(("rotation angle", "deg", [summary[r]["max_abs_error_theta_deg"] for r in runs], None))
+    rows.append(("cable length", "m", [max(summary[r]["max_abs_cable_length_error_m"]) for r in runs],
+                 paper.get("max_abs_cable_length_error_m") if paper else None))
+    return rows
+
+
+def error_table(summary: dict, scenario: Scenario) -> tuple[list[str], list[list[str]]]:
+    """The tracking errors as text: header and rows, one unit per row (chosen from its
+    largest value), the paper's column only for the paper's experiment, and a last row
+    saying which runs stayed within the error bound."""
+    runs = _sim_runs(summary)
+    paper = "paper_reported" in summary
+    header = ["max |error|"] + (["paper (Adams, open loop)"] if paper else []) + [RUN_TITLES[r] for r in runs]
+    rows = []
+    for label, kind, values, paper_value in _error_rows(summary, scenario):
+        everything = values + ([paper_value] if paper_value is not None else [])
+        size, unit = (1.0, "deg") if kind == "deg" else length_unit(max(everything))
+        cells = [f"{v / size:.3g}" for v in values]
+        lead = ([f"{paper_value / size:.3g}" if paper_value is not None else "–"] if paper else [])
+        rows.append([f"{label} ({unit})"] + lead + cells)
+    size, unit = length_unit(summary["error_bound_m"])
+    rows.append([f"within {summary['error_bound_m'] / size:.3g} {unit} / {summary['error_bound_deg']:g} deg"]
+                + (["–"] if paper else [])
+                + ["yes" if summary[r]["within_error_bound"] else "NO: " + beyond_text(summary[r]["beyond_error_bound"])
+                   for r in runs])
+    return header, rows
+
+
+def beyond_text(names: list[str]) -> str:
+    """``["x", "rz", "cable 1", "cable 2", "cable 3", "cable 5"]`` as "x, rz, cables 1-3, 5"."""
+    cables = [int(n.split()[1]) for n in names if n.startswith("cable ")]
+    parts = [n for n in names if not n.startswith("cable ")]
+    runs: list[str] = []
+    for i in cables:
+        if runs and runs[-1][1] == i - 1:
+            runs[-1] = (runs[-1][0], i)
+        else:
+            runs.append((i, i))
+    if runs:
+        text = ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in runs)
+        parts.append(("cable " if len(cables) == 1 else "cables ") + text)
+    return ", ".join(parts)
+
+
+def _fmt_length(v: float) -> str:
+    size, unit = length_unit(v)
+    return f"{v / size:.3g} {unit}"
+
+
+def findings(summary: dict, scenario: Scenario) -> list[str]:
+    """What the numbers say, as sentences written from them (for the report and terminal)."""
+    runs = _sim_runs(summary)
+    out = []
+    bound = f"{_fmt_length(summary['error_bound_m'])} and {summary['error_bound_deg']:g} deg"
+
+    def worst(r: str) -> tuple[float, float]:
+        s = summary[r]
+        pos = max(v for k, v in s.items() if k.startswith("max_abs_error_") and k.endswith("_m"))
+        return max(pos, max(s["max_abs_cable_length_error_m"])), s["max_abs_error_theta_deg"]
+
+    for r in runs:
+        pos, ang = worst(r)
+        verdict = ("within the bound" if summary[r]["within_error_bound"] else
+                   "BEYOND the bound (" + beyond_text(summary[r]["beyond_error_bound"]) + ")")
+        out.append(f"{RUN_TITLES[r]}: largest position or cable-length error {_fmt_length(pos)}, "
+                   f"angle {ang:.3g} deg: {verdict} of {bound}.")
+    ideal = scenario.simulation.cables.model == "ideal"
+    if "open_loop" in summary:
+        pos, _ = worst("open_loop")
+        if not summary["open_loop"]["within_error_bound"]:
+            out.append("Open loop leaves its plan: tensions fed forward without feedback do not hold this "
+                       "robot on its path" + (" (with ideal cables plan and plant share one model, so this is "
+                                              "the platform's open-loop instability, not a modelling error)"
+                                              if ideal else "") + "; judge the robot by the closed loop.")
+        elif ideal and pos < 1e-3 * summary["error_bound_m"]:
+            out.append("With ideal cables the plan and the plant share one model: open loop follows the plan "
+                       "but for the hold of the tensions over each step.")
+    if "closed_loop" in summary:
+        out.append("The closed loop holds the platform within the bound." if summary["closed_loop"]["within_error_bound"]
+                   else "The closed loop too leaves the bound: the feedback gains, the sensors or the "
+                        "cables do not hold this robot on its plan.")
+    if "open_loop" in summary and "fixed_base_open_loop" in summary:
+        fixed, moving = worst("fixed_base_open_loop")[0], worst("open_loop")[0]
+        if fixed > 2 * moving:
+            out.append(f"The fixed-base plan, which leaves out the ship's motion, errs by {_fmt_length(fixed)}, "
+                       f"{fixed / max(moving, 1e-300):.3g} times the moving-base plan's {_fmt_length(moving)}: "
+                       "what ignoring the ship costs.")
+    if "paper_reported" in summary:
+        out.append("The paper's column is its section 4.2: open loop on Adams with a 1 ms exchange.")
+    for r in runs:
+        excess = summary[r]["tension_limit_excess_N"]
+        if excess > 0:
+            out.append(f"{RUN_TITLES[r]}: applied tensions left their limits by up to {excess:.3g} N.")
+    return out
+
+
 def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path) -> Path:
-    """One self-contained page: the scenario, every figure, and the paper's errors beside ours."""
+    """One self-contained page: the scenario, the error table (beside the paper's for the
+    paper's experiment), what the numbers say, and every figure."""
     import base64
     import html
 
-    from .analysis import PAPER_REPORTED
-
-    runs = [r for r in ("open_loop", "closed_loop", "fixed_base_open_loop") if r in summary]
     esc = html.escape
-
-    def fmt(v: float, unit: str) -> str:
-        if unit == "deg":
-            return f"{v:.3g} deg"
-        for scale, name in ((1e3, "mm"), (1e6, "µm"), (1e9, "nm")):
-            if v * scale >= 1.0 or name == "nm":
-                return f"{v * scale:.3g} {name}"
-        return f"{v:.3g} m"
-
-    rows = []
-    metrics = [("max |error| x", "max_abs_error_x_m", "m"), ("max |error| z", "max_abs_error_z_m", "m"),
-               ("max |error| angle", "max_abs_error_theta_deg", "deg")]
-    for label, key, unit in metrics:
-        cells = "".join(f"<td>{fmt(summary[r][key], unit)}</td>" for r in runs)
-        rows.append(f"<tr><th>{label}</th><td>{fmt(PAPER_REPORTED[key], unit)}</td>{cells}</tr>")
-    cells = "".join(
-        f"<td>{fmt(max(summary[r]['max_abs_cable_length_error_m']), 'm')} (cable "
-        f"{int(np.argmax(summary[r]['max_abs_cable_length_error_m'])) + 1})</td>" for r in runs)
-    rows.append(f"<tr><th>max |error| cable length</th><td>150 mm (cable 2)</td>{cells}</tr>")
+    runs = _sim_runs(summary)
+    header, rows = error_table(summary, scenario)
+    body = []
+    for row in rows:
+        cells = "".join(f"<td><b>{esc(c)}</b></td>" if c.startswith("NO") else f"<td>{esc(c)}</td>"
+                        for c in row[1:])
+        body.append(f"<tr><th>{esc(row[0])}</th>{cells}</tr>")
+    lead = "<td>–</td>" if "paper_reported" in summary else ""
     cells = "".join(f"<td>{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N</td>"
                     for r in runs)
-    rows.append(f"<tr><th>applied tensions</th><td>–</td>{cells}</tr>")
+    body.append(f"<tr><th>applied tensions</th>{lead}{cells}</tr>")
     cells = "".join(
         "<td>within</td>" if summary[r]["tension_limit_excess_N"] == 0 else
-        f"<td><b>outside by {summary[r]['tension_limit_excess_N']:.2f} N</b></td>" for r in runs)
-    limits = (f"{scenario.robot.tension_min.min():g} .. {scenario.robot.tension_max.max():g} N")
-    rows.append(f"<tr><th>tension limits ({limits})</th><td>–</td>{cells}</tr>")
-    head = "".join(f"<th>{esc(RUN_TITLES[r])}</th>" for r in runs)
+        f"<td><b>outside by {summary[r]['tension_limit_excess_N']:.3g} N</b></td>" for r in runs)
+    limits = f"{scenario.robot.tension_min.min():g} .. {scenario.robot.tension_max.max():g} N"
+    body.append(f"<tr><th>tension limits ({limits})</th>{lead}{cells}</tr>")
+    head = "".join(f"<th>{esc(h)}</th>" for h in header)
     sim = scenario.simulation
     r = scenario.robot
     facts = [
         ("robot", f"{r.dofs}, {r.n_cables} cables, {r.mass_kg:g} kg, tensions "
                   f"{r.tension_min.min():g} .. {r.tension_max.max():g} N"),
-        ("base motion", scenario.base_motion.type + (
-            "" if scenario.base_motion.type == "still" else ": " + ", ".join(
-                f"{c.dof} {c.amplitude_deg if c.amplitude_deg is not None else c.amplitude_m:g}"
-                f"{' deg' if c.amplitude_deg is not None else ' m'} / {c.period_s:g} s"
-                for c in scenario.base_motion.components))),
+        ("base motion", describe_base_motion(scenario.base_motion)),
         ("trajectory", scenario.trajectory.type),
         ("time", f"{scenario.time.duration_s:g} s at {scenario.time.step_s * 1e3:g} ms "
                  f"({summary['steps']} steps)"),
@@ -321,11 +584,13 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
                         f"{sim.control.damping_ratio:g}"),
     ]
     fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
+    notes = "".join(f"<li>{esc(sentence)}</li>" for sentence in findings(summary, scenario))
     imgs = []
     for caption, fig_path in figures.items():
         data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
         imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
                     f"<figcaption>{esc(caption)}</figcaption></figure>")
+    title = "Tracking errors, the paper's and ours" if "paper_reported" in summary else "Tracking errors"
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>marinecdpr: {esc(scenario.name)}</title>
 <style>
@@ -340,16 +605,11 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <h1>Virtual prototype, scenario: {esc(scenario.name)}</h1>
 <p>{esc(scenario.description)}</p>
 <h2>Scenario</h2><table>{fact_rows}</table>
-<h2>Tracking errors, the paper's and ours</h2>
-<table><thead><tr><th></th><th>paper (Adams, open loop)</th>{head}</tr></thead>
-<tbody>{''.join(rows)}</tbody></table>
-<p>Errors are the largest of actual minus planned over the run. The paper's figures are
-from its section 4.2 (open loop on Adams, 1 ms exchange). With ideal cables our plan and
-the plant share one model, so open loop is exact but for the 1 ms hold of the tensions;
-the <i>fixed-base</i> column is the comparable one: a plan from a model that leaves out
-the ship, flown on the moving ship, errs as the paper's Adams run did. With elastic
-cables, winch lag and sensor noise, open loop has no damping of its own and noise drives
-its oscillations up; the closed loop holds them down.</p>
+<h2>{title}</h2>
+<table><thead><tr>{head}</tr></thead>
+<tbody>{''.join(body)}</tbody></table>
+<p>Errors are the largest of |actual − planned| over the run, each row in one unit.</p>
+<ul>{notes}</ul>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>
@@ -358,6 +618,24 @@ its oscillations up; the closed loop holds them down.</p>
     with atomic_path(path) as tmp:
         Path(tmp).write_text(page, encoding="utf-8")
     return path
+
+
+def describe_base_motion(bm) -> str:
+    """One line describing a ``[base_motion]`` of any type."""
+    if bm.type == "still":
+        return "still"
+    if bm.type == "sinusoidal":
+        return "sinusoidal: " + ", ".join(
+            f"{c.dof} {c.amplitude_deg if c.amplitude_deg is not None else c.amplitude_m:g}"
+            f"{' deg' if c.amplitude_deg is not None else ' m'} / {c.period_s:g} s" for c in bm.components)
+    if bm.type == "sea_state":
+        spectrum = {"jonswap": "JONSWAP", "pierson_moskowitz": "Pierson-Moskowitz"}[bm.spectrum]
+        return (f"sea state: {spectrum}, Hs {bm.hs_m:g} m, Tp {bm.tp_s:g} s, heading {bm.heading_deg:g} deg, "
+                f"spreading {bm.spreading}, RAOs from {bm.rao.source.replace('_', ' ')}, seed {bm.seed}")
+    if bm.type == "recorded":
+        return (f"recorded: {Path(bm.file).name} (z {bm.z_axis}, angles in {bm.angles}, "
+                f"from {bm.start_s:g} s of the record)")
+    return bm.type
 
 
 def write_virtual_prototype(vp, folder: Path) -> list[Path]:
@@ -376,6 +654,8 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
             plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png"),
         "Figure 7: planned and actual pose, and the tracking errors":
             plot_tracking(vp.results, sc, folder / "tracking.png"),
+        "The platform's path in C, planned and actual":
+            plot_path(vp.results, sc, folder / "path.png"),
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
@@ -413,7 +693,7 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
         ax.set_xlabel(f"{ws.axes[0]} in C (m)")
         ax.set_ylabel(f"{ws.axes[1]} in C (m)")
         fig.colorbar(im, ax=ax, shrink=0.8)
-    fig.suptitle(f"Workspace under ship motion: {scenario.name} ({scenario.base_motion.type}, "
+    fig.suptitle(f"Workspace under ship motion: {_plain(scenario.name)} ({scenario.base_motion.type}, "
                  f"{ws.n_steps} steps; {ws.fixed['axis']} = {ws.fixed['value_m']:g} m held)", fontsize=10)
     return [csv_path, _save(fig, folder / "workspace.png")]
 
@@ -459,7 +739,7 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
         ax.set_xlabel("Tp (s)")
         ax.set_ylabel("Hs (m)")
         ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %", fontsize=10)
-    fig.suptitle(f"Operability of {scenario.name} (green: workable with {op.margin_N:g} N margin; "
+    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: workable with {op.margin_N:g} N margin; "
                  "numbers: probability %)", fontsize=10)
     paths.append(_save(fig, folder / "operability.png"))
     return paths

@@ -43,6 +43,7 @@ __all__ = [
     "SHIP_DOFS",
     "CONTROLLED_DOFS",
     "TENSION_METHODS",
+    "scale_warnings",
 ]
 
 SHIP_DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
@@ -527,6 +528,11 @@ class Simulation(_Model):
     """Platform position error at t = 0 (actual minus planned), in C, m."""
     initial_error_deg: Vec3 = (0.0, 0.0, 0.0)
     """Platform orientation error at t = 0 (rx, ry, rz), deg."""
+    max_error_m: PositiveFloat | None = None
+    """A run whose position or cable-length error passes this is flagged; default 1% of
+    the frame's largest extent."""
+    max_error_deg: PositiveFloat = 1.0
+    """A run whose orientation error passes this is flagged, deg."""
 
 
 class Environment(_Model):
@@ -592,6 +598,56 @@ class Scenario(_Model):
         for key, value in sections.items():
             data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
         return Scenario.model_validate(data)
+
+
+# ----------------------------------------------------------------------- scale
+FRAME_EXTENT_RANGE_M = (0.05, 200.0)
+"""Sizes of a cable robot's frame (the box of its frame anchors, largest side) that pass unremarked, m."""
+PLATFORM_EXTENT_MAX_M = 50.0
+"""Largest platform (the box of its anchors, largest side) that passes unremarked, m."""
+
+
+def scale_warnings(scenario: Scenario) -> list[str]:
+    """One-line warnings when the robot's size is far outside cable-robot scale.
+
+    Lengths in scenarios are in metres; a robot drawn in millimetres (a 4 km frame,
+    a 400 m platform) still validates, and only plans badly. This names the sizes
+    that look wrong and the likely cause. The frame's size is the largest side of
+    the box of its frame anchors; the platform's, of the box of its platform anchors.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    list of str
+        Empty when the sizes look like a cable robot's.
+    """
+    robot = scenario.robot
+    frame = float(np.ptp(robot.frame_anchors, axis=0).max())
+    platform = float(np.ptp(robot.platform_anchors, axis=0).max())
+    lo, hi = FRAME_EXTENT_RANGE_M
+    facts = []
+    if frame > hi:
+        facts.append(f"the frame anchors span {frame:.4g} m (more than {hi:g} m)")
+    elif frame < lo:
+        facts.append(f"the frame anchors span only {frame:.4g} m (less than {lo * 100:g} cm)")
+    if platform > PLATFORM_EXTENT_MAX_M:
+        facts.append(f"the platform anchors span {platform:.4g} m (more than {PLATFORM_EXTENT_MAX_M:g} m)")
+    if platform > frame:
+        facts.append(f"the platform ({platform:.4g} m) is larger than the frame ({frame:.4g} m)")
+    if not facts:
+        return []
+    if frame > hi and lo <= frame / 1000 <= hi:
+        cause = "coordinates look like millimetres: scenario lengths are in metres (divide by 1000)"
+    elif lo <= frame <= hi and platform > PLATFORM_EXTENT_MAX_M and platform / 1000 <= frame:
+        cause = "the platform anchors look like millimetres: platform_anchor_m is in metres"
+    elif lo <= frame <= hi:
+        cause = "platform_anchor_m is measured from the platform's centre of mass (in P), in metres"
+    else:
+        cause = "scenario lengths are in metres"
+    return [f"robot size far outside cable-robot scale: {'; '.join(facts)}; {cause}"]
 
 
 # --------------------------------------------------------------------- loading

@@ -36,7 +36,7 @@ from .errors import InfeasibleError, SimulationDivergedError
 from .planning import Plan, plan_at
 from .rotations import matrix_from_euler
 from .scenario import Scenario
-from .trajectory import evaluate_disturbance, evaluate_trajectory
+from .trajectory import evaluate_disturbance
 
 __all__ = ["RUNS", "SimResult", "simulate"]
 
@@ -109,12 +109,13 @@ def _euler_from_R(R, out):
 
 @njit(cache=_cache)
 def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
-             closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
+             closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
              cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app):
     """One exchange: controller command, then the cable/actuator model. Returns 1 on fallback.
 
-    The ``ref_*`` arrays hold the plan at mid-step, t_k + h/2.
+    The ``ref_*`` arrays hold the plan at mid-step, t_k + h/2. ``f_C``, ``m_C`` hold the
+    disturbance in C, or in P if ``dist_P`` (then turned with the measured orientation).
     """
     n = c_C.shape[0]
     fallback = 0
@@ -150,8 +151,9 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         a_cmd = ref_a[k] + kd * (ref_v[k] - v_m) + kp * (ref_x[k] - x_m)
         al_cmd = ref_al[k] + kd * (ref_w[k] - w_m) + kp * e_rot
         wr = np.empty(6)
+        f_k, m_k = _disturbance_C(f_C[k], m_C[k], dist_P, R_m)
         K.wrench_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, R_SO, w_s, al_s, eta_m[2, k, :3], origin,
-                      mass, I_PP, g, f_C[k], m_C[k], wr)
+                      mass, I_PP, g, f_k, m_k, wr)
         L_m = np.empty(n)
         J = np.empty((n, 6))
         K.cables_step(x_m, R_m, c_C, p_P, L_m, J)
@@ -200,6 +202,14 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
 
 
 @njit(cache=_cache)
+def _disturbance_C(f, m, dist_P, R):
+    """The disturbance in C: (f, m) as given if in C, R (f, m) if given in P."""
+    if not dist_P:
+        return f, m
+    return R @ f, R @ m
+
+
+@njit(cache=_cache)
 def _length_rates(J, v, w):
     """l' = -J~ (v, omega) (eq. 5)."""
     out = np.empty(J.shape[0])
@@ -233,9 +243,9 @@ def _diverged(x, ref_x):
 @njit(cache=_cache)
 def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd,
                      ship_dofs, body, ship_err,
-                     tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O,
+                     tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, R_SO_k,
                      ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
-                     closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
+                     closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
                      c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
                      cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
                      pose_log, len_log, Tcmd_log, Tapp_log):
@@ -269,7 +279,7 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
     K.cables_step(x, R, c_C, p_P, L, J)
     Ldot = _length_rates(J, v, w)
     fb = _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
-                  closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
+                  closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
                   c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
                   cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app)
     _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
@@ -288,8 +298,13 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
         ship_err[0] = max(ship_err[0], abs(qpos[dof] - q_des[k, j]))
         qfrc[dof] = (tau_ff[k, j] + kp_s[j] * (q_des[k, j] - qpos[dof])
                      + kd_s[j] * (qd_des[k, j] - qvel[dof]))
-    xfrc[body, :3] = f_O[k]
-    xfrc[body, 3:] = m_O[k]
+    if dist_P:  # a load fixed to the platform turns with its actual orientation
+        R_PO = R_SO_k[k] @ R
+        xfrc[body, :3] = R_PO @ f_C[k]
+        xfrc[body, 3:] = R_PO @ m_C[k]
+    else:
+        xfrc[body, :3] = f_O[k]
+        xfrc[body, 3:] = m_O[k]
     return fb
 
 
@@ -308,7 +323,7 @@ def _quat_to_R(q, R):
 
 
 @njit(cache=_cache)
-def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P, mass, I_PP, g,
+def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, dist_P, c_C, p_P, mass, I_PP, g,
              origin, controlled, springs, EA, damping, L0, dy):
     """d/dt of y = (x, quaternion of R_PC, v, omega) in C.
 
@@ -332,8 +347,9 @@ def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P
                 T[i] = max(0.0, EA * (L[i] - L0[i]) / L0[i] + damping * Ldot[i])
     bias = np.empty(6)
     zero = np.zeros(3)
+    f_j, m_j = _disturbance_C(f_C_h[j], m_C_h[j], dist_P, R)
     K.wrench_step(x, v, zero, R, w, zero, R_SO_h[j], w_s_h[j], al_s_h[j], a_SO_h[j], origin,
-                  mass, I_PP, g, f_C_h[j], m_C_h[j], bias)
+                  mass, I_PP, g, f_j, m_j, bias)
     acc = np.empty(6)
     K.forward_step(J, T, bias, R, mass, I_PP, controlled, acc)
     dy[0:3] = v
@@ -349,7 +365,7 @@ def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, c_C, p_P
 @njit(cache=_cache)
 def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
               ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
-              closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C,
+              closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
               c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
               cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
               pose_log, len_log, Tcmd_log, Tapp_log):
@@ -369,20 +385,20 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         Ldot = _length_rates(J, v, w)
         fallbacks += _command(k, h, x.copy(), R, v.copy(), w.copy(), L, Ldot, ref_x, ref_R, ref_v,
                               ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff, closed, kp, kd, eta_m, noise_pose,
-                              noise_twist, noise_T, f_C, m_C, c_C, p_P, mass, I_PP, g, origin,
+                              noise_twist, noise_T, f_C, m_C, dist_P, c_C, p_P, mass, I_PP, g, origin,
                               controlled, lo, hi, method, exact_in_python, cable_model, EA,
                               damping, winch, lag,
                               tau, L0, T_state, T_cmd, T_app)
         _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
         j = 2 * k
         springs = cable_model == 1 and winch == 0
-        _own_rhs(y, T_app, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C, p_P, mass, I_PP, g,
+        _own_rhs(y, T_app, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, dist_P, c_C, p_P, mass, I_PP, g,
                  origin, controlled, springs, EA, damping, L0, k1_)
-        _own_rhs(y + 0.5 * h * k1_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C,
+        _own_rhs(y + 0.5 * h * k1_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, dist_P, c_C,
                  p_P, mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k2_)
-        _own_rhs(y + 0.5 * h * k2_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C,
+        _own_rhs(y + 0.5 * h * k2_, T_app, j + 1, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, dist_P, c_C,
                  p_P, mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k3_)
-        _own_rhs(y + h * k3_, T_app, j + 2, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, c_C, p_P,
+        _own_rhs(y + h * k3_, T_app, j + 2, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch, dist_P, c_C, p_P,
                  mass, I_PP, g, origin, controlled, springs, EA, damping, L0, k4_)
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
@@ -485,10 +501,14 @@ def simulate(
     t_half = np.arange(2 * n + 1) * (0.5 * h)
     ship_h = evaluate_base_motion(scenario.base_motion, t_half)
     dist_f, dist_m = evaluate_disturbance(scenario.disturbance, t_half)
-    # loads given in P turn with the planned platform: the disturbance is a known input
-    plat_h = evaluate_trajectory(scenario.trajectory, t_half)
-    f_C_h, m_C_h = disturbance_in_C(dist_f, dist_m, scenario.disturbance.frame, ship_h.R_SO, plat_h.R_PC)
-    f_C_h, m_C_h = np.ascontiguousarray(f_C_h), np.ascontiguousarray(m_C_h)
+    # loads given in O turn into C with the ship's motion; loads given in P stay in P and the
+    # plant and the controller turn them with the platform's actual (measured) orientation
+    dist_P = scenario.disturbance.frame == "P"
+    if dist_P:
+        f_C_h, m_C_h = dist_f, dist_m
+    else:
+        f_C_h, m_C_h = disturbance_in_C(dist_f, dist_m, scenario.disturbance.frame, ship_h.R_SO, None)
+    f_C_h, m_C_h = np.ascontiguousarray(f_C_h, dtype=float), np.ascontiguousarray(m_C_h, dtype=float)
 
     # sensors
     rng = np.random.default_rng(sim.noise.seed)
@@ -550,7 +570,7 @@ def simulate(
     Tcmd_log, Tapp_log = np.empty((n, m)), np.empty((n, m))
 
     shared = (mid_pose[:, :3], mid_R, mid_twist[:, :3], mid_twist[:, 3:], mid_acc[:, :3], mid_acc[:, 3:],
-              T_ff, L_ff, Ld_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C,
+              T_ff, L_ff, Ld_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
               c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code, exact_in_python,
               cable_model, EA, cab.damping_N_s_m, winch, lag, float(cab.winch_time_constant_s),
               L0, T_state, T_cmd, T_app,
@@ -651,8 +671,8 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
     wn = 2.0 * np.pi * SHIP_SERVO_HZ
     inertia = np.array([SHIP_MASS_KG] * 3 + [SHIP_INERTIA_KG_M2] * 3)
     kp_s, kd_s = inertia * wn * wn, inertia * 2.0 * wn
-    # the plant applies the disturbance in O
-    R_SO = ship_h.R_SO[0:2 * n:2]
+    # the plant applies the disturbance in O (one given in P is turned at each exchange)
+    R_SO = np.ascontiguousarray(ship_h.R_SO[0:2 * n:2])
     f_O = np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, f_C))
     m_O = np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, m_C))
 
@@ -674,7 +694,7 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
     qpos, qvel, ctrl, qfrc, xfrc = data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied
     ten_k, ten_spring, ten_c = model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping
     args = (qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_c, planar, pq, pd, ship_dofs,
-            mm.platform_body, ship_err, tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, *shared)
+            mm.platform_body, ship_err, tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, R_SO, *shared)
     compiled = _mujoco_library()
     every = 500
     for k0 in range(0, n, every):

@@ -219,9 +219,21 @@ def check_in_frame(x_PC: np.ndarray, anchors_C: np.ndarray, c_C: np.ndarray, t: 
         bad = (pts < lo[axis] - tol) | (pts > hi[axis] + tol)
         step, point = np.argwhere(bad)[0]
         what = "the platform's centre" if point == 0 else f"platform anchor {point}"
+        value = float(pts[step, point])
+        edge = float(lo[axis] if value < lo[axis] else hi[axis])
         raise ScenarioError(
             f"the platform leaves the frame at t = {t[step]:.3f} s: {what} is at "
-            f"{'xyz'[axis]} = {pts[step, point]:.4g} m, outside the frame anchors' "
-            f"range [{lo[axis]:g}, {hi[axis]:g}] m",
+            f"{'xyz'[axis]} = {format_apart(value, edge)} m, outside the frame anchors' "
+            f"range [{float(lo[axis])!r}, {float(hi[axis])!r}] m",
             key="trajectory",
         )
+
+
+def format_apart(value: float, other: float, digits: int = 4) -> str:
+    """``value`` with at least ``digits`` significant digits and as many more as it takes
+    to read differently from ``other`` (so 4.0000012 outside [0, 4] does not print as 4)."""
+    for d in range(digits, 18):
+        text = f"{value:.{d}g}"
+        if text != f"{other:.{d}g}":
+            return text
+    return repr(value)

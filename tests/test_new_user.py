@@ -1,0 +1,389 @@
+"""What a new user meets: every scenario and base motion through every command, runs that
+leave their plan flagged, reports that compare with the paper only for the paper, output
+folders that hold one complete run, file modes, figures and small things."""
+
+import json
+import os
+import re
+import stat
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import marinecdpr
+from marinecdpr.analysis import error_bounds, is_paper_scenario, run_summary
+from marinecdpr.basemotion import evaluate_base_motion
+from marinecdpr.cli import app
+from marinecdpr.recorded import write_motion_csv
+from marinecdpr.reports import MANIFEST, atomic_path, beyond_text, error_table, length_unit
+from marinecdpr.simulation import SimResult, simulate
+
+from conftest import make_scenario, paper_dict
+
+runner = CliRunner()
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+MAIN_JOB_FILES = {"plan.csv", "sim_open_loop.csv", "sim_closed_loop.csv", "sim_fixed_base_open_loop.csv",
+                  "tensions.png", "cable_lengths.png", "tracking.png", "path.png", "summary.json", "report.html"}
+
+
+def _recorded_scenario(tmp_path: Path) -> Path:
+    """The paper's scenario on a recorded copy of its own ship motion."""
+    paper = marinecdpr.load_scenario("paper")
+    t = np.arange(0.0, 20.0, 0.01)
+    ship = evaluate_base_motion(paper.base_motion, t)
+    write_motion_csv(tmp_path / "ship.csv", t, ship.eta)
+    text = (EXAMPLES / "paper.toml").read_text()
+    start, end = text.index("[base_motion]"), text.index("[trajectory]")
+    path = tmp_path / "recorded.toml"
+    path.write_text(text[:start] + '[base_motion]\ntype = "recorded"\nfile = "ship.csv"\n\n' + text[end:])
+    return path
+
+
+def _still_scenario(tmp_path: Path) -> Path:
+    text = (EXAMPLES / "paper.toml").read_text()
+    start, end = text.index("[base_motion]"), text.index("[trajectory]")
+    path = tmp_path / "still.toml"
+    path.write_text(text[:start] + '[base_motion]\ntype = "still"\n\n' + text[end:])
+    return path
+
+
+SCENARIOS = ["paper", "paper_elastic", "paper_sea", "examples/spatial_cube8.toml", "recorded", "still"]
+
+
+def _source(name: str, tmp_path: Path) -> str:
+    if name == "recorded":
+        return str(_recorded_scenario(tmp_path))
+    if name == "still":
+        return str(_still_scenario(tmp_path))
+    if name.startswith("examples/"):
+        return str(EXAMPLES / name.split("/")[1])
+    return name
+
+
+def test_every_builtin_scenario_is_in_the_list():
+    assert set(marinecdpr.builtin_scenarios()) <= set(SCENARIOS)
+
+
+@pytest.mark.parametrize("name", SCENARIOS)
+def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
+    """Item 1: simulate crashed on sea-state and recorded motion; every base-motion type
+    (still, sinusoidal, sea_state, recorded) and every built-in runs every command."""
+    src = _source(name, tmp_path)
+    sc = marinecdpr.load_scenario(src)
+    res = runner.invoke(app, ["check", src])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["plan", src, "--out", str(tmp_path / "plan")])
+    assert res.exit_code == 0, res.output
+    rows = np.genfromtxt(tmp_path / "plan" / "plan.csv", delimiter=",", names=True)
+    assert rows.size == sc.time.n_steps and np.all(rows["feasible"] == 1)
+    res = runner.invoke(app, ["simulate", src, "--duration", "0.3", "--out", str(tmp_path / "sim")])
+    assert res.exit_code == 0, res.output
+    assert {p.name for p in (tmp_path / "sim").iterdir()} == MAIN_JOB_FILES | {MANIFEST}
+    s = json.loads((tmp_path / "sim" / "summary.json").read_text())
+    assert s["steps"] == 301 and s["closed_loop"]["within_error_bound"]
+    html = (tmp_path / "sim" / "report.html").read_text()
+    assert sc.base_motion.type.replace("_", " ") in html
+    axes = "xz" if sc.robot.dofs == "planar" else "xy"
+    res = runner.invoke(app, ["workspace", src, "--axes", axes, "--points", "3x2", "--duration", "0.2",
+                              "--step", "0.1", "--out", str(tmp_path / "ws")])
+    assert res.exit_code == 0, res.output
+    assert np.genfromtxt(tmp_path / "ws" / "workspace.csv", delimiter=",", names=True).size == 6
+    res = runner.invoke(app, ["operability", src, "--serial", "--duration", "2", "--step", "0.1",
+                              "--out", str(tmp_path / "op")])
+    if sc.base_motion.type == "sea_state":
+        assert res.exit_code == 0, res.output
+    else:
+        assert res.exit_code == 2 and "needs a [base_motion] of type sea_state" in res.stderr
+        assert "Traceback" not in res.output
+
+
+# ---------------------------------------------------------------- item 2: tumbling
+@pytest.fixture(scope="module")
+def cube8_runs(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cube8")
+    res = runner.invoke(app, ["simulate", str(EXAMPLES / "spatial_cube8.toml"), "--duration", "2.0",
+                              "--out", str(out)])
+    return res, out
+
+
+def test_an_open_loop_that_tumbles_is_flagged_everywhere(cube8_runs):
+    res, out = cube8_runs
+    assert res.exit_code == 0, res.output
+    s = json.loads((out / "summary.json").read_text())
+    # the frame is a 2 m cube: the default bound is 1% of it
+    assert s["error_bound_m"] == pytest.approx(0.02) and s["error_bound_deg"] == 1.0
+    assert s["open_loop"]["max_abs_error_rz_deg"] > 90.0          # it turns over about z
+    assert not s["open_loop"]["within_error_bound"] and "rz" in s["open_loop"]["beyond_error_bound"]
+    assert s["closed_loop"]["within_error_bound"] and s["closed_loop"]["max_abs_error_x_m"] < 1e-5
+    assert s["runs_beyond_error_bound"] == ["open_loop", "fixed_base_open_loop"]
+    assert "warning: open_loop leaves its plan beyond the error bound" in res.stderr
+    html = (out / "report.html").read_text()
+    assert "exact but for" not in html and "follows the plan but for" not in html
+    assert "Open loop leaves its plan" in html and "<b>NO: x, y, z, rx, ry, rz, cables 1-8</b>" in html
+
+
+def test_the_error_bound_comes_from_the_frame_the_scenario_or_the_option(paper, tmp_path):
+    assert error_bounds(paper) == pytest.approx((0.019, 1.0))  # 1% of the 1.9 m frame
+    tight = paper.with_changes(simulation={"max_error_m": 0.002, "max_error_deg": 0.1})
+    assert error_bounds(tight) == (0.002, 0.1)
+    assert error_bounds(tight, 0.5) == (0.5, 0.1)
+    res = runner.invoke(app, ["simulate", "--duration", "0.3", "--max-error", "1e-9", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["error_bound_m"] == 1e-9 and s["runs_beyond_error_bound"] == [
+        "open_loop", "closed_loop", "fixed_base_open_loop"]
+    assert "warning: closed_loop leaves its plan beyond the error bound" in res.stderr
+
+
+def test_paper_open_loop_is_called_exact_only_because_its_numbers_are(tmp_path):
+    res = runner.invoke(app, ["simulate", "--duration", "0.3", "--out", str(tmp_path)])
+    html = (tmp_path / "report.html").read_text()
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["open_loop"]["max_abs_error_x_m"] < 1e-6
+    assert "follows the plan but for the hold" in html and "within the bound" in html
+    assert "warning" not in res.stderr
+
+
+# -------------------------------------------------- item 3: the paper only for the paper
+def test_the_paper_column_only_for_the_papers_experiment(cube8_runs, tmp_path):
+    assert is_paper_scenario(marinecdpr.load_scenario("paper"))
+    assert is_paper_scenario(marinecdpr.load_scenario("paper_elastic"))   # other cables, same experiment
+    assert not is_paper_scenario(marinecdpr.load_scenario("paper_sea"))  # another sea
+    res, out = cube8_runs
+    s = json.loads((out / "summary.json").read_text())
+    html = (out / "report.html").read_text()
+    assert "paper_reported" not in s and "Adams" not in html and "Adams" not in res.stdout
+    # every controlled DOF of the spatial robot has its row, and the rotation angle is named
+    for row in ("x (", "y (", "z (", "rx (deg)", "ry (deg)", "rz (deg)", "rotation angle (deg)"):
+        assert f"<th>{row}" in html, row
+    res = runner.invoke(app, ["simulate", "paper", "--duration", "0.2", "--out", str(tmp_path)])
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["paper_reported"]["max_abs_cable_length_error_m"] == 0.15
+    assert "max_cable_length_error_m" not in s["paper_reported"]  # one name for one quantity
+    assert "paper (Adams, open loop)" in (tmp_path / "report.html").read_text()
+    assert "theta_y (deg)" in res.stdout and "paper (Adams" in res.stdout
+
+
+def test_error_table_uses_one_unit_per_row(paper):
+    s = {"error_bound_m": 0.019, "error_bound_deg": 1.0,
+         "paper_reported": {"max_abs_error_x_m": 0.025, "max_abs_error_z_m": 0.013,
+                            "max_abs_error_theta_deg": 0.48, "max_abs_cable_length_error_m": 0.15}}
+    for run, e in (("open_loop", 1.4e-7), ("closed_loop", 1.1e-6), ("fixed_base_open_loop", 0.033)):
+        s[run] = {"max_abs_error_x_m": e, "max_abs_error_z_m": e / 10, "max_abs_error_theta_deg": 7e-6,
+                  "max_abs_cable_length_error_m": [e, 2 * e, e, e], "within_error_bound": e < 0.019,
+                  "beyond_error_bound": [] if e < 0.019 else ["x", "cable 2"]}
+    header, rows = error_table(s, paper)
+    assert header[1] == "paper (Adams, open loop)"
+    assert rows[0] == ["x (mm)", "25", "0.00014", "0.0011", "33"]
+    assert rows[1] == ["z (mm)", "13", "1.4e-05", "0.00011", "3.3"]
+    assert rows[3] == ["cable length (mm)", "150", "0.00028", "0.0022", "66"]
+    assert rows[4][-1] == "NO: x, cable 2" and rows[4][2] == "yes"
+    assert length_unit(3.3e-8) == (1e-9, "nm") and length_unit(0.0) == (1e-9, "nm")
+    assert length_unit(2.5e-4) == (1e-6, "µm") and length_unit(1.2) == (1.0, "m")
+    assert beyond_text(["x", "cable 1", "cable 2", "cable 3", "cable 5"]) == "x, cables 1-3, 5"
+
+
+# ------------------------------------------------------------- item 4: output folders
+def _main_job(tmp_path, scenario="paper", duration="0.2"):
+    return runner.invoke(app, ["simulate", scenario, "--duration", duration, "--out", str(tmp_path)])
+
+
+def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    assert _main_job(out).exit_code == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    # a crash while writing the report (a full disk, say): one line, exit 2, nothing changed
+    import marinecdpr.reports as reports
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(reports, "write_report_html", full)
+    res = _main_job(out, "paper_sea")
+    assert res.exit_code == 2 and "Traceback" not in res.output
+    assert res.stderr.strip().splitlines() == [
+        f"error: --out {out}: could not write the files (No space left on device); the folder keeps what it held"]
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    assert _main_job(out).exit_code == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    import marinecdpr.analysis as analysis
+
+    calls = []
+
+    def interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return simulate(*args, **kwargs)
+
+    monkeypatch.setattr(analysis, "simulate", interrupted)
+    res = _main_job(out, "paper_sea")
+    assert res.exit_code != 0 and len(calls) == 2
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert json.loads((out / "summary.json").read_text())["scenario"] == "paper"
+
+
+def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    assert _main_job(out).exit_code == 0
+    res = runner.invoke(app, ["plan", "paper_sea", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    # the plan's files replace the main job's: no report of one scenario beside another's CSVs
+    assert {p.name for p in out.iterdir()} == {"plan.csv", "tensions.png", "notes.txt", MANIFEST}
+    assert (out / "notes.txt").read_text() == "mine"
+    assert _main_job(out, "paper_sea").exit_code == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"] == "paper_sea" and "paper_sea" in (out / "report.html").read_text()
+
+
+@pytest.mark.parametrize("command", [["simulate"], ["plan"], ["workspace", "--points", "2x2"],
+                                     ["operability", "paper_sea", "--serial"]])
+def test_an_output_folder_that_cannot_be_written_fails_before_the_work(command, tmp_path, monkeypatch):
+    import marinecdpr.analysis
+    import marinecdpr.operability
+    import marinecdpr.planning
+    import marinecdpr.workspace
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the work started")
+
+    for module, name in ((marinecdpr.analysis, "virtual_prototype"), (marinecdpr.planning, "plan"),
+                         (marinecdpr.workspace, "workspace_map"), (marinecdpr.operability, "operability")):
+        monkeypatch.setattr(module, name, no_work)
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    res = runner.invoke(app, command + ["--out", str(blocker / "out")])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: --out {blocker / 'out'}: cannot write there")
+    res = runner.invoke(app, command + ["--out", str(blocker)])
+    assert res.exit_code == 2 and "exists and is not a folder" in res.stderr
+
+
+# ---------------------------------------------------------------- item 5: file modes
+def test_output_files_honour_the_umask(tmp_path):
+    old = os.umask(0o022)
+    try:
+        assert runner.invoke(app, ["plan", "--out", str(tmp_path / "o")]).exit_code == 0
+        with atomic_path(tmp_path / "x.txt") as tmp:
+            tmp.write_text("x")
+    finally:
+        os.umask(old)
+    for p in [tmp_path / "o" / "plan.csv", tmp_path / "o" / "tensions.png", tmp_path / "x.txt"]:
+        assert stat.S_IMODE(p.stat().st_mode) == 0o644, p
+
+
+# ------------------------------------------------------------------- item 6: figures
+def _captured_figures(monkeypatch):
+    import marinecdpr.reports as reports
+
+    figs = {}
+
+    def keep(fig, path, dpi=None):
+        figs[Path(path).name] = fig
+        return Path(path)
+
+    monkeypatch.setattr(reports, "_save", keep)
+    return figs
+
+
+def test_error_panels_are_log_scaled_in_units_from_the_data(paper, monkeypatch, tmp_path):
+    from marinecdpr.reports import plot_tracking
+
+    runs = {run: simulate(paper, run=run, n_steps=400) for run in ("open_loop", "closed_loop",
+                                                                    "fixed_base_open_loop")}
+    figs = _captured_figures(monkeypatch)
+    plot_tracking(runs, paper, tmp_path / "tracking.png")
+    axes = figs["tracking.png"].axes
+    x_err = axes[1]
+    assert x_err.get_yscale() == "log"
+    largest = max(np.abs(r.pose_error[:, 0]).max() for r in runs.values())
+    size, unit = length_unit(largest)
+    assert x_err.get_ylabel() == f"|x error| ({unit})" and 1.0 <= largest / size < 1000.0
+    # each run is drawn, the open loop under the closed loop with a wider line
+    lines = {ln.get_label(): ln for ln in axes[0].get_lines()}
+    assert lines["open loop (plan fed forward)"].get_linewidth() > 2 * lines[
+        "closed loop (computed torque)"].get_linewidth()
+    np.testing.assert_allclose(x_err.get_lines()[1].get_ydata(),  # open loop: the 2nd drawn
+                               np.where(np.abs(runs["open_loop"].pose_error[:, 0]) > 0,
+                                        np.abs(runs["open_loop"].pose_error[:, 0]) / size, np.nan))
+
+
+def test_tension_figure_names_infeasible_steps_in_its_legend(monkeypatch, tmp_path):
+    from marinecdpr.reports import plot_tensions
+
+    heavy = make_scenario(lambda d: (d["robot"].update(mass_kg=20.0), d["time"].update(duration_s=4.0)))
+    p = marinecdpr.plan(heavy)
+    assert 0 < p.feasible.sum() < p.n_steps
+    figs = _captured_figures(monkeypatch)
+    plot_tensions(p, heavy, tmp_path / "tensions.png")
+    labels = [t.get_text() for t in figs["tensions.png"].legends[0].get_texts()]
+    assert "infeasible steps" in labels and "cable 1" in labels
+
+
+def test_a_rounding_excess_is_not_a_tension_outside_its_limits(paper):
+    n = 5
+    T = np.full((n, 4), 100.0)
+    pose = np.zeros((n, 6))
+    res = SimResult("open_loop", "own", np.arange(n) * 1e-3, pose, pose, np.ones((n, 4)), np.ones((n, 4)), T, T,
+                    0, 0.0)
+    T[2, 1] = 450.0 + 7e-15 * 450
+    assert run_summary(res, paper)["tension_limit_excess_N"] == 0.0
+    T[2, 1] = 450.2
+    assert run_summary(res, paper)["tension_limit_excess_N"] == pytest.approx(0.2)
+
+
+# --------------------------------------------------------------- item 9: small things
+def test_version_and_scenario_descriptions():
+    res = runner.invoke(app, ["--version"])
+    assert res.exit_code == 0 and res.stdout.strip() == f"marinecdpr {marinecdpr.__version__}"
+    lines = runner.invoke(app, ["scenarios"]).stdout.strip().splitlines()
+    assert [ln.split()[0] for ln in lines] == marinecdpr.builtin_scenarios()
+    for ln in lines:
+        name = ln.split()[0]
+        assert ln[len(name):].strip() == marinecdpr.load_scenario(name).description
+
+
+def test_the_title_says_wall_time(tmp_path):
+    res = runner.invoke(app, ["simulate", "--duration", "0.1", "--out", str(tmp_path)])
+    assert re.search(r"\d+\.\d s wall time\)", res.stdout)
+
+
+def test_leaving_the_frame_prints_enough_digits(tmp_path):
+    data = paper_dict()
+    data["trajectory"] = {"type": "line", "start_position_m": [1.9 - 0.125 + 1.2e-6, 0.0, 0.7],
+                          "end_position_m": [0.95, 0.0, 0.7], "duration_s": 1.0}
+    data["time"]["duration_s"] = 2.0
+    from marinecdpr.errors import ScenarioError
+    from marinecdpr.scenario import scenario_from_dict
+
+    with pytest.raises(ScenarioError, match=r"x = 1\.900001 m, outside the frame anchors' range \[0\.0, 1\.9\] m"):
+        marinecdpr.plan(scenario_from_dict(data))
+
+
+def test_a_load_fixed_to_the_platform_turns_with_its_actual_orientation():
+    """A platform held 8 deg off its plan by a slow controller, with 50 N pushing along its own
+    z axis: the controller knows the load turns with the platform, so the platform stays where
+    it is. Turned with the planned orientation instead, the load would push it 7 N sideways
+    (1.7 mm in 50 ms)."""
+    def edit(d):
+        d["base_motion"] = {"type": "still"}
+        d["trajectory"] = {"type": "line", "start_position_m": [0.95, 0.0, 0.7],
+                           "end_position_m": [0.95, 0.0, 0.7], "duration_s": 1.0}
+        d["time"] = {"step_s": 0.001, "duration_s": 0.05}
+        d["simulation"] = {"initial_error_deg": [0.0, 8.0, 0.0], "control": {"bandwidth_hz": 0.01}}
+        d["disturbance"] = {"frame": "P", "force_N": [0.0, 0.0, 50.0]}
+
+    sc = make_scenario(edit)
+    for plant in ("own", "mujoco"):
+        r = simulate(sc, run="closed_loop", plant=plant)
+        assert r.controller_fallbacks == 0
+        assert np.abs(r.pose_error[:, :3]).max() < 1e-8, plant
