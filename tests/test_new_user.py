@@ -224,7 +224,8 @@ def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch)
 
     monkeypatch.setattr(analysis, "simulate", interrupted)
     res = _main_job(out, "paper_sea")
-    assert res.exit_code != 0 and len(calls) == 2
+    assert res.exit_code == 130 and len(calls) == 2
+    assert res.stderr.strip().splitlines()[-1] == f"error: interrupted; --out {out} keeps what it held"
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert json.loads((out / "summary.json").read_text())["scenario"] == "paper"
 
@@ -352,9 +353,12 @@ def test_version_and_scenario_descriptions():
         assert ln[len(name):].strip() == marinecdpr.load_scenario(name).description
 
 
-def test_the_title_says_wall_time(tmp_path):
+def test_the_title_says_wall_time_and_progress_shows_when_piped(tmp_path):
     res = runner.invoke(app, ["simulate", "--duration", "0.1", "--out", str(tmp_path)])
     assert re.search(r"\d+\.\d s wall time\)", res.stdout)
+    # not a terminal: plain progress lines, the last of each run saying it is done
+    for title in ("open loop (plan fed forward)", "closed loop (computed torque)", "fixed-base plan, open loop"):
+        assert re.search(rf"{re.escape(title)}: 101 of 101 steps in ", res.stderr), res.stderr
 
 
 def test_leaving_the_frame_prints_enough_digits(tmp_path):

@@ -25,6 +25,7 @@ from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
 EXIT_DIVERGED = 4
+EXIT_INTERRUPTED = 130
 
 app = typer.Typer(
     add_completion=False,
@@ -139,8 +140,6 @@ def simulate(
     plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
     report.html.
     """
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     from .analysis import virtual_prototype
     from .reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
     from .simulation import RUNS
@@ -156,9 +155,7 @@ def simulate(
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
-        with Progress(TextColumn("{task.description:<34}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
-                      TimeElapsedColumn(), console=err_console, transient=False,
-                      disable=not err_console.is_terminal) as bar:
+        with _progress_bar("simulate", "steps") as bar:
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
             def progress(run: str, done: int, total: int) -> None:
@@ -209,6 +206,8 @@ def _output(out: Path):
             yield folder
     except OSError as exc:
         _fail(f"--out {out}: could not write the files ({exc.strerror or exc}); the folder keeps what it held")
+    except KeyboardInterrupt:
+        _fail(f"interrupted; --out {out} keeps what it held", EXIT_INTERRUPTED)
 
 
 PROGRESS_LINE_FRACTION = 0.1
@@ -250,6 +249,10 @@ class _PlainProgress:
     def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
                advance: float | None = None, **_) -> None:
         task = self._tasks[task_id]
+        if not task["done"] and not task["finished"]:
+            # tasks that run one after another: a task's clock starts when the last one finished
+            ends = [t["ended"] for t in self._tasks if t["finished"]]
+            task["start"] = max([task["start"]] + ends)
         if total is not None:
             task["total"] = total
         if completed is not None:
@@ -286,7 +289,7 @@ class _PlainProgress:
             left = f", about {_seconds(elapsed * (total - done) / done)} left" if total and done else ""
             text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
         err_console.print(escape(text), highlight=False, soft_wrap=True)
-        task.update(printed=done, printed_at=now, finished=final)
+        task.update(printed=done, printed_at=now, finished=final, ended=now)
 
 
 def _progress_bar(label: str, unit: str = ""):
