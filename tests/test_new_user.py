@@ -203,8 +203,9 @@ def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
     monkeypatch.setattr(reports, "write_report_html", full)
     res = _main_job(out, "paper_sea")
     assert res.exit_code == 2 and "Traceback" not in res.output
-    assert res.stderr.strip().splitlines() == [
-        f"error: --out {out}: could not write the files (No space left on device); the folder keeps what it held"]
+    lines = res.stderr.strip().splitlines()
+    assert lines[-1] == f"error: --out {out}: could not write the files (No space left on device); the folder keeps what it held"
+    assert all(ln.startswith("simulate: ") for ln in lines[:-1])  # the progress lines before it
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
