@@ -68,7 +68,7 @@ def test_dask_gives_the_serial_results():
 
 def test_scatter_csv(tmp_path):
     good = tmp_path / "s.csv"
-    good.write_text("hs_m,tp_s,probability\n1,6,30\n2,6,10\n1,8,60\n")
+    good.write_text("hs_m,tp_s,probability\n1,6,0.3\n2,6,0.1\n1,8,0.6\n")
     d = read_scatter_csv(good)
     np.testing.assert_array_equal(d.hs, [1, 2])
     np.testing.assert_array_equal(d.tp, [6, 8])
@@ -102,7 +102,7 @@ def test_tracking_error_criterion():
 def test_operability_over_a_workspace_grid():
     """Judging held poses over the frame: the workable share of the frame shrinks in rough seas."""
     diagram = ScatterDiagram(np.array([0.1, 6.0]), np.array([10.0]), np.full((2, 1), 0.5))
-    kw = dict(headings_deg=(90.0,), duration_s=60.0, step_s=0.05, workspace=(8, 6))
+    kw = dict(headings_deg=(90.0,), duration_s=60.0, step_s=0.05, workspace=(12, 8))
     op = operability(sea_robot(5.0), diagram, min_area=0.0, **kw)
     calm, rough = op.results
     assert 0.0 < rough.fraction_feasible < calm.fraction_feasible <= 1.0

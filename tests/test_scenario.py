@@ -30,7 +30,7 @@ CASES = {
     "non-number": (lambda d: d["robot"].update(mass_kg="5"),
                    "robot.mass_kg: Input should be a valid number (got '5')"),
     "negative mass": (lambda d: d["robot"].update(mass_kg=-5.0),
-                      "robot.mass_kg: Input should be greater than 0"),
+                      "robot.mass_kg: must be between 0.001 and 100000 kg"),
     "asymmetric inertia": (lambda d: d["robot"].update(inertia_kg_m2=[[0.03, 0.01, 0], [0, 0.03, 0], [0, 0, 0.06]]),
                            "robot.inertia_kg_m2: inertia matrix is not symmetric"),
     "indefinite inertia": (lambda d: d["robot"].update(inertia_kg_m2=[0.03, -0.03, 0.06]),
@@ -57,7 +57,7 @@ CASES = {
     "planar rotation": (lambda d: d["trajectory"].update(orientation_deg=[5.0, 0.0, 0.0]),
                         "trajectory.orientation_deg: a planar robot turns only about y"),
     "not finite": (lambda d: d["time"].update(step_s=float("nan")),
-                   "time.step_s: Input should be a finite number"),
+                   "time.step_s: must be a finite number between 1e-5 and 1 s"),
     "waypoint times": (lambda d: d.update(trajectory=dict(type="waypoints", waypoints=[
         dict(time_s=0.0, position_m=[0.5, 0, 0.5]), dict(time_s=0.0, position_m=[0.6, 0, 0.5])])),
                        "trajectory.waypoints[2].time_s: must be later than waypoint 1's"),

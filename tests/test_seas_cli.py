@@ -56,7 +56,8 @@ def test_operability_command(tmp_path):
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "o" / "operability.json").read_text())
     assert s["operability"] == 1.0 and s["cells"] == 4 and set(s["per_heading"]) == {"180", "90"}
-    assert s["limiting_hs_m"]["90"] == {"7": 0.5, "9": 1.5}
+    # every sea state of each Tp is workable: no limit within the diagram (null), not the top row's Hs
+    assert s["limiting_hs_m"]["90"] == {"7": None, "9": None}
     assert (tmp_path / "o" / "operability.png").exists()
     bad = runner.invoke(app, ["operability", "paper", "--serial", "--out", str(tmp_path / "p")])
     assert bad.exit_code == 2 and "needs a [base_motion] of type sea_state" in bad.stderr

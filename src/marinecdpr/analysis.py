@@ -12,7 +12,7 @@ from .scenario import Scenario
 from .simulation import RUNS, SimResult, simulate
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
-           "is_paper_scenario", "error_bounds"]
+           "is_paper_scenario", "error_bounds", "run_warnings"]
 
 PAPER_REPORTED = {
     "max_abs_error_x_m": 0.025,
@@ -141,6 +141,35 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     for name, res in results.items():
         out[name] = run_summary(res, scenario, max_error_m=max_error_m)
     out["runs_beyond_error_bound"] = [name for name in results if not out[name]["within_error_bound"]]
+    out["warnings"] = run_warnings(results, scenario)
+    return out
+
+
+FALLBACK_WARNING_FRACTION = 0.01
+"""Share of closed-loop steps fed the plan's tensions beyond which the run is not what the
+controller designed (its feedback asked for tensions outside the limits)."""
+SAMPLES_PER_BANDWIDTH = 10.0
+"""A sampled controller behaves as designed only with an exchange rate at least this many
+times its bandwidth."""
+
+
+def run_warnings(results: dict[str, SimResult], scenario: Scenario) -> list[str]:
+    """Runs that stayed bounded but mean less than their numbers say, one sentence each:
+    a closed loop sampled too slowly for its bandwidth, or one that could not find tensions
+    within the limits at many steps and fed the plan's forward instead."""
+    out = []
+    h = scenario.time.step_s
+    bw = scenario.simulation.control.bandwidth_hz
+    if "closed_loop" in results and bw * SAMPLES_PER_BANDWIDTH * h > 1.0:
+        out.append(f"closed_loop: the controller's bandwidth ({bw:g} Hz) is above 1/{SAMPLES_PER_BANDWIDTH:g} of "
+                   f"the {1.0 / h:g} Hz exchange: sampled this slowly it does not behave as designed "
+                   f"(use at most {1.0 / (SAMPLES_PER_BANDWIDTH * h):g} Hz)")
+    for name, res in results.items():
+        n = res.t.size
+        if res.controller_fallbacks > FALLBACK_WARNING_FRACTION * n:
+            out.append(f"{name}: at {res.controller_fallbacks} of {n} steps the feedback asked for tensions "
+                       "outside the limits and the plan's were fed forward instead: the run shows the plan, "
+                       "not the controller (gains too high for the step, or measurements too noisy)")
     return out
 
 

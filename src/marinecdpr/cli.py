@@ -7,6 +7,7 @@ hold the platform somewhere on the plan (``plan`` still writes its outputs, comp
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from contextlib import contextmanager
@@ -21,6 +22,7 @@ from rich.table import Table
 from .errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from .memory import keep_freed_memory
 from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
+from .textfiles import strip_control
 
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
@@ -53,9 +55,26 @@ def _options(
     """Cable-driven parallel robots on a moving ship."""
 
 
+def _plain(text: object) -> str:
+    """Text from a user (names, paths, messages) for the terminal, read literally: control
+    characters (ANSI escapes) removed and rich markup escaped."""
+    return escape(strip_control(str(text)))
+
+
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
-    err_console.print(f"[bold red]error:[/] {escape(message)}", highlight=False, soft_wrap=True)
+    err_console.print(f"[bold red]error:[/] {_plain(message)}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)
+
+
+def _number(flag: str, value: float | None, *, zero_ok: bool = False, finite_only: bool = False) -> None:
+    """Refuse an option's number that is not finite, or (unless ``finite_only``) not positive
+    (not negative with ``zero_ok``): one line, exit 2."""
+    if value is None:
+        return
+    if not math.isfinite(value):
+        _fail(f"{flag} {value}: expected a finite number")
+    if not finite_only and (value < 0 or (value == 0 and not zero_ok)):
+        _fail(f"{flag} {value:g}: expected a {'non-negative' if zero_ok else 'positive'} number")
 
 
 def _fail_scenario(exc: ScenarioError, scenario: str) -> None:
@@ -78,51 +97,41 @@ def plan(
     ),
 ) -> None:
     """Plan cable tensions along the scenario's trajectory on its moving ship."""
-    from .planning import plan as make_plan
-    from .reports import plot_tensions, write_plan_csv
+    from . import planning
+    from .budget import check_run_size
+    from .reports import write_plan_stream
 
     if method is not None and method not in TENSION_METHODS:
         _fail(f"--method {method}: expected one of {', '.join(TENSION_METHODS)}")
     try:
         sc = load_scenario(scenario)
         _warn_scale(sc, scenario)
+        check_run_size(sc, "plan_stream")
         with _output(out) as folder:
-            t0 = time.perf_counter()
-            result = make_plan(sc, method=method, base_model="fixed" if fixed_base else None)
-            elapsed = time.perf_counter() - t0
-            write_plan_csv(result, sc, folder / "plan.csv")
-            plot_tensions(result, sc, folder / "tensions.png")
+            # planned, written and drawn in chunks: memory stays flat however long the plan
+            pieces = planning.iter_plan(sc, method=method, base_model="fixed" if fixed_base else None,
+                                        chunk_steps=planning.DEFAULT_CHUNK_STEPS)
+            result = write_plan_stream(pieces, sc, folder / "plan.csv", folder / "tensions.png")
+            elapsed = result.planning_s
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     csv_path, fig_path = out / "plan.csv", out / "tensions.png"
 
-    table = Table(title=f"plan: {sc.name} ({result.method}, {result.base_model} base)")
+    table = Table(title=f"plan: {_plain(sc.name)} ({result.method}, {result.base_model} base)")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     table.add_row("steps", f"{result.n_steps} ({elapsed * 1e3:.1f} ms)")
-    table.add_row("feasible steps", f"{int(result.feasible.sum())} of {result.n_steps}")
-    table.add_row("eq. 18 tensions (N)", f"{_nanmin(result.tensions_pinv):.2f} .. {_nanmax(result.tensions_pinv):.2f}")
-    table.add_row("planned tensions (N)", f"{_nanmin(result.tensions):.2f} .. {_nanmax(result.tensions):.2f}")
+    table.add_row("feasible steps", f"{result.n_feasible} of {result.n_steps}")
+    table.add_row("eq. 18 tensions (N)", "{:.2f} .. {:.2f}".format(*result.pinv_range))
+    table.add_row("planned tensions (N)", "{:.2f} .. {:.2f}".format(*result.tension_range))
     table.add_row("written", f"{csv_path}\n{fig_path}")
     console.print(table)
     problem = result.infeasibility()
     if problem is not None:
-        err_console.print(f"[bold yellow]infeasible:[/] {escape(sc.name)}: {escape(problem)}", highlight=False,
+        err_console.print(f"[bold yellow]infeasible:[/] {_plain(sc.name)}: {_plain(problem)}", highlight=False,
                           soft_wrap=True)
         if not allow_infeasible:
             raise typer.Exit(EXIT_INFEASIBLE)
-
-
-def _nanmin(a) -> float:
-    import numpy as np
-
-    return float(np.nanmin(a)) if np.isfinite(a).any() else float("nan")
-
-
-def _nanmax(a) -> float:
-    import numpy as np
-
-    return float(np.nanmax(a)) if np.isfinite(a).any() else float("nan")
 
 
 @app.command()
@@ -130,8 +139,8 @@ def simulate(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for the CSVs, figures and report."),
     plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
-    duration: Optional[float] = typer.Option(None, min=0.0, help="Simulate only the first seconds."),
-    max_error: Optional[float] = typer.Option(None, min=0.0, help="Flag runs whose position or cable-length "
+    duration: Optional[float] = typer.Option(None, help="Simulate only the first seconds."),
+    max_error: Optional[float] = typer.Option(None, help="Flag runs whose position or cable-length "
                                               "error passes this, m (default: the scenario's, 1% of the frame)."),
 ) -> None:
     """The main job: plan, fly the plan on the virtual prototype, write the report.
@@ -146,11 +155,16 @@ def simulate(
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
+    _number("--duration", duration)
+    _number("--max-error", max_error)
     try:
         sc = load_scenario(scenario)
         _warn_scale(sc, scenario)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
+        from .budget import check_run_size
+
+        check_run_size(sc, "virtual_prototype")  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
@@ -174,20 +188,22 @@ def simulate(
 
     s = vp.summary
     header, rows = error_table(s, sc)
-    table = Table(title=f"simulate: {sc.name} ({s['steps']} steps, plant {vp.results['open_loop'].plant}, "
+    table = Table(title=f"simulate: {_plain(sc.name)} ({s['steps']} steps, plant {vp.results['open_loop'].plant}, "
                         f"{elapsed:.1f} s wall time)")
     for i, h in enumerate(header):
         table.add_column(h, justify="left" if i == 0 else "right")
     for row in rows:
         table.add_row(*row)
     console.print(table)
-    for sentence in findings(s, sc):
-        console.print(sentence, highlight=False, markup=False)
+    for sentence in findings(s, sc, warnings=False):
+        console.print(_plain(sentence), highlight=False)
     for run in s["runs_beyond_error_bound"]:
-        err_console.print(f"warning: {run} leaves its plan beyond the error bound "
-                          f"({beyond_text(s[run]['beyond_error_bound'])}): see {out / 'report.html'}",
-                          highlight=False, markup=False, soft_wrap=True)
-    console.print(f"written to {out}/: " + ", ".join(p.name for p in paths), highlight=False, markup=False)
+        err_console.print(_plain(f"warning: {run} leaves its plan beyond the error bound "
+                                 f"({beyond_text(s[run]['beyond_error_bound'])}): see {out / 'report.html'}"),
+                          highlight=False, soft_wrap=True)
+    for warning in s["warnings"]:
+        err_console.print(_plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
+    console.print(_plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
 
 
 @contextmanager
@@ -288,7 +304,7 @@ class _PlainProgress:
             pct = f" ({100 * done / total:.0f}%)" if total else ""
             left = f", about {_seconds(elapsed * (total - done) / done)} left" if total and done else ""
             text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
-        err_console.print(escape(text), highlight=False, soft_wrap=True)
+        err_console.print(_plain(text), highlight=False, soft_wrap=True)
         task.update(printed=done, printed_at=now, finished=final, ended=now)
 
 
@@ -327,8 +343,8 @@ def workspace(
     axes: str = typer.Option("xz", help="Grid plane: two of x, y, z."),
     points: str = typer.Option("30x20", help="Grid points along the two axes, e.g. 30x20."),
     fixed: Optional[float] = typer.Option(None, help="The third coordinate, m (default: mid-frame)."),
-    duration: Optional[float] = typer.Option(None, min=0.0, help="Seconds of ship motion per pose."),
-    step: Optional[float] = typer.Option(None, min=0.0, help="Time step, s."),
+    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose."),
+    step: Optional[float] = typer.Option(None, help="Time step, s."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
     from .reports import write_workspace
@@ -341,7 +357,14 @@ def workspace(
         _fail(f"--points {points}: expected two positive integers like 30x20")
     if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
+    _number("--fixed", fixed, finite_only=True)
     sc = _load(scenario, duration, step)
+    from .budget import check_run_size
+
+    try:
+        check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
         with _progress("workspace", n[0] * n[1], "poses") as update:
@@ -355,9 +378,9 @@ def workspace(
 
     inside = np.isfinite(ws.fraction_feasible)
     always = int((ws.fraction_feasible[inside] == 1.0).sum())
-    console.print(f"{sc.name}: {always} of {int(inside.sum())} poses feasible throughout "
+    console.print(f"{_plain(sc.name)}: {always} of {int(inside.sum())} poses feasible throughout "
                   f"({ws.n_steps} steps each, {_seconds(elapsed)}); written: "
-                  + ", ".join(str(p) for p in paths), highlight=False)
+                  + ", ".join(_plain(p) for p in paths), highlight=False)
 
 
 @app.command()
@@ -366,30 +389,56 @@ def operability(
     scatter: Optional[Path] = typer.Option(None, help="Scatter diagram CSV (hs_m,tp_s,probability); "
                                                       "default: the package's illustrative one."),
     headings: str = typer.Option("180", help="Wave headings, deg, comma-separated."),
-    margin: float = typer.Option(0.0, min=0.0, help="Tension margin to the limits a workable sea keeps, N."),
-    duration: float = typer.Option(1200.0, min=0.0, help="Record length per sea state, s."),
-    step: float = typer.Option(0.02, min=0.0, help="Time step, s."),
+    margin: float = typer.Option(0.0, help="Tension margin to the limits a workable sea keeps, N."),
+    duration: float = typer.Option(1200.0, help="Record length per sea state, s."),
+    step: float = typer.Option(0.02, help="Time step, s."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for operability.csv/.json/.png."),
-    serial: bool = typer.Option(False, "--serial", help="Run the cells in this process, not on Dask."),
-    workers: int = typer.Option(2, min=1, help="Local Dask workers."),
-    scheduler: Optional[str] = typer.Option(None, help="Address of a running Dask scheduler."),
-    max_error: Optional[float] = typer.Option(None, min=0.0, help="Also fly the closed loop in each "
+    serial: bool = typer.Option(False, "--serial", help="Run the cells in this process, not on Dask "
+                                "(the default for small studies, and without Dask)."),
+    workers: Optional[int] = typer.Option(None, min=1, help="Run on a local Dask cluster of this many "
+                                          "workers (the default for large studies: 2)."),
+    scheduler: Optional[str] = typer.Option(None, help="Run on a running Dask scheduler at this address."),
+    max_error: Optional[float] = typer.Option(None, help="Also fly the closed loop in each "
                                               "sea state and require its position error below this, m."),
     workspace_grid: Optional[str] = typer.Option(None, "--workspace", help="Judge a grid of held poses "
                                                  "(e.g. 12x8) instead of the trajectory."),
     min_area: float = typer.Option(1.0, min=0.0, max=1.0, help="With --workspace: share of the frame's "
                                    "poses that must stay feasible."),
 ) -> None:
-    """In which sea states, over a scatter diagram, can the robot work?"""
+    """In which sea states, over a scatter diagram, can the robot work?
+
+    Runs serially for small studies and where Dask is not installed, on a
+    local Dask cluster for large ones; --serial, --workers or --scheduler
+    choose. Results are the same whichever runs.
+    """
     from importlib import resources
 
-    from .operability import operability as run, read_scatter_csv
+    from .budget import check_run_size
+    from .operability import (Cell, cell_scenario, check_scheduler, choose_executor, dask_installed,
+                              read_scatter_csv, study_steps)
+    from .operability import operability as run
     from .reports import write_operability
+
+    if serial and (workers is not None or scheduler):
+        _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
 
     try:
         heads = tuple(float(h) for h in headings.split(","))
     except ValueError:
         _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
+    if not all(math.isfinite(h) and -360.0 <= h <= 360.0 for h in heads):
+        _fail(f"--headings {headings}: expected finite headings between -360 and 360 deg")
+    if len({h % 360.0 for h in heads}) < len(heads):
+        _fail(f"--headings {headings}: a heading is given twice (headings are taken modulo 360 deg)")
+    _number("--margin", margin, zero_ok=True)
+    _number("--duration", duration)
+    _number("--step", step)
+    _number("--max-error", max_error)
+    if scheduler:
+        try:
+            check_scheduler(scheduler)
+        except ScenarioError as exc:
+            _fail(str(exc))
     grid = None
     if workspace_grid is not None:
         try:
@@ -404,28 +453,64 @@ def operability(
     except ScenarioError as exc:
         _fail(str(exc))
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
+    try:  # the largest cell's run: the highest sea and the shortest period that occur
+        tp_min = float(diagram.tp[(diagram.probability > 0).any(axis=0)].min())
+        probe = cell_scenario(sc, Cell(0, float(diagram.hs.max()), tp_min, heads[0], 1.0), duration, step)
+        check_run_size(probe, "operability", cells=n_cells, grid=grid, closed_loop=max_error is not None,
+                       workers=1 if serial else (workers or 2))
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    asked = "serial" if serial else "dask" if (workers is not None or scheduler) else "auto"
+    executor, why = choose_executor(asked, study_steps(n_cells, duration_s=duration, step_s=step, workspace=grid,
+                                                       max_error_m=max_error), scheduler=scheduler)
+    if why == "no dask":
+        err_console.print("note: running the sea states serially: Dask is not installed "
+                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
+                          soft_wrap=True)
+    elif executor == "dask" and not dask_installed():
+        _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
+              "(or leave them out to run serially)")
+    n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:
         with _progress_bar("sea states") as bar:
             task = bar.add_task("", total=n_cells)
             try:
                 op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
-                         executor="serial" if serial else "dask", scheduler=scheduler, workers=workers,
+                         executor=executor, scheduler=scheduler, workers=n_workers,
                          max_error_m=max_error, workspace=grid, min_area=min_area,
                          progress=lambda d, tot: bar.update(task, completed=d, total=tot))
             except ScenarioError as exc:
                 _fail_scenario(exc, scenario)
         elapsed = time.perf_counter() - t0
         paths = [out / p.name for p in write_operability(op, sc, folder)]
-    table = Table(title=f"operability: {sc.name} ({len(op.results)} sea states, {elapsed:.1f} s)")
+
+    def percent(x: float) -> str:
+        """For display: 100 % and 0 % only when exact; the JSON keeps the exact values."""
+        text = f"{100 * x:.1f}"
+        return ("100 %" if x >= 1.0 else "0 %" if x <= 0.0 else "> 99.9 %" if text == "100.0"
+                else "< 0.1 %" if text == "0.0" else f"{text} %")
+
+    ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
+           else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
+    table = Table(title=f"operability: {_plain(sc.name)}",
+                  caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
-    table.add_column("limiting Hs (m) for Tp = " + ", ".join(f"{tp:g}" for tp in diagram.tp) + " s")
+    table.add_column("Tp (s)", justify="right")
+    table.add_column("limiting Hs (m)")
     for h in heads:
-        lims = ", ".join("-" if v != v else f"{v:g}" for v in op.limiting_hs[h])
-        table.add_row(f"{h:g}", f"{100 * op.per_heading[h]:.1f} %", lims)
+        first = True
+        for tp, v in zip(diagram.tp, op.limiting_hs[h]):
+            if v != v:   # no sea state of this Tp
+                continue
+            table.add_row(f"{h:g}" if first else "", percent(op.per_heading[h]) if first else "", f"{tp:g}",
+                          "none within the diagram" if math.isinf(v) else f"{v:g}")
+            first = False
     console.print(table)
-    console.print(f"overall {100 * op.operability:.1f} %; written: " + ", ".join(str(p) for p in paths),
+    console.print("limiting Hs: the largest Hs up to which every sea state of that Tp is workable (0: not "
+                  "even the smallest; none within the diagram: all are)", highlight=False)
+    console.print(f"overall {percent(op.operability)}; written: " + ", ".join(_plain(p) for p in paths),
                   highlight=False)
 
 
@@ -434,17 +519,20 @@ def _warn_scale(sc, scenario: str) -> None:
     from .scenario import scale_warnings
 
     for line in scale_warnings(sc):
-        err_console.print(f"[bold yellow]warning:[/] {escape(scenario)}: {escape(line)}", highlight=False,
+        err_console.print(f"[bold yellow]warning:[/] {_plain(scenario)}: {_plain(line)}", highlight=False,
                           soft_wrap=True)
 
 
 def _load(scenario: str, duration: float | None, step: float | None):
+    """The scenario, with ``--duration`` and ``--step`` (checked: positive, finite) if given."""
+    _number("--duration", duration)
+    _number("--step", step)
     try:
         sc = load_scenario(scenario)
         _warn_scale(sc, scenario)
         if duration is not None or step is not None:
-            sc = sc.with_changes(time={"step_s": step or sc.time.step_s,
-                                       "duration_s": duration or sc.time.duration_s})
+            sc = sc.with_changes(time={"step_s": sc.time.step_s if step is None else step,
+                                       "duration_s": sc.time.duration_s if duration is None else duration})
         return sc
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
@@ -453,17 +541,19 @@ def _load(scenario: str, duration: float | None, step: float | None):
 @app.command()
 def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-in name.")) -> None:
     """Validate a scenario file (keys, units, physics, trajectory inside the frame)."""
+    from .budget import check_run_size
     from .planning import check_trajectory
 
     try:
         sc = load_scenario(scenario)
         _warn_scale(sc, scenario)
+        check_run_size(sc, "plan_stream")
         check_trajectory(sc)
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     r = sc.robot
     console.print(
-        f"{scenario}: ok: '{sc.name}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "
+        f"{_plain(scenario)}: ok: '{_plain(sc.name)}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "
         f"base motion {sc.base_motion.type}; trajectory {sc.trajectory.type}; "
         f"{sc.time.n_steps} steps of {sc.time.step_s:g} s; method {sc.planning.method}",
         highlight=False,
@@ -476,7 +566,7 @@ def scenarios() -> None:
     names = builtin_scenarios()
     width = max(len(n) for n in names)
     for name in names:
-        console.print(f"{name:<{width}}  {load_scenario(name).description}", highlight=False, markup=False,
+        console.print(_plain(f"{name:<{width}}  {load_scenario(name).description}"), highlight=False,
                       soft_wrap=True)
 
 

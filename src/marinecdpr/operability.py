@@ -7,12 +7,14 @@ spectrum and spreading are kept, Hs, Tp, heading and seed are the cell's). A cel
 workable when tensions exist within the limits tightened by the margin the user asks
 for (T_min + margin, T_max - margin) at every step. Cells are independent: they run serially or on Dask
 (``dask.distributed``), with the same results either way (each cell's seed is the
-template's seed plus the cell's index).
+template's seed plus the cell's index); ``executor="auto"`` picks serial for small
+studies and when Dask is not installed (:func:`choose_executor`).
 """
 
 from __future__ import annotations
 
 import csv
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -26,7 +28,15 @@ from .scenario import Scenario, SeaStateMotion
 from .workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
-           "evaluate_cell", "operability", "with_margin"]
+           "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed",
+           "study_steps", "AUTO_DASK_MIN_STEPS", "HS_RANGE_M", "TP_RANGE_S"]
+
+HS_RANGE_M = (0.0, 30.0)
+"""A scatter diagram's Hs must lie in (0, 30] m."""
+TP_RANGE_S = (1.0, 30.0)
+"""A scatter diagram's Tp must lie in [1, 30] s."""
+PROBABILITY_SUM_TOL = 1e-3
+"""A scatter diagram's probabilities must sum to 1 within this."""
 
 
 @dataclass(frozen=True)
@@ -51,17 +61,22 @@ class ScatterDiagram:
 def read_scatter_csv(path: str | Path) -> ScatterDiagram:
     """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability``, one row per cell.
 
-    Probabilities (or counts) are normalised to sum to 1; pairs left out have probability 0.
+    Probabilities must be finite, non-negative and sum to 1 within 1e-3 (they are then
+    rescaled to sum to 1 exactly); pairs left out have probability 0. Hs must lie in
+    0 < Hs <= 30 m and Tp in 1 s <= Tp <= 30 s. A UTF-8 byte-order mark and CRLF line
+    ends (what spreadsheets write) are accepted.
 
     Raises
     ------
     ScenarioError
-        One line naming the file, the row and the problem.
+        One line naming the file, the row (and column) and the problem; a sum near 100
+        or 1000 is named as percent or per mille.
     """
     path = Path(path)
     src = str(path)
     try:
-        rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
+        # utf-8-sig drops a byte-order mark; splitlines() takes \n, \r\n and \r alike
+        rows = list(csv.reader(path.read_text(encoding="utf-8-sig").splitlines()))
     except (OSError, UnicodeDecodeError) as exc:
         raise ScenarioError(f"cannot read the file ({exc})", source=src) from None
     if not rows or [h.strip() for h in rows[0]] != ["hs_m", "tp_s", "probability"]:
@@ -76,20 +91,37 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
             hs, tp, p = (float(x) for x in row)
         except ValueError:
             raise ScenarioError(f"not numbers: {','.join(row)}", source=src, key=f"row {i}") from None
-        if not (np.isfinite([hs, tp, p]).all() and hs > 0 and tp > 0 and p >= 0):
-            raise ScenarioError("hs_m and tp_s must be positive and probability non-negative",
+        (hs_lo, hs_hi), (tp_lo, tp_hi) = HS_RANGE_M, TP_RANGE_S
+        if not hs_lo < hs <= hs_hi:   # False for NaN too
+            raise ScenarioError(f"hs_m and tp_s must be positive and physical: hs_m = {row[0].strip()} "
+                                f"(column 1) is outside {hs_lo:g} < Hs <= {hs_hi:g} m", source=src, key=f"row {i}")
+        if not tp_lo <= tp <= tp_hi:
+            raise ScenarioError(f"hs_m and tp_s must be positive and physical: tp_s = {row[1].strip()} "
+                                f"(column 2) is outside {tp_lo:g} s <= Tp <= {tp_hi:g} s", source=src,
+                                key=f"row {i}")
+        if not (math.isfinite(p) and p >= 0):
+            raise ScenarioError(f"probability = {row[2].strip()} (column 3) must be finite and non-negative",
                                 source=src, key=f"row {i}")
         if (hs, tp) in cells:
             raise ScenarioError(f"Hs {hs:g} m, Tp {tp:g} s appears twice", source=src, key=f"row {i}")
         cells[(hs, tp)] = p
-    if not cells or sum(cells.values()) <= 0:
+    total = math.fsum(cells.values())
+    if not cells or total <= 0:
         raise ScenarioError("no cell with a positive probability", source=src)
+    if abs(total - 1.0) > PROBABILITY_SUM_TOL:
+        hint = ""
+        if abs(total - 100.0) <= 1.0:
+            hint = "; they look like percent: divide them by 100"
+        elif abs(total - 1000.0) <= 10.0:
+            hint = "; they look like per mille: divide them by 1000"
+        raise ScenarioError(f"the probabilities (column 3) sum to {total:.6g}, not 1 (within "
+                            f"{PROBABILITY_SUM_TOL:g}){hint}", source=src)
     hs_v = np.array(sorted({k[0] for k in cells}))
     tp_v = np.array(sorted({k[1] for k in cells}))
     prob = np.zeros((hs_v.size, tp_v.size))
     for (hs, tp), p in cells.items():
         prob[np.searchsorted(hs_v, hs), np.searchsorted(tp_v, tp)] = p
-    return ScatterDiagram(hs_v, tp_v, prob / prob.sum())
+    return ScatterDiagram(hs_v, tp_v, prob / total)
 
 
 @dataclass(frozen=True)
@@ -120,7 +152,16 @@ class CellResult:
     """Largest closed-loop position error (own plant) when asked for, m."""
 
 
-def _cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
+def check_sea_state(template: Scenario) -> None:
+    """Refuse a template whose ship does not move in a sea state (operability varies its sea)."""
+    if not isinstance(template.base_motion, SeaStateMotion):
+        raise ScenarioError("operability needs a [base_motion] of type sea_state (its RAOs, spectrum "
+                            "and spreading are used in every cell)", key="base_motion.type")
+
+
+def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
+    """The template in one cell's sea state, over ``duration_s`` at ``step_s``."""
+    check_sea_state(template)
     sea = template.base_motion
     return template.with_changes(
         base_motion=sea.model_copy(update={
@@ -159,7 +200,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     and the cell is workable if at least ``min_area`` of the poses inside the frame stay
     feasible throughout; ``fraction_feasible`` is then that share of poses.
     """
-    sc = _cell_scenario(template, cell, duration_s, step_s)
+    sc = cell_scenario(template, cell, duration_s, step_s)
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
     tight = with_margin(sc, margin_N)
     if workspace is not None:
@@ -208,8 +249,12 @@ class Operability:
         Heading (deg) -> operability in that heading.
     limiting_hs : dict
         Heading -> array (n_tp,) of the largest Hs up to which every cell of that Tp is
-        workable (0 if even the smallest fails; NaN where the Tp column is empty).
+        workable: 0 if even the smallest fails; ``inf`` if every cell of that Tp is
+        workable ("none within the diagram": the limit, if any, lies above the diagram's
+        largest Hs); NaN where the Tp column has no sea state.
     margin_N : float
+    executor : str
+        What ran the cells: "serial" or "dask".
     """
 
     scatter: ScatterDiagram
@@ -219,6 +264,7 @@ class Operability:
     per_heading: dict
     limiting_hs: dict
     margin_N: float
+    executor: str = "serial"
 
     def operable_grid(self, heading_deg: float) -> np.ndarray:
         """(n_hs, n_tp): 1 workable, 0 not, NaN no such sea state."""
@@ -229,6 +275,97 @@ class Operability:
                 j = np.searchsorted(self.scatter.tp, r.cell.tp)
                 grid[i, j] = float(r.operable)
         return grid
+
+    def limiting_hs_json(self) -> dict:
+        """``limiting_hs`` for a JSON file: heading -> Tp -> Hs, m, or None.
+
+        None means "none within the diagram": every sea state of that Tp (and heading) is
+        workable, so no Hs of the diagram limits the work. 0 means not even the smallest
+        Hs of that Tp is workable. A Tp without sea states is left out. Keys are the
+        heading and Tp written with ``:g``.
+        """
+        return {f"{h:g}": {f"{tp:g}": (None if np.isinf(v) else float(v))
+                           for tp, v in zip(self.scatter.tp, lim) if not np.isnan(v)}
+                for h, lim in self.limiting_hs.items()}
+
+
+LIMITING_HS_MEANING = ("largest Hs (m) up to which every sea state of that heading and Tp is workable; "
+                       "0: not even the smallest; null: none within the diagram (every sea state of "
+                       "that Tp is workable); a Tp without sea states is left out")
+"""What ``limiting_hs_m`` in operability.json means (written beside it)."""
+
+# --- which executor ----------------------------------------------------------------------
+#
+# A local Dask cluster costs ~1.3 s to start and to import the package in its workers, and
+# on a 2-core machine its two workers plan at only ~1.3x the speed of one process (the
+# plans are memory-bound; the client and scheduler share the cores). Measured with
+# `benchmarks/bench_operability.py --crossover` on the 2-core CI machine (2026-12-01;
+# paper_sea, 20-min records at 50 Hz; each run a fresh process, Dask's start included;
+# fastest of 3-5 runs, serial s vs 2-worker Dask s):
+#      0.48 M steps (16 cells x 600 s)              0.57 vs  2.10
+#      2.04 M steps (the default study, 34 cells)   1.41 vs  2.07
+#      2.59 M steps (9 cells x 60 s x 12x8 poses)   1.94 vs  2.37
+#      6.00 M steps (100 cells)                     4.20 vs  3.98   <- crossover, quiet machine
+#      9.80 M steps (34 cells x 60 s x 12x8 poses)  7.77 vs  5.76
+#     13.5  M steps (225 cells)                     9.46 vs  7.33
+#     24.0  M steps (400 cells)                    16.37 vs 12.27
+# Beyond that crossover Dask saves ~25 %. While other work shares the two cores, Dask
+# loses far longer (2.16 M steps: 3.2 s vs 7.9 s; 10.4 M: 15.1 s vs 17.9 s; 13.5 M: 9.5 s
+# vs 14.3 s) and wins again from ~20 M steps (24 M: 16.4 s vs 13.9 s). Auto therefore
+# starts Dask at 20 M steps (~15 s serially), where it is faster busy or not.
+AUTO_DASK_MIN_STEPS = 20_000_000
+"""``executor="auto"`` runs serially below this many time steps in all (cells x steps per
+cell, a workspace grid's poses counted), on a local Dask cluster from it."""
+
+CLOSED_LOOP_STEP_COST = 100
+"""A closed-loop step (``max_error_m``) costs about this many planned steps (measured on
+paper_sea, own plant at 50 Hz: 79 us against 0.6 us a step)."""
+
+
+def dask_installed() -> bool:
+    """Is ``dask.distributed`` importable?"""
+    try:
+        import dask.distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def study_steps(n_cells: int, *, duration_s: float, step_s: float,
+                workspace: tuple[int, int] | None = None, max_error_m: float | None = None) -> int:
+    """The work of a study in planned time steps, the measure :data:`AUTO_DASK_MIN_STEPS` uses:
+    cells x steps per record x poses of a workspace grid; with ``max_error_m`` each cell's
+    closed-loop flight adds :data:`CLOSED_LOOP_STEP_COST` per step of its record."""
+    steps = int(math.floor(duration_s / step_s + 1e-9)) + 1 if step_s > 0 else 1   # as Time.n_steps
+    poses = workspace[0] * workspace[1] if workspace is not None else 1
+    return int(n_cells) * steps * poses * (1 + (CLOSED_LOOP_STEP_COST if max_error_m is not None else 0))
+
+
+def choose_executor(executor: str, total_steps: int, *, scheduler: str | None = None) -> tuple[str, str]:
+    """What runs a study's cells: ``("serial" | "dask", why)``.
+
+    Parameters
+    ----------
+    executor : {"auto", "serial", "dask"}
+        "serial" and "dask" are kept (why "asked"). "auto": Dask when a ``scheduler`` is
+        given (why "scheduler"); else serial when ``dask.distributed`` is not installed
+        (why "no dask") or the study has fewer than :data:`AUTO_DASK_MIN_STEPS` steps
+        (why "small"); else a local Dask cluster (why "large").
+    total_steps : int
+        The study's size, :func:`study_steps`.
+    scheduler : str, optional
+    """
+    if executor in ("serial", "dask"):
+        return executor, "asked"
+    if executor != "auto":
+        raise ValueError(f"executor must be 'auto', 'serial' or 'dask', not {executor!r}")
+    if scheduler:
+        return "dask", "scheduler"
+    if not dask_installed():
+        return "serial", "no dask"
+    if total_steps < AUTO_DASK_MIN_STEPS:
+        return "serial", "small"
+    return "dask", "large"
 
 
 def _cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
@@ -272,8 +409,14 @@ def operability(
         Tension margin to the limits a workable sea state keeps at every step, N.
     duration_s, step_s : float
         Length and sampling of each cell's record (default 20 min at 50 Hz).
-    executor : {"serial", "dask"}
+    executor : {"serial", "auto", "dask"}
         ``dask``: on a local cluster of ``workers`` processes, or on ``scheduler``.
+        ``auto`` (what the ``marinecdpr operability`` command uses): serial when Dask is
+        not installed or the study is small (under :data:`AUTO_DASK_MIN_STEPS` steps in
+        all, where starting a cluster costs more than it saves), Dask otherwise or when a
+        ``scheduler`` is given; see :func:`choose_executor`. The default stays
+        ``serial``: a local cluster starts worker processes, which a script must guard
+        with ``if __name__ == "__main__":``. Results are identical whichever runs.
     scheduler : str, optional
         Address of a running Dask scheduler (e.g. "tcp://10.0.0.5:8786").
     max_error_m : float, optional
@@ -286,25 +429,62 @@ def operability(
         With ``workspace``: the share of the frame's poses that must stay feasible, 0..1.
     progress : callable(done, total), optional
     """
-    if not isinstance(template.base_motion, SeaStateMotion):
-        raise ScenarioError("operability needs a [base_motion] of type sea_state (its RAOs, spectrum "
-                            "and spreading are used in every cell)", key="base_motion.type")
+    check_sea_state(template)
     headings = tuple(float(h) for h in headings_deg)
     cells = _cells(scatter, headings)
     kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m,
                   workspace=workspace, min_area=min_area)
+    executor, _ = choose_executor(executor, study_steps(len(cells), duration_s=duration_s, step_s=step_s,
+                                                        workspace=workspace, max_error_m=max_error_m),
+                                  scheduler=scheduler)
     if executor == "serial":
         results = []
         for k, cell in enumerate(cells, start=1):
             results.append(evaluate_cell(template, cell, **kwargs))
             if progress is not None:
                 progress(k, len(cells))
-    elif executor == "dask":
-        results = _on_dask(template, cells, kwargs, scheduler, workers, progress)
     else:
-        raise ValueError(f"executor must be 'serial' or 'dask', not {executor!r}")
+        results = _on_dask(template, cells, kwargs, scheduler, workers, progress)
     results.sort(key=lambda r: r.cell.index)
-    return _summarise(scatter, headings, results, margin_N)
+    return _summarise(scatter, headings, results, margin_N, executor)
+
+
+SCHEDULER_TIMEOUT_S = 5.0
+"""How long a Dask scheduler's address may take to answer before it counts as unreachable."""
+
+
+def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> None:
+    """Refuse a Dask scheduler address that is malformed or does not answer within
+    ``timeout_s`` (one line naming it), before any work starts.
+
+    Parameters
+    ----------
+    address : str
+        ``tcp://host:port`` or ``host:port``.
+
+    Raises
+    ------
+    ScenarioError
+    """
+    import socket
+    from urllib.parse import urlsplit
+
+    shown = address.encode("ascii", "backslashreplace").decode()[:200]
+    where = address if "://" in address else f"tcp://{address}"
+    try:
+        parts = urlsplit(where)
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host = port = None
+    if parts.scheme != "tcp" or not host or port is None or parts.path not in ("", "/"):
+        raise ScenarioError(f"--scheduler {shown}: expected a Dask scheduler address like tcp://host:8786")
+    try:
+        with socket.create_connection((host, port), timeout=timeout_s):
+            pass
+    except OSError as exc:
+        reason = (f"no answer within {timeout_s:g} s" if isinstance(exc, TimeoutError)
+                  else (exc.strerror or type(exc).__name__).lower())
+        raise ScenarioError(f"--scheduler {shown}: no Dask scheduler reachable there ({reason})") from None
 
 
 def _on_dask(template, cells, kwargs, scheduler, workers, progress):
@@ -314,6 +494,7 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
         raise ScenarioError("Dask is not installed: pip install 'marinecdpr[dask]'") from None
     cluster = None
     if scheduler:
+        check_scheduler(scheduler)
         client = Client(scheduler, timeout="20s")
     else:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
@@ -337,11 +518,14 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
             cluster.close()
 
 
-def _summarise(scatter, headings, results, margin_N) -> Operability:
+def _summarise(scatter, headings, results, margin_N, executor="serial") -> Operability:
     per_heading, limiting = {}, {}
     for h in headings:
         rs = [r for r in results if r.cell.heading_deg == h]
-        per_heading[h] = float(sum(r.cell.probability for r in rs if r.operable))
+        # workable share of the heading's probability, summed exactly: 1 when every cell
+        # is workable, 0 when none is (not 0.9999999999999999)
+        total = math.fsum(r.cell.probability for r in rs)
+        per_heading[h] = math.fsum(r.cell.probability for r in rs if r.operable) / total if total > 0 else 0.0
         lim = np.full(scatter.tp.size, np.nan)
         for j, tp in enumerate(scatter.tp):
             col = sorted((r for r in rs if r.cell.tp == tp), key=lambda r: r.cell.hs)
@@ -352,6 +536,8 @@ def _summarise(scatter, headings, results, margin_N) -> Operability:
                 if not r.operable:
                     break
                 lim[j] = r.cell.hs
+            else:
+                lim[j] = np.inf   # every cell of the column workable: none within the diagram
         limiting[h] = lim
-    total = float(np.mean([per_heading[h] for h in headings]))
-    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N))
+    total = math.fsum(per_heading[h] for h in headings) / len(headings)
+    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N), executor)

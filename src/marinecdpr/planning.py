@@ -23,7 +23,8 @@ from .scenario import Robot, Scenario
 from .tension import distribute_tensions, pseudo_inverse_tensions
 from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
-__all__ = ["Plan", "plan", "plan_at", "iter_plan", "check_trajectory", "DEFAULT_CHUNK_STEPS", "TWIST_NAMES"]
+__all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
+           "TWIST_NAMES"]
 
 DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -113,7 +114,11 @@ class Plan:
         bad = np.flatnonzero(~self.feasible)
         if bad.size == 0:
             return None
-        i = int(bad[0])
+        return self._infeasibility_at(int(bad[0]), bad.size, self.n_steps)
+
+    def _infeasibility_at(self, i: int, n_bad: int, n_steps: int) -> str:
+        """:meth:`infeasibility`'s line for step ``i`` of this plan, first of ``n_bad``
+        infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks)."""
         c = self.controlled
         pose = ", ".join(
             f"{name} = {self.pose[i, j] if j < 3 else np.degrees(self.pose[i, j]):.4g}"
@@ -122,7 +127,7 @@ class Plan:
         )
         message = (
             f"the cables cannot hold the platform within their tension limits at "
-            f"{bad.size} of {self.n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
+            f"{n_bad} of {n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
         )
         cause = self.limiting_cables(i)
         return message if cause is None else f"{message}: {cause}"
@@ -300,9 +305,77 @@ def iter_plan(
         If the trajectory leaves the frame.
     """
     method, base_model = _options(scenario, method, base_model)
-    t = np.arange(scenario.time.n_steps) * scenario.time.step_s
-    for arrays in _chunks(scenario, t, method, base_model, chunk_steps):
-        yield _make_plan(scenario, arrays, method, base_model)
+    n, step = scenario.time.n_steps, scenario.time.step_s
+    for i0 in range(0, n, chunk_steps):
+        # each chunk's times alone (the values of np.arange(n) * step): nothing of size n is held
+        t = np.arange(i0, min(i0 + chunk_steps, n)) * step
+        yield _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+
+
+class PlanSummary:
+    """What a plan made in chunks (:func:`iter_plan`) amounts to, gathered piece by piece
+    without holding the pieces: the figures a whole :class:`Plan` would give.
+
+    Feed every piece, in order, to :meth:`add`.
+
+    Attributes
+    ----------
+    n_steps, n_feasible : int
+    pinv_range, tension_range : tuple of float
+        (smallest, largest) eq. 18 and planned tensions, N, NaN ignored (as ``np.nanmin``
+        and ``np.nanmax`` on the whole plan; (NaN, NaN) if no tension is finite).
+    method, base_model : str
+        As the pieces' (None before the first).
+    """
+
+    def __init__(self) -> None:
+        self.n_steps = 0
+        self.n_feasible = 0
+        self.method: str | None = None
+        self.base_model: str | None = None
+        self._ranges = {"tensions_pinv": [np.inf, -np.inf, False], "tensions": [np.inf, -np.inf, False]}
+        self._first_bad: Plan | None = None  # the first infeasible step, as a one-step plan
+
+    def add(self, piece: Plan) -> None:
+        """Count one piece of the plan (the next in time)."""
+        from dataclasses import replace
+
+        self.method, self.base_model = piece.method, piece.base_model
+        for name, acc in self._ranges.items():
+            a = getattr(piece, name)
+            if np.isfinite(a).any():
+                acc[2] = True
+            if not np.isnan(a).all():
+                acc[0] = min(acc[0], float(np.nanmin(a)))
+                acc[1] = max(acc[1], float(np.nanmax(a)))
+        ok = int(piece.feasible.sum())
+        if self._first_bad is None and ok < piece.n_steps:
+            i = int(np.flatnonzero(~piece.feasible)[0])
+            self._first_bad = replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS})
+        self.n_steps += piece.n_steps
+        self.n_feasible += ok
+
+    def _range(self, name: str) -> tuple[float, float]:
+        lo, hi, finite = self._ranges[name]
+        return (lo, hi) if finite else (float("nan"), float("nan"))
+
+    @property
+    def pinv_range(self) -> tuple[float, float]:
+        return self._range("tensions_pinv")
+
+    @property
+    def tension_range(self) -> tuple[float, float]:
+        return self._range("tensions")
+
+    @property
+    def all_feasible(self) -> bool:
+        return self.n_feasible == self.n_steps
+
+    def infeasibility(self) -> str | None:
+        """:meth:`Plan.infeasibility` of the whole plan."""
+        if self._first_bad is None:
+            return None
+        return self._first_bad._infeasibility_at(0, self.n_steps - self.n_feasible, self.n_steps)
 
 
 def _chunks(scenario: Scenario, t: np.ndarray, method: str, base_model: str, chunk_steps: int):
@@ -336,7 +409,16 @@ def plan(
     Plan
         Infeasible steps are flagged (``feasible``), with NaN tensions; see
         :meth:`Plan.infeasibility`.
+
+    Raises
+    ------
+    ScenarioError
+        If the plan would not fit in memory (see :func:`marinecdpr.budget.check_run_size`;
+        :func:`iter_plan` streams longer ones), or the trajectory leaves the frame.
     """
+    from .budget import check_run_size
+
+    check_run_size(scenario, "plan", chunk_steps=chunk_steps)
     t = np.arange(scenario.time.n_steps) * scenario.time.step_s
     return plan_at(scenario, t, method=method, base_model=base_model, chunk_steps=chunk_steps)
 

@@ -37,6 +37,7 @@ from typing import NoReturn
 import numpy as np
 
 from .errors import ScenarioError
+from .textfiles import MAX_FIELD_CHARS, check_file, long_field, read_lines
 
 __all__ = [
     "DOFS",
@@ -53,6 +54,23 @@ DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 
 _ROTATIONS = np.array([False, False, False, True, True, True])
 _CSV_COLUMNS = ("omega_rad_s", "heading_deg", "dof", "amplitude", "phase_deg")
+
+# Limits of what the RAO readers accept: far beyond any ship, they refuse garbage
+# (1e300, a unit off by 1000) without second-guessing a real table.
+OMEGA_MAX_RAD_S = 100.0
+"""Largest wave frequency in an RAO table, rad/s: a 6 mm wave (period 0.063 s)."""
+TRANSLATION_RAO_MAX_M_M = 100.0
+"""Largest surge, sway or heave RAO, m/m (real ones are about 1; a table in mm/m is refused)."""
+ROTATION_RAO_MAX_DEG_M = 1000.0
+"""Largest roll, pitch or yaw RAO, deg/m (17.5 rad/m). A lightly damped small hull's linear
+roll peak is a few hundred deg/m; a potential-flow table without viscous roll damping can
+exceed this at resonance, and then needs that damping."""
+PHASE_MAX_DEG = 1.0e6
+"""Largest |phase| in an RAO CSV table, deg (unwrapped phases pass)."""
+MAX_NETCDF_BYTES = 2**30
+"""Largest Capytaine NetCDF file read, bytes (1 GiB; an RAO dataset is a few MB, and
+the whole file is loaded into memory)."""
+
 
 
 # ---------------------------------------------------------------------------------------
@@ -168,6 +186,21 @@ class RAO:
         return out
 
 
+def _rao_out_of_range(omega: np.ndarray, heading: np.ndarray, values: np.ndarray) -> str | None:
+    """What is beyond the limits in an RAO table (rad/m for rotations), or None."""
+    if (i := np.flatnonzero(omega > OMEGA_MAX_RAD_S)).size:
+        return f"omega {omega[i[0]]:g} rad/s is above {OMEGA_MAX_RAD_S:g} rad/s; expected wave frequencies in rad/s"
+    amp = np.abs(values)
+    limit = np.where(_ROTATIONS, math.radians(ROTATION_RAO_MAX_DEG_M), TRANSLATION_RAO_MAX_M_M)
+    over = amp > limit[:, None, None]
+    if over.any():
+        d, h, w = np.argwhere(over)[0]
+        unit = "rad/m" if _ROTATIONS[d] else "m/m"
+        return (f"{DOFS[d]} RAO {amp[d, h, w]:g} {unit} at omega {omega[w]:g} rad/s, heading "
+                f"{heading[h]:g} deg is above {limit[d]:.3g} {unit}; expected a ship's response")
+    return None
+
+
 # ---------------------------------------------------------------------------------------
 # CSV
 # ---------------------------------------------------------------------------------------
@@ -198,6 +231,13 @@ def read_rao_csv(path: str | PathLike) -> RAO:
     compared exactly as parsed, so write the same frequency the same way in
     every row.
 
+    The file is UTF-8 text, with or without a byte-order mark, lines ending in
+    LF, CRLF or CR (as spreadsheets write it), at most :data:`MAX_CSV_BYTES`
+    bytes, lines of at most :data:`MAX_LINE_CHARS` and fields of at most
+    :data:`MAX_FIELD_CHARS` characters. Values must be within omega <=
+    :data:`OMEGA_MAX_RAD_S` rad/s, amplitude <= :data:`TRANSLATION_RAO_MAX_M_M`
+    m/m or :data:`ROTATION_RAO_MAX_DEG_M` deg/m, |phase| <= :data:`PHASE_MAX_DEG`.
+
     Parameters
     ----------
     path : str or path-like
@@ -210,42 +250,45 @@ def read_rao_csv(path: str | PathLike) -> RAO:
     Raises
     ------
     ScenarioError
-        If the file cannot be read or is malformed: a missing column, a row with
-        the wrong number of fields, an unknown DOF name, a field that is not a
-        finite number, an omega <= 0, a heading outside [0, 360), a negative
-        amplitude, a duplicate row or an incomplete grid. The one-line message
-        names the row (the file's line number, the header being row 1).
+        If the file cannot be read or is malformed: not a regular file, too
+        large, not UTF-8 text (NUL bytes, control characters), a line or field
+        too long, a missing column, a row with the wrong number of fields, an
+        unknown DOF name, a field that is not a finite number, an omega <= 0 or
+        above the limit, a heading outside [0, 360), a negative or absurdly
+        large amplitude, a duplicate row or an incomplete grid. The one-line
+        message names the row (the file's line number, the header being row 1)
+        and never quotes the file's text.
     """
     src = str(path)
 
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
+    expected = ",".join(_CSV_COLUMNS)
     header: list[str] | None = None
     header_row = 0
     rows: list[list[str]] = []
     row_numbers: list[int] = []
+    reader = csv.reader(read_lines(path, fail, f"an RAO table in CSV ({expected})", word="row"))
     try:
-        with open(path, newline="", encoding="utf-8-sig") as f:
-            reader = csv.reader(f)
-            try:
-                for rec in reader:
-                    first_field = rec[0].strip() if rec else ""
-                    if first_field.startswith("#") or not (first_field or any(c.strip() for c in rec)):
-                        continue  # a comment or a blank line
-                    if header is None:
-                        header = [c.strip().lower() for c in rec]
-                        header_row = reader.line_num
-                    else:
-                        rows.append(rec)
-                        row_numbers.append(reader.line_num)
-            except (csv.Error, UnicodeDecodeError) as exc:
-                fail(f"row {reader.line_num}: not readable as CSV ({exc})")
-    except OSError as exc:
-        fail(f"cannot read the file ({exc.strerror or exc})")
-    expected = ",".join(_CSV_COLUMNS)
+        for rec in reader:
+            first_field = rec[0].strip() if rec else ""
+            if first_field.startswith("#") or not (first_field or any(c.strip() for c in rec)):
+                continue  # a comment or a blank line
+            if header is None:
+                header = [c.strip().lower() for c in rec]
+                header_row = reader.line_num
+            else:
+                rows.append(rec)
+                row_numbers.append(reader.line_num)
+    except csv.Error as exc:
+        fail(f"row {reader.line_num}: not readable as CSV ({exc})")
     if header is None:
         fail(f"empty file: expected a header row {expected}")
+    if (long := long_field([header] + rows)) is not None:
+        i, j = long
+        fail(f"row {header_row if i == 0 else row_numbers[i - 1]}, field {j + 1}: over "
+             f"{MAX_FIELD_CHARS} characters; expected an RAO table in CSV ({expected})")
     col: dict[str, int] = {}
     for name in _CSV_COLUMNS:
         if header.count(name) != 1:
@@ -271,11 +314,12 @@ def read_rao_csv(path: str | PathLike) -> RAO:
         if x is None or not np.all(np.isfinite(x)):
             for i, s in enumerate(text):  # only on error: find the first bad field
                 try:
-                    ok = math.isfinite(float(s))
-                except ValueError:
-                    ok = False
-                if not ok:
-                    fail(f"row {row_numbers[i]}: {name} {s!r} is not a finite number")
+                    v = float(s)
+                except ValueError:  # say where, not what: the text is not echoed
+                    fail(f"row {row_numbers[i]}, column {name}: "
+                         f"{'not a number' if s else 'an empty field is not a number'}")
+                if not math.isfinite(v):
+                    fail(f"row {row_numbers[i]}: {name} '{v:g}' is not a finite number")
         return x
 
     omega = numbers("omega_rad_s")
@@ -291,13 +335,23 @@ def read_rao_csv(path: str | PathLike) -> RAO:
         return int(hit[0]) if hit.size else None
 
     if (i := first(dof < 0)) is not None:
-        fail(f"row {lines[i]}: unknown dof {column('dof')[i]!r} (expected one of {', '.join(DOFS)})")
+        fail(f"row {lines[i]}: unknown dof (expected one of {', '.join(DOFS)})")
     if (i := first(omega <= 0.0)) is not None:
         fail(f"row {lines[i]}: omega_rad_s must be > 0; got {omega[i]:g}")
     if (i := first((heading < 0.0) | (heading >= 360.0))) is not None:
         fail(f"row {lines[i]}: heading_deg must be in [0, 360); got {heading[i]:g}")
     if (i := first(amplitude < 0.0)) is not None:
         fail(f"row {lines[i]}: negative amplitude {amplitude[i]:g}")
+    if (i := first(omega > OMEGA_MAX_RAD_S)) is not None:
+        fail(f"row {lines[i]}: omega_rad_s {omega[i]:g} is above {OMEGA_MAX_RAD_S:g} rad/s; "
+             f"expected wave frequencies in rad/s")
+    limit = np.where(_ROTATIONS[np.maximum(dof, 0)], ROTATION_RAO_MAX_DEG_M, TRANSLATION_RAO_MAX_M_M)
+    if (i := first(amplitude > limit)) is not None:
+        unit = "deg/m" if _ROTATIONS[dof[i]] else "m/m"
+        fail(f"row {lines[i]}: {DOFS[dof[i]]} amplitude {amplitude[i]:g} {unit} is above "
+             f"{limit[i]:g} {unit}; expected a ship's response per metre of wave amplitude")
+    if (i := first(np.abs(phase) > PHASE_MAX_DEG)) is not None:
+        fail(f"row {lines[i]}: phase_deg {phase[i]:g} is beyond +-{PHASE_MAX_DEG:g} deg")
 
     omegas, io = np.unique(omega, return_inverse=True)
     headings, ih = np.unique(heading, return_inverse=True)
@@ -344,7 +398,16 @@ def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
         The table to write.
     path : str or path-like
         The CSV file (overwritten).
+
+    Raises
+    ------
+    ValueError
+        If the table is beyond what :func:`read_rao_csv` accepts (omega above
+        :data:`OMEGA_MAX_RAD_S`, an amplitude above :data:`TRANSLATION_RAO_MAX_M_M`
+        or :data:`ROTATION_RAO_MAX_DEG_M`): the file would not read back.
     """
+    if (problem := _rao_out_of_range(rao.omega, rao.heading_deg, rao.values)) is not None:
+        raise ValueError(f"{problem}: read_rao_csv would refuse the file")
     n_h, n_o = rao.heading_deg.size, rao.omega.size
     ih, io, d = np.meshgrid(np.arange(n_h), np.arange(n_o), np.arange(6), indexing="ij")
     ih, io, d = ih.ravel(), io.ravel(), d.ravel()
@@ -428,8 +491,10 @@ def read_capytaine(path: str | PathLike) -> RAO:
     Raises
     ------
     ScenarioError
-        If xarray or h5netcdf is missing (install the ``bem`` extra), the file
-        cannot be read, or its content does not have Capytaine's layout.
+        If xarray or h5netcdf is missing (install the ``bem`` extra), the path
+        is not a regular file of at most :data:`MAX_NETCDF_BYTES` bytes, the file
+        cannot be read, its content does not have Capytaine's layout, or a
+        frequency or RAO is beyond the limits of :func:`read_rao_csv`.
     """
     src = str(path)
 
@@ -443,6 +508,7 @@ def read_capytaine(path: str | PathLike) -> RAO:
     except ImportError:
         fail("reading a Capytaine file needs xarray, h5netcdf and h5py: install the `bem` extra "
              "(pip install marinecdpr[bem])")
+    check_file(path, fail, "a Capytaine NetCDF file", MAX_NETCDF_BYTES)
     try:
         with xr.open_dataset(path, engine="h5netcdf") as opened:
             ds = opened.load()
@@ -530,6 +596,8 @@ def read_capytaine(path: str | PathLike) -> RAO:
     values = np.zeros((6, headings.size, omega.size), dtype=complex)
     for j, k in rows:
         values[k] = np.conj(X[:, :, j]).T  # exp(-i w t) -> exp(+i w t)
+    if (problem := _rao_out_of_range(omega, headings, values)) is not None:
+        fail(problem + (" (potential flow lacks viscous roll damping)" if "roll RAO" in problem else ""))
     return RAO(omega, headings, values)
 
 

@@ -18,6 +18,14 @@ then one row per sample: time (s, strictly increasing, uniformly sampled to 1 %)
 position of the ship's reference point (m) and the three Euler angles in the unit
 given by ``angles`` (``"deg"`` or ``"rad"``). At least 10 samples.
 
+The file is UTF-8 text, with or without a byte-order mark, lines ending in LF,
+CRLF or CR, as spreadsheets write it (rows of empty fields are skipped like blank
+lines); at most 256 MiB, lines of at most 10 000 and fields of at most 100
+characters (:data:`marinecdpr.textfiles.MAX_CSV_BYTES` and the limits beside it). Values
+must be finite, with |time| <= 1e10 s, a sampling interval >= 0.1 ms, positions
+within 1 km (:data:`MAX_TRANSLATION_M`), |roll|, |pitch| <= 90 deg and
+|yaw| <= 36 000 deg.
+
 Two axis conventions (``z_axis``):
 
 ``"up"`` (the package's)
@@ -46,12 +54,14 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 from scipy.interpolate import BSpline, make_smoothing_spline
 
 from .basemotion import ShipMotion, ship_motion
 from .errors import ScenarioError
+from .textfiles import MAX_FIELD_CHARS, long_field, read_lines
 
 __all__ = [
     "MOTION_CSV_COLUMNS",
@@ -71,6 +81,17 @@ less than 2.5 % of their amplitude (1 % at 5 s, 0.1 % at 9 s)."""
 
 _MIN_SAMPLES = 10
 _MAX_JITTER = 0.01  # relative deviation of a sampling interval from the median
+
+# Limits of what read_motion_csv accepts: far beyond a ship's motion, they refuse
+# garbage (1e300, a unit off by 1000) without second-guessing a real record.
+MAX_TRANSLATION_M = 1000.0
+"""Largest |surge|, |sway| or |heave| in a motion file, m: motion about a nearby point."""
+MAX_YAW_DEG = 36000.0
+"""Largest |yaw| in a motion file, deg: 100 turns of an unwrapped heading."""
+MAX_TIME_S = 1.0e10
+"""Largest |time| in a motion file, s (317 years: Unix times pass)."""
+MIN_INTERVAL_S = 1.0e-4
+"""Shortest sampling interval, s (10 kHz; a motion reference unit samples at most a few 100 Hz)."""
 _FLIP = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])  # z-down <-> z-up, see flip_z_axis
 _ANGLE_UNITS = ("deg", "rad")
 _Z_AXES = ("up", "down")
@@ -247,11 +268,16 @@ def read_motion_csv(
     Raises
     ------
     ScenarioError
-        With ``source`` the file, naming the line and column: a wrong header
-        (missing, unexpected or repeated columns), a row with the wrong number
-        of fields, a non-number, NaN or inf, time not strictly increasing, fewer
-        than 10 samples, a sampling interval more than 1 % from the median, or
-        |roll| or |pitch| beyond 90 deg (a wrong angle unit or wrapped angles).
+        With ``source`` the file, naming the line and column: not a regular
+        file, too large, not UTF-8 text (NUL bytes, control characters), a line
+        or field too long, a wrong header (missing, unexpected or repeated
+        columns), a row with the wrong number of fields, a non-number, NaN or
+        inf, time not strictly increasing, fewer than 10 samples, a sampling
+        interval more than 1 % from the median or below 0.1 ms, a position
+        beyond 1 km, |roll| or |pitch| beyond 90 deg (a wrong angle unit or
+        wrapped angles) or |yaw| beyond 100 turns. The message never quotes the
+        file's text (the path may name any file), only the expected columns and
+        numbers parsed from the file.
     ValueError
         For an unknown ``z_axis`` or ``angles``.
     """
@@ -259,65 +285,84 @@ def read_motion_csv(
     _check_choice("angles", angles, _ANGLE_UNITS)
     src = str(path)
 
-    def fail(message: str) -> ScenarioError:
-        return ScenarioError(message, source=src)
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
 
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise fail(f"cannot read the file ({exc})") from exc
-    rows = list(csv.reader(text.splitlines()))
     expected = ",".join(MOTION_CSV_COLUMNS)
-    filled = [i for i in range(len(rows)) if rows[i]]  # blank lines are skipped
-    if not filled:
-        raise fail(f"the file is empty; expected a header row {expected}")
+    what = f"a ship-motion CSV file ({expected})"
+    reader = csv.reader(read_lines(path, fail, what))
+    try:
+        records = list(reader)
+    except csv.Error as exc:
+        fail(f"line {reader.line_num}: not readable as CSV ({exc})")
+    if reader.line_num != len(records):  # a quoted field with a line break
+        reader = csv.reader(read_lines(path, fail, what))
+        line = next(reader.line_num for k, _ in enumerate(reader, 1) if reader.line_num != k)
+        fail(f"line {line}: a quoted field spans lines; expected {what}")
+    # line numbers count the file's lines from 1; blank lines (and spreadsheets' rows of
+    # empty cells ",,,") are skipped
+    row_lines = [k for k, rec in enumerate(records, 1) if "".join(rec).strip()]
+    rows = [records[k - 1] for k in row_lines]
+    if not rows:
+        fail(f"the file is empty; expected a header row {expected}")
+    if (long := long_field(rows)) is not None:
+        k, j = long
+        fail(f"line {row_lines[k]}, field {j + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
 
-    # header
-    head = filled[0]
-    header = [h.strip() for h in rows[head]]
+    # header: named by the expected columns and positions, never by the file's text
+    head = row_lines[0]
+    header = [h.strip() for h in rows[0]]
     missing = [c for c in MOTION_CSV_COLUMNS if c not in header]
-    unexpected = [h for h in header if h not in MOTION_CSV_COLUMNS]
-    repeated = sorted({h for h in header if header.count(h) > 1})
+    if len(missing) == len(MOTION_CSV_COLUMNS):
+        n = len(header)
+        fail(f"line {head}: expected a header row with the columns {expected} "
+             f"(got {n} other column{'s' if n != 1 else ''})")
+    unexpected = [j + 1 for j, h in enumerate(header) if h not in MOTION_CSV_COLUMNS]
+    repeated = sorted({h for h in header if h in MOTION_CSV_COLUMNS and header.count(h) > 1})
     if missing or unexpected or repeated:
-        problems = [
-            f"{label} {', '.join(repr(c) for c in cols)}"
-            for label, cols in (("missing", missing), ("unexpected", unexpected), ("repeated", repeated))
-            if cols
-        ]
-        raise fail(f"line {head + 1}: wrong columns ({'; '.join(problems)}); expected exactly {expected}")
+        problems = []
+        if missing:
+            problems.append(f"missing {', '.join(repr(c) for c in missing)}")
+        if unexpected:
+            shown = ", ".join(map(str, unexpected[:5])) + (f", ... ({len(unexpected)} in all)"
+                                                           if len(unexpected) > 5 else "")
+            problems.append(f"unexpected column{'s' if len(unexpected) > 1 else ''} {shown}")
+        if repeated:
+            problems.append(f"repeated {', '.join(repr(c) for c in repeated)}")
+        fail(f"line {head}: wrong columns ({'; '.join(problems)}); expected exactly {expected}")
     order = [header.index(c) for c in MOTION_CSV_COLUMNS]
 
-    # data rows; line numbers count the file's lines from 1
-    kept = filled[1:]
-    lines = np.array(kept, dtype=int) + 1
-    data = [rows[i] for i in kept]
+    # data rows
+    lines = np.array(row_lines[1:], dtype=int)
+    data = rows[1:]
     if not data:
-        raise fail("no data rows after the header")
+        fail("no data rows after the header")
     n_fields = np.array([len(r) for r in data])
     bad = np.flatnonzero(n_fields != len(MOTION_CSV_COLUMNS))
     if bad.size:
         k = bad[0]
-        raise fail(
-            f"line {lines[k]} has {n_fields[k]} fields; expected {len(MOTION_CSV_COLUMNS)} ({expected})"
-        )
+        fail(f"line {lines[k]} has {n_fields[k]} fields; expected {len(MOTION_CSV_COLUMNS)} ({expected})")
     cells = np.char.strip(np.array(data, dtype=str)[:, order])
     values = _to_float(cells, lines, fail)
     nonfinite = ~np.isfinite(values)
     if nonfinite.any():
         k, j = np.argwhere(nonfinite)[0]
-        shown = str(cells[k, j])
-        raise fail(f"line {lines[k]}, column {MOTION_CSV_COLUMNS[j]}: {shown!r} is not a finite number")
+        fail(f"line {lines[k]}, column {MOTION_CSV_COLUMNS[j]}: '{values[k, j]:g}' is not a finite number")
     n = values.shape[0]
     if n < _MIN_SAMPLES:
-        raise fail(f"only {n} samples; a recorded motion needs at least {_MIN_SAMPLES}")
+        fail(f"only {n} samples; a recorded motion needs at least {_MIN_SAMPLES}")
 
     # time
     t = values[:, 0]
+    over = np.flatnonzero(np.abs(t) > MAX_TIME_S)
+    if over.size:
+        k = over[0]
+        fail(f"line {lines[k]}, column time_s: {t[k]:g} s is beyond {MAX_TIME_S:g} s; expected times in seconds")
     dt = np.diff(t)
     bad = np.flatnonzero(dt <= 0.0)
     if bad.size:
         k = bad[0] + 1
-        raise fail(
+        fail(
             f"line {lines[k]}, column time_s: time {t[k]:g} s does not increase "
             f"(previous sample at {t[k - 1]:g} s, line {lines[k - 1]})"
         )
@@ -325,11 +370,22 @@ def read_motion_csv(
     bad = np.flatnonzero(np.abs(dt - dt_med) > _MAX_JITTER * dt_med)
     if bad.size:
         k = bad[0] + 1
-        raise fail(
+        fail(
             f"line {lines[k]}, column time_s: non-uniform sampling, interval {dt[k - 1]:g} s "
             f"from line {lines[k - 1]} against a median of {dt_med:g} s (more than "
             f"{_MAX_JITTER:.0%} off); resample the record to a uniform rate"
         )
+    if dt_med < MIN_INTERVAL_S:
+        fail(f"line {lines[1]}, column time_s: sampling interval {dt_med:g} s is below {MIN_INTERVAL_S:g} s "
+             f"(faster than {1.0 / MIN_INTERVAL_S:g} Hz); expected times in seconds")
+
+    # positions: beyond a kilometre means another unit or absolute coordinates
+    for j, name in ((1, "surge_m"), (2, "sway_m"), (3, "heave_m")):
+        over = np.flatnonzero(np.abs(values[:, j]) > MAX_TRANSLATION_M)
+        if over.size:
+            k = over[0]
+            fail(f"line {lines[k]}, column {name}: {values[k, j]:g} m is beyond {MAX_TRANSLATION_M:g} m; "
+                 f"expected the motion in metres about a nearby point (not mm, not absolute coordinates)")
 
     # angles: roll and pitch beyond 90 deg mean a wrong unit (or wrapped angles)
     limit = 90.0 if angles == "deg" else np.pi / 2
@@ -342,10 +398,16 @@ def read_motion_csv(
                 if angles == "rad"
                 else "is the column in another unit, or wrapped to [0, 360)?"
             )
-            raise fail(
+            fail(
                 f"line {lines[k]}, column {name}: {name} exceeds "
                 f"{'90 deg' if angles == 'deg' else 'pi/2 rad'} ({values[k, j]:g} {angles}): {hint}"
             )
+    yaw_limit = MAX_YAW_DEG if angles == "deg" else np.radians(MAX_YAW_DEG)
+    over = np.flatnonzero(np.abs(values[:, 6]) > yaw_limit)
+    if over.size:
+        k = over[0]
+        fail(f"line {lines[k]}, column yaw: {values[k, 6]:g} {angles} is beyond {yaw_limit:g} {angles} "
+             f"(100 turns); expected the ship's heading in {angles}")
 
     eta = values[:, 1:].copy()
     if angles == "deg":
@@ -416,10 +478,10 @@ def _to_float(cells: np.ndarray, lines: np.ndarray, fail) -> np.ndarray:
     ok = np.vectorize(_is_float, otypes=[bool])(cells)  # error path only: find the culprit
     bad = np.argwhere(~ok)
     if bad.size == 0:  # pragma: no cover - numpy and float() disagree
-        raise fail("a field is not a number")
+        fail("a field is not a number")
     k, j = bad[0]
-    shown = repr(str(cells[k, j])) if cells[k, j] else "an empty field"
-    raise fail(f"line {lines[k]}, column {MOTION_CSV_COLUMNS[j]}: {shown} is not a number")
+    shown = "not a number" if cells[k, j] else "an empty field is not a number"  # the text is not echoed
+    fail(f"line {lines[k]}, column {MOTION_CSV_COLUMNS[j]}: {shown}")
 
 
 def _is_float(cell: str) -> bool:

@@ -22,6 +22,7 @@ import numpy as np
 from .errors import OutputError
 from .planning import TWIST_NAMES, Plan
 from .scenario import Scenario
+from .textfiles import strip_control
 
 __all__ = [
     "StagedOutput",
@@ -29,6 +30,10 @@ __all__ = [
     "plan_columns",
     "write_plan_csv",
     "plot_tensions",
+    "plan_csv_writer",
+    "TensionEnvelope",
+    "plot_tension_envelope",
+    "write_plan_stream",
     "write_sim_csv",
     "plot_cable_lengths",
     "plot_tracking",
@@ -100,9 +105,10 @@ class StagedOutput:
         self._created = not self.target.exists()
         try:
             self.target.mkdir(parents=True, exist_ok=True)
-            self.stage = Path(tempfile.mkdtemp(prefix=".staging-", dir=self.target))
+            self.stage = Path(tempfile.mkdtemp(prefix=f".staging-{os.getpid()}-", dir=self.target))
         except OSError as exc:
             raise OutputError(f"{self.target}: cannot write there ({exc.strerror or exc})") from None
+        _remove_orphans(self.target)
 
     def __enter__(self) -> Path:
         return self.stage
@@ -135,6 +141,17 @@ class StagedOutput:
                 os.replace(self.stage / name, self.target / name)
             with atomic_path(manifest) as tmp:
                 tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
+
+
+def _remove_orphans(folder: Path) -> None:
+    """Delete staging folders left in ``folder`` by runs that were killed (their process is gone)."""
+    for stage in folder.glob(".staging-*-*"):
+        try:
+            os.kill(int(stage.name.split("-")[1]), 0)
+        except ProcessLookupError:
+            shutil.rmtree(stage, ignore_errors=True)
+        except (ValueError, OSError):
+            pass  # not ours, or a live process of another user
 
 
 @contextmanager
@@ -251,6 +268,178 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     axes[1].set_xlabel("t (s)")
     fig.suptitle(f"Cable tensions: {_plain(scenario.name)}", fontsize=11)
     return _save(fig, path, dpi=120)
+
+
+# ------------------------------------------------------------ plans made in chunks
+@contextmanager
+def plan_csv_writer(scenario: Scenario, path: Path) -> Iterator:
+    """``plan.csv`` written piece by piece: yields ``write(piece)``, to call with each piece
+    of a plan (:func:`~marinecdpr.iter_plan`) in order, at least one.
+
+    The file is byte for byte what :func:`write_plan_csv` writes for the whole plan, and
+    appears (atomically) only when the block ends without an error; memory holds one
+    piece's text at a time.
+    """
+    path = Path(path)
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+        rows = [0]
+
+        def write(piece: Plan) -> None:
+            names, values = plan_columns(piece, scenario)
+            if len(values) == 0:
+                return
+            if rows[0] == 0:
+                fh.write(",".join(names) + "\n")
+            fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d"])
+            # as _write_csv: rows joined by newlines, NaN left empty, a newline at the end
+            fh.write("\n".join(fmt % tuple(row) for row in values).replace("nan", "") + "\n")
+            rows[0] += len(values)
+
+        yield write
+        if rows[0] == 0:
+            raise ValueError("plan_csv_writer: no piece of a plan was written")
+
+TENSION_FIGURE_COLUMNS = 2000
+"""Time columns the streamed tension figure keeps, each with its smallest and largest
+tension: more than the figure's axes have pixel columns, so no extreme is lost."""
+
+
+class _TensionTrace:
+    """What :func:`plot_tensions` draws, from a :class:`TensionEnvelope` instead of a Plan."""
+
+    def __init__(self, t, tensions_pinv, tensions, feasible, method, base_model):
+        self.t, self.tensions_pinv, self.tensions, self.feasible = t, tensions_pinv, tensions, feasible
+        self.method, self.base_model = method, base_model
+
+    @property
+    def all_feasible(self) -> bool:
+        return bool(self.feasible.all())
+
+
+class TensionEnvelope:
+    """A plan's tensions decimated to the figure's resolution while it streams.
+
+    The plan's steps are split into ``columns`` consecutive groups; for each, the
+    smallest and largest eq. 18 and planned tension of every cable (NaN ignored), the
+    first and last time, and whether any step is infeasible. Memory does not grow with
+    the plan. Feed every piece in order to :meth:`add`; draw with :func:`plot_tension_envelope`.
+
+    Parameters
+    ----------
+    n_steps : int
+        Steps of the whole plan.
+    n_cables : int
+    columns : int
+        Groups kept (at most ``n_steps``: a short plan keeps every step).
+    """
+
+    def __init__(self, n_steps: int, n_cables: int, columns: int = TENSION_FIGURE_COLUMNS):
+        self.n_steps = int(n_steps)
+        self.columns = max(1, min(int(columns), self.n_steps))
+        shape = (self.columns, int(n_cables))
+        self.lo = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.hi = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        # each group's first and last values: a falling group is drawn from its largest to its smallest
+        self.first = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.last = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.t_first = np.full(self.columns, np.nan)
+        self.t_last = np.full(self.columns, np.nan)
+        self.infeasible = np.zeros(self.columns, dtype=bool)
+        self.counts = np.zeros(self.columns, dtype=np.int64)
+        self.done = 0
+        self.method: str | None = None
+        self.base_model: str | None = None
+
+    def add(self, piece: Plan) -> None:
+        """Take in the next piece of the plan."""
+        k = piece.n_steps
+        if k == 0:
+            return
+        if self.done + k > self.n_steps:
+            raise ValueError(f"the pieces hold more than the {self.n_steps} steps announced")
+        self.method, self.base_model = piece.method, piece.base_model
+        col = (np.arange(self.done, self.done + k, dtype=np.int64) * self.columns) // self.n_steps
+        starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+        cols = col[starts]
+        new = self.counts[cols] == 0
+        ends = np.r_[starts[1:], k] - 1
+        for name in self.lo:
+            a = getattr(piece, name)
+            self.first[name][cols[new]] = a[starts[new]]
+            self.last[name][cols] = a[ends]
+            self.lo[name][cols] = np.fmin(self.lo[name][cols], np.fmin.reduceat(a, starts, axis=0))
+            self.hi[name][cols] = np.fmax(self.hi[name][cols], np.fmax.reduceat(a, starts, axis=0))
+        self.t_first[cols] = np.fmin(self.t_first[cols], np.minimum.reduceat(piece.t, starts))
+        self.t_last[cols] = np.fmax(self.t_last[cols], np.maximum.reduceat(piece.t, starts))
+        self.infeasible[cols] |= np.logical_or.reduceat(~np.asarray(piece.feasible, dtype=bool), starts)
+        self.counts[cols] += np.diff(np.r_[starts, k])
+        self.done += k
+
+    def trace(self) -> _TensionTrace:
+        """The line to draw: per group and cable, its smallest and largest tension at the group's
+        first and last time (the largest first where the tension falls over the group; one
+        point per step where each group is one step)."""
+        used = self.counts > 0
+        lo = {name: v[used] for name, v in self.lo.items()}
+        if (self.counts[used] <= 1).all():
+            return _TensionTrace(self.t_first[used], lo["tensions_pinv"], lo["tensions"],
+                                 ~self.infeasible[used], self.method, self.base_model)
+        t = np.column_stack([self.t_first[used], self.t_last[used]]).ravel()
+
+        def zigzag(name: str) -> np.ndarray:
+            hi = self.hi[name][used]
+            falls = self.first[name][used] > self.last[name][used]
+            pair = (np.where(falls, hi, lo[name]), np.where(falls, lo[name], hi))
+            return np.stack(pair, axis=1).reshape(t.size, -1)
+
+        return _TensionTrace(t, zigzag("tensions_pinv"), zigzag("tensions"),
+                             np.repeat(~self.infeasible[used], 2), self.method, self.base_model)
+
+
+def plot_tension_envelope(envelope: TensionEnvelope, scenario: Scenario, path: Path) -> Path:
+    """:func:`plot_tensions` (the paper's figure 5) from a :class:`TensionEnvelope`: each pixel
+    column spans its steps' smallest to largest tension, so extremes stay visible."""
+    return plot_tensions(envelope.trace(), scenario, path)
+
+
+def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: Path):
+    """``plan.csv`` and ``tensions.png`` from a plan made in pieces (:func:`~marinecdpr.iter_plan`),
+    holding one piece at a time.
+
+    Parameters
+    ----------
+    pieces : iterable of Plan
+        The scenario's whole plan, in order.
+    scenario : Scenario
+    csv_path, figure_path : Path
+
+    Returns
+    -------
+    marinecdpr.planning.PlanSummary
+        The plan's figures (steps, feasible steps, tension ranges, :meth:`infeasibility`),
+        with ``planning_s``, the time spent making the pieces, s.
+    """
+    import time
+
+    from .planning import PlanSummary
+
+    summary = PlanSummary()
+    envelope = TensionEnvelope(scenario.time.n_steps, scenario.robot.n_cables)
+    summary.planning_s = 0.0
+    it = iter(pieces)
+    with plan_csv_writer(scenario, csv_path) as write:
+        while True:
+            t0 = time.perf_counter()
+            piece = next(it, None)
+            summary.planning_s += time.perf_counter() - t0
+            if piece is None:
+                break
+            write(piece)
+            envelope.add(piece)
+            summary.add(piece)
+            del piece
+    plot_tension_envelope(envelope, scenario, figure_path)
+    return summary
 
 
 # ------------------------------------------------------------------ simulations
@@ -411,8 +600,8 @@ def plot_path(results: dict, scenario: Scenario, path: Path) -> Path:
 
 
 def _plain(text: str) -> str:
-    """``text`` for a matplotlib title, read literally (no mathtext)."""
-    return text.replace("$", r"\$")
+    """``text`` for a matplotlib title, read literally: no mathtext, no control characters."""
+    return strip_control(text).replace("$", r"\$")
 
 
 def write_json(data: dict, path: Path) -> Path:
@@ -494,8 +683,9 @@ def _fmt_length(v: float) -> str:
     return f"{v / size:.3g} {unit}"
 
 
-def findings(summary: dict, scenario: Scenario) -> list[str]:
-    """What the numbers say, as sentences written from them (for the report and terminal)."""
+def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> list[str]:
+    """What the numbers say, as sentences written from them (for the report and terminal);
+    with ``warnings``, the summary's warnings too."""
     runs = _sim_runs(summary)
     out = []
     bound = f"{_fmt_length(summary['error_bound_m'])} and {summary['error_bound_deg']:g} deg"
@@ -523,9 +713,15 @@ def findings(summary: dict, scenario: Scenario) -> list[str]:
             out.append("With ideal cables the plan and the plant share one model: open loop follows the plan "
                        "but for the hold of the tensions over each step.")
     if "closed_loop" in summary:
-        out.append("The closed loop holds the platform within the bound." if summary["closed_loop"]["within_error_bound"]
-                   else "The closed loop too leaves the bound: the feedback gains, the sensors or the "
-                        "cables do not hold this robot on its plan.")
+        c = summary["closed_loop"]
+        if not c["within_error_bound"]:
+            out.append("The closed loop too leaves the bound: the feedback gains, the sensors or the "
+                       "cables do not hold this robot on its plan.")
+        elif c["controller_fallbacks"] > 0.01 * summary["steps"]:
+            out.append("The closed loop stays within the bound, but on the plan's tensions at "
+                       f"{c['controller_fallbacks']} of {summary['steps']} steps: it shows the plan, not the controller.")
+        else:
+            out.append("The closed loop holds the platform within the bound.")
     if "open_loop" in summary and "fixed_base_open_loop" in summary:
         fixed, moving = worst("fixed_base_open_loop")[0], worst("open_loop")[0]
         if fixed > 2 * moving:
@@ -534,6 +730,7 @@ def findings(summary: dict, scenario: Scenario) -> list[str]:
                        "what ignoring the ship costs.")
     if "paper_reported" in summary:
         out.append("The paper's column is its section 4.2: open loop on Adams with a 1 ms exchange.")
+    out += [f"Warning: {w}." for w in summary.get("warnings", [])] if warnings else []
     for r in runs:
         excess = summary[r]["tension_limit_excess_N"]
         if excess > 0:
@@ -547,7 +744,9 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     import base64
     import html
 
-    esc = html.escape
+    def esc(text: str) -> str:
+        return html.escape(strip_control(text))
+
     runs = _sim_runs(summary)
     header, rows = error_table(summary, scenario)
     body = []
@@ -700,6 +899,8 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
 
 def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``."""
+    from .operability import LIMITING_HS_MEANING
+
     plt = _pyplot()
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -713,9 +914,8 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
         "operability": op.operability,
         "margin_N": op.margin_N,
         "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
-        "limiting_hs_m": {f"{h:g}": {f"{tp:g}": (None if np.isnan(v) else float(v))
-                                     for tp, v in zip(op.scatter.tp, lim)}
-                          for h, lim in op.limiting_hs.items()},
+        "limiting_hs_m": op.limiting_hs_json(),
+        "limiting_hs_meaning": LIMITING_HS_MEANING,
         "cells": len(op.results),
         "steps_per_cell": op.results[0].n_steps if op.results else 0,
     }

@@ -21,7 +21,9 @@ from typing import Annotated, Any, Literal, Union
 
 import numpy as np
 from pydantic import (
+    AfterValidator,
     BaseModel,
+    BeforeValidator,
     ConfigDict,
     Field,
     StrictFloat,
@@ -61,9 +63,94 @@ TENSION_METHODS = (
 )
 
 Vec3 = tuple[StrictFloat, StrictFloat, StrictFloat]
-PositiveFloat = Annotated[StrictFloat, Field(gt=0)]
-NonNegativeFloat = Annotated[StrictFloat, Field(ge=0)]
 ANCHOR_TOLERANCE_M = 1e-9
+
+POSITION_MAX_M = 1e4
+"""Largest coordinate of a position (anchors, the frame's origin on the ship, the trajectory),
+m: any ship, with room for a robot drawn in millimetres to load and be flagged by
+:func:`scale_warnings`."""
+TIME_MAX_S = 1e6
+"""Longest duration (of a plan, of a move, a trajectory's times), s: 11.6 days."""
+MOVE_MIN_S = 0.01
+"""Shortest move (a line, between waypoints) and circle period, s."""
+CABLES_MAX = 1000
+"""Most cables a robot may have."""
+RADIUS_OF_GYRATION_RANGE_M = (1e-4, POSITION_MAX_M)
+"""The platform's radii of gyration sqrt(I / m) about its principal axes, m."""
+DEGENERATE_RELATIVE = 1e-4
+"""Anchors within this fraction of the robot's size of one point (or, spatial, one line)
+make a degenerate robot."""
+RANK_TOLERANCE = 1e-9
+"""Singular values of J~ (moment columns over the robot's size) below this fraction of the
+largest count as zero."""
+
+
+def _num(x: float) -> str:
+    """A number as messages show it: 6 significant digits, exponents as 1e6 and 1e-5."""
+    text = f"{x:g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}e{int(exponent)}"
+    return text
+
+
+def _range_text(lo: float, hi: float, unit: str, *, above: bool = False) -> str:
+    u = f" {unit}" if unit else ""
+    if above:
+        return f"must be above {_num(lo)} and at most {_num(hi)}{u}"
+    return f"must be between {_num(lo)} and {_num(hi)}{u}"
+
+
+def _not_finite(value: Any) -> bool:
+    return isinstance(value, float) and not math.isfinite(value)
+
+
+def _ranged(lo: float, hi: float, unit: str, why: str, *, above: bool = False) -> Any:
+    """A finite number in [lo, hi] ((lo, hi] with ``above``); refused with the range, unit and why."""
+    text = _range_text(lo, hi, unit, above=above)
+
+    def finite(value: Any) -> Any:
+        if _not_finite(value):
+            raise ValueError(f"{text.replace('must be', 'must be a finite number')} ({why}), got {value}")
+        return value
+
+    def check(value: float) -> float:
+        if (value <= lo if above else value < lo) or value > hi:
+            raise ValueError(f"{text} ({why}), got {_num(value)}")
+        return value
+
+    return Annotated[StrictFloat, BeforeValidator(finite), AfterValidator(check)]
+
+
+def _ranged_vec3(bound: float, unit: str, why: str, names: tuple[str, ...] = ("x", "y", "z")) -> Any:
+    """A 3-vector of finite numbers, each within +-bound."""
+    text = _range_text(-bound, bound, unit)
+
+    def finite(value: Any) -> Any:
+        if isinstance(value, (list, tuple)) and len(value) == 3:
+            for name, v in zip(names, value):
+                if _not_finite(v):
+                    raise ValueError(f"each entry {text.replace('must be', 'must be a finite number')} "
+                                     f"({why}), got {name} = {v}")
+        return value
+
+    def check(value: tuple[float, float, float]) -> tuple[float, float, float]:
+        for name, v in zip(names, value):
+            if abs(v) > bound:
+                raise ValueError(f"each entry {text} ({why}), got {name} = {_num(v)}")
+        return value
+
+    return Annotated[Vec3, BeforeValidator(finite), AfterValidator(check)]
+
+
+Position = _ranged_vec3(POSITION_MAX_M, "m", "positions on a ship, in metres")
+Orientation = _ranged_vec3(180.0, "deg", "SNAME angles: at most half a turn", ("rx", "ry", "rz"))
+Phase = _ranged(-360.0, 360.0, "deg", "one turn either way")
+Tension = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN")
+TensionMax = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN", above=True)
+TimeOfDay = _ranged(0.0, TIME_MAX_S, "s", "11.6 days")
+Force = _ranged_vec3(1e8, "N", "beyond what ten cables of 10 MN can hold")
+Moment = _ranged_vec3(1e9, "N m", "beyond what ten cables of 10 MN can hold")
 
 
 class _KeyedError(ValueError):
@@ -82,13 +169,13 @@ class _Model(BaseModel):
 class Cable(_Model):
     """One cable: where it leaves the frame and where it holds the platform."""
 
-    frame_anchor_m: Vec3
+    frame_anchor_m: Position
     """c_i in frame C, m."""
-    platform_anchor_m: Vec3
+    platform_anchor_m: Position
     """p_i in frame P (origin at the platform's centre of mass), m."""
-    tension_min_N: NonNegativeFloat | None = None
+    tension_min_N: Tension | None = None
     """Smallest allowed tension, N (default: ``robot.tension_min_N``)."""
-    tension_max_N: PositiveFloat | None = None
+    tension_max_N: TensionMax | None = None
     """Largest allowed tension, N (default: ``robot.tension_max_N``)."""
 
 
@@ -96,11 +183,11 @@ class Robot(_Model):
     """The cable robot: platform, cables and which degrees of freedom they control."""
 
     dofs: Literal["planar", "spatial"] = "planar"
-    mass_kg: PositiveFloat
+    mass_kg: _ranged(1e-3, 1e5, "kg", "a platform from 1 g to 100 t")
     inertia_kg_m2: Any
     """About the centre of mass in P: 3 principal moments or a 3x3 matrix."""
-    tension_min_N: NonNegativeFloat | None = None
-    tension_max_N: PositiveFloat | None = None
+    tension_min_N: Tension | None = None
+    tension_max_N: TensionMax | None = None
     cables: list[Cable] = Field(min_length=1)
 
     @field_validator("inertia_kg_m2", mode="before")
@@ -145,6 +232,9 @@ class Robot(_Model):
                 f"{len(self.cables)} cables cannot control the {n_dof} degrees of freedom "
                 f"of a {self.dofs} robot (need at least {n_dof})",
             )
+        if len(self.cables) > CABLES_MAX:
+            raise _KeyedError("cables", f"must be between {n_dof} and {CABLES_MAX} cables (far more than "
+                                        f"any cable robot has), got {len(self.cables)}")
         for i, cable in enumerate(self.cables, start=1):
             lo = cable.tension_min_N if cable.tension_min_N is not None else self.tension_min_N
             hi = cable.tension_max_N if cable.tension_max_N is not None else self.tension_max_N
@@ -167,6 +257,27 @@ class Robot(_Model):
                     f"cables[{j[0] + 1}].{attr}",
                     f"same {what} anchor as cable {i[0] + 1} ({pts[i[0]].tolist()} m)",
                 )
+        return self
+
+    @model_validator(mode="after")
+    def _check_inertia_scale(self) -> "Robot":
+        lo, hi = (self.mass_kg * k**2 for k in RADIUS_OF_GYRATION_RANGE_M)
+        for moment in np.linalg.eigvalsh(self.inertia):
+            if not lo <= moment <= hi:
+                k_lo, k_hi = RADIUS_OF_GYRATION_RANGE_M
+                raise _KeyedError(
+                    "inertia_kg_m2",
+                    f"principal moments must be between {_num(lo)} and {_num(hi)} kg m^2 for a "
+                    f"{_num(self.mass_kg)} kg platform (radii of gyration from {_num(k_lo)} to "
+                    f"{_num(k_hi)} m), got {_num(moment)}",
+                )
+        return self
+
+    @model_validator(mode="after")
+    def _check_geometry(self) -> "Robot":
+        reason = _degenerate_geometry(self)
+        if reason:
+            raise _KeyedError("cables", reason)
         return self
 
     # Arrays the numerical layers use.
@@ -212,11 +323,108 @@ class Robot(_Model):
         )
 
 
+DOF_NAMES = ("x", "y", "z", "theta_x", "theta_y", "theta_z")
+
+
+def _diameter(points: np.ndarray) -> float:
+    """Largest distance between two of the points."""
+    return float(np.linalg.norm(points[:, None, :] - points[None, :, :], axis=-1).max())
+
+
+def _off_line(points: np.ndarray) -> tuple[float, np.ndarray]:
+    """Largest distance of the points from their best-fitting line, and its direction."""
+    d = points - points.mean(axis=0)
+    axis = np.linalg.svd(d)[2][0]
+    return float(np.linalg.norm(d - np.outer(d @ axis, axis), axis=1).max()), axis
+
+
+def _direction(axis: np.ndarray) -> str:
+    """A unit vector as a reader would name it: "along y", or its rounded components."""
+    i = int(np.argmax(np.abs(axis)))
+    if abs(axis[i]) > 1 - 1e-6:
+        return f"along {'xyz'[i]}"
+    return "along [" + ", ".join(f"{v:.3g}" for v in axis * np.sign(axis[i])) + "]"
+
+
+def _degenerate_geometry(robot: Robot) -> str | None:
+    """Why no pose gives J~ (eq. 6) full rank on the controlled DOFs, or None.
+
+    Anchors collapsed to a point (within :data:`DEGENERATE_RELATIVE` of the robot's size),
+    for a spatial robot anchors on one line, and otherwise J~ rank-deficient (to
+    :data:`RANK_TOLERANCE`, moment columns divided by the robot's size) at every one of
+    a handful of poses across the frame. A planar robot is judged in the x-z plane.
+    """
+    from .kinematics import cable_kinematics
+    from .rotations import matrix_from_euler
+
+    frame, platform = robot.frame_anchors, robot.platform_anchors
+    planar = robot.dofs == "planar"
+    plane = [0, 2] if planar else [0, 1, 2]
+    size_f, size_p = _diameter(frame[:, plane]), _diameter(platform[:, plane])
+    size = max(size_f, size_p)
+    if size == 0.0:
+        return "all anchors coincide: the cables cannot hold the platform"
+    tol = DEGENERATE_RELATIVE * size
+    where = " in the x-z plane" if planar else ""
+
+    def within(d: float, other: str, other_size: float) -> str:
+        if d <= 1e-12 * size:
+            return f"coincide{where}"
+        return (f"lie within {_num(float(f'{d:.3g}'))} m of each other{where}, less than "
+                f"{_num(DEGENERATE_RELATIVE)} of the {other}'s size ({other_size:.3g} m)")
+
+    if size_p <= tol:
+        return (f"the platform anchors {within(size_p, 'frame', size_f)}: the cables cannot exert a "
+                f"moment on the platform" + (" about y (theta_y)" if planar else ""))
+    if size_f <= tol:
+        return (f"the frame anchors {within(size_f, 'platform', size_p)}: every cable passes through "
+                f"one point, and the cables cannot exert a moment about it")
+    if not planar:
+        for what, points in (("platform", platform), ("frame", frame)):
+            off, axis = _off_line(points)
+            if off <= tol:
+                near = "" if off <= 1e-12 * size else f", all within {_num(float(f'{off:.3g}'))} m of it"
+                return (f"the {what} anchors lie on one line ({_direction(axis)}{near}): every cable meets "
+                        f"that line, so the cables cannot turn the platform about it")
+    # J~ at the frame's centre and at random poses across (and, for a flat frame, off) it
+    controlled = list(robot.controlled)
+    lo, hi = frame.min(axis=0), frame.max(axis=0)
+    centre, half = (lo + hi) / 2, (hi - lo) / 2
+    half = np.where(half <= tol, size / 2, half)
+    rng = np.random.default_rng(0)
+    n = 8
+    x = centre + rng.uniform(-0.8, 0.8, (n, 3)) * half
+    angles = np.radians(rng.uniform(-30.0, 30.0, (n, 3)))
+    x[0], angles[0] = centre, 0.0
+    if planar:
+        x[:, 1] = centre[1]
+        angles[:, [0, 2]] = 0.0
+    J = cable_kinematics(x, matrix_from_euler(angles), frame, platform).J_tilde[:, :, controlled]
+    J[:, :, [k >= 3 for k in controlled]] /= size
+    ranks, null = [], None
+    for Jk in J:
+        if not np.isfinite(Jk).all():
+            continue  # a platform anchor on a frame anchor: no direction at this pose
+        _, s, vt = np.linalg.svd(Jk)
+        rank = int(np.sum(s > RANK_TOLERANCE * s[0]))
+        if rank == len(controlled):
+            return None
+        ranks.append(rank)
+        if null is None:
+            null = vt[-1]
+    if not ranks:
+        return None
+    dofs = [DOF_NAMES[k] for k, v in zip(controlled, null) if abs(v) > 0.3 * np.abs(null).max()]
+    what = dofs[0] if len(dofs) == 1 else "a combination of " + ", ".join(dofs[:-1]) + " and " + dofs[-1]
+    return (f"the cables cannot control {what}: the structure matrix J~ has rank {max(ranks)} of "
+            f"{len(controlled)} at every pose tried ({len(ranks)} across the frame)")
+
+
 # ---------------------------------------------------------------------- ship, sea
 class Ship(_Model):
     """Where the robot stands on the ship."""
 
-    frame_origin_m: Vec3 = (0.0, 0.0, 0.0)
+    frame_origin_m: Position = (0.0, 0.0, 0.0)
     """Origin of the robot frame C in the ship frame S, m (C's axes are S's)."""
 
 
@@ -226,16 +434,22 @@ class StillMotion(_Model):
     type: Literal["still"]
 
 
+ShipDisplacement = _ranged(0.0, 30.0, "m", "a ship's surge, sway or heave in the worst storm")
+ShipAngle = _ranged(0.0, 180.0, "deg", "at most 90 deg for roll and pitch, 180 deg for yaw")
+ShipAngleOffset = _ranged(-180.0, 180.0, "deg", "at most 90 deg for roll and pitch, 180 deg for yaw")
+ShipPeriod = _ranged(0.5, 3600.0, "s", "a ship's motion, from vibration to a slow drift")
+
+
 class SineComponent(_Model):
     """``offset + amplitude * sin(2 pi t / period_s + phase)`` on one ship DOF."""
 
     dof: Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]
-    amplitude_m: StrictFloat | None = None
-    amplitude_deg: StrictFloat | None = None
-    offset_m: StrictFloat | None = None
-    offset_deg: StrictFloat | None = None
-    period_s: PositiveFloat
-    phase_deg: StrictFloat = 0.0
+    amplitude_m: ShipDisplacement | None = None
+    amplitude_deg: ShipAngle | None = None
+    offset_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions, in metres") | None = None
+    offset_deg: ShipAngleOffset | None = None
+    period_s: ShipPeriod
+    phase_deg: Phase = 0.0
 
     @model_validator(mode="after")
     def _check_units(self) -> "SineComponent":
@@ -249,6 +463,12 @@ class SineComponent(_Model):
                 )
         if getattr(self, f"amplitude_{want}") is None:
             raise _KeyedError(f"amplitude_{want}", f"missing (the amplitude of {self.dof})")
+        if self.dof in ("roll", "pitch"):
+            for key, lo in (("amplitude_deg", 0.0), ("offset_deg", -90.0)):
+                value = getattr(self, key)
+                if value is not None and not lo <= value <= 90.0:
+                    raise _KeyedError(key, f"{_range_text(lo, 90.0, 'deg')} for {self.dof} (a ship "
+                                           f"heeled or trimmed past 90 deg has capsized), got {_num(value)}")
         return self
 
     @property
@@ -292,11 +512,11 @@ class RAOSource(_Model):
     source: Literal["box_hull", "csv", "capytaine"] = "box_hull"
     file: StrictStr | None = None
     """csv or capytaine: the file (relative paths from the scenario's folder)."""
-    length_m: PositiveFloat | None = None
-    beam_m: PositiveFloat | None = None
-    draught_m: PositiveFloat | None = None
-    gm_m: PositiveFloat | None = None
-    roll_damping_ratio: PositiveFloat = 0.05
+    length_m: _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship") | None = None
+    beam_m: _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform") | None = None
+    draught_m: _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker") | None = None
+    gm_m: _ranged(0.01, 100.0, "m", "a floating hull's metacentric height") | None = None
+    roll_damping_ratio: _ranged(0.01, 1.0, "", "a fraction of critical damping") = 0.05
 
     @field_validator("file")
     @classmethod
@@ -315,24 +535,42 @@ class RAOSource(_Model):
         return self
 
 
+SEA_COMPONENTS_MAX = 12_000
+"""Most wave frequencies a sea-state record may sum (6 record_s / tp_s): the synthesis holds
+thousands of samples of each at once."""
+
+
 class SeaStateMotion(_Model):
     """Irregular seas: a wave spectrum turned into 6-DOF ship motion through RAOs."""
 
     type: Literal["sea_state"]
     spectrum: Literal["jonswap", "pierson_moskowitz"] = "jonswap"
-    hs_m: PositiveFloat
-    tp_s: PositiveFloat
-    gamma: Annotated[StrictFloat, Field(ge=1.0)] | None = None
+    hs_m: _ranged(0.01, 30.0, "m", "from ripples to the highest storm seas")
+    tp_s: _ranged(1.0, 40.0, "s", "from ripples to the longest swell")
+    gamma: _ranged(1.0, 10.0, "", "JONSWAP peak enhancement; measured seas lie within 1 to 7") | None = None
     """JONSWAP peak enhancement; default from Tp / sqrt(Hs) (DNV-RP-C205)."""
-    heading_deg: StrictFloat = 180.0
+    heading_deg: Phase = 180.0
     """Direction the waves travel towards, from the ship's +x, counter-clockwise: 180 = head seas."""
     spreading: Literal["none", "cos2s", "cosn"] = "none"
-    spreading_exponent: PositiveFloat = 10.0
+    spreading_exponent: _ranged(0.0, 100.0, "", "cos-2s s: about 1 for wind seas, 75 for swell",
+                                above=True) = 10.0
     n_directions: Annotated[int, Field(ge=1, le=181, strict=True)] = 15
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
-    record_s: PositiveFloat = 1800.0
+    record_s: _ranged(60.0, 10800.0, "s", "a sea state holds for at most about 3 hours") = 1800.0
     """Repeat period of the synthesised record (frequency step 2 pi / record_s)."""
     rao: RAOSource
+
+    @model_validator(mode="after")
+    def _check_components(self) -> "SeaStateMotion":
+        n = 6.0 * self.record_s / self.tp_s  # frequencies up to 6 omega_p in steps of 2 pi / record_s
+        if n > SEA_COMPONENTS_MAX:
+            raise _KeyedError(
+                "record_s",
+                f"a {_num(self.record_s)} s record at Tp = {_num(self.tp_s)} s sums {_num(round(n))} wave "
+                f"frequencies (6 record_s / tp_s), more than {SEA_COMPONENTS_MAX}: make record_s at most "
+                f"{_num(SEA_COMPONENTS_MAX * self.tp_s / 6)} s",
+            )
+        return self
 
 
 class RecordedMotion(_Model):
@@ -345,9 +583,10 @@ class RecordedMotion(_Model):
     z_axis: Literal["up", "down"] = "up"
     """up: x forward, y to port, z up (ours); down: x forward, y to starboard, z down."""
     angles: Literal["deg", "rad"] = "deg"
-    smoothing_s: PositiveFloat | None = None
+    smoothing_s: _ranged(0.0, 60.0, "s", "a spline's time scale; slower motion is what the ship does",
+                         above=True) | None = None
     """Time scale of the smoothing spline that gives velocities and accelerations."""
-    start_s: NonNegativeFloat = 0.0
+    start_s: TimeOfDay = 0.0
     """Time in the record that the scenario's t = 0 corresponds to."""
 
     @field_validator("file")
@@ -366,20 +605,20 @@ class CircleTrajectory(_Model):
     """``center + r (cos(2 pi t/T + phase) e1 + sin(2 pi t/T + phase) e2)`` in C (eq. 21)."""
 
     type: Literal["circle"]
-    center_m: Vec3
-    radius_m: PositiveFloat
-    period_s: PositiveFloat
-    phase_deg: StrictFloat = 0.0
+    center_m: Position
+    radius_m: _ranged(0.0, POSITION_MAX_M, "m", "positions on a ship, in metres", above=True)
+    period_s: _ranged(MOVE_MIN_S, TIME_MAX_S, "s", "from faster than any cable robot to 11.6 days")
+    phase_deg: Phase = 0.0
     plane: Literal["xz", "xy", "yz"] = "xz"
     """Axes (e1, e2) of the circle's plane: "xz" runs x = cos, z = sin as in eq. 21."""
-    orientation_deg: Vec3 = (0.0, 0.0, 0.0)
+    orientation_deg: Orientation = (0.0, 0.0, 0.0)
     """Constant platform orientation (rx, ry, rz) in C, deg."""
 
 
 class Waypoint(_Model):
-    time_s: NonNegativeFloat
-    position_m: Vec3
-    orientation_deg: Vec3 = (0.0, 0.0, 0.0)
+    time_s: TimeOfDay
+    position_m: Position
+    orientation_deg: Orientation = (0.0, 0.0, 0.0)
 
 
 class WaypointsTrajectory(_Model):
@@ -391,10 +630,11 @@ class WaypointsTrajectory(_Model):
     @model_validator(mode="after")
     def _check_times(self) -> "WaypointsTrajectory":
         for i in range(1, len(self.waypoints)):
-            if self.waypoints[i].time_s <= self.waypoints[i - 1].time_s:
+            if self.waypoints[i].time_s < self.waypoints[i - 1].time_s + MOVE_MIN_S:
                 raise _KeyedError(
                     f"waypoints[{i + 1}].time_s",
-                    f"must be later than waypoint {i}'s ({self.waypoints[i - 1].time_s:g} s)",
+                    f"must be later than waypoint {i}'s ({self.waypoints[i - 1].time_s:g} s), by at "
+                    f"least {_num(MOVE_MIN_S)} s (faster than any cable robot moves)",
                 )
         return self
 
@@ -403,13 +643,21 @@ class LineTrajectory(_Model):
     """A straight rest-to-rest move (quintic time law) between two poses."""
 
     type: Literal["line"]
-    start_position_m: Vec3
-    end_position_m: Vec3
-    start_orientation_deg: Vec3 = (0.0, 0.0, 0.0)
-    end_orientation_deg: Vec3 | None = None
+    start_position_m: Position
+    end_position_m: Position
+    start_orientation_deg: Orientation = (0.0, 0.0, 0.0)
+    end_orientation_deg: Orientation | None = None
     """Defaults to the start orientation."""
-    start_time_s: NonNegativeFloat = 0.0
-    duration_s: PositiveFloat
+    start_time_s: TimeOfDay = 0.0
+    duration_s: _ranged(MOVE_MIN_S, TIME_MAX_S, "s", "from faster than any cable robot to 11.6 days")
+
+    @model_validator(mode="after")
+    def _check_end(self) -> "LineTrajectory":
+        if self.start_time_s + self.duration_s > TIME_MAX_S:
+            raise _KeyedError("duration_s", f"the move must end by {_num(TIME_MAX_S)} s (11.6 days), "
+                                            f"got start_time_s + duration_s = "
+                                            f"{_num(self.start_time_s + self.duration_s)}")
+        return self
 
     def as_waypoints(self) -> WaypointsTrajectory:
         end_rot = self.end_orientation_deg or self.start_orientation_deg
@@ -435,12 +683,12 @@ class Disturbance(_Model):
 
     frame: Literal["O", "C", "P"] = "O"
     """Frame the vectors are given in: O (earth, as the paper), C (ship-fixed) or P (platform)."""
-    force_N: Vec3 = (0.0, 0.0, 0.0)
-    moment_N_m: Vec3 = (0.0, 0.0, 0.0)
-    force_amplitude_N: Vec3 = (0.0, 0.0, 0.0)
-    moment_amplitude_N_m: Vec3 = (0.0, 0.0, 0.0)
-    period_s: PositiveFloat | None = None
-    phase_deg: StrictFloat = 0.0
+    force_N: Force = (0.0, 0.0, 0.0)
+    moment_N_m: Moment = (0.0, 0.0, 0.0)
+    force_amplitude_N: Force = (0.0, 0.0, 0.0)
+    moment_amplitude_N_m: Moment = (0.0, 0.0, 0.0)
+    period_s: _ranged(1e-3, TIME_MAX_S, "s", "from a 1 kHz vibration to 11.6 days") | None = None
+    phase_deg: Phase = 0.0
 
     @model_validator(mode="after")
     def _check_period(self) -> "Disturbance":
@@ -450,8 +698,8 @@ class Disturbance(_Model):
 
 
 class Time(_Model):
-    step_s: PositiveFloat = 0.001
-    duration_s: PositiveFloat
+    step_s: _ranged(1e-5, 1.0, "s", "from 100 kHz to one sample a second") = 0.001
+    duration_s: _ranged(0.0, TIME_MAX_S, "s", "11.6 days", above=True)
 
     @property
     def n_steps(self) -> int:
@@ -472,14 +720,14 @@ class CableModel(_Model):
 
     model: Literal["ideal", "elastic"] = "ideal"
     """ideal: the commanded tension acts (as in the paper). elastic: a cable on a winch."""
-    stiffness_EA_N: PositiveFloat | None = None
+    stiffness_EA_N: _ranged(1.0, 1e10, "N", "from a rubber cord to a 25 cm steel rope") | None = None
     """Axial stiffness E A of an elastic cable, N: tension = E A (L - L0) / L0 + damping."""
-    damping_N_s_m: NonNegativeFloat = 0.0
+    damping_N_s_m: _ranged(0.0, 1e9, "N s/m", "beyond critical for the stiffest cable") = 0.0
     """Axial damping of an elastic cable, N per (m/s) of stretch rate."""
     winch: Literal["length", "tension"] = "length"
     """length: the winch pays out a commanded unstretched length L0; tension: it tracks a
     commanded tension (with its tension sensor)."""
-    winch_time_constant_s: NonNegativeFloat = 0.0
+    winch_time_constant_s: _ranged(0.0, 60.0, "s", "a winch that lags a minute holds nothing") = 0.0
     """First-order lag of the winch on its command (0: none)."""
 
     @model_validator(mode="after")
@@ -489,29 +737,33 @@ class CableModel(_Model):
         return self
 
 
+def _noise(hi: float, unit: str) -> Any:
+    return _ranged(0.0, hi, unit, "a sensor's standard deviation, not what it measures")
+
+
 class Noise(_Model):
     """Gaussian noise (standard deviations) on what the closed-loop controller measures."""
 
     seed: Annotated[int, Field(ge=0, strict=True)] = 0
-    pose_m: NonNegativeFloat = 0.0
-    pose_deg: NonNegativeFloat = 0.0
-    velocity_m_s: NonNegativeFloat = 0.0
-    rate_deg_s: NonNegativeFloat = 0.0
-    tension_N: NonNegativeFloat = 0.0
+    pose_m: _noise(10.0, "m") = 0.0
+    pose_deg: _noise(30.0, "deg") = 0.0
+    velocity_m_s: _noise(10.0, "m/s") = 0.0
+    rate_deg_s: _noise(360.0, "deg/s") = 0.0
+    tension_N: _noise(1e7, "N") = 0.0
     """On the winch's tension sensor (tension-controlled winches)."""
-    ship_position_m: NonNegativeFloat = 0.0
-    ship_angle_deg: NonNegativeFloat = 0.0
-    ship_velocity_m_s: NonNegativeFloat = 0.0
-    ship_rate_deg_s: NonNegativeFloat = 0.0
-    ship_acceleration_m_s2: NonNegativeFloat = 0.0
-    ship_angular_acceleration_deg_s2: NonNegativeFloat = 0.0
+    ship_position_m: _noise(30.0, "m") = 0.0
+    ship_angle_deg: _noise(30.0, "deg") = 0.0
+    ship_velocity_m_s: _noise(30.0, "m/s") = 0.0
+    ship_rate_deg_s: _noise(360.0, "deg/s") = 0.0
+    ship_acceleration_m_s2: _noise(100.0, "m/s^2") = 0.0
+    ship_angular_acceleration_deg_s2: _noise(3600.0, "deg/s^2") = 0.0
 
 
 class Control(_Model):
     """Closed-loop computed-torque gains: a critically damped second-order error by default."""
 
-    bandwidth_hz: PositiveFloat = 5.0
-    damping_ratio: PositiveFloat = 1.0
+    bandwidth_hz: _ranged(1e-3, 1000.0, "Hz", "from a drifting loop to beyond any winch") = 5.0
+    damping_ratio: _ranged(0.01, 10.0, "", "from barely damped to heavily overdamped") = 1.0
 
 
 class Simulation(_Model):
@@ -524,19 +776,20 @@ class Simulation(_Model):
     cables: CableModel = CableModel()
     noise: Noise = Noise()
     control: Control = Control()
-    initial_error_m: Vec3 = (0.0, 0.0, 0.0)
+    initial_error_m: _ranged_vec3(100.0, "m", "an error, not another pose") = (0.0, 0.0, 0.0)
     """Platform position error at t = 0 (actual minus planned), in C, m."""
-    initial_error_deg: Vec3 = (0.0, 0.0, 0.0)
+    initial_error_deg: _ranged_vec3(90.0, "deg", "an error, not another pose",
+                                    ("rx", "ry", "rz")) = (0.0, 0.0, 0.0)
     """Platform orientation error at t = 0 (rx, ry, rz), deg."""
-    max_error_m: PositiveFloat | None = None
+    max_error_m: _ranged(0.0, POSITION_MAX_M, "m", "positions on a ship, in metres", above=True) | None = None
     """A run whose position or cable-length error passes this is flagged; default 1% of
     the frame's largest extent."""
-    max_error_deg: PositiveFloat = 1.0
+    max_error_deg: _ranged(0.0, 180.0, "deg", "half a turn", above=True) = 1.0
     """A run whose orientation error passes this is flagged, deg."""
 
 
 class Environment(_Model):
-    gravity_m_s2: PositiveFloat = 9.8
+    gravity_m_s2: _ranged(0.1, 30.0, "m/s^2", "from a small moon's to beyond Jupiter's") = 9.8
     """Magnitude of gravity; it points along -z of O."""
 
 
@@ -593,11 +846,20 @@ class Scenario(_Model):
         return self
 
     def with_changes(self, **sections: Any) -> "Scenario":
-        """A validated copy with top-level sections replaced, e.g. ``planning={...}``."""
+        """A validated copy with top-level sections replaced, e.g. ``planning={...}``.
+
+        Raises
+        ------
+        ScenarioError
+            One line naming the key, as for a file.
+        """
         data = self.model_dump(exclude_none=True)
         for key, value in sections.items():
             data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
-        return Scenario.model_validate(data)
+        try:
+            return Scenario.model_validate(data)
+        except ValidationError as exc:
+            raise _to_scenario_error(exc, data, None) from None
 
 
 # ----------------------------------------------------------------------- scale
@@ -674,10 +936,7 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
     path = Path(path_or_name)
     if path.is_file():
         source = str(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise ScenarioError(f"cannot read the file ({exc})", source=source) from None
+        text = _scenario_text(path, source)
     elif str(path_or_name) in builtin_scenarios():
         source = f"built-in scenario '{path_or_name}'"
         text = (resources.files("marinecdpr") / "scenarios" / f"{path_or_name}.toml").read_text(
@@ -693,8 +952,46 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"not valid TOML: {exc}", source=source) from None
+    except RecursionError:  # tomllib recurses into nested arrays and inline tables
+        raise ScenarioError("not valid TOML: arrays or inline tables too deeply nested "
+                            "(a scenario nests a few levels)", source=source) from None
     base_dir = path.parent if path.is_file() else Path.cwd()
     return scenario_from_dict(data, source=source, base_dir=base_dir)
+
+
+def _scenario_text(path: Path, source: str, max_bytes: int = 64 * 2**20) -> str:
+    """A scenario file's text: UTF-8 (a byte-order mark dropped), no NUL byte, at most 64 MiB."""
+    from .textfiles import position
+
+    try:
+        with path.open("rb") as f:
+            raw = f.read(max_bytes + 1)
+    except OSError as exc:
+        raise ScenarioError(f"cannot read the file ({exc.strerror or exc})", source=source) from None
+    if len(raw) > max_bytes:
+        raise ScenarioError(f"larger than a scenario file can be ({max_bytes // 2**20} MiB)", source=source)
+    raw = raw.removeprefix(b"\xef\xbb\xbf")
+    if (nul := raw.find(b"\0")) >= 0:
+        raise ScenarioError(f"{position(raw, nul, 'line')}: a NUL byte, so not text; "
+                            f"expected a TOML scenario file", source=source)
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{position(raw, exc.start, 'line')}: not UTF-8 text; "
+                            f"expected a TOML scenario file in UTF-8", source=source) from None
+
+
+def _too_deep(data: Any, limit: int = 32) -> str | None:
+    """The top-level key under which tables and lists nest more than ``limit`` deep, or None."""
+    for key, value in (data.items() if isinstance(data, dict) else ()):
+        stack = [(value, 2)]  # the top-level table is level 1
+        while stack:  # not recursive: a deep (or circular) structure ends at the limit
+            node, depth = stack.pop()
+            if isinstance(node, (dict, list, tuple)):
+                if depth > limit:
+                    return str(key)
+                stack.extend((v, depth + 1) for v in (node.values() if isinstance(node, dict) else node))
+    return None
 
 
 def scenario_from_dict(
@@ -708,10 +1005,16 @@ def scenario_from_dict(
         Folder that relative file paths (RAOs, recorded motion) are taken from;
         default the working folder.
     """
+    if (key := _too_deep(data)) is not None:
+        raise ScenarioError("too deeply nested (tables or arrays more than 32 levels deep; "
+                            "a scenario nests a few)", source=source, key=key)
     try:
-        return Scenario.model_validate(data, context={"base_dir": base_dir or Path.cwd()})
-    except ValidationError as exc:
-        raise _to_scenario_error(exc, data, source) from None
+        try:
+            return Scenario.model_validate(data, context={"base_dir": base_dir or Path.cwd()})
+        except ValidationError as exc:
+            raise _to_scenario_error(exc, data, source) from None
+    except RecursionError:  # a backstop: _too_deep should have caught it
+        raise ScenarioError("too deeply nested", source=source) from None
 
 
 def _to_scenario_error(exc: ValidationError, data: Any, source: str | None) -> ScenarioError:

@@ -470,7 +470,11 @@ def simulate(
         If the plan to fly (moving-base, or fixed-base for that run) is infeasible.
     SimulationDivergedError
         If the platform ends up more than 10 m from its plan or its state is not finite.
+    ScenarioError
+        If the run would not fit in memory (:func:`marinecdpr.budget.check_run_size`).
     """
+    from .budget import check_run_size
+
     if run not in RUNS:
         raise ValueError(f"run must be one of {', '.join(RUNS)}, not {run!r}")
     sim = scenario.simulation
@@ -480,6 +484,7 @@ def simulate(
     robot = scenario.robot
     h = scenario.time.step_s
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
+    check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
     t = np.arange(n) * h
     method = scenario.planning.method
     ref = reference if reference is not None else plan_at(scenario, t, method=method)
@@ -713,6 +718,11 @@ def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared
         fallbacks += fb
         if bad >= 0:
             raise SimulationDivergedError(_diverged_message(scenario, run, t[bad]))
+        if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > 0:
+            # MuJoCo met a non-finite or huge acceleration and reset its state: the run is lost
+            raise SimulationDivergedError(
+                f"{scenario.name}: {run} diverged between t = {t[k0]:.3f} s and {t[k1 - 1]:.3f} s: MuJoCo "
+                "met a non-finite or huge acceleration")
         if progress is not None:
             progress(k1, n)
     return fallbacks, float(ship_err[0])

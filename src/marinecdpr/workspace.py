@@ -17,7 +17,7 @@ from .errors import ScenarioError
 from .planning import iter_plan
 from .scenario import Scenario
 
-__all__ = ["WorkspaceMap", "workspace_map", "tension_margin"]
+__all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range"]
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -31,10 +31,12 @@ class WorkspaceMap:
     axes : tuple of str
         The two grid axes, e.g. ("x", "z").
     u, v : ndarray, shape (n_u,), (n_v,)
-        Grid coordinates along them, m.
+        Grid coordinates of the platform's centre along them, m: evenly inside the range
+        where the platform, held at the given orientation, fits within the frame (see
+        :func:`pose_range`).
     fraction_feasible : ndarray, shape (n_u, n_v)
         Fraction of the time steps with tensions within limits (NaN: the platform
-        would leave the frame there).
+        would leave the frame there; only where it cannot fit at all).
     min_margin_N : ndarray, shape (n_u, n_v)
         Smallest distance of the chosen method's tensions to their limits over the
         record, N (0 where the method rests a cable on a limit; -inf where some step is
@@ -62,6 +64,29 @@ def tension_margin(T: np.ndarray, t_min: np.ndarray, t_max: np.ndarray) -> np.nd
     return np.minimum(T - t_min, t_max - T).min(axis=1)
 
 
+def pose_range(scenario: Scenario, orientation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Where the platform's centre can be with the platform inside the frame: (lo, hi), m, in C.
+
+    The frame is the box of the frame anchors (as the trajectory check has it); along each
+    axis the range is inset by the platform's extent there (its anchors at the given
+    orientation, and its centre), so every platform anchor stays within the frame.
+    Along an axis where the frame has no extent (a planar robot's y), or where the
+    platform is wider than the frame, the frame anchors' range is returned.
+    """
+    from .rotations import matrix_from_euler
+
+    c = scenario.robot.frame_anchors
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    anchors = scenario.robot.platform_anchors @ matrix_from_euler(np.radians(np.asarray(orientation_deg,
+                                                                                        dtype=float))).T
+    in_lo = lo - np.minimum(anchors.min(axis=0), 0.0)
+    in_hi = hi - np.maximum(anchors.max(axis=0), 0.0)
+    tol = 1e-9 * max(1.0, float(np.abs(c).max()))
+    keep = (hi - lo > tol) & (in_hi > in_lo)
+    return np.where(keep, in_lo, lo), np.where(keep, in_hi, hi)
+
+
 def workspace_map(
     scenario: Scenario,
     *,
@@ -80,21 +105,30 @@ def workspace_map(
     axes : tuple of two of "x", "y", "z", optional
         Grid plane; default ("x", "z"), the plane of a planar robot.
     n : tuple of int
-        Grid points along each axis, spread over the frame anchors' range.
+        Grid points along each axis, evenly inside the range where the platform fits in the
+        frame (:func:`pose_range`: the frame anchors' range inset by the platform's size;
+        the range's ends, where an anchor would touch the frame's edge, are left out).
     fixed_m : float, optional
         The third coordinate (default: the middle of the frame along it; 0 for a planar robot's y).
     orientation_deg : tuple of 3 float
         Platform orientation held, (rx, ry, rz) deg.
     progress : callable(done, total), optional
     """
+    from .budget import check_run_size
+
     axes = axes or ("x", "z")
     if len(axes) != 2 or any(a not in AXES for a in axes) or axes[0] == axes[1]:
         raise ValueError(f"axes must be two of x, y, z, not {axes!r}")
+    check_run_size(scenario, "workspace", grid=(int(n[0]), int(n[1])))  # before the grid's arrays
     c = scenario.robot.frame_anchors
     lo, hi = c.min(axis=0), c.max(axis=0)
     i_u, i_v = AXES[axes[0]], AXES[axes[1]]
     i_w = 3 - i_u - i_v
-    grid = [np.linspace(lo[i], hi[i], k + 2)[1:-1] for i, k in zip((i_u, i_v), n)]
+    # the platform's centre over where the platform fits (not over the frame anchors' range:
+    # there the outer poses put an anchor a grid step or less from the frame's edge, where
+    # cables run along the edge and cannot hold the platform even in calm water)
+    fit_lo, fit_hi = pose_range(scenario, orientation_deg)
+    grid = [np.linspace(fit_lo[i], fit_hi[i], k + 2)[1:-1] for i, k in zip((i_u, i_v), n)]
     if fixed_m is None:
         fixed_m = 0.0 if scenario.robot.dofs == "planar" else 0.5 * (lo[i_w] + hi[i_w])
     shape = (grid[0].size, grid[1].size)

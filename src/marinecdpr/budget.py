@@ -1,0 +1,423 @@
+"""How big a run is, before it runs: memory and work of a command on a scenario.
+
+A scenario with a tiny ``time.step_s``, a huge ``time.duration_s`` or sea-state
+``record_s``, or a workspace grid of billions of poses validates, and then fails
+deep inside NumPy with a ``MemoryError`` (or runs for years). :func:`check_run_size`
+refuses such a run up front, in one line with its estimated size, from arithmetic on
+the scenario alone (nothing is allocated).
+
+The estimates follow how each command allocates (bytes per time step of the arrays it
+holds, see :func:`estimate_run`), and were checked against measured peaks on the
+``paper`` scenario (4 cables; per time step, above the process's baseline):
+
+========================  ===========  ==========
+command                   estimated    measured
+========================  ===========  ==========
+``plan()`` in memory      457 B        463 B
+``simulate()``, one run   2.6 kB       2.5 kB
+``marinecdpr simulate``   4.0 kB       3.4 kB
+========================  ===========  ==========
+
+``marinecdpr plan`` and :func:`~marinecdpr.iter_plan` stream in chunks: their memory
+does not grow with the duration, only their time does.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from .errors import ScenarioError
+from .scenario import Scenario, SeaStateMotion
+
+__all__ = [
+    "RunSize",
+    "COMMANDS",
+    "MEMORY_FRACTION",
+    "MAX_STEPS",
+    "MAX_WAVE_WORK",
+    "machine_memory_bytes",
+    "estimate_run",
+    "check_run_size",
+    "human_bytes",
+]
+
+COMMANDS = ("plan", "plan_stream", "simulate", "virtual_prototype", "workspace", "operability")
+"""What :func:`estimate_run` sizes: ``plan`` (:func:`~marinecdpr.plan`, the whole plan in
+memory), ``plan_stream`` (:func:`~marinecdpr.iter_plan` and ``marinecdpr plan``: chunks),
+``simulate`` (one :func:`~marinecdpr.simulate` run), ``virtual_prototype`` (the plan, three
+runs and their files: ``marinecdpr simulate``), ``workspace`` (a grid of held poses,
+each streamed) and ``operability`` (sea states, each streamed; a closed-loop flight per
+cell with ``closed_loop``)."""
+
+MEMORY_FRACTION = 0.75
+"""A run may use at most this share of the machine's memory (the estimates err high by up
+to about 20 %, and the machine runs other things)."""
+MAX_STEPS = 10**9
+"""Most time steps (over every pose, cell and run) a command may take: a billion plan steps
+is minutes of planning and hours of writing plan.csv; simulating them, days."""
+MAX_WAVE_WORK = 10**11
+"""Most wave components x time samples a run may sum directly (sea states off the FFT
+grid): about 10^7 a second, so this is hours."""
+FALLBACK_MEMORY_BYTES = 8 * 2**30
+"""The machine's memory when neither /proc/meminfo nor sysconf tells it."""
+FINE_STEP_S = 1e-4
+"""A time step finer than this is blamed before the duration (no cable robot needs 10 kHz)."""
+
+# ---------------------------------------------------------------- bytes per step
+F8 = 8  # one float64
+BASE_BYTES = 300 * 10**6
+"""The process itself: Python, NumPy, SciPy, Matplotlib (and MuJoCo, numba for simulations)."""
+CHUNK_STEPS = 16384  # planning.DEFAULT_CHUNK_STEPS, without importing the planning chain
+HARMONIC_CHUNK = 4096  # seastate._harmonic's block of times
+FFT_MAX_SAMPLES = 2**18  # seastate.FFT_MAX_SAMPLES
+
+
+def _plan_row(m: int, k: int) -> int:
+    """A Plan's arrays per step: t; pose, twist, twist_dot, wrench, C_s, F_s (6 each);
+    lengths, length_rates, tensions_pinv, tensions (m each); feasible (1 byte); reaction."""
+    return F8 * (1 + 6 * 6 + 4 * m + (6 - k)) + 1
+
+
+def _chunk_row(m: int) -> int:
+    """Temporaries of one planned chunk per step (kinematics, J~, wrench terms, solver)."""
+    return 1000 + 250 * m
+
+
+def _sim_row(m: int, k: int) -> int:
+    """One simulate() run per step: the plan at t and the mid-step plan (each with its t);
+    the ship's motion (eta and derivatives, R, omega, alpha: 33 numbers) and the
+    disturbance (raw and in C: 12) on the half-step grid; the mid-step rotation; sensor
+    noise and the noisy ship (12 + 18 + m); loads at t (6); the logs (6 + 3 m); MuJoCo's
+    ship drive (feed-forward, targets, axes, loads in O: about 50)."""
+    plans = 2 * (_plan_row(m, k) + F8)
+    half_grid = 2 * F8 * (1 + 33 + 12)
+    run = F8 * (9 + 12 + 18 + m + 6 + 6 + 3 * m + 50)
+    return plans + half_grid + run
+
+
+def _result_row(m: int) -> int:
+    """A SimResult kept per step (its own arrays: t, pose, lengths, tensions, commanded)."""
+    return F8 * (1 + 6 + 3 * m)
+
+
+def _csv_row(columns: int) -> int:
+    """Writing a CSV of the whole run at once: values (8 B) and text twice (~12 chars each)."""
+    return columns * (F8 + 2 * 12)
+
+
+POSE_BYTES = 3 * F8 + 2 * F8 + _csv_row(5) + 4 * F8
+"""A workspace grid pose: three maps, its coordinates, its CSV row, the figure's images."""
+
+
+# ---------------------------------------------------------------------- machine
+def machine_memory_bytes() -> int:
+    """The memory this process may use: the machine's total (/proc/meminfo, else sysconf),
+    or a smaller cgroup limit; :data:`FALLBACK_MEMORY_BYTES` if none can be read."""
+    total = None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemTotal:"):
+                    total = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError, IndexError):
+        pass
+    if total is None:
+        try:
+            total = int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+        except (AttributeError, ValueError, OSError):
+            total = None
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            with open(path, encoding="ascii") as fh:
+                limit = int(fh.read().strip())
+        except (OSError, ValueError):
+            continue
+        if limit > 0 and (total is None or limit < total):
+            total = limit
+    return int(total) if total and total > 0 else FALLBACK_MEMORY_BYTES
+
+
+def human_bytes(n: float) -> str:
+    """``2.4 TB``, ``15 GB``, ``400 GB``: decimal units, a decimal below 10."""
+    for unit in ("B", "kB", "MB", "GB", "TB", "PB", "EB", "ZB", "YB"):
+        if abs(n) < 999.5 or unit == "YB":
+            return f"{n:.1f} {unit}" if abs(n) < 9.95 and unit != "B" else f"{n:.0f} {unit}"
+        n /= 1000.0
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2**30:.0f} GiB" if n >= 10 * 2**30 else f"{n / 2**30:.2g} GiB"
+
+
+def _count(n: float) -> str:
+    """Exact below ten billion (``1,000,000,001``), else ``3e+12``."""
+    return f"{int(n):,}" if n < 10**10 else f"{n:.3g}"
+
+
+# ---------------------------------------------------------------------- estimate
+@dataclass(frozen=True)
+class RunSize:
+    """What a run would take.
+
+    Attributes
+    ----------
+    command : str
+        One of :data:`COMMANDS`.
+    n_steps : int
+        Time steps of one record (one pose, one cell).
+    n_cables : int
+    poses : int
+        Records of ``n_steps``: workspace poses, operability cells x poses; else 1.
+    runs : int
+        Passes over each record (3 for the virtual prototype, 2 for operability with a
+        closed-loop flight); else 1.
+    memory_bytes : int
+        Estimated peak memory.
+    series_bytes, sea_bytes, pose_bytes : int
+        Its parts growing with the steps, with the sea-state record, with the poses.
+    wave_components : int
+        Sea-state components summed (0 without a sea state).
+    wave_samples : int
+        Times at which they are summed directly (0 where an inverse FFT serves).
+    """
+
+    command: str
+    n_steps: int
+    n_cables: int
+    poses: int
+    runs: int
+    memory_bytes: int
+    series_bytes: int
+    sea_bytes: int
+    pose_bytes: int
+    wave_components: int
+    wave_samples: int
+
+    @property
+    def steps(self) -> int:
+        """Time steps over every pose and run."""
+        return self.n_steps * self.poses * self.runs
+
+    @property
+    def work(self) -> int:
+        """Steps x cables."""
+        return self.steps * self.n_cables
+
+    @property
+    def wave_work(self) -> int:
+        """Wave components x samples summed directly."""
+        return self.wave_components * self.wave_samples
+
+
+def _wave_components(sea: SeaStateMotion) -> tuple[int, int]:
+    """Components of the record (seastate.sea_record: omega up to 6 omega_p in steps of
+    2 pi / record_s) and its directions."""
+    k = int(6.0 * sea.record_s / sea.tp_s)
+    return k, 1 if sea.spreading == "none" else int(sea.n_directions)
+
+
+def _uses_fft(record_s: float, dt: float) -> bool:
+    """Does seastate.synthesize serve times spaced ``dt`` from its inverse-FFT grid?"""
+    if dt <= 0:
+        return False
+    m = round(record_s / dt)
+    return 0 < m <= FFT_MAX_SAMPLES and abs(m * dt - record_s) < 1e-9 * record_s
+
+
+def _sea(scenario: Scenario, per_call: int, total: int, dt: float) -> tuple[int, int, int]:
+    """(bytes, components, samples summed directly) of the ship's motion in a sea state,
+    sampled ``total`` times spaced ``dt``, at most ``per_call`` at once."""
+    sea = scenario.base_motion
+    if not isinstance(sea, SeaStateMotion):
+        return 0, 0, 0
+    k, n_dir = _wave_components(sea)
+    # spectrum and phases over every component; RAOs per direction; 18 response rows
+    record = k * (1200 + 16 * n_dir)
+    if _uses_fft(sea.record_s, dt):
+        m = round(sea.record_s / dt)
+        return record + 3 * 144 * m, k, 0  # the spectrum and the grid (cached)
+    # direct sums: exp(i omega t) over a block of times, complex (with its float and complex temporaries)
+    block = k * min(per_call, HARMONIC_CHUNK) * (8 + 16 + 16)
+    return record + block, k, total
+
+
+def estimate_run(
+    scenario: Scenario,
+    command: str = "plan",
+    *,
+    n_steps: int | None = None,
+    grid: tuple[int, int] | None = None,
+    cells: int = 1,
+    closed_loop: bool = False,
+    workers: int = 1,
+    chunk_steps: int = CHUNK_STEPS,
+) -> RunSize:
+    """The memory and work of ``command`` on ``scenario`` (arithmetic only).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    command : str
+        One of :data:`COMMANDS`.
+    n_steps : int, optional
+        Steps of the record (default the scenario's; ``simulate(n_steps=...)`` may use fewer).
+    grid : (int, int), optional
+        Workspace grid points (``workspace``; ``operability`` with ``--workspace``).
+    cells : int
+        Sea states (``operability``).
+    closed_loop : bool
+        ``operability`` also flies the closed loop in each cell.
+    workers : int
+        Processes running cells at once (``operability``).
+    chunk_steps : int
+        Steps planned at once.
+
+    Returns
+    -------
+    RunSize
+    """
+    if command not in COMMANDS:
+        raise ValueError(f"command must be one of {', '.join(COMMANDS)}, not {command!r}")
+    robot = scenario.robot
+    m, k = robot.n_cables, len(robot.controlled)
+    n = scenario.time.n_steps if n_steps is None else int(n_steps)
+    h = scenario.time.step_s
+    poses = grid[0] * grid[1] if grid is not None else 1
+    chunk = min(n, chunk_steps)
+    working = chunk * (_chunk_row(m) + _plan_row(m, k))  # one chunk planned, and its Plan
+    runs = 1
+    pose_bytes = 0
+    if command == "plan":
+        series = n * (_plan_row(m, k) + F8)
+        sea = _sea(scenario, chunk, n, h)
+    elif command == "plan_stream":
+        series = 0
+        working += chunk * _csv_row(2 + 6 + 3 * m)  # the chunk's CSV text
+        sea = _sea(scenario, chunk, n, h)
+    elif command == "simulate":
+        series = n * _sim_row(m, k)
+        sea = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2)
+    elif command == "virtual_prototype":
+        runs = 3
+        # the plan kept, three results kept, a run without its own reference, the largest CSV
+        series = n * (3 * _result_row(m) + _sim_row(m, k) + _csv_row(1 + 12 + 4 * m))
+        sea = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2)
+    elif command == "workspace":
+        series = 0
+        pose_bytes = poses * POSE_BYTES
+        sea = _sea(scenario, chunk, n * poses, h)
+    else:  # operability
+        poses *= max(int(cells), 1)
+        runs = 2 if closed_loop else 1
+        per_cell = _sea(scenario, chunk, n, h)
+        flight = n * _sim_row(m, k) if closed_loop else 0
+        series = max(int(workers), 1) * flight
+        pose_bytes = poses * POSE_BYTES
+        fly = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2) if closed_loop else (0, 0, 0)
+        wave_samples = per_cell[2] * poses + fly[2] * max(int(cells), 1)
+        sea = (max(int(workers), 1) * max(per_cell[0], fly[0]), per_cell[1], wave_samples)
+        working *= max(int(workers), 1)
+    sea_bytes, components, samples = sea
+    memory = BASE_BYTES + working + series + sea_bytes + pose_bytes
+    return RunSize(command, n, m, poses, runs, int(memory), int(series), int(sea_bytes), int(pose_bytes),
+                   int(components), int(samples))
+
+
+# ------------------------------------------------------------------------ check
+_VERBS = {"plan": "planning", "plan_stream": "planning", "simulate": "simulating",
+          "virtual_prototype": "simulating", "workspace": "holding", "operability": "judging"}
+
+
+def _time_key(scenario: Scenario) -> tuple[str, str]:
+    if scenario.time.step_s < FINE_STEP_S:
+        return "time.step_s", "use a longer step_s or a shorter duration_s"
+    return "time.duration_s", "use a shorter duration_s or a longer step_s"
+
+
+def _steps_text(size: RunSize, scenario: Scenario) -> str:
+    t = scenario.time
+    text = f"{_count(size.n_steps)} steps of {t.step_s:g} s over {t.duration_s:g} s"
+    if size.command == "virtual_prototype":
+        text += " (the plan and three runs)"
+    return text
+
+
+def check_run_size(
+    scenario: Scenario,
+    command: str = "plan",
+    *,
+    memory_bytes: int | None = None,
+    **kwargs,
+) -> RunSize:
+    """Refuse a run that would not fit in memory or finish in sane time.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    command : str
+        One of :data:`COMMANDS`.
+    memory_bytes : int, optional
+        The machine's memory (default :func:`machine_memory_bytes`); a run may use
+        :data:`MEMORY_FRACTION` of it.
+    **kwargs
+        As :func:`estimate_run` (``n_steps``, ``grid``, ``cells``, ``closed_loop``, ``workers``).
+
+    Returns
+    -------
+    RunSize
+        The estimate, when the run fits.
+
+    Raises
+    ------
+    ScenarioError
+        One line: what is too big, its estimated size and what to change; ``key`` names
+        the scenario key to change (``time.step_s``, ``time.duration_s``,
+        ``base_motion.record_s``), None for a workspace grid.
+    """
+    size = estimate_run(scenario, command, **kwargs)
+    total = machine_memory_bytes() if memory_bytes is None else int(memory_bytes)
+    limit = MEMORY_FRACTION * total
+    verb = _VERBS[command]
+    grid = kwargs.get("grid")
+    if size.memory_bytes > limit:
+        need = (f"would need about {human_bytes(size.memory_bytes)} in memory (this machine: {_gib(total)}, "
+                f"a run may use {MEMORY_FRACTION:.0%})")
+        part = max(("series", size.series_bytes), ("sea", size.sea_bytes), ("poses", size.pose_bytes),
+                   key=lambda p: p[1])[0]
+        if part == "sea":
+            sea = scenario.base_motion
+            raise ScenarioError(
+                f"a {sea.record_s:g} s sea-state record of {_count(size.wave_components)} wave components "
+                f"{need}; use a shorter record_s", key="base_motion.record_s")
+        if part == "poses":
+            what = f"{_count(size.poses)} poses"
+            if grid is not None:
+                what += f" ({grid[0]} x {grid[1]}{' per sea state' if command == 'operability' else ''})"
+            raise ScenarioError(f"{verb} {what} {need}; use fewer grid points")
+        key, hint = _time_key(scenario)
+        raise ScenarioError(f"{verb} {_steps_text(size, scenario)} {need}; {hint}", key=key)
+    if size.steps > MAX_STEPS:
+        key, hint = _time_key(scenario)
+        if size.poses > 1:
+            what = f"{_count(size.poses)} {'sea states and poses' if command == 'operability' else 'poses'}"
+            if grid is not None:
+                what += f" ({grid[0]} x {grid[1]}{' per sea state' if command == 'operability' else ''})"
+            what += f" x {_count(size.n_steps)} steps"
+            if size.n_steps * size.runs <= MAX_STEPS:  # the poses make it too big
+                key = None
+                hint = "use fewer grid points" if command == "workspace" else "use fewer sea states or grid points"
+                hint += ", or fewer steps"
+        else:
+            what = _steps_text(size, scenario)
+        total_text = " is" if size.steps == size.n_steps else f" is {_count(size.steps)} steps in all,"
+        raise ScenarioError(f"{verb} {what}{total_text} more than the {_count(MAX_STEPS)} steps a run can "
+                            f"finish in sane time; {hint}", key=key)
+    if size.wave_work > MAX_WAVE_WORK:
+        raise ScenarioError(
+            f"summing {_count(size.wave_components)} wave components at {_count(size.wave_samples)} times "
+            f"({size.wave_work:.3g} component-samples) is more than the {MAX_WAVE_WORK:.0e} a run can finish "
+            f"in sane time; use a shorter record_s or fewer steps", key="base_motion.record_s")
+    return size

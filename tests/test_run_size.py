@@ -1,0 +1,225 @@
+"""Run sizes (issue 9): runs too big for memory or time are refused up front, and
+``marinecdpr plan`` streams its plan through plan.csv and the tension figure in chunks."""
+
+from __future__ import annotations
+
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import marinecdpr
+from marinecdpr.cli import app
+from marinecdpr.errors import ScenarioError
+
+runner = CliRunner()
+SCENARIOS = Path(marinecdpr.__file__).parent / "scenarios"
+LIMIT_AS = 4 * 2**30  # a runaway allocation in the child fails instead of eating the machine
+
+
+def _scenario(tmp_path: Path, name: str, replace: dict[str, str], base: str = "paper") -> Path:
+    """A built-in scenario with lines edited (each old text once in the file)."""
+    text = (SCENARIOS / f"{base}.toml").read_text()
+    for old, new in replace.items():
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+def _cli(*args: str, timeout: float = 120.0) -> tuple[int, list[str], float]:
+    """Exit code, stderr lines and wall time of the command in a child process whose memory
+    is capped (a run that tried to allocate its size would fail or time out, not refuse)."""
+
+    def cap() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (LIMIT_AS, LIMIT_AS))
+
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "marinecdpr.cli", *args], capture_output=True, text=True,
+                          timeout=timeout, preexec_fn=cap)
+    return proc.returncode, proc.stderr.strip().splitlines(), time.perf_counter() - t0
+
+
+def _refused(code: int, lines: list[str], elapsed: float, *parts: str) -> None:
+    assert code == 2, lines[-5:]
+    assert len(lines) == 1 and lines[0].startswith("error: "), lines
+    for part in parts:
+        assert part in lines[0], lines[0]
+    assert elapsed < 5.0  # arithmetic, not allocation (the interpreter's start included)
+
+
+# ----------------------------------------------------------------- refused up front
+def test_plan_with_a_tiny_step_over_days_is_refused_with_its_size(tmp_path):
+    scen = _scenario(tmp_path, "fine", {"step_s = 0.001": "step_s = 1e-5", "duration_s = 15.0": "duration_s = 1e6"})
+    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed, "time.step_s", "1e+11 steps of 1e-05 s over 1e+06 s",
+             "sane time", "use a longer step_s")
+    assert not (tmp_path / "o").exists()
+
+
+def test_plan_of_a_long_duration_is_refused_with_its_size(tmp_path):
+    scen = _scenario(tmp_path, "long", {"duration_s = 15.0": "duration_s = 1e6"})
+    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed, "time.duration_s", "1,000,000,001 steps of 0.001 s", "use a shorter duration_s")
+
+
+def test_simulate_of_a_long_duration_is_refused_with_its_memory(tmp_path):
+    scen = _scenario(tmp_path, "long", {"duration_s = 15.0": "duration_s = 1e5"})
+    code, lines, elapsed = _cli("simulate", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed, "time.duration_s", "100,000,001 steps", "GB in memory", "this machine:")
+    assert not (tmp_path / "o").exists()
+
+
+def test_workspace_of_a_huge_grid_is_refused_with_its_memory(tmp_path):
+    code, lines, elapsed = _cli("workspace", "paper", "--points", "100000x100000", "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed, "1e+10 poses (100000 x 100000)", "TB in memory", "fewer grid points")
+    assert not (tmp_path / "o").exists()
+
+
+def test_sea_state_summed_too_often_is_refused(tmp_path):
+    # a 3 h record of 8100 wave components, summed at 21.6 M times: about 5 h of work
+    scen = _scenario(tmp_path, "sea", {"record_s = 1800.0 ": "record_s = 10800.0 ", "step_s = 0.001": "step_s = 0.0005",
+                                       "duration_s = 15.0": "duration_s = 10800.0"}, base="paper_sea")
+    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"), timeout=60.0)
+    _refused(code, lines, elapsed, "base_motion.record_s", "8,100 wave components", "component-samples",
+             "use a shorter record_s")
+
+
+@pytest.mark.parametrize("command, replace", [
+    ("plan", {"step_s = 0.001": "step_s = 1e-12"}),
+    ("plan", {"duration_s = 15.0": "duration_s = 1e12"}),
+    ("simulate", {"duration_s = 15.0": "duration_s = 1e12"}),
+])
+def test_absurd_times_are_one_line_exit_2(tmp_path, command, replace):
+    scen = _scenario(tmp_path, "absurd", replace)
+    code, lines, elapsed = _cli(command, str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed)
+
+
+def test_absurd_sea_record_is_one_line_exit_2(tmp_path):
+    scen = _scenario(tmp_path, "absurd", {"record_s = 1800.0 ": "record_s = 1e12 "}, base="paper_sea")
+    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, elapsed, "record_s")
+
+
+def test_library_refuses_before_allocating(paper):
+    from marinecdpr.workspace import workspace_map
+
+    fine = paper.with_changes(time={"step_s": 1e-5, "duration_s": 1e6})
+    for call in (lambda: marinecdpr.plan(fine), lambda: marinecdpr.simulate(fine, plant="own"),
+                 lambda: workspace_map(paper, n=(100000, 100000))):
+        t0 = time.perf_counter()
+        with pytest.raises(ScenarioError, match="in memory") as info:
+            call()
+        assert time.perf_counter() - t0 < 1.0
+        assert "\n" not in str(info.value)
+    with pytest.raises(ScenarioError) as info:
+        marinecdpr.plan(fine)
+    assert info.value.key == "time.step_s" and "TB in memory" in str(info.value)
+
+
+def test_estimates_and_the_machine(paper):
+    from marinecdpr.budget import check_run_size, estimate_run, human_bytes, machine_memory_bytes
+
+    assert machine_memory_bytes() > 2**28
+    assert [human_bytes(x) for x in (512, 2.4e12, 15.2e9, 397e9)] == ["512 B", "2.4 TB", "15 GB", "397 GB"]
+    size = check_run_size(paper, "plan")  # the paper's plan fits anywhere
+    assert size.n_steps == 15001 and size.work == 4 * 15001
+    # in memory a plan grows with its steps; streamed it does not
+    hour = paper.with_changes(time={"step_s": 0.001, "duration_s": 3600.0})
+    long = paper.with_changes(time={"step_s": 0.001, "duration_s": 36000.0})
+    assert estimate_run(long, "plan").memory_bytes > 5 * estimate_run(hour, "plan").memory_bytes
+    assert estimate_run(long, "plan_stream").memory_bytes == estimate_run(hour, "plan_stream").memory_bytes
+    check_run_size(long, "plan_stream")
+    with pytest.raises(ScenarioError, match=r"this machine: 4 GiB, a run may use 75%\); use a shorter duration_s"):
+        check_run_size(long, "plan", memory_bytes=4 * 2**30)
+
+
+# ------------------------------------------------------------------ plan in chunks
+def _heavy(tmp_path: Path, mass: str, duration: str) -> Path:
+    return _scenario(tmp_path, f"heavy{mass}", {"mass_kg = 5.0": f"mass_kg = {mass}",
+                                                "duration_s = 15.0": f"duration_s = {duration}"})
+
+
+@pytest.mark.parametrize("mass, duration", [("200.0", "0.5"), ("12.0", "7.5")])
+def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
+    from marinecdpr.planning import iter_plan
+    from marinecdpr.reports import write_plan_csv, write_plan_stream
+
+    sc = marinecdpr.load_scenario(_heavy(tmp_path, mass, duration))
+    whole = marinecdpr.plan(sc)
+    assert not whole.all_feasible
+    write_plan_csv(whole, sc, tmp_path / "whole.csv")
+    summary = write_plan_stream(iter_plan(sc, chunk_steps=64), sc, tmp_path / "streamed.csv",
+                                tmp_path / "streamed.png")
+    assert (tmp_path / "streamed.csv").read_bytes() == (tmp_path / "whole.csv").read_bytes()
+    assert (tmp_path / "streamed.png").read_bytes()[:4] == b"\x89PNG"
+    assert summary.n_steps == whole.n_steps and summary.n_feasible == int(whole.feasible.sum())
+    assert summary.pinv_range == (np.nanmin(whole.tensions_pinv), np.nanmax(whole.tensions_pinv))
+    finite = whole.tensions[np.isfinite(whole.tensions)]
+    expected = (finite.min(), finite.max()) if finite.size else (np.nan, np.nan)
+    np.testing.assert_array_equal(summary.tension_range, expected)
+    assert summary.infeasibility() == whole.infeasibility()
+
+
+def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypatch):
+    from marinecdpr import planning
+    from marinecdpr.reports import write_plan_csv
+
+    scen = _heavy(tmp_path, "12.0", "7.5")
+    sc = marinecdpr.load_scenario(scen)
+    whole = marinecdpr.plan(sc)
+    write_plan_csv(whole, sc, tmp_path / "whole.csv")
+
+    def no_whole_plan(*args, **kwargs):
+        raise AssertionError("the command built the whole plan in memory")
+
+    monkeypatch.setattr(planning, "plan", no_whole_plan)
+    monkeypatch.setattr(planning, "plan_at", no_whole_plan)
+    monkeypatch.setattr(planning, "DEFAULT_CHUNK_STEPS", 100)  # 76 chunks
+    pieces = []
+    real_iter = planning.iter_plan
+
+    def counting(*args, **kwargs):
+        for piece in real_iter(*args, **kwargs):
+            pieces.append(piece.n_steps)
+            yield piece
+
+    monkeypatch.setattr(planning, "iter_plan", counting)
+    res = runner.invoke(app, ["plan", str(scen), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 3, res.output
+    assert len(pieces) == 76 and max(pieces) == 100
+    assert (tmp_path / "o" / "plan.csv").read_bytes() == (tmp_path / "whole.csv").read_bytes()
+    assert (tmp_path / "o" / "tensions.png").read_bytes()[:4] == b"\x89PNG"
+    assert res.stderr.strip() == f"infeasible: {sc.name}: {whole.infeasibility()}"
+    finite = whole.tensions[np.isfinite(whole.tensions)]
+    assert f"{int(whole.feasible.sum())} of {whole.n_steps}" in res.stdout
+    assert (f"{np.nanmin(whole.tensions_pinv):.2f} .. {np.nanmax(whole.tensions_pinv):.2f}" in res.stdout
+            and f"{finite.min():.2f} .. {finite.max():.2f}" in res.stdout)
+
+
+def test_tension_envelope_keeps_every_extreme(paper_plan):
+    from marinecdpr.reports import TensionEnvelope
+    from marinecdpr.planning import iter_plan
+
+    env = TensionEnvelope(paper_plan.n_steps, 4, columns=97)
+    for piece in iter_plan(marinecdpr.load_scenario("paper"), chunk_steps=1000):
+        env.add(piece)
+    trace = env.trace()
+    assert trace.t.size == 2 * 97 and trace.t[0] == 0.0 and trace.t[-1] == paper_plan.t[-1]
+    for name in ("tensions_pinv", "tensions"):
+        full, kept = getattr(paper_plan, name), getattr(trace, name)
+        np.testing.assert_array_equal(kept.min(axis=0), full.min(axis=0))
+        np.testing.assert_array_equal(kept.max(axis=0), full.max(axis=0))
+    # a plan no longer than the columns keeps every step as it is
+    short = TensionEnvelope(501, 4)
+    piece = next(iter_plan(marinecdpr.load_scenario("paper"), chunk_steps=501))
+    short.add(piece)
+    np.testing.assert_array_equal(short.trace().tensions, piece.tensions)
+    np.testing.assert_array_equal(short.trace().t, piece.t)
