@@ -132,3 +132,25 @@ def test_a_full_disk_is_one_line_and_leaves_the_folder_as_it_was(args, small_dis
     assert last == f"error: --out {out}: could not write the files (No space left on device); the folder keeps what it held"
     assert sorted(p.name for p in out.iterdir()) == ["keep.txt"]
     assert _used(small_disk) == used  # the staging folder and its partial files are gone
+
+
+def test_sigint_to_operability_on_dask_leaves_no_worker_behind(tmp_path):
+    psutil = pytest.importorskip("psutil")
+    out = tmp_path / "out"
+    proc = _start(["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005",
+                   "--headings", "180,150,90", "--out", str(out)])
+    children = []
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(children) < 3:  # the workers are up (and their nannies)
+        time.sleep(0.5)
+        children = psutil.Process(proc.pid).children(recursive=True)
+    assert len(children) >= 2
+    time.sleep(2.0)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130
+    assert err.strip().splitlines()[-1] == f"error: interrupted; --out {out} keeps what it held"
+    assert "WARNING" not in err and "Traceback" not in err
+    time.sleep(1.0)
+    assert [c.pid for c in children if c.is_running() and c.status() != psutil.STATUS_ZOMBIE] == []
+    assert not out.exists()

@@ -14,6 +14,7 @@ studies and when Dask is not installed (:func:`choose_executor`).
 from __future__ import annotations
 
 import csv
+import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -497,8 +498,9 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
         check_scheduler(scheduler)
         client = Client(scheduler, timeout="20s")
     else:
+        # warnings of workers stopped on purpose (Ctrl-C) are no news: errors still show
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=None, silence_logs=logging.ERROR)
         client = Client(cluster)
     try:
         # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
