@@ -234,8 +234,14 @@ def sea_record(
     return SeaRecord(omega, float(record_s), amplitude, phase, headings, coeff)
 
 
-def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray, chunk: int = 4096) -> np.ndarray:
-    """Re sum_k coeff[:, k] e^{i omega_k t} for every t: shape (rows, len(t))."""
+HARMONIC_BLOCK = 2**21
+"""Complex samples of e^{i omega t} held at once by the direct sums (32 MiB)."""
+
+
+def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Re sum_k coeff[:, k] e^{i omega_k t} for every t: shape (rows, len(t)), in blocks of
+    times sized so that memory stays bounded however many components there are."""
+    chunk = max(1, HARMONIC_BLOCK // max(1, omega.size))
     out = np.empty((coeff.shape[0], t.size))
     for i in range(0, t.size, chunk):
         E = np.exp(1j * np.outer(omega, t[i:i + chunk]))
