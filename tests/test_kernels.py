@@ -59,9 +59,10 @@ def test_wrench_and_cables_match_vectorised():
         np.testing.assert_allclose(J, kin.J_tilde[i], atol=1e-14)
 
 
-@settings(max_examples=20, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from(["pseudo_inverse", "closed_form", "minimum_variance",
-                                                   "minimum_norm"]), st.sampled_from([(4, 3), (7, 6)]))
+                                                   "minimum_norm", "improved_closed_form"]),
+       st.sampled_from([(4, 3), (7, 6), (6, 3), (8, 6), (9, 6)]))
 def test_tensions_step_matches_distribute_tensions(seed, method, shape):
     m, k = shape
     J, w, lo, hi = random_problem(seed, 20, m, k, 150.0)
@@ -81,18 +82,25 @@ def test_tensions_step_matches_distribute_tensions(seed, method, shape):
             assert np.isnan(T).all()
 
 
-def test_tensions_step_declines_what_it_cannot_do_exactly():
-    """Redundancy above 1 for the exact methods, and the improved closed form, fall back."""
-    J, w, lo, hi = random_problem(5, 1, 8, 6, 10.0)
+def test_tensions_step_does_every_method_for_any_redundancy():
+    """Redundancy above 1 for the exact methods, and the improved closed form, per step too
+    (they used to fall back to the library through numba's objmode)."""
+    J, _, lo, hi = random_problem(5, 1, 8, 6, 10.0)
+    w = np.einsum("nmk,m->nk", J, lo + 0.3 * (hi - lo))  # made by tensions within limits
     T = np.empty(8)
-    assert not K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES["minimum_variance"], T)
-    assert K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES["closed_form"], T) == \
-        distribute_tensions(J, w, lo, hi, method="closed_form").feasible[0]
+    for method in ("minimum_variance", "minimum_norm", "improved_closed_form"):
+        sol = distribute_tensions(J, w, lo, hi, method=method)
+        assert sol.feasible[0]
+        assert K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES[method], T)
+        np.testing.assert_allclose(T, sol.tensions[0], rtol=1e-9)
     J4, w4, lo4, hi4 = random_problem(5, 1, 4, 3, 10.0)
     J6 = np.zeros((4, 6))
     J6[:, [0, 2, 4]] = J4[0]
-    assert not K.tensions_step(J6, np.array([w4[0, 0], 0, w4[0, 1], 0, w4[0, 2], 0]), np.array([0, 2, 4]),
-                               lo4, hi4, K.METHOD_CODES["improved_closed_form"], T)
+    T4 = np.empty(4)
+    assert K.tensions_step(J6, np.array([w4[0, 0], 0, w4[0, 1], 0, w4[0, 2], 0]), np.array([0, 2, 4]),
+                           lo4, hi4, K.METHOD_CODES["improved_closed_form"], T4)
+    np.testing.assert_allclose(T4, distribute_tensions(J4, w4, lo4, hi4, method="improved_closed_form")
+                               .tensions[0], rtol=1e-9)
 
 
 @pytest.mark.parametrize("controlled", [(0, 2, 4), (0, 1, 2, 3, 4, 5)])

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from numba import njit, objmode, types
+from numba import njit, types
 
 from . import kernels as K
 from .basemotion import evaluate_base_motion
@@ -110,7 +110,7 @@ def _euler_from_R(R, out):
 @njit(cache=_cache)
 def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
              closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
-             c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
+             c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
              cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app):
     """One exchange: controller command, then the cable/actuator model. Returns 1 on fallback.
 
@@ -157,11 +157,8 @@ def _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_a
         L_m = np.empty(n)
         J = np.empty((n, 6))
         K.cables_step(x_m, R_m, c_C, p_P, L_m, J)
+        # every method, exact for any redundancy, compiled (the planning layer's solvers)
         ok = K.tensions_step(J, wr, controlled, lo, hi, method, T_cmd)
-        if not ok and exact_in_python:
-            # the kernel has no exact per-step solver for this method: ask the library's
-            with objmode(ok="boolean"):
-                ok = _python_tensions(J, wr, controlled, lo, hi, method, T_cmd)
         if not ok:
             T_cmd[:] = T_ff[k]
             fallback = 1
@@ -246,7 +243,7 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
                      tau_ff, q_des, qd_des, kp_s, kd_s, f_O, m_O, R_SO_k,
                      ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                      closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
-                     c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
+                     c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
                      cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
                      pose_log, len_log, Tcmd_log, Tapp_log):
     """Read MuJoCo's state, command, write ctrl and the ship's drive. Returns -1 if diverged."""
@@ -280,7 +277,7 @@ def _mujoco_exchange(k, h, qpos, qvel, ctrl, qfrc, xfrc, ten_k, ten_spring, ten_
     Ldot = _length_rates(J, v, w)
     fb = _command(k, h, x, R, v, w, L, Ldot, ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
                   closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
-                  c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
+                  c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
                   cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app)
     _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
     if cable_model == 1 and winch == 0:
@@ -366,7 +363,7 @@ def _own_rhs(y, T_held, j, R_SO_h, w_s_h, al_s_h, a_SO_h, f_C_h, m_C_h, dist_P, 
 def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
               ref_x, ref_R, ref_v, ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff,
               closed, kp, kd, eta_m, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
-              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method, exact_in_python,
+              c_C, p_P, mass, I_PP, g, origin, controlled, lo, hi, method,
               cable_model, EA, damping, winch, lag, tau, L0, T_state, T_cmd, T_app,
               pose_log, len_log, Tcmd_log, Tapp_log):
     """Steps k0..k1-1 of the own plant (RK4). Returns (fallbacks, -1 or the diverged step)."""
@@ -386,8 +383,7 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         fallbacks += _command(k, h, x.copy(), R, v.copy(), w.copy(), L, Ldot, ref_x, ref_R, ref_v,
                               ref_w, ref_a, ref_al, T_ff, L_ff, Ld_ff, closed, kp, kd, eta_m, noise_pose,
                               noise_twist, noise_T, f_C, m_C, dist_P, c_C, p_P, mass, I_PP, g, origin,
-                              controlled, lo, hi, method, exact_in_python, cable_model, EA,
-                              damping, winch, lag,
+                              controlled, lo, hi, method, cable_model, EA, damping, winch, lag,
                               tau, L0, T_state, T_cmd, T_app)
         _log(k, x, R, L, T_cmd, T_app, pose_log, len_log, Tcmd_log, Tapp_log)
         j = 2 * k
@@ -403,17 +399,6 @@ def _own_loop(k0, k1, y, h, R_SO_h, w_s_h, al_s_h, a_SO_h, f_Ch, m_Ch,
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
     return fallbacks, -1
-
-
-def _python_tensions(J, w, controlled, lo, hi, method, T) -> bool:
-    """The library's exact solver for one step (methods the kernel does not do per step)."""
-    from .tension import distribute_tensions
-
-    names = {code: name for name, code in K.METHOD_CODES.items()}
-    c = np.asarray(controlled)
-    sol = distribute_tensions(J[None][:, :, c], w[None, c], lo, hi, method=names[int(method)])
-    T[:] = sol.tensions[0]
-    return bool(sol.feasible[0])
 
 
 # ------------------------------------------------------------------- orchestration
@@ -554,9 +539,6 @@ def simulate(
     lo, hi = robot.tension_min, robot.tension_max
     g = scenario.environment.gravity_m_s2
     method_code = K.METHOD_CODES[method]
-    redundancy = robot.n_cables - len(robot.controlled)
-    exact_in_python = method == "improved_closed_form" or (
-        method in ("minimum_variance", "minimum_norm") and redundancy > 1)
 
     # initial state: on the plan, plus the scenario's initial error
     ref_pose = np.ascontiguousarray(ref.pose[:n])
@@ -576,7 +558,7 @@ def simulate(
 
     shared = (mid_pose[:, :3], mid_R, mid_twist[:, :3], mid_twist[:, 3:], mid_acc[:, :3], mid_acc[:, 3:],
               T_ff, L_ff, Ld_ff, closed, kp, kd, eta, noise_pose, noise_twist, noise_T, f_C, m_C, dist_P,
-              c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code, exact_in_python,
+              c_C, p_P, robot.mass_kg, I_PP, g, origin, controlled, lo, hi, method_code,
               cable_model, EA, cab.damping_N_s_m, winch, lag, float(cab.winch_time_constant_s),
               L0, T_state, T_cmd, T_app,
               pose_log, len_log, Tcmd_log, Tapp_log)

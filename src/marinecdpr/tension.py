@@ -18,14 +18,16 @@ Methods (``method=``):
     The paper's eq. (20): minimise sum_i (T_i - E_i)^2 with E_i = (T_min,i + T_max,i)/2,
     within limits. Exact: for r = 1 the convex objective's minimiser clipped to
     [lambda_low, lambda_high] (MODEL_NOTES' corrected bounds); for r > 1 the
-    quadratic programme is solved exactly (an active-set QP) at the steps where the
-    unconstrained optimum breaks a limit.
+    unconstrained optimum, and where it breaks a limit the quadratic programme solved
+    exactly by a compiled dual active-set method
+    (:func:`marinecdpr.kernels.least_distance`, the same code the closed loop runs).
 ``closed_form``
     Pott's closed form, T = E + J~ (J~^T J~)^-1 (w - J~^T E): the unconstrained
     minimiser of the same objective; feasible only where it is within limits.
 ``improved_closed_form``
     Pott's improved closed form: while a tension breaks a limit, fix the worst one
-    at that limit, remove it, and repeat on the remaining cables.
+    at that limit, remove it, and repeat on the remaining cables (compiled,
+    :func:`marinecdpr.kernels.improved_closed_form`).
 ``minimum_norm``
     Minimise sum_i T_i^2 within limits (exact, as ``minimum_variance``).
 
@@ -70,11 +72,18 @@ class TensionSolution:
     feasible: np.ndarray
 
 
-def _cols(J: np.ndarray) -> list[list[np.ndarray]]:
-    """J~ entries as ``cols[i][a]``: cable i, DOF a, each of shape (n_steps,)."""
-    if J.strides[0] != J.itemsize:  # not time-last: one copy makes every entry contiguous
-        J = np.ascontiguousarray(J.transpose(1, 2, 0)).transpose(2, 0, 1)
-    return [[J[:, i, a] for a in range(J.shape[2])] for i in range(J.shape[1])]
+def _time_last(J: np.ndarray) -> np.ndarray:
+    """J~ (n_steps, n_cables, k) as a C-contiguous (k, n_cables, n_steps) array: a view of a
+    time-last J~ (planning's layout), else one copy."""
+    Jt = J.transpose(2, 1, 0)
+    return Jt if Jt.flags.c_contiguous else np.ascontiguousarray(Jt)
+
+
+def _cols(Jt: np.ndarray) -> list[list[np.ndarray]]:
+    """J~ entries as ``cols[i][a]``: cable i, DOF a, each of shape (n_steps,), contiguous.
+
+    ``Jt`` is :func:`_time_last` of J~."""
+    return [[Jt[a, i] for a in range(Jt.shape[0])] for i in range(Jt.shape[1])]
 
 
 def _JT(cols: list, T: list) -> list:
@@ -95,7 +104,7 @@ def _stack(T: list, n: int) -> np.ndarray:
     return out.T
 
 
-def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
+def _gram_solve(cols: list, b: list, n: int, Jt: np.ndarray | None = None) -> tuple[list, np.ndarray]:
     """Solve (J~^T J~) x = b per step.
 
     Parameters
@@ -103,6 +112,8 @@ def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
     cols : list over cables of lists over DOFs of arrays, shape (n_steps,)
         J~ (see :func:`_cols`).
     b : list over DOFs of arrays, shape (n_steps,)
+    Jt : ndarray, shape (k, n_cables, n_steps), optional
+        The same J~ as one time-last array (:func:`_time_last`), if at hand (k != 3).
 
     Returns
     -------
@@ -112,9 +123,9 @@ def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
         J~ has full column rank (reciprocal condition above 1e-12).
     """
     k = len(b)
-    G = [[sum(row[p] * row[q] for row in cols) if p <= q else None for q in range(k)]
-         for p in range(k)]
     if k == 3:
+        G = [[sum(row[p] * row[q] for row in cols) if p <= q else None for q in range(k)]
+             for p in range(k)]
         a, b_, c = G[0][0], G[0][1], G[0][2]
         d, e, f = G[1][1], G[1][2], G[2][2]
         A00, A01, A02 = d * f - e * e, c * e - b_ * f, b_ * e - c * d
@@ -130,20 +141,30 @@ def _gram_solve(cols: list, b: list, n: int) -> tuple[list, np.ndarray]:
             (A02 * b[0] + A12 * b[1] + A22 * b[2]) * inv_det,
         ]
         return x, ok
-    Gm = np.empty((n, k, k))
-    for p in range(k):
-        for q in range(p, k):
-            Gm[:, p, q] = Gm[:, q, p] = G[p][q]
-    eig = np.linalg.eigvalsh(Gm)
-    ok = eig[:, 0] > _RCOND * np.maximum(eig[:, -1], np.finfo(float).tiny)
-    Gm[~ok] = np.eye(k)
-    x = np.linalg.solve(Gm, np.stack(b, axis=1)[..., None])[..., 0]
-    x[~ok] = np.nan
-    return [x[:, a] for a in range(k)], ok
+    # compiled per step (Cholesky): rank test lambda_min / lambda_max > 1e-12, as numpy's
+    # eigvalsh would decide it (kernels.gram_solve_series)
+    from . import kernels
+
+    if Jt is None:
+        Jt = np.array([[row[a] for row in cols] for a in range(k)])
+    x = np.empty((k, n))
+    ok = np.empty(n, dtype=bool)
+    kernels.gram_solve_series(Jt, np.array(b, dtype=float), x, ok, np.empty((0, 0)))
+    return [x[a] for a in range(k)], ok
 
 
-def _pinv_cols(cols: list, w: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n)
+def _pinv_cols(cols: list, w: np.ndarray, n: int, Jt: np.ndarray | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
+    if Jt is not None and Jt.shape[0] != 3:
+        # compiled, T_s = J~ x formed in the same loop (kernels.gram_solve_series)
+        from . import kernels
+
+        k, m = Jt.shape[:2]
+        T = np.empty((m, n))
+        ok = np.empty(n, dtype=bool)
+        kernels.gram_solve_series(Jt, np.ascontiguousarray(w.T), np.empty((k, n)), ok, T)
+        return T.T, ok
+    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n, Jt)
     return _stack(_Jx(cols, x), n), ok
 
 
@@ -164,7 +185,8 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
     ok : ndarray of bool, shape (n_steps,)
         J~ has full column rank.
     """
-    return _pinv_cols(_cols(J), np.asarray(w, dtype=float), J.shape[0])
+    Jt = _time_last(np.asarray(J, dtype=float))
+    return _pinv_cols(_cols(Jt), np.asarray(w, dtype=float), J.shape[0], Jt)
 
 
 def null_space(J: np.ndarray) -> np.ndarray:
@@ -182,7 +204,7 @@ def null_space(J: np.ndarray) -> np.ndarray:
     """
     n, m, k = J.shape
     if m - k == 1:
-        N = _stack(_null_vector(_cols(J), n), n)
+        N = _stack(_null_vector(_cols(_time_last(np.asarray(J, dtype=float))), n), n)
         return N[:, :, None]
     U = np.linalg.svd(np.asarray(J), full_matrices=True)[0]
     return U[:, :, k:]
@@ -229,7 +251,7 @@ def _finish(T: list, feasible: np.ndarray, n: int) -> TensionSolution:
 
 def _least_distance(
     J: np.ndarray,
-    cols: list,
+    Jt: np.ndarray,
     w: np.ndarray,
     target: np.ndarray,
     lo: np.ndarray,
@@ -244,7 +266,7 @@ def _least_distance(
     if r == 0:
         return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if r == 1:
-        N = _null_vector(cols, n)
+        N = _null_vector(_cols(Jt), n)
         # lambda* = N^T (target - T_s) / N^T N, with N^T N = 1
         lam = sum(N[i] * (target[i] - Ts[i]) for i in range(m))
         # Corrected bounds of eq. (20) (MODEL_NOTES): a_i, b_i per cable with N_i != 0.
@@ -273,65 +295,25 @@ def _least_distance(
         # lambda in [low, high] puts every cable within its limits (to rounding)
         feasible = ok & fixed_ok & (low <= high)
         return _finish(T, feasible, n)
-    # r > 1: the unconstrained optimum, then an exact QP where it breaks a limit.
-    N = null_space(J)
-    T_u = T_s + np.einsum("nmr,nr->nm", N, np.einsum("nmr,nm->nr", N, target - T_s))
-    T = [T_u[:, i] for i in range(m)]
-    inside = ok & _within(T, lo, hi)
-    feasible = inside.copy()
-    for s in np.flatnonzero(ok & ~inside):
-        sol = _qp_step(J[s], w[s], target, lo, hi)
-        if sol is not None:
-            T_u[s] = sol
-            feasible[s] = True
-    return _finish([T_u[:, i] for i in range(m)], feasible, n)
+    # r > 1: the unconstrained optimum, else the exact QP, compiled (kernels.least_distance)
+    return _compiled(J, w, target, lo, hi, ok, 2)
 
 
-def _qp_step(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray):
-    """One step's QP (Goldfarb-Idnani dual active set, quadprog); None if infeasible."""
-    import quadprog
+def _compiled(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+              ok: np.ndarray, method: int) -> TensionSolution:
+    """The compiled per-step solvers over the steps (:func:`marinecdpr.kernels.tension_series`):
+    ``method`` 2 the exact least-distance QP to ``target``, 4 the improved closed form."""
+    from . import kernels
 
-    m, k = J.shape
-    C = np.hstack([J, np.eye(m), -np.eye(m)])
-    bvec = np.concatenate([w, lo, -hi])
-    try:
-        return quadprog.solve_qp(np.eye(m), np.asarray(target, dtype=float), C, bvec, k)[0]
-    except ValueError:
-        return None
-
-
-def _improved_closed_form(
-    cols: list, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, ok: np.ndarray
-) -> TensionSolution:
-    n, m, k = w.shape[0], len(cols), len(cols[0])
-    mid = 0.5 * (lo + hi)
-    tol = _tol(hi)
-    free = np.ones((m, n), dtype=bool)
-    T_fixed = np.zeros((m, n))
-    T_out = np.full((m, n), np.nan)
-    feasible = np.zeros(n, dtype=bool)
-    active = ok.copy()
-    for _ in range(m - k + 1):
-        if not active.any():
-            break
-        # closed form on the free cables, the fixed ones' wrench moved to the right
-        cols_f = [[c * free[i] for c in row] for i, row in enumerate(cols)]
-        tm = [np.where(free[i], mid[i], 0.0) for i in range(m)]
-        rhs = [w[:, a] - fa - ta for a, fa, ta in
-               zip(range(k), _JT(cols, list(T_fixed)), _JT(cols_f, tm))]
-        x, rank_ok = _gram_solve(cols_f, rhs, n)
-        T = np.array([tm[i] + Jx + T_fixed[i] for i, Jx in enumerate(_Jx(cols_f, x))])
-        with np.errstate(invalid="ignore"):
-            viol = np.where(free, np.maximum(np.maximum(lo[:, None] - T, T - hi[:, None]), 0.0), 0.0)
-        done = active & rank_ok & (viol.max(axis=0) <= tol)
-        T_out[:, done] = T[:, done]
-        feasible |= done
-        active &= rank_ok & ~done
-        steps = np.flatnonzero(active)
-        j = np.argmax(viol[:, steps], axis=0)
-        free[j, steps] = False
-        T_fixed[j, steps] = np.where(T[j, steps] < lo[j], lo[j], hi[j])
-    return TensionSolution(T_out.T, feasible)
+    n, m, k = J.shape
+    Jt = _time_last(J)
+    wt = w.T if w.T.flags.c_contiguous else np.ascontiguousarray(w.T)
+    T = np.empty((m, n))
+    feasible = np.empty(n, dtype=bool)
+    kernels.tension_series(Jt, wt, np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(lo),
+                           np.ascontiguousarray(hi), np.ascontiguousarray(ok, dtype=bool), method,
+                           _tol(hi), T, feasible)
+    return TensionSolution(T.T, feasible)
 
 
 def distribute_tensions(
@@ -370,25 +352,26 @@ def distribute_tensions(
     w = np.asarray(w, dtype=float)
     lo = np.asarray(t_min, dtype=float)
     hi = np.asarray(t_max, dtype=float)
-    cols = _cols(J)
+    Jt = _time_last(J)
+    cols = _cols(Jt)
     n = J.shape[0]
     if T_s is None or ok is None:
-        T_s, ok = _pinv_cols(cols, w, n)
+        T_s, ok = _pinv_cols(cols, w, n, Jt)
     mid = 0.5 * (lo + hi)
     m = T_s.shape[1]
     if method == "pseudo_inverse":
         Ts = [T_s[:, i] for i in range(m)]
         return _finish(Ts, ok & _within(Ts, lo, hi), n)
     if method == "minimum_variance":
-        return _least_distance(J, cols, w, mid, lo, hi, T_s, ok)
+        return _least_distance(J, Jt, w, mid, lo, hi, T_s, ok)
     if method == "minimum_norm":
-        return _least_distance(J, cols, w, np.zeros_like(mid), lo, hi, T_s, ok)
+        return _least_distance(J, Jt, w, np.zeros_like(mid), lo, hi, T_s, ok)
     if method == "closed_form":
-        x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n)
+        x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n, Jt)
         T = [mid[i] + Jx for i, Jx in enumerate(_Jx(cols, x))]
         return _finish(T, ok & _within(T, lo, hi), n)
     if method == "improved_closed_form":
-        return _improved_closed_form(cols, w, lo, hi, ok)
+        return _compiled(J, w, mid, lo, hi, ok, 4)
     raise ValueError(
         f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
         "closed_form, improved_closed_form or minimum_norm)"
