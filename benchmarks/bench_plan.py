@@ -15,8 +15,6 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-import datetime
-import platform
 import statistics
 import time
 import tracemalloc
@@ -27,21 +25,8 @@ import quadprog
 import marinecdpr
 from marinecdpr.planning import iter_plan
 from marinecdpr.tension import distribute_tensions, pseudo_inverse_tensions
+from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
 
-
-def machine() -> str:
-    cpu = "unknown CPU"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    import os
-
-    return (f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, "
-            f"numpy {np.__version__}, {datetime.date.today().isoformat()}")
 
 
 def time_calls(fn, repeats: int) -> list[float]:

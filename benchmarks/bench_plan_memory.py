@@ -19,9 +19,7 @@ each: ``marinecdpr.plan(sc)`` alone, and ``marinecdpr.plan(sc)`` followed by
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -29,31 +27,9 @@ import time
 from importlib import resources
 from pathlib import Path
 
-import numpy as np
-
-import marinecdpr
+from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
 
 CLI = [sys.executable, "-m", "marinecdpr.cli"]
-
-
-def machine() -> str:
-    cpu = "unknown CPU"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    mem = ""
-    try:
-        from marinecdpr.budget import machine_memory_bytes
-
-        mem = f", {machine_memory_bytes() / 2**30:.0f} GiB"
-    except ImportError:
-        pass
-    return (f"{cpu}, {os.cpu_count()} cores{mem}, Python {platform.python_version()}, "
-            f"numpy {np.__version__}, marinecdpr {marinecdpr.__version__}, {datetime.date.today().isoformat()}")
 
 
 def scenario_file(folder: Path, hours: float) -> Path:
@@ -82,6 +58,7 @@ def run(cmd: list[str]) -> tuple[float, float, int, str]:
 IN_MEMORY = """
 import sys, marinecdpr
 from marinecdpr.reports import plot_tensions, write_plan_csv
+
 sc = marinecdpr.load_scenario(sys.argv[1])
 p = marinecdpr.plan(sc)
 if sys.argv[2] == "files":

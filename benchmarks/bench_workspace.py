@@ -17,9 +17,6 @@ default 30 x 20 grid.
 from __future__ import annotations
 
 import argparse
-import datetime
-import os
-import platform
 import time
 from pathlib import Path
 
@@ -27,29 +24,17 @@ import numpy as np
 
 import marinecdpr
 from marinecdpr.errors import ScenarioError
-from marinecdpr.workspace import workspace_map
+from marinecdpr.workspace import pose_range, workspace_map
+from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
+
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def machine() -> str:
-    cpu = "unknown CPU"
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    load = ", load average {:.1f}".format(os.getloadavg()[0]) if hasattr(os, "getloadavg") else ""
-    return (f"{cpu}, {os.cpu_count()} cores{load}, Python {platform.python_version()}, "
-            f"numpy {np.__version__}, {datetime.date.today().isoformat()}")
-
-
 def per_pose_loop(sc, n: tuple[int, int]) -> np.ndarray:
-    """The user's loop: a held-pose scenario per grid point (x-z plane, y mid-frame), plan() on each."""
-    c = sc.robot.frame_anchors
-    lo, hi = c.min(axis=0), c.max(axis=0)
+    """The user's loop: a held-pose scenario per grid point (x-z plane, y mid-frame), plan() on each,
+    over the same poses as the map (where the platform fits inside the frame)."""
+    lo, hi = pose_range(sc)
     xs = np.linspace(lo[0], hi[0], n[0] + 2)[1:-1]
     zs = np.linspace(lo[2], hi[2], n[1] + 2)[1:-1]
     y = 0.0 if sc.robot.dofs == "planar" else 0.5 * (lo[1] + hi[1])
