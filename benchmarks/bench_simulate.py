@@ -9,14 +9,27 @@ Prints, for the built-in ``paper`` scenario (15 s at 1 ms, 15 001 exchanges):
   * the same for open loop, and the own plant (RK4) for both;
 with the real-time factor of each and the closed loop's ratio to bare stepping. Targets:
 >= 20x real time and <= 2.5x bare MuJoCo.
+
+Then the whole main job, each repeat beside a bare MuJoCo loop timed in the same repeat:
+  * in this process: ``virtual_prototype`` (plan, three runs) plus ``write_virtual_prototype``
+    (CSVs, the four figures, summary.json, report.html) into a temporary folder, with the
+    figures drawn in two processes (the default where it can fork) and in one;
+  * ``marinecdpr simulate --out TMP`` as a subprocess: what a user waits for, with the
+    interpreter's start, the imports and the loading of the cached kernels.
+Target: the main job in this process within 8x bare MuJoCo. ``--quick`` repeats less.
 """
 
 from __future__ import annotations
 
 import datetime
 import platform
+import shutil
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -70,6 +83,56 @@ def main() -> None:
                   f" target >= 20x){extra}")
     t_main = best(lambda: marinecdpr.virtual_prototype(sc), 3)
     print(f"virtual_prototype (plan + three runs on MuJoCo, no files): {t_main:.3f} s")
+    main_job(sc, bare, repeats=3 if "--quick" in sys.argv else 7)
+
+
+def main_job(sc, bare, repeats: int) -> None:
+    """The whole main job against bare MuJoCo, each repeat timing both (the machine may be shared)."""
+    from marinecdpr import reports
+
+    folder = Path(tempfile.mkdtemp(prefix="bench-main-job-"))
+    exe = Path(sys.executable).parent / "marinecdpr"
+    can_fork = reports._can_fork
+
+    def in_process(two: bool) -> tuple[float, float]:
+        reports._can_fork = can_fork if two else (lambda: False)
+        try:
+            t0 = time.perf_counter()
+            vp = marinecdpr.virtual_prototype(sc)
+            t1 = time.perf_counter()
+            reports.write_virtual_prototype(vp, folder / "in_process")
+            return t1 - t0, time.perf_counter() - t1
+        finally:
+            reports._can_fork = can_fork
+
+    def command() -> float:
+        t0 = time.perf_counter()
+        subprocess.run([str(exe), "simulate", sc.name, "--out", str(folder / "command")], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return time.perf_counter() - t0
+
+    in_process(True), in_process(False), command()  # warm: kernels loaded, fonts and caches built
+    rows: dict[str, list[float]] = {k: [] for k in ("bare", "runs", "files", "files_1", "command")}
+    try:
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            bare()
+            rows["bare"].append(time.perf_counter() - t0)
+            runs, files = in_process(True)
+            rows["runs"].append(runs)
+            rows["files"].append(files)
+            rows["files_1"].append(in_process(False)[1])
+            rows["command"].append(command())
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    m = {k: statistics.median(v) for k, v in rows.items()}
+    job, job_1 = m["runs"] + m["files"], m["runs"] + m["files_1"]
+    print(f"main job, medians of {repeats} repeats, each beside bare MuJoCo ({m['bare']:.3f} s):")
+    print(f"  in this process: {job:.3f} s = plan and three runs {m['runs']:.3f} s + files {m['files']:.3f} s"
+          f"  ->  {job / m['bare']:.1f}x bare MuJoCo (target <= 8x)")
+    print(f"  same, figures drawn in one process: files {m['files_1']:.3f} s  ->  {job_1 / m['bare']:.1f}x")
+    print(f"  `marinecdpr simulate` as a command (interpreter, imports, cached kernels): {m['command']:.3f} s"
+          f"  ->  {m['command'] / m['bare']:.1f}x")
 
 
 if __name__ == "__main__":

@@ -151,7 +151,7 @@ def simulate(
     """
     from .analysis import virtual_prototype
     from .reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
-    from .simulation import RUNS
+    from .simulation import KERNEL_COMPILE_S, RUNS, kernels_cached
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
@@ -169,6 +169,9 @@ def simulate(
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
+        if not kernels_cached(plant or sc.simulation.plant):
+            err_console.print(f"compiling the simulation kernels, once (about {KERNEL_COMPILE_S:g} s; cached for "
+                              "later runs)...", highlight=False, soft_wrap=True)
         with _progress_bar("simulate", "steps") as bar:
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import shutil
 import signal
+import sys
 import tempfile
 import threading
 from contextlib import contextmanager
@@ -30,6 +31,7 @@ __all__ = [
     "plan_columns",
     "write_plan_csv",
     "plot_tensions",
+    "decimate",
     "plan_csv_writer",
     "TensionEnvelope",
     "plot_tension_envelope",
@@ -222,10 +224,85 @@ def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool 
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             fh.write(",".join(names) + "\n")
             fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d" if int_last else "%.10g"])
-            text_rows = (fmt % tuple(row) for row in values)
-            fh.write("\n".join(text_rows).replace("nan", ""))
-            fh.write("\n")
+            if len(values) == 0:
+                fh.write("\n")
+            _write_rows(fh, fmt, values)
     return path
+
+
+CSV_BLOCK_ROWS = 4096
+"""Rows formatted per ``%`` operation when writing a CSV."""
+
+
+def _write_rows(fh, fmt: str, values: np.ndarray) -> None:
+    """Each row of ``values`` as ``fmt % row`` and a newline, NaN left empty.
+
+    A block of rows is formatted by one ``%`` on the row format repeated (the loop over the
+    numbers runs in C, not a Python call per row): the same bytes, about 25 % sooner.
+    """
+    line = fmt + "\n"
+    for i in range(0, len(values), CSV_BLOCK_ROWS):
+        block = values[i:i + CSV_BLOCK_ROWS]
+        fh.write((line * len(block) % tuple(block.ravel().tolist())).replace("nan", ""))
+
+
+# ------------------------------------------------------- figures at their resolution
+def _column_groups(first: int, k: int, n: int, columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """Samples ``first`` .. ``first + k - 1`` of a series of ``n``, split as the whole series is
+    into ``columns`` consecutive groups of (almost) equal size: the groups met, and where
+    each starts among the ``k`` (the first one possibly a group begun before ``first``)."""
+    col = (np.arange(first, first + k, dtype=np.int64) * columns) // n
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+    return col[starts], starts
+
+
+def decimate(x: np.ndarray, y: np.ndarray, columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """A line thinned to what ``columns`` pixel columns can show, every extreme kept.
+
+    The samples are split into ``columns`` consecutive groups (one per pixel column for
+    a uniformly sampled series drawn across ``columns`` pixels); of each group only its
+    first, smallest, largest and last sample are kept, in time order (the M4 rule: the
+    line drawn through them covers the pixels the whole line covers), and the first
+    NaN of each gap in the group, so that gaps stay gaps. A series of at most
+    ``4 * columns`` samples is returned whole.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+    y : ndarray, shape (n,) or (n, m)
+        With m series (a path's coordinates), a sample is kept where any of them needs it.
+    columns : int
+
+    Returns
+    -------
+    x, y : ndarray
+        The kept samples, at most about ``4 * columns`` (``4 * m * columns`` for m series).
+    """
+    x, y = np.asarray(x), np.asarray(y, dtype=float)
+    n = y.shape[0]
+    if n <= 4 * max(int(columns), 1):
+        return x, y
+    _, starts = _column_groups(0, n, n, int(columns))
+    ends = np.r_[starts[1:], n]
+    grid = starts[:, None] + np.arange(int((ends - starts).max()))
+    outside = grid >= ends[:, None]
+    grid = np.minimum(grid, n - 1)
+    nan = np.isnan(y)
+    gap = nan & ~np.concatenate([np.zeros((1,) + y.shape[1:], dtype=bool), nan[:-1]])
+    vals, gap = y[grid], gap[grid]                      # (groups, width[, m])
+    if y.ndim > 1:
+        outside = outside[:, :, None]
+    skip = outside | np.isnan(vals)
+    offsets = [np.where(skip, np.inf, vals).argmin(axis=1), np.where(skip, -np.inf, vals).argmax(axis=1),
+               np.where(outside, False, gap).argmax(axis=1)]  # a group without a gap gives its first
+    starts_m = starts if y.ndim == 1 else starts[:, None]
+    kept = np.unique(np.concatenate([starts, ends - 1] + [(starts_m + o).ravel() for o in offsets]))
+    return x[kept], y[kept]
+
+
+def _figure_columns(fig, dpi: float) -> int:
+    """Pixel columns across ``fig`` saved at ``dpi``: more than any of its axes spans."""
+    return int(np.ceil(fig.get_figwidth() * dpi))
 
 
 def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
@@ -241,9 +318,10 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
         "(a) pseudo-inverse tensions, eq. (18)",
         f"(b) {plan.method.replace('_', ' ')} tensions ({plan.base_model} base)",
     )
+    columns = _figure_columns(fig, TENSION_FIGURE_DPI)
     for ax, T, title in zip(axes, (plan.tensions_pinv, plan.tensions), titles):
         for i in range(robot.n_cables):
-            ax.plot(plan.t, T[:, i], label=f"cable {i + 1}", lw=1.2)
+            ax.plot(*decimate(plan.t, T[:, i], columns), label=f"cable {i + 1}", lw=1.2)
         for j, v in enumerate(np.unique(np.concatenate([robot.tension_min, robot.tension_max]))):
             ax.axhline(v, color="k", ls="--", lw=0.8, label="limits" if j == 0 else None)
         ax.axhline(0.0, color="0.6", lw=0.6)
@@ -267,7 +345,7 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     fig.legend(handles, labels, loc="outside lower center", ncol=min(8, len(labels)), fontsize=9)
     axes[1].set_xlabel("t (s)")
     fig.suptitle(f"Cable tensions: {_plain(scenario.name)}", fontsize=11)
-    return _save(fig, path, dpi=120)
+    return _save(fig, path, dpi=TENSION_FIGURE_DPI)
 
 
 # ------------------------------------------------------------ plans made in chunks
@@ -290,9 +368,7 @@ def plan_csv_writer(scenario: Scenario, path: Path) -> Iterator:
                 return
             if rows[0] == 0:
                 fh.write(",".join(names) + "\n")
-            fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d"])
-            # as _write_csv: rows joined by newlines, NaN left empty, a newline at the end
-            fh.write("\n".join(fmt % tuple(row) for row in values).replace("nan", "") + "\n")
+            _write_rows(fh, ",".join(["%.10g"] * (len(names) - 1) + ["%d"]), values)  # as _write_csv
             rows[0] += len(values)
 
         yield write
@@ -358,9 +434,7 @@ class TensionEnvelope:
         if self.done + k > self.n_steps:
             raise ValueError(f"the pieces hold more than the {self.n_steps} steps announced")
         self.method, self.base_model = piece.method, piece.base_model
-        col = (np.arange(self.done, self.done + k, dtype=np.int64) * self.columns) // self.n_steps
-        starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
-        cols = col[starts]
+        cols, starts = _column_groups(self.done, k, self.n_steps, self.columns)
         new = self.counts[cols] == 0
         ends = np.r_[starts[1:], k] - 1
         for name in self.lo:
@@ -491,7 +565,12 @@ def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
     return _write_csv(names, values, path, int_last=False)
 
 
-def _save(fig, path: Path, dpi: int = 110) -> Path:
+FIGURE_DPI = 110
+"""Resolution of the main job's figures but the tension figure's (TENSION_FIGURE_DPI)."""
+TENSION_FIGURE_DPI = 120
+
+
+def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(path)
@@ -535,15 +614,19 @@ def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, row_hei
     fig, axes = plt.subplots(len(rows), 2, figsize=(11, row_height * len(rows) + 1.5), sharex=True,
                              squeeze=False, constrained_layout=True)
     first = next(iter(results.values()))
+    columns = _figure_columns(fig, FIGURE_DPI)
     for (ax, ax_e), (label, angular, value) in zip(axes, rows):
         errors = {name: np.abs(value(res, False) - value(res, True)) for name, res in results.items()}
         largest = max(float(e.max()) for e in errors.values())
         size, unit_e = (1.0, "deg") if angular else length_unit(largest)
         for name, res in _drawing_order(results):
-            ax.plot(res.t, value(res, False), label=RUN_TITLES.get(name, name), **_run_style(name))
+            ax.plot(*decimate(res.t, value(res, False), columns), label=RUN_TITLES.get(name, name),
+                    **_run_style(name))
             err = errors[name] / size
-            ax_e.plot(res.t, np.where(err > 0, err, np.nan), color=RUN_COLOURS.get(name), lw=0.8)
-        ax.plot(first.t, value(first, True), "k:", lw=1.1, label=planned_label)
+            # the log scale shows the positive errors: decimated among themselves (zeros are gaps)
+            ax_e.plot(*decimate(res.t, np.where(err > 0, err, np.nan), columns), color=RUN_COLOURS.get(name),
+                      lw=0.8)
+        ax.plot(*decimate(first.t, value(first, True), columns), "k:", lw=1.1, label=planned_label)
         ax.set_ylabel(f"{label} ({'deg' if angular else 'm'})")
         ax_e.set_ylabel(f"|{label} error| ({unit_e})")
         if largest > 0:
@@ -584,11 +667,15 @@ def plot_path(results: dict, scenario: Scenario, path: Path) -> Path:
                              constrained_layout=True)
     c = scenario.robot.frame_anchors
     first = next(iter(results.values()))
+    columns = _figure_columns(fig, FIGURE_DPI)
     for ax, (i, j) in zip(axes[0], planes):
         ax.plot(c[:, i], c[:, j], "ks", ms=7, label="frame anchors")
         for name, res in _drawing_order(results):
-            ax.plot(res.pose[:, i], res.pose[:, j], label=RUN_TITLES.get(name, name), **_run_style(name))
-        ax.plot(first.pose_planned[:, i], first.pose_planned[:, j], "k:", lw=1.1, label="planned")
+            # each coordinate's extremes kept, over time groups as fine as the figure's pixels
+            _, xy = decimate(res.t, res.pose[:, [i, j]], columns)
+            ax.plot(xy[:, 0], xy[:, 1], label=RUN_TITLES.get(name, name), **_run_style(name))
+        _, xy = decimate(first.t, first.pose_planned[:, [i, j]], columns)
+        ax.plot(xy[:, 0], xy[:, 1], "k:", lw=1.1, label="planned")
         ax.plot(*first.pose_planned[0, [i, j]], "ko", ms=5, label="start")
         ax.set_xlabel(f"{'xyz'[i]} in C (m)")
         ax.set_ylabel(f"{'xyz'[j]} in C (m)")
@@ -678,6 +765,11 @@ def beyond_text(names: list[str]) -> str:
     return ", ".join(parts)
 
 
+def _times(ratio: float) -> str:
+    """A ratio for a sentence: 3.56, 61 100 (not 6.11e+04)."""
+    return f"{ratio:.3g}" if ratio < 1000 else f"{float(f'{ratio:.3g}'):,.0f}".replace(",", " ")
+
+
 def _fmt_length(v: float) -> str:
     size, unit = length_unit(v)
     return f"{v / size:.3g} {unit}"
@@ -726,7 +818,7 @@ def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> lis
         fixed, moving = worst("fixed_base_open_loop")[0], worst("open_loop")[0]
         if fixed > 2 * moving:
             out.append(f"The fixed-base plan, which leaves out the ship's motion, errs by {_fmt_length(fixed)}, "
-                       f"{fixed / max(moving, 1e-300):.3g} times the moving-base plan's {_fmt_length(moving)}: "
+                       f"{_times(fixed / max(moving, 1e-300))} times the moving-base plan's {_fmt_length(moving)}: "
                        "what ignoring the ship costs.")
     if "paper_reported" in summary:
         out.append("The paper's column is its section 4.2: open loop on Adams with a 1 ms exchange.")
@@ -837,24 +929,121 @@ def describe_base_motion(bm) -> str:
     return bm.type
 
 
+def _can_fork() -> bool:
+    """True where work can go to a forked process, safely and to some gain: on Linux, with
+    two CPUs or more, from a process running no other Python thread (one could hold a
+    lock the copy would wait for forever) and allowed children (not a daemon, such as a
+    pool's worker)."""
+    import multiprocessing
+
+    return (sys.platform.startswith("linux") and "fork" in multiprocessing.get_all_start_methods()
+            and len(os.sched_getaffinity(0)) >= 2 and threading.active_count() == 1
+            and not multiprocessing.current_process().daemon)
+
+
+class _Forked:
+    """``fn()`` run in a forked copy of this process while this one goes on (where
+    :func:`_can_fork`; else by :meth:`result`, here).
+
+    The copy shares this process's state as it is at the fork (data, imports, caches:
+    nothing is pickled on the way in); it ignores Ctrl-C (this process handles it and
+    ends the copy) and is killed if this process dies. Call :meth:`result` for ``fn``'s
+    value or exception (an OSError keeps its errno), and :meth:`stop` in any case.
+    """
+
+    def __init__(self, fn):
+        self._fn = fn
+        self._process = None
+        if not _can_fork():
+            return
+        import multiprocessing
+        import warnings
+
+        ctx = multiprocessing.get_context("fork")
+        self._conn, child_end = ctx.Pipe(duplex=False)
+        self._process = ctx.Process(target=_forked_main, args=(fn, child_end, os.getpid()), daemon=True)
+        with warnings.catch_warnings():
+            # Python >= 3.12 warns of fork() in a process with threads; ours are BLAS's idle
+            # workers (fork-safe), and the copy only draws figures
+            warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*fork")
+            self._process.start()
+        child_end.close()
+
+    def result(self):
+        if self._process is None:
+            return self._fn()
+        try:
+            ok, value = self._conn.recv()
+        except EOFError:  # it died without a word
+            self._process.join()
+            ok, value = False, RuntimeError(f"the process drawing figures ended with exit code "
+                                            f"{self._process.exitcode}")
+        self._process.join()
+        if not ok:
+            raise value
+        return value
+
+    def stop(self) -> None:
+        """End the copy if it still runs, and wait for it."""
+        if self._process is None:
+            return
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join()
+        self._conn.close()
+
+
+def _forked_main(fn, conn, parent: int) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:  # die with the parent (Linux): a killed command leaves no process drawing
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+    try:
+        out = (True, fn())
+    except BaseException as exc:  # noqa: BLE001 - handed to the parent, which raises it
+        out = (False, exc)
+    try:
+        conn.send(out)
+    except Exception as exc:  # noqa: BLE001 - the value or exception does not pickle
+        failure = out[1] if not out[0] else exc
+        conn.send((False, RuntimeError(f"{type(failure).__name__}: {failure}")))
+    conn.close()
+
+
 def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     """Every file of the main job in ``folder``: plan.csv, sim_<run>.csv, the figures,
-    summary.json and report.html. Returns the paths written."""
+    summary.json and report.html. Returns the paths written.
+
+    Where it pays (:func:`_can_fork`), two of the figures are drawn by a forked copy of this
+    process meanwhile; the files are the same either way.
+    """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     sc = vp.scenario
-    paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
-    for name, res in vp.results.items():
-        paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
+    # drawing the figures is most of the work: two of them (about half) are drawn in a
+    # second process while this one writes the CSVs and draws the other two
+    _pyplot()  # imported once, before the fork, for both
+    apart = _Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
+                             plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png")))
+    try:
+        paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
+        for name, res in vp.results.items():
+            paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
+        tracking = plot_tracking(vp.results, sc, folder / "tracking.png")
+        path_figure = plot_path(vp.results, sc, folder / "path.png")
+        tensions, lengths = apart.result()
+    finally:
+        apart.stop()
     figures = {
-        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation":
-            plot_tensions(vp.plan, sc, folder / "tensions.png"),
-        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)":
-            plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png"),
-        "Figure 7: planned and actual pose, and the tracking errors":
-            plot_tracking(vp.results, sc, folder / "tracking.png"),
-        "The platform's path in C, planned and actual":
-            plot_path(vp.results, sc, folder / "path.png"),
+        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation": tensions,
+        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)": lengths,
+        "Figure 7: planned and actual pose, and the tracking errors": tracking,
+        "The platform's path in C, planned and actual": path_figure,
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))

@@ -38,7 +38,7 @@ from .rotations import matrix_from_euler
 from .scenario import Scenario
 from .trajectory import evaluate_disturbance
 
-__all__ = ["RUNS", "SimResult", "simulate"]
+__all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
 
 RUNS = ("open_loop", "closed_loop", "fixed_base_open_loop")
 _cache = True
@@ -587,6 +587,26 @@ def simulate(
         tensions_commanded=Tcmd_log, tensions=Tapp_log, controller_fallbacks=int(fallbacks),
         ship_tracking_error=ship_error,
     )
+
+
+KERNEL_COMPILE_S = 30.0
+"""About how long the first simulation compiles its loop on a fresh install, s (README)."""
+
+
+def kernels_cached(plant: str) -> bool:
+    """False if simulating on ``plant`` must first compile its loop: neither this process nor
+    numba's cache (an index for the current source with an entry) holds it. True when unsure
+    (numba's cache internals changed): no notice rather than a wrong one."""
+    try:
+        if plant == "own":
+            loop = _own_loop
+        elif _mujoco_library():
+            loop = _compiled_loop
+        else:  # MuJoCo's library not found: the loop runs in Python, each exchange compiled
+            loop = _exchange_args
+        return bool(loop.signatures) or bool(loop._cache._cache_file._load_index())
+    except Exception:  # noqa: BLE001 - a private numba API
+        return True
 
 
 def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
