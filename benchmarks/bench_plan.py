@@ -20,12 +20,11 @@ import time
 import tracemalloc
 
 import numpy as np
-import quadprog
 
 import marinecdpr
 from marinecdpr.planning import iter_plan
 from marinecdpr.tension import distribute_tensions, pseudo_inverse_tensions
-from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
+from _common import machine, quadprog_per_step as qp_per_step  # benchmarks/_common.py (the script's folder is on sys.path)
 
 
 
@@ -36,20 +35,6 @@ def time_calls(fn, repeats: int) -> list[float]:
         fn()
         out.append(time.perf_counter() - t0)
     return out
-
-
-def qp_per_step(J: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Minimum variance (eq. 20) step by step with quadprog: the general-solver baseline."""
-    n, m, k = J.shape
-    target = 0.5 * (lo + hi)
-    G = np.eye(m)
-    b_bounds = np.concatenate([lo, -hi])
-    eye2 = np.hstack([np.eye(m), -np.eye(m)])
-    T = np.empty((n, m))
-    for i in range(n):
-        C = np.hstack([J[i], eye2])
-        T[i] = quadprog.solve_qp(G, target, C, np.concatenate([w[i], b_bounds]), k)[0]
-    return T
 
 
 def streamed(scenario, n_steps: int, trace: bool) -> tuple[float, int, float, float]:
@@ -103,8 +88,9 @@ def main() -> None:
     J = np.ascontiguousarray(
         cable_kinematics(plat.x_PC_C, plat.R_PC, r.frame_anchors, r.platform_anchors).J_tilde[:, :, c])
     w = np.ascontiguousarray(p.wrench[:, c])
-    qp_times = time_calls(lambda: qp_per_step(J, w, r.tension_min, r.tension_max), 1 if args.quick else 3)
-    T_qp = qp_per_step(J, w, r.tension_min, r.tension_max)
+    mid = 0.5 * (r.tension_min + r.tension_max)  # minimum variance, eq. (20)
+    qp_times = time_calls(lambda: qp_per_step(J, w, mid, r.tension_min, r.tension_max), 1 if args.quick else 3)
+    T_qp = qp_per_step(J, w, mid, r.tension_min, r.tension_max)
     qp = min(qp_times)
 
     def ours():
@@ -139,7 +125,7 @@ def main() -> None:
         wi = reference.required_wrench(plat.pose[i], plat.pose_dot[i], plat.pose_ddot[i], ship.eta[i],
                                        ship.eta_dot[i], ship.eta_ddot[i], origin, r.mass_kg, r.inertia,
                                        sc.environment.gravity_m_s2, zero3, zero3)
-        qp_per_step(Jt[None][:, :, c], wi[None, c], r.tension_min, r.tension_max)
+        qp_per_step(Jt[None][:, :, c], wi[None, c], mid, r.tension_min, r.tension_max)
     loop = (time.perf_counter() - t0) * n / idx.size
     print(f"  per-step Python pipeline (reference model + quadprog), extrapolated from every "
           f"{stride}th step: {loop * 1e3:8.0f} ms   -> plan() is {loop / med:.0f}x faster")

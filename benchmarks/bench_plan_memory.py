@@ -27,7 +27,7 @@ import time
 from importlib import resources
 from pathlib import Path
 
-from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
+from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
 CLI = [sys.executable, "-m", "marinecdpr.cli"]
 

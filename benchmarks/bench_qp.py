@@ -25,19 +25,17 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
-import quadprog
 
 import marinecdpr
 from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.simulation import simulate
 from marinecdpr.tension import distribute_tensions, pseudo_inverse_tensions
 from marinecdpr.trajectory import evaluate_trajectory
 
-from bench_plan import machine, time_calls
+from _common import machine, quadprog_per_step as qp_per_step  # benchmarks/_common.py
+from bench_plan import time_calls
 
 ROOT = Path(__file__).resolve().parents[1]
 CUBE8 = ROOT / "examples" / "spatial_cube8.toml"
@@ -68,19 +66,6 @@ for plant in ("own", "mujoco"):
                   "max_error_m": float(abs(r.pose[:, :3] - r.pose_planned[:, :3]).max())}
 print(json.dumps(out))
 """
-
-
-def qp_per_step(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """min |T - target|^2, J~^T T = w, lo <= T <= hi, step by step with quadprog."""
-    n, m, k = J.shape
-    G = np.eye(m)
-    b_bounds = np.concatenate([lo, -hi])
-    eye2 = np.hstack([np.eye(m), -np.eye(m)])
-    T = np.empty((n, m))
-    for i in range(n):
-        C = np.hstack([J[i], eye2])
-        T[i] = quadprog.solve_qp(G, target, C, np.concatenate([w[i], b_bounds]), k)[0]
-    return T
 
 
 def closed_loop(pythonpath: str | None, repeats: int) -> dict:

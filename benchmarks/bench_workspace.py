@@ -25,7 +25,7 @@ import numpy as np
 import marinecdpr
 from marinecdpr.errors import ScenarioError
 from marinecdpr.workspace import pose_range, workspace_map
-from _machine import machine  # benchmarks/_machine.py (the script's folder is on sys.path)
+from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -783,14 +783,8 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
             return improved_closed_form(A, wc, mid, lo, hi, tol, 1e-12, T, M, v[0], state)
         target = mid if method == 2 else np.zeros(n)
         return least_distance(A, wc, target, lo, hi, tol, 1e-12, T, M, v, np.empty((2, n)), state) == 1
-    G = np.zeros((k, k))
-    for a in range(k):
-        for b in range(a, k):
-            acc = 0.0
-            for i in range(n):
-                acc += A[i, a] * A[i, b]
-            G[a, b] = acc
-            G[b, a] = acc
+    G = np.empty((k, k))
+    _gram(A, G)
     scale = 0.0
     for a in range(k):
         scale = max(scale, G[a, a])
