@@ -1,8 +1,9 @@
 """The ``marinecdpr`` command: parses arguments, calls the library, prints.
 
-Exit codes: 0 success; 2 bad input (a scenario or an option); 3 the cables cannot
-hold the platform somewhere on the plan (``plan`` still writes its outputs, complete);
-4 a simulation diverged.
+Exit codes: 0 success; 2 bad input (a scenario, an option, or an output folder that
+cannot be written); 3 the cables cannot hold the platform somewhere on the plan
+(``plan`` still writes its outputs, complete); 4 a simulation diverged; 130 interrupted
+(Ctrl-C: the output folder keeps what it held).
 """
 
 from __future__ import annotations
