@@ -639,7 +639,7 @@ def _compiled_loop(k0, k1, model_addr, data_addr, h, args):
     """Exchange and step, k0..k1-1, all compiled. Returns (fallbacks, -1 or the diverged step)."""
     fallbacks = 0
     for k in range(k0, k1):
-        fb = _exchange_args(k, h, args)
+        fb = _mujoco_exchange(k, h, *args)  # direct: one compiled call level less
         if fb < 0:
             return fallbacks, k
         fallbacks += fb
