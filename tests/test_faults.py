@@ -17,8 +17,15 @@ from marinecdpr.reports import MANIFEST
 EXE = str(Path(sys.executable).parent / "marinecdpr")
 
 
+def _default_sigint() -> None:
+    # a test run started in the background of a shell inherits SIGINT ignored, and Python
+    # then leaves it ignored: give the command the default a user's terminal gives it
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(args, **kw):
-    return subprocess.Popen([EXE, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+    return subprocess.Popen([EXE, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_default_sigint, **kw)
 
 
 def _one_complete_run(folder: Path) -> str:
