@@ -69,6 +69,7 @@ def test_a_bounded_but_meaningless_closed_loop_is_warned_about(tmp_path):
     assert "it shows the plan, not the controller" in html
     # the paper's own 5 Hz controller draws no warning
     ok = runner.invoke(app, ["simulate", "--duration", "0.3", "--out", str(tmp_path / "p")])
+    assert ok.exit_code == 0 and "warning" not in ok.stderr
     assert json.loads((tmp_path / "p" / "summary.json").read_text())["warnings"] == []
 
 
