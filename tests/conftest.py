@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import tomllib
 from importlib import resources
+from pathlib import Path
 
 import pytest
 
@@ -35,3 +36,18 @@ def paper():
 @pytest.fixture(scope="session")
 def paper_plan(paper):
     return marinecdpr.plan(paper)
+
+
+@pytest.fixture()
+def captured_figures(monkeypatch) -> dict:
+    """The figures the report functions draw, by file name, kept open instead of saved."""
+    import marinecdpr.reports as reports
+
+    figs = {}
+
+    def keep(fig, path, dpi=None):
+        figs[Path(path).name] = fig
+        return Path(path)
+
+    monkeypatch.setattr(reports, "_save", keep)
+    return figs

@@ -10,7 +10,6 @@ import subprocess
 import sys
 import textwrap
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -94,17 +93,6 @@ def test_a_short_series_is_drawn_whole_and_several_series_keep_each_ones_extreme
 
 
 # --------------------------------------------------------------- the figures themselves
-def _captured_figures(monkeypatch) -> dict:
-    figs = {}
-
-    def keep(fig, path, dpi=None):
-        figs[Path(path).name] = fig
-        return Path(path)
-
-    monkeypatch.setattr(reports, "_save", keep)
-    return figs
-
-
 def _long_runs(scenario, n: int = N) -> dict:
     """Three made-up runs of n steps (what the figures draw, without simulating)."""
     rng = np.random.default_rng(6)
@@ -128,9 +116,9 @@ def _long_runs(scenario, n: int = N) -> dict:
 
 
 @pytest.mark.parametrize("figure", ["tracking", "cable_lengths"])
-def test_time_series_figures_draw_each_pixel_column_with_its_extremes(figure, paper, monkeypatch, tmp_path):
+def test_time_series_figures_draw_each_pixel_column_with_its_extremes(figure, paper, captured_figures, tmp_path):
     runs = _long_runs(paper)
-    figs = _captured_figures(monkeypatch)
+    figs = captured_figures
     getattr(reports, f"plot_{figure}")(runs, paper, tmp_path / f"{figure}.png")
     fig = figs[f"{figure}.png"]
     columns = int(np.ceil(fig.get_figwidth() * reports.FIGURE_DPI))
@@ -158,8 +146,8 @@ def test_time_series_figures_draw_each_pixel_column_with_its_extremes(figure, pa
             np.testing.assert_allclose(np.nanmin(y) * scale, err[err > 0].min(), rtol=1e-12)
 
 
-def test_tension_and_path_figures_keep_their_extremes(paper, paper_plan, monkeypatch, tmp_path):
-    figs = _captured_figures(monkeypatch)
+def test_tension_and_path_figures_keep_their_extremes(paper, paper_plan, captured_figures, tmp_path):
+    figs = captured_figures
     reports.plot_tensions(paper_plan, paper, tmp_path / "tensions.png")
     fig = figs["tensions.png"]
     columns = int(np.ceil(fig.get_figwidth() * reports.TENSION_FIGURE_DPI))

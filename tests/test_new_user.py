@@ -284,25 +284,12 @@ def test_output_files_honour_the_umask(tmp_path):
 
 
 # ------------------------------------------------------------------- item 6: figures
-def _captured_figures(monkeypatch):
-    import marinecdpr.reports as reports
-
-    figs = {}
-
-    def keep(fig, path, dpi=None):
-        figs[Path(path).name] = fig
-        return Path(path)
-
-    monkeypatch.setattr(reports, "_save", keep)
-    return figs
-
-
-def test_error_panels_are_log_scaled_in_units_from_the_data(paper, monkeypatch, tmp_path):
+def test_error_panels_are_log_scaled_in_units_from_the_data(paper, captured_figures, tmp_path):
     from marinecdpr.reports import plot_tracking
 
     runs = {run: simulate(paper, run=run, n_steps=400) for run in ("open_loop", "closed_loop",
                                                                     "fixed_base_open_loop")}
-    figs = _captured_figures(monkeypatch)
+    figs = captured_figures
     plot_tracking(runs, paper, tmp_path / "tracking.png")
     axes = figs["tracking.png"].axes
     x_err = axes[1]
@@ -319,13 +306,13 @@ def test_error_panels_are_log_scaled_in_units_from_the_data(paper, monkeypatch, 
                                         np.abs(runs["open_loop"].pose_error[:, 0]) / size, np.nan))
 
 
-def test_tension_figure_names_infeasible_steps_in_its_legend(monkeypatch, tmp_path):
+def test_tension_figure_names_infeasible_steps_in_its_legend(captured_figures, tmp_path):
     from marinecdpr.reports import plot_tensions
 
     heavy = make_scenario(lambda d: (d["robot"].update(mass_kg=20.0), d["time"].update(duration_s=4.0)))
     p = marinecdpr.plan(heavy)
     assert 0 < p.feasible.sum() < p.n_steps
-    figs = _captured_figures(monkeypatch)
+    figs = captured_figures
     plot_tensions(p, heavy, tmp_path / "tensions.png")
     labels = [t.get_text() for t in figs["tensions.png"].legends[0].get_texts()]
     assert "infeasible steps" in labels and "cable 1" in labels
