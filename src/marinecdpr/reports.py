@@ -336,13 +336,7 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
         bad = ~plan.feasible
         axes[1].fill_between(plan.t, 0, 1, where=bad, color="red", alpha=0.15,
                              transform=axes[1].get_xaxis_transform(), label="infeasible steps")
-    handles, labels = [], []
-    for ax in axes:
-        for h, lab in zip(*ax.get_legend_handles_labels()):
-            if lab not in labels:
-                handles.append(h)
-                labels.append(lab)
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(8, len(labels)), fontsize=9)
+    _legend_below(fig, axes, max_columns=8)
     axes[1].set_xlabel("t (s)")
     fig.suptitle(f"Cable tensions: {_plain(scenario.name)}", fontsize=11)
     return _save(fig, path, dpi=TENSION_FIGURE_DPI)
@@ -539,7 +533,7 @@ def _run_style(name: str) -> dict:
     return dict(color=RUN_COLOURS.get(name), **RUN_STYLES.get(name, dict(lw=1.0)))
 
 
-def _legend_below(fig, axes) -> None:
+def _legend_below(fig, axes, max_columns: int = 4) -> None:
     """One legend for the figure, below the axes, from every labelled artist of ``axes``."""
     handles, labels = [], []
     for ax in np.ravel(axes):
@@ -547,7 +541,7 @@ def _legend_below(fig, axes) -> None:
             if lab not in labels:
                 handles.append(h)
                 labels.append(lab)
-    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), fontsize=9)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), max_columns), fontsize=9)
 
 
 def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
