@@ -223,11 +223,15 @@ def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool 
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             fh.write(",".join(names) + "\n")
-            fmt = ",".join(["%.10g"] * (len(names) - 1) + ["%d" if int_last else "%.10g"])
             if len(values) == 0:
                 fh.write("\n")
-            _write_rows(fh, fmt, values)
+            _write_rows(fh, _row_format(len(names), int_last), values)
     return path
+
+
+def _row_format(n_columns: int, int_last: bool) -> str:
+    """A CSV row's ``%`` format: 10 significant digits, the last column an integer flag if ``int_last``."""
+    return ",".join(["%.10g"] * (n_columns - 1) + ["%d" if int_last else "%.10g"])
 
 
 CSV_BLOCK_ROWS = 4096
@@ -362,12 +366,13 @@ def plan_csv_writer(scenario: Scenario, path: Path) -> Iterator:
                 return
             if rows[0] == 0:
                 fh.write(",".join(names) + "\n")
-            _write_rows(fh, ",".join(["%.10g"] * (len(names) - 1) + ["%d"]), values)  # as _write_csv
+            _write_rows(fh, _row_format(len(names), int_last=True), values)
             rows[0] += len(values)
 
         yield write
         if rows[0] == 0:
             raise ValueError("plan_csv_writer: no piece of a plan was written")
+
 
 TENSION_FIGURE_COLUMNS = 2000
 """Time columns the streamed tension figure keeps, each with its smallest and largest
