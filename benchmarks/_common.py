@@ -13,7 +13,7 @@ import numpy as np
 def machine() -> str:
     """CPU model, cores, memory, load average, Python, numpy, marinecdpr and today's date."""
     import marinecdpr
-    from marinecdpr.budget import machine_memory_bytes
+    from marinecdpr.planning.budget import machine_memory_bytes
 
     cpu = "unknown CPU"
     try:

@@ -12,7 +12,7 @@ runs and a serial run give identical verdicts. Target: 100 cells in <= 20 s on 2
 ``--crossover`` measures where a 2-worker local Dask cluster starts to beat a serial run,
 as the ``marinecdpr operability`` command meets them (each run in a fresh process, the
 cluster's start included), over studies of growing size; the fastest of ``--repeat``
-runs counts. ``marinecdpr.operability.AUTO_DASK_MIN_STEPS`` is set from it.
+runs counts. ``marinecdpr.studies.operability.AUTO_DASK_MIN_STEPS`` is set from it.
 """
 
 from __future__ import annotations
@@ -28,14 +28,14 @@ import time
 import numpy as np
 
 import marinecdpr
-from marinecdpr.operability import ScatterDiagram, operability
+from marinecdpr.studies.operability import ScatterDiagram, operability
 
 
 _ONE_RUN = """
 import json, sys, time
 import numpy as np
 import marinecdpr
-from marinecdpr.operability import ScatterDiagram, operability, study_steps
+from marinecdpr.studies.operability import ScatterDiagram, operability, study_steps
 if __name__ == "__main__":
     marinecdpr.keep_freed_memory()
     executor, k, duration, grid = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), sys.argv[4]
@@ -52,7 +52,7 @@ if __name__ == "__main__":
 
 def crossover(repeat: int) -> None:
     """Serial vs a 2-worker local Dask cluster, fresh processes, over growing studies."""
-    from marinecdpr.operability import AUTO_DASK_MIN_STEPS
+    from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS
 
     studies = [(4, 600.0, "-"), (6, 1200.0, "-"), (10, 1200.0, "-"), (15, 1200.0, "-"), (20, 1200.0, "-"),
                (3, 60.0, "12x8"), (6, 60.0, "12x8")]

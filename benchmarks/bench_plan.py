@@ -22,8 +22,8 @@ import tracemalloc
 import numpy as np
 
 import marinecdpr
-from marinecdpr.planning import iter_plan
-from marinecdpr.tension import distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.planning.planner import iter_plan
+from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
 from _common import machine, quadprog_per_step as qp_per_step  # benchmarks/_common.py (the script's folder is on sys.path)
 
 
@@ -79,8 +79,8 @@ def main() -> None:
 
     # the baseline gets the same J~ and w; only the tension solve is timed
     p = marinecdpr.plan(sc)
-    from marinecdpr.kinematics import cable_kinematics
-    from marinecdpr.trajectory import evaluate_trajectory
+    from marinecdpr.geometry.kinematics import cable_kinematics
+    from marinecdpr.motion.trajectory import evaluate_trajectory
 
     plat = evaluate_trajectory(sc.trajectory, p.t)
     r = sc.robot
@@ -112,7 +112,7 @@ def main() -> None:
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
     import reference
 
-    from marinecdpr.basemotion import evaluate_base_motion
+    from marinecdpr.motion.basemotion import evaluate_base_motion
 
     ship = evaluate_base_motion(sc.base_motion, p.t)
     stride = 10 if args.quick else 3

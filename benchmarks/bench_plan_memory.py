@@ -29,7 +29,7 @@ from pathlib import Path
 
 from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
-CLI = [sys.executable, "-m", "marinecdpr.cli"]
+CLI = [sys.executable, "-m", "marinecdpr"]
 
 
 def scenario_file(folder: Path, hours: float) -> Path:
@@ -57,7 +57,7 @@ def run(cmd: list[str]) -> tuple[float, float, int, str]:
 
 IN_MEMORY = """
 import sys, marinecdpr
-from marinecdpr.reports import plot_tensions, write_plan_csv
+from marinecdpr.report.reports import plot_tensions, write_plan_csv
 
 sc = marinecdpr.load_scenario(sys.argv[1])
 p = marinecdpr.plan(sc)

@@ -30,9 +30,9 @@ from pathlib import Path
 import numpy as np
 
 import marinecdpr
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.tension import distribute_tensions, pseudo_inverse_tensions
-from marinecdpr.trajectory import evaluate_trajectory
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from _common import machine, quadprog_per_step as qp_per_step  # benchmarks/_common.py
 from bench_plan import time_calls
@@ -44,7 +44,7 @@ BEFORE = "530035b"
 CLOSED_LOOP = """
 import json, statistics, sys, time
 import marinecdpr
-from marinecdpr.simulation import simulate
+from marinecdpr.prototype.simulation import simulate
 sc = marinecdpr.load_scenario(sys.argv[1])
 p = marinecdpr.plan(sc)
 out = {"module": marinecdpr.__file__}

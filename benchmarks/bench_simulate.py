@@ -35,8 +35,8 @@ import mujoco
 import numpy as np
 
 import marinecdpr
-from marinecdpr.mjmodel import build_model
-from marinecdpr.simulation import simulate
+from marinecdpr.prototype.mujoco_model import build_model
+from marinecdpr.prototype.simulation import simulate
 
 
 def best(fn, repeats: int) -> float:
@@ -88,7 +88,7 @@ def main() -> None:
 
 def main_job(sc, bare, repeats: int) -> None:
     """The whole main job against bare MuJoCo, each repeat timing both (the machine may be shared)."""
-    from marinecdpr import reports
+    from marinecdpr.report import reports
 
     folder = Path(tempfile.mkdtemp(prefix="bench-main-job-"))
     exe = Path(sys.executable).parent / "marinecdpr"

@@ -2,7 +2,7 @@
 
 Run:  .venv/bin/python benchmarks/bench_workspace.py [--quick]
 
-For each robot, times ``marinecdpr.workspace.workspace_map`` over a grid of held poses
+For each robot, times ``marinecdpr.studies.workspace.workspace_map`` over a grid of held poses
 (each planned over the scenario's whole ship-motion record) and prints poses per second
 and time steps per second. Side by side: what a user would write without it, a loop
 over the same poses that builds a held-pose scenario and calls ``marinecdpr.plan`` on
@@ -24,7 +24,7 @@ import numpy as np
 
 import marinecdpr
 from marinecdpr.errors import ScenarioError
-from marinecdpr.workspace import pose_range, workspace_map
+from marinecdpr.studies.workspace import pose_range, workspace_map
 from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
 

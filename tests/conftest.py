@@ -10,12 +10,12 @@ from pathlib import Path
 import pytest
 
 import marinecdpr
-from marinecdpr.scenario import scenario_from_dict
+from marinecdpr.scenario.loading import scenario_from_dict
 
 
 def paper_dict() -> dict:
     """The built-in paper scenario as nested dicts (a fresh copy to edit)."""
-    text = (resources.files("marinecdpr") / "scenarios" / "paper.toml").read_text()
+    text = (resources.files("marinecdpr.scenario") / "builtin" / "paper.toml").read_text()
     return copy.deepcopy(tomllib.loads(text))
 
 
@@ -41,7 +41,7 @@ def paper_plan(paper):
 @pytest.fixture()
 def captured_figures(monkeypatch) -> dict:
     """The figures the report functions draw, by file name, kept open instead of saved."""
-    import marinecdpr.reports as reports
+    import marinecdpr.report.reports as reports
 
     figs = {}
 

@@ -10,12 +10,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import reference as ref
-from marinecdpr.basemotion import evaluate_base_motion
-from marinecdpr.dynamics import disturbance_in_C, wrench_terms
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.scenario import Disturbance, WaypointsTrajectory
-from marinecdpr.tension import distribute_tensions
-from marinecdpr.trajectory import evaluate_disturbance, evaluate_trajectory
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.model.dynamics import disturbance_in_C, wrench_terms
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.scenario.schema import Disturbance, WaypointsTrajectory
+from marinecdpr.model.tension import distribute_tensions
+from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
 
 from test_dynamics import SIX_DOF_SEA
 

@@ -8,7 +8,7 @@ import numpy as np
 from typer.testing import CliRunner
 
 import marinecdpr
-from marinecdpr.cli import app
+from marinecdpr.cli.app import app
 
 runner = CliRunner()
 
@@ -31,7 +31,7 @@ def test_plan_writes_the_csv_and_figure(tmp_path, paper, paper_plan):
 
 def test_infeasible_plan_exits_3_with_complete_files(tmp_path):
     scen = tmp_path / "heavy.toml"
-    text = (Path(marinecdpr.__file__).parent / "scenarios" / "paper.toml").read_text()
+    text = (Path(marinecdpr.__file__).parent / "scenario" / "builtin" / "paper.toml").read_text()
     scen.write_text(text.replace("mass_kg = 5.0", "mass_kg = 200.0").replace("duration_s = 15.0", "duration_s = 0.5"))
     res = runner.invoke(app, ["plan", str(scen), "--out", str(tmp_path / "o")])
     assert res.exit_code == 3
@@ -44,7 +44,7 @@ def test_infeasible_plan_exits_3_with_complete_files(tmp_path):
 
 def test_bad_scenario_is_one_line_exit_2(tmp_path):
     scen = tmp_path / "typo.toml"
-    text = (Path(marinecdpr.__file__).parent / "scenarios" / "paper.toml").read_text()
+    text = (Path(marinecdpr.__file__).parent / "scenario" / "builtin" / "paper.toml").read_text()
     scen.write_text(text.replace("mass_kg = 5.0", "mass = 5.0"))
     res = runner.invoke(app, ["plan", str(scen), "--out", str(tmp_path / "o")])
     assert res.exit_code == 2
@@ -58,7 +58,7 @@ def test_bad_method_and_trajectory_outside_frame(tmp_path):
     res = runner.invoke(app, ["plan", "--method", "fastest", "--out", str(tmp_path)])
     assert res.exit_code == 2 and "--method fastest: expected one of" in res.stderr
     scen = tmp_path / "far.toml"
-    text = (Path(marinecdpr.__file__).parent / "scenarios" / "paper.toml").read_text()
+    text = (Path(marinecdpr.__file__).parent / "scenario" / "builtin" / "paper.toml").read_text()
     scen.write_text(text.replace("radius_m = 0.38", "radius_m = 0.9").replace("center_m = [0.6,", "center_m = [1.0,"))
     res = runner.invoke(app, ["plan", str(scen), "--out", str(tmp_path / "o")])
     assert res.exit_code == 2

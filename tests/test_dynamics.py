@@ -2,12 +2,13 @@
 
 import numpy as np
 
-from marinecdpr.basemotion import evaluate_base_motion, still_ship
-from marinecdpr.dynamics import forward_dynamics, spatial_inertia, wrench_terms
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.planning import _columns
-from marinecdpr.scenario import SinusoidalMotion
-from marinecdpr.trajectory import evaluate_trajectory
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.ship import still_ship
+from marinecdpr.model.dynamics import forward_dynamics, spatial_inertia, wrench_terms
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.planning.planner import _columns
+from marinecdpr.scenario.schema import SinusoidalMotion
+from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from conftest import make_scenario
 
@@ -93,8 +94,8 @@ def test_spatial_inertia_rotates_the_tensor():
 
 def test_absolute_motion_matches_finite_differences_and_eq13_equals_eq15(paper):
     """Eqs. (7)-(11) against differences of x_PO and R_SO R_PC; eq. (13) in O is S times eq. (15)."""
-    from marinecdpr.dynamics import absolute_motion, inertial_frame_terms
-    from marinecdpr.rotations import skew
+    from marinecdpr.model.dynamics import absolute_motion, inertial_frame_terms
+    from marinecdpr.geometry.rotations import skew
     from test_against_reference import TRAJ, I_PP
 
     h = 1e-5

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import marinecdpr
-import marinecdpr.reports as reports
-from marinecdpr.reports import RUN_TITLES, decimate
-from marinecdpr.simulation import RUNS, SimResult
+import marinecdpr.report.reports as reports
+from marinecdpr.report.reports import RUN_TITLES, decimate
+from marinecdpr.prototype.simulation import RUNS, SimResult
 
 N = 15_001
 COLUMNS = 1210  # the 11-inch figures at 110 dpi
@@ -230,7 +230,7 @@ def test_an_interrupt_here_ends_the_second_process_at_once(short_vp, tmp_path, m
 def test_the_second_process_dies_with_a_killed_parent(tmp_path):
     script = textwrap.dedent("""
         import sys, time
-        import marinecdpr.reports as reports
+        import marinecdpr.report.reports as reports
         f = reports._Forked(lambda: time.sleep(60))
         print(f._process.pid, flush=True)
         time.sleep(60)
@@ -255,8 +255,8 @@ def test_the_second_process_dies_with_a_killed_parent(tmp_path):
 def test_a_cold_kernel_cache_is_told_in_one_line_before_the_work(tmp_path, monkeypatch):
     from typer.testing import CliRunner
 
-    import marinecdpr.cli as cli
-    import marinecdpr.simulation as simulation
+    import marinecdpr.cli.app as cli
+    import marinecdpr.prototype.simulation as simulation
 
     runner = CliRunner()
     for cold in (True, False):
@@ -271,9 +271,9 @@ def test_a_cold_kernel_cache_is_told_in_one_line_before_the_work(tmp_path, monke
 
 
 def test_the_kernel_cache_is_cold_without_an_index_and_warm_once_loaded(tmp_path):
-    from marinecdpr.simulation import kernels_cached
+    from marinecdpr.prototype.simulation import kernels_cached
 
-    probe = "from marinecdpr.simulation import kernels_cached; print(kernels_cached('mujoco'), kernels_cached('own'))"
+    probe = "from marinecdpr.prototype.simulation import kernels_cached; print(kernels_cached('mujoco'), kernels_cached('own'))"
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))  # an empty cache: nothing compiled yet
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=120)
     assert out.stdout.split() == ["False", "False"], out.stderr

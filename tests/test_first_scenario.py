@@ -14,9 +14,9 @@ from scipy.optimize import linprog
 from typer.testing import CliRunner
 
 import marinecdpr
-import marinecdpr.cli as cli
-from marinecdpr.cli import app
-from marinecdpr.scenario import scenario_from_dict
+import marinecdpr.cli.app as cli
+from marinecdpr.cli.app import app
+from marinecdpr.scenario.loading import scenario_from_dict
 
 from conftest import make_scenario, paper_dict
 
@@ -25,7 +25,7 @@ runner = CliRunner()
 
 def millimetre_toml() -> str:
     """The paper scenario with every length written in millimetres (a 1.9 km frame), 21 steps."""
-    text = (resources.files("marinecdpr") / "scenarios" / "paper.toml").read_text()
+    text = (resources.files("marinecdpr.scenario") / "builtin" / "paper.toml").read_text()
 
     def mm(match: re.Match) -> str:
         return match[1] + "[" + ", ".join(f"{1000 * float(v):.1f}" for v in match[2].split(",")) + "]"
@@ -44,7 +44,7 @@ def millimetre_dict() -> dict:
 
 
 def test_scale_warnings_flag_millimetres_not_metres():
-    from marinecdpr.scenario import scale_warnings
+    from marinecdpr.scenario.scale import scale_warnings
 
     mm = scenario_from_dict(millimetre_dict())
     assert scale_warnings(mm) == [

@@ -7,11 +7,11 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from marinecdpr.cli import app
+from marinecdpr.cli.app import app
 
 runner = CliRunner()
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-BUILTIN = Path(__file__).resolve().parents[1] / "src" / "marinecdpr" / "scenarios"
+BUILTIN = Path(__file__).resolve().parents[1] / "src" / "marinecdpr" / "scenario" / "builtin"
 
 
 @pytest.mark.parametrize("args, message", [
@@ -119,7 +119,7 @@ def test_a_scheduler_that_does_not_answer_fails_within_seconds(monkeypatch):
     import socket
 
     from marinecdpr.errors import ScenarioError
-    from marinecdpr.operability import check_scheduler
+    from marinecdpr.studies.operability import check_scheduler
 
     def silent(address, timeout):
         assert timeout <= 5.0

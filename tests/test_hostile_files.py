@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from marinecdpr.cli import app
+from marinecdpr.cli.app import app
 from marinecdpr.errors import ScenarioError
-from marinecdpr.rao import RAO, read_capytaine, read_rao_csv, write_rao_csv
-from marinecdpr.recorded import MOTION_CSV_COLUMNS, read_motion_csv
-from marinecdpr.scenario import load_scenario, scenario_from_dict
+from marinecdpr.motion.rao import RAO, read_capytaine, read_rao_csv, write_rao_csv
+from marinecdpr.motion.recorded import MOTION_CSV_COLUMNS, read_motion_csv
+from marinecdpr.scenario.loading import load_scenario, scenario_from_dict
 
 from conftest import paper_dict
 
@@ -353,7 +353,7 @@ def recorded_scenario(tmp_path: Path, file: str) -> Path:
 
 
 def rao_scenario(tmp_path: Path, file: str) -> Path:
-    text_ = (resources.files("marinecdpr") / "scenarios" / "paper_sea.toml").read_text()
+    text_ = (resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text()
     start, end = text_.index("[base_motion.rao]"), text_.index("[trajectory]")
     path = tmp_path / "sea.toml"
     path.write_text(text_[:start] + f'[base_motion.rao]\nsource = "csv"\nfile = "{file}"\n\n' + text_[end:])

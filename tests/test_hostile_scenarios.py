@@ -14,8 +14,8 @@ from typer.testing import CliRunner
 
 import marinecdpr
 from marinecdpr import ScenarioError
-from marinecdpr.cli import app
-from marinecdpr.scenario import scenario_from_dict
+from marinecdpr.cli.app import app
+from marinecdpr.scenario.loading import scenario_from_dict
 
 from conftest import paper_dict
 
@@ -31,7 +31,7 @@ def cube_dict() -> dict:
 def sea_dict() -> dict:
     """The built-in paper_sea scenario (JONSWAP on a box hull) as nested dicts."""
     return copy.deepcopy(tomllib.loads(
-        (resources.files("marinecdpr") / "scenarios" / "paper_sea.toml").read_text()))
+        (resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text()))
 
 
 def recorded_dict() -> dict:

@@ -5,13 +5,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marinecdpr import kernels as K
-from marinecdpr.basemotion import evaluate_base_motion
-from marinecdpr.dynamics import forward_dynamics, spatial_inertia, wrench_terms
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.rotations import euler_kinematics
-from marinecdpr.tension import distribute_tensions
-from marinecdpr.trajectory import evaluate_trajectory
+from marinecdpr.model import kernels as K
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.model.dynamics import forward_dynamics, spatial_inertia, wrench_terms
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.model.tension import distribute_tensions
+from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from test_against_reference import I_PP, TRAJ, X_CS
 from test_dynamics import SIX_DOF_SEA

@@ -4,9 +4,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marinecdpr.kinematics import cable_kinematics, global_jacobian
-from marinecdpr.rotations import matrix_from_euler
-from marinecdpr.trajectory import platform_motion
+from marinecdpr.geometry.kinematics import cable_kinematics, global_jacobian
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.motion.trajectory import platform_motion
 
 
 def test_paper_lengths_at_t0_by_hand(paper_plan):

@@ -13,12 +13,12 @@ import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
-from marinecdpr.analysis import error_bounds, is_paper_scenario, run_summary
-from marinecdpr.basemotion import evaluate_base_motion
-from marinecdpr.cli import app
-from marinecdpr.recorded import write_motion_csv
-from marinecdpr.reports import MANIFEST, atomic_path, beyond_text, error_table, length_unit
-from marinecdpr.simulation import SimResult, simulate
+from marinecdpr.studies.prototype_runs import error_bounds, is_paper_scenario, run_summary
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.cli.app import app
+from marinecdpr.motion.recorded import write_motion_csv
+from marinecdpr.report.reports import MANIFEST, atomic_path, beyond_text, error_table, length_unit
+from marinecdpr.prototype.simulation import SimResult, simulate
 
 from conftest import make_scenario, paper_dict
 
@@ -195,7 +195,7 @@ def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
     assert _main_job(out).exit_code == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a crash while writing the report (a full disk, say): one line, exit 2, nothing changed
-    import marinecdpr.reports as reports
+    import marinecdpr.report.reports as reports
 
     def full(*args, **kwargs):
         raise OSError(28, "No space left on device")
@@ -213,7 +213,7 @@ def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch)
     out = tmp_path / "out"
     assert _main_job(out).exit_code == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    import marinecdpr.analysis as analysis
+    import marinecdpr.studies.prototype_runs as analysis
 
     calls = []
 
@@ -249,16 +249,14 @@ def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_
 @pytest.mark.parametrize("command", [["simulate"], ["plan"], ["workspace", "--points", "2x2"],
                                      ["operability", "paper_sea", "--serial"]])
 def test_an_output_folder_that_cannot_be_written_fails_before_the_work(command, tmp_path, monkeypatch):
-    import marinecdpr.analysis
-    import marinecdpr.operability
-    import marinecdpr.planning
-    import marinecdpr.workspace
+    from marinecdpr.planning import planner
+    from marinecdpr.studies import operability, prototype_runs, workspace
 
     def no_work(*args, **kwargs):
         raise AssertionError("the work started")
 
-    for module, name in ((marinecdpr.analysis, "virtual_prototype"), (marinecdpr.planning, "plan"),
-                         (marinecdpr.workspace, "workspace_map"), (marinecdpr.operability, "operability")):
+    for module, name in ((prototype_runs, "virtual_prototype"), (planner, "plan"),
+                         (workspace, "workspace_map"), (operability, "operability")):
         monkeypatch.setattr(module, name, no_work)
     blocker = tmp_path / "a_file"
     blocker.write_text("")
@@ -285,7 +283,7 @@ def test_output_files_honour_the_umask(tmp_path):
 
 # ------------------------------------------------------------------- item 6: figures
 def test_error_panels_are_log_scaled_in_units_from_the_data(paper, captured_figures, tmp_path):
-    from marinecdpr.reports import plot_tracking
+    from marinecdpr.report.reports import plot_tracking
 
     runs = {run: simulate(paper, run=run, n_steps=400) for run in ("open_loop", "closed_loop",
                                                                     "fixed_base_open_loop")}
@@ -307,7 +305,7 @@ def test_error_panels_are_log_scaled_in_units_from_the_data(paper, captured_figu
 
 
 def test_tension_figure_names_infeasible_steps_in_its_legend(captured_figures, tmp_path):
-    from marinecdpr.reports import plot_tensions
+    from marinecdpr.report.reports import plot_tensions
 
     heavy = make_scenario(lambda d: (d["robot"].update(mass_kg=20.0), d["time"].update(duration_s=4.0)))
     p = marinecdpr.plan(heavy)
@@ -355,7 +353,7 @@ def test_leaving_the_frame_prints_enough_digits(tmp_path):
                           "end_position_m": [0.95, 0.0, 0.7], "duration_s": 1.0}
     data["time"]["duration_s"] = 2.0
     from marinecdpr.errors import ScenarioError
-    from marinecdpr.scenario import scenario_from_dict
+    from marinecdpr.scenario.loading import scenario_from_dict
 
     with pytest.raises(ScenarioError, match=r"x = 1\.900001 m, outside the frame anchors' range \[0\.0, 1\.9\] m"):
         marinecdpr.plan(scenario_from_dict(data))

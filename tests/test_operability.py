@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from marinecdpr import ScenarioError
-from marinecdpr.operability import ScatterDiagram, operability, read_scatter_csv
-from marinecdpr.scenario import scenario_from_dict
+from marinecdpr.studies.operability import ScatterDiagram, operability, read_scatter_csv
+from marinecdpr.scenario.loading import scenario_from_dict
 
 SHORT = dict(duration_s=120.0, step_s=0.05)
 
@@ -17,7 +17,7 @@ SHORT = dict(duration_s=120.0, step_s=0.05)
 def sea_robot(mass_kg=7.6):
     """The paper's robot and circle in paper_sea's seas, with a platform heavy enough
     (7.86 kg is its still-ship limit) that rough seas break the tension limits."""
-    data = tomllib.loads((resources.files("marinecdpr") / "scenarios" / "paper_sea.toml").read_text())
+    data = tomllib.loads((resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text())
     data = copy.deepcopy(data)
     data["robot"]["mass_kg"] = mass_kg
     return scenario_from_dict(data)

@@ -12,10 +12,9 @@ from typer.testing import CliRunner
 
 import marinecdpr
 from marinecdpr import ScenarioError
-from marinecdpr.cli import app
-from marinecdpr.operability import (AUTO_DASK_MIN_STEPS, Cell, CellResult, ScatterDiagram, _summarise,
-                                    choose_executor, operability, read_scatter_csv, study_steps)
-from marinecdpr.workspace import pose_range, workspace_map
+from marinecdpr.cli.app import app
+from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS, Cell, CellResult, ScatterDiagram, _summarise, choose_executor, operability, read_scatter_csv, study_steps
+from marinecdpr.studies.workspace import pose_range, workspace_map
 
 runner = CliRunner()
 FAST = ["--duration", "10", "--step", "0.1"]

@@ -4,15 +4,15 @@ import numpy as np
 import pytest
 
 import marinecdpr
-from marinecdpr.scenario import TENSION_METHODS
+from marinecdpr.scenario.fields import TENSION_METHODS
 
 from conftest import make_scenario
 
 
 def test_structure_equation_holds_at_every_step(paper, paper_plan):
     """J~^T T = w in the controlled DOFs, for the plan and for eq. (18)."""
-    from marinecdpr.kinematics import cable_kinematics
-    from marinecdpr.trajectory import evaluate_trajectory
+    from marinecdpr.geometry.kinematics import cable_kinematics
+    from marinecdpr.motion.trajectory import evaluate_trajectory
 
     plat = evaluate_trajectory(paper.trajectory, paper_plan.t)
     r = paper.robot

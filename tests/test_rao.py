@@ -11,14 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.rao import (
-    RAO,
-    ROLL_GYRADIUS_OVER_BEAM,
-    box_hull_rao,
-    read_capytaine,
-    read_rao_csv,
-    write_rao_csv,
-)
+from marinecdpr.motion.rao import RAO, ROLL_GYRADIUS_OVER_BEAM, box_hull_rao, read_capytaine, read_rao_csv, write_rao_csv
 
 G = 9.81
 

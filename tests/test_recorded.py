@@ -6,15 +6,8 @@ import numpy as np
 import pytest
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.recorded import (
-    DEFAULT_SMOOTHING_S,
-    MOTION_CSV_COLUMNS,
-    RecordedMotion,
-    flip_z_axis,
-    read_motion_csv,
-    write_motion_csv,
-)
-from marinecdpr.rotations import matrix_from_euler
+from marinecdpr.motion.recorded import DEFAULT_SMOOTHING_S, MOTION_CSV_COLUMNS, RecordedMotion, flip_z_axis, read_motion_csv, write_motion_csv
+from marinecdpr.geometry.rotations import matrix_from_euler
 
 # A 6-DOF sinusoidal ship motion (package convention, m and rad): amplitude,
 # period (s) and phase (rad) per DOF, and offsets (yaw near north-west).
@@ -329,7 +322,7 @@ def test_a_scenario_flies_on_recorded_motion_like_on_the_analytic_one(tmp_path):
     from conftest import make_scenario
 
     import marinecdpr
-    from marinecdpr.basemotion import evaluate_base_motion
+    from marinecdpr.motion.basemotion import evaluate_base_motion
 
     paper = marinecdpr.load_scenario("paper")
     t_rec = np.arange(0.0, 20.0 + 1e-9, 0.05)

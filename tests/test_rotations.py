@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marinecdpr.rotations import euler_kinematics, matrix_from_euler, skew
+from marinecdpr.geometry.rotations import euler_kinematics, matrix_from_euler, skew
 
 
 def test_matrix_is_rz_ry_rx():

@@ -14,11 +14,11 @@ import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
-from marinecdpr.cli import app
+from marinecdpr.cli.app import app
 from marinecdpr.errors import ScenarioError
 
 runner = CliRunner()
-SCENARIOS = Path(marinecdpr.__file__).parent / "scenarios"
+SCENARIOS = Path(marinecdpr.__file__).parent / "scenario" / "builtin"
 LIMIT_AS = 4 * 2**30  # a runaway allocation in the child fails instead of eating the machine
 
 
@@ -41,7 +41,7 @@ def _cli(*args: str, timeout: float = 120.0) -> tuple[int, list[str], float]:
         resource.setrlimit(resource.RLIMIT_AS, (LIMIT_AS, LIMIT_AS))
 
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "marinecdpr.cli", *args], capture_output=True, text=True,
+    proc = subprocess.run([sys.executable, "-m", "marinecdpr", *args], capture_output=True, text=True,
                           timeout=timeout, preexec_fn=cap)
     return proc.returncode, proc.stderr.strip().splitlines(), time.perf_counter() - t0
 
@@ -109,7 +109,7 @@ def test_absurd_sea_record_is_one_line_exit_2(tmp_path):
 
 
 def test_library_refuses_before_allocating(paper):
-    from marinecdpr.workspace import workspace_map
+    from marinecdpr.studies.workspace import workspace_map
 
     fine = paper.with_changes(time={"step_s": 1e-5, "duration_s": 1e6})
     for call in (lambda: marinecdpr.plan(fine), lambda: marinecdpr.simulate(fine, plant="own"),
@@ -125,7 +125,7 @@ def test_library_refuses_before_allocating(paper):
 
 
 def test_estimates_and_the_machine(paper):
-    from marinecdpr.budget import check_run_size, estimate_run, human_bytes, machine_memory_bytes
+    from marinecdpr.planning.budget import check_run_size, estimate_run, human_bytes, machine_memory_bytes
 
     assert machine_memory_bytes() > 2**28
     assert [human_bytes(x) for x in (512, 2.4e12, 15.2e9, 397e9)] == ["512 B", "2.4 TB", "15 GB", "397 GB"]
@@ -149,8 +149,8 @@ def _heavy(tmp_path: Path, mass: str, duration: str) -> Path:
 
 @pytest.mark.parametrize("mass, duration", [("200.0", "0.5"), ("12.0", "7.5")])
 def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
-    from marinecdpr.planning import iter_plan
-    from marinecdpr.reports import write_plan_csv, write_plan_stream
+    from marinecdpr.planning.planner import iter_plan
+    from marinecdpr.report.reports import write_plan_csv, write_plan_stream
 
     sc = marinecdpr.load_scenario(_heavy(tmp_path, mass, duration))
     whole = marinecdpr.plan(sc)
@@ -169,8 +169,8 @@ def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
 
 
 def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypatch):
-    from marinecdpr import planning
-    from marinecdpr.reports import write_plan_csv
+    from marinecdpr.planning import planner as planning
+    from marinecdpr.report.reports import write_plan_csv
 
     scen = _heavy(tmp_path, "12.0", "7.5")
     sc = marinecdpr.load_scenario(scen)
@@ -205,8 +205,8 @@ def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypa
 
 
 def test_tension_envelope_keeps_every_extreme(paper_plan):
-    from marinecdpr.reports import TensionEnvelope
-    from marinecdpr.planning import iter_plan
+    from marinecdpr.report.reports import TensionEnvelope
+    from marinecdpr.planning.planner import iter_plan
 
     env = TensionEnvelope(paper_plan.n_steps, 4, columns=97)
     for piece in iter_plan(marinecdpr.load_scenario("paper"), chunk_steps=1000):

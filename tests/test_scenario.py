@@ -107,4 +107,4 @@ def test_the_example_file_is_the_builtin_paper_scenario():
     from pathlib import Path
 
     example = Path(__file__).resolve().parents[1] / "examples" / "paper.toml"
-    assert example.read_text() == (resources.files("marinecdpr") / "scenarios" / "paper.toml").read_text()
+    assert example.read_text() == (resources.files("marinecdpr.scenario") / "builtin" / "paper.toml").read_text()

@@ -8,9 +8,9 @@ import numpy as np
 from typer.testing import CliRunner
 
 import marinecdpr
-from marinecdpr.basemotion import _rao
-from marinecdpr.cli import app
-from marinecdpr.rao import write_rao_csv
+from marinecdpr.motion.basemotion import _rao
+from marinecdpr.cli.app import app
+from marinecdpr.motion.rao import write_rao_csv
 
 runner = CliRunner()
 
@@ -18,7 +18,7 @@ runner = CliRunner()
 def test_rao_csv_in_a_scenario_plans_like_the_box_hull(tmp_path):
     sea = marinecdpr.load_scenario("paper_sea").with_changes(time={"step_s": 0.01, "duration_s": 15.0})
     write_rao_csv(_rao(sea.base_motion.rao.model_dump_json()), tmp_path / "ship_rao.csv")
-    text = (resources.files("marinecdpr") / "scenarios" / "paper_sea.toml").read_text()
+    text = (resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text()
     data = tomllib.loads(text)
     start = text.index("[base_motion.rao]")
     end = text.index("[trajectory]")

@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from marinecdpr.seastate import (SeaRecord, dnv_gamma, jonswap, pierson_moskowitz, sea_record, spreading,
-                                 synthesize, wave_elevation)
+from marinecdpr.motion.seastate import SeaRecord, dnv_gamma, jonswap, pierson_moskowitz, sea_record, spreading, synthesize, wave_elevation
 
 
 class TableRAO:
@@ -87,7 +86,7 @@ def test_fft_and_direct_sum_agree_and_derivatives_are_exact():
     t_off = t_grid[:2000] + 0.0123                # off the grid: direct sums
     a = synthesize(rec, t_grid)
     b = synthesize(rec, t_off)
-    from marinecdpr.seastate import _harmonic
+    from marinecdpr.motion.seastate import _harmonic
     np.testing.assert_allclose(a[0][:2000], _harmonic(rec.coeff, rec.omega, t_grid[:2000]).T, atol=1e-10)
     h = 1e-4
     plus, minus = synthesize(rec, t_off + h), synthesize(rec, t_off - h)

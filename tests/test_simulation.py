@@ -10,13 +10,13 @@ from typer.testing import CliRunner
 
 import marinecdpr
 from marinecdpr import InfeasibleError
-from marinecdpr.analysis import run_summary
-from marinecdpr.cli import app
+from marinecdpr.studies.prototype_runs import run_summary
+from marinecdpr.cli.app import app
 from marinecdpr.errors import SimulationDivergedError
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.mjmodel import build_model
-from marinecdpr.simulation import simulate
-from marinecdpr.trajectory import evaluate_trajectory
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.prototype.mujoco_model import build_model
+from marinecdpr.prototype.simulation import simulate
+from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from conftest import make_scenario
 
@@ -59,8 +59,8 @@ def test_mujoco_tendons_have_the_plans_geometry():
         mm = build_model(sc)
         d = mujoco.MjData(mm.model)
         pose = np.array(pose)
-        from marinecdpr.rotations import matrix_from_euler
-        from marinecdpr.simulation import _quat_from_R
+        from marinecdpr.geometry.rotations import matrix_from_euler
+        from marinecdpr.prototype.simulation import _quat_from_R
 
         R = matrix_from_euler(pose[3:])
         if sc.robot.dofs == "planar":

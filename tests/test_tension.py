@@ -6,8 +6,8 @@ import quadprog
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from marinecdpr.scenario import TENSION_METHODS
-from marinecdpr.tension import distribute_tensions, null_space, pseudo_inverse_tensions
+from marinecdpr.scenario.fields import TENSION_METHODS
+from marinecdpr.model.tension import distribute_tensions, null_space, pseudo_inverse_tensions
 
 LO, HI = 10.0, 450.0
 

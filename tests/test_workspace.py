@@ -3,8 +3,8 @@
 import numpy as np
 from scipy.optimize import linprog
 
-from marinecdpr.kinematics import cable_kinematics
-from marinecdpr.workspace import workspace_map
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.studies.workspace import workspace_map
 
 from conftest import make_scenario
 

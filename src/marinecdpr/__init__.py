@@ -1,14 +1,20 @@
 """marinecdpr: cable-driven parallel robots on a moving ship.
 
-The public entry points are :func:`load_scenario` and :func:`plan`; the numerical
-layers (:mod:`~marinecdpr.kinematics`, :mod:`~marinecdpr.dynamics`,
-:mod:`~marinecdpr.tension`) are pure functions on arrays shaped ``(n_steps, ...)``.
+The public entry points are :func:`load_scenario`, :func:`plan`, :func:`iter_plan`,
+:func:`simulate` and :func:`virtual_prototype`. The layers, each a subpackage that imports
+only the ones before it: geometry -> scenario -> motion -> model -> planning -> prototype
+-> studies -> report -> cli (README, "Layout"). The numerical functions
+(:func:`~marinecdpr.geometry.kinematics.cable_kinematics`,
+:func:`~marinecdpr.model.dynamics.wrench_terms`,
+:func:`~marinecdpr.model.tension.distribute_tensions`, ...) are pure functions on arrays
+shaped ``(n_steps, ...)``.
 """
 
-from .errors import InfeasibleError, MarineCDPRError, ScenarioError
-from .memory import keep_freed_memory
-from .planning import Plan, iter_plan, plan
-from .scenario import Scenario, builtin_scenarios, load_scenario
+from marinecdpr.errors import InfeasibleError, MarineCDPRError, ScenarioError
+from marinecdpr.memory import keep_freed_memory
+from marinecdpr.planning.planner import Plan, iter_plan, plan
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.scenario.loading import builtin_scenarios, load_scenario
 
 __all__ = [
     "load_scenario",
@@ -26,7 +32,8 @@ __all__ = [
     "SimResult",
 ]
 
-_LAZY = {"simulate": "simulation", "SimResult": "simulation", "virtual_prototype": "analysis"}
+_LAZY = {"simulate": "prototype.simulation", "SimResult": "prototype.simulation",
+         "virtual_prototype": "studies.prototype_runs"}
 
 
 def __getattr__(name: str):

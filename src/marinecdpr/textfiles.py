@@ -1,6 +1,6 @@
 """Reading text files that may be anything: a scenario names them, and anyone may write a
-scenario. RAO tables (:mod:`~marinecdpr.rao`), recorded ship motion
-(:mod:`~marinecdpr.recorded`) and scenarios are read through these helpers, which refuse
+scenario. RAO tables (:mod:`~marinecdpr.motion.rao`), recorded ship motion
+(:mod:`~marinecdpr.motion.recorded`) and scenarios are read through these helpers, which refuse
 what is not a small UTF-8 text table before parsing and whose messages name the place
 but never quote the content. Also :func:`strip_control`, for showing user text.
 """

@@ -6,7 +6,7 @@ the package's convention (``eta = (x, y, z, roll, pitch, yaw)`` of S in O, m and
 rad, ``R_SO = Rz(yaw) Ry(pitch) Rx(roll)``, z up; see ``docs/conventions.md``) and
 returns a :class:`RecordedMotion`, whose :meth:`RecordedMotion.evaluate` gives
 eta, eta' and eta'' at any time inside the record as a
-:class:`~marinecdpr.basemotion.ShipMotion`.
+:class:`~marinecdpr.motion.ship.ShipMotion`.
 
 CSV format
 ----------
@@ -59,9 +59,9 @@ from typing import NoReturn
 import numpy as np
 from scipy.interpolate import BSpline, make_smoothing_spline
 
-from .basemotion import ShipMotion, ship_motion
-from .errors import ScenarioError
-from .textfiles import MAX_FIELD_CHARS, long_field, read_lines
+from marinecdpr.motion.ship import ShipMotion, ship_motion
+from marinecdpr.errors import ScenarioError
+from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines
 
 __all__ = [
     "MOTION_CSV_COLUMNS",

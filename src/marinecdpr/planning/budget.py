@@ -27,8 +27,8 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-from .errors import ScenarioError
-from .scenario import Scenario, SeaStateMotion
+from marinecdpr.errors import ScenarioError
+from marinecdpr.scenario.schema import Scenario, SeaStateMotion
 
 __all__ = [
     "RunSize",

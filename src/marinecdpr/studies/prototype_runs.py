@@ -7,9 +7,9 @@ import numpy as np
 from dataclasses import dataclass
 from typing import Callable
 
-from .planning import Plan, plan
-from .scenario import Scenario
-from .simulation import RUNS, SimResult, simulate
+from marinecdpr.planning.planner import Plan, plan
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
            "is_paper_scenario", "error_bounds", "run_warnings"]
@@ -35,7 +35,7 @@ def is_paper_scenario(scenario: Scenario) -> bool:
 
     Only then are the paper's reported errors a fair comparison.
     """
-    from .scenario import load_scenario
+    from marinecdpr.scenario.loading import load_scenario
 
     paper = load_scenario("paper")
     return all(getattr(scenario, k).model_dump() == getattr(paper, k).model_dump() for k in _PAPER_SECTIONS)
@@ -56,7 +56,7 @@ def error_bounds(scenario: Scenario, max_error_m: float | None = None) -> tuple[
 
 def _rotation_error_deg(res: SimResult) -> np.ndarray:
     """Angle of R_planned^T R_actual at each step, deg."""
-    from .rotations import matrix_from_euler
+    from marinecdpr.geometry.rotations import matrix_from_euler
 
     Rp = matrix_from_euler(res.pose_planned[:, 3:])
     Ra = matrix_from_euler(res.pose[:, 3:])
@@ -115,7 +115,7 @@ def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None
 
 
 def _tension_tolerance(hi: np.ndarray) -> float:
-    from .tension import TENSION_TOLERANCE
+    from marinecdpr.model.tension import TENSION_TOLERANCE
 
     return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
 

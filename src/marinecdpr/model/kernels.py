@@ -1,17 +1,17 @@
 """Compiled per-step kernels: the model at one instant, for controllers and plants.
 
-Planning works on whole time series (:mod:`~marinecdpr.dynamics`, vectorised).
+Planning works on whole time series (:mod:`~marinecdpr.model.dynamics`, vectorised).
 A controller in the loop and a plant integrator go step by step, where numpy's
 per-call cost would dominate; these numba-compiled functions compute the same
 equations for one step on small arrays (tests check them against the
 vectorised functions). Frames and conventions are those of
-:mod:`~marinecdpr.dynamics`; every vector here is in C unless named otherwise.
+:mod:`~marinecdpr.model.dynamics`; every vector here is in C unless named otherwise.
 
 Every tension method is available per step (:func:`tensions_step`), for any
 redundancy: ``minimum_variance`` and ``minimum_norm`` exactly (a closed form for
 redundancy 1, else the compiled active-set QP :func:`least_distance`), and Pott's
 improved closed form (:func:`improved_closed_form`).
-:func:`marinecdpr.tension.distribute_tensions` runs the same compiled solvers over a
+:func:`marinecdpr.model.tension.distribute_tensions` runs the same compiled solvers over a
 time series (:func:`tension_series`): one implementation for planning and the loop.
 """
 

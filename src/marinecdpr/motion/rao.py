@@ -36,8 +36,8 @@ from typing import NoReturn
 
 import numpy as np
 
-from .errors import ScenarioError
-from .textfiles import MAX_FIELD_CHARS, check_file, long_field, read_lines
+from marinecdpr.errors import ScenarioError
+from marinecdpr.textfiles import MAX_FIELD_CHARS, check_file, long_field, read_lines
 
 __all__ = [
     "DOFS",

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _vec as vec
-from .basemotion import ShipMotion
-from .rotations import skew
+from marinecdpr.geometry import _vec as vec
+from marinecdpr.motion.ship import ShipMotion
+from marinecdpr.geometry.rotations import skew
 
 __all__ = [
     "AbsoluteMotion",

@@ -20,14 +20,14 @@ Methods (``method=``):
     [lambda_low, lambda_high] (MODEL_NOTES' corrected bounds); for r > 1 the
     unconstrained optimum, and where it breaks a limit the quadratic programme solved
     exactly by a compiled dual active-set method
-    (:func:`marinecdpr.kernels.least_distance`, the same code the closed loop runs).
+    (:func:`marinecdpr.model.kernels.least_distance`, the same code the closed loop runs).
 ``closed_form``
     Pott's closed form, T = E + J~ (J~^T J~)^-1 (w - J~^T E): the unconstrained
     minimiser of the same objective; feasible only where it is within limits.
 ``improved_closed_form``
     Pott's improved closed form: while a tension breaks a limit, fix the worst one
     at that limit, remove it, and repeat on the remaining cables (compiled,
-    :func:`marinecdpr.kernels.improved_closed_form`).
+    :func:`marinecdpr.model.kernels.improved_closed_form`).
 ``minimum_norm``
     Minimise sum_i T_i^2 within limits (exact, as ``minimum_variance``).
 
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _vec as vec
+from marinecdpr.geometry import _vec as vec
 
 __all__ = [
     "TensionSolution",
@@ -143,7 +143,7 @@ def _gram_solve(cols: list, b: list, n: int, Jt: np.ndarray | None = None) -> tu
         return x, ok
     # compiled per step (Cholesky): rank test lambda_min / lambda_max > 1e-12, as numpy's
     # eigvalsh would decide it (kernels.gram_solve_series)
-    from . import kernels
+    from marinecdpr.model import kernels
 
     if Jt is None:
         Jt = np.array([[row[a] for row in cols] for a in range(k)])
@@ -157,7 +157,7 @@ def _pinv_cols(cols: list, w: np.ndarray, n: int, Jt: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
     if Jt is not None and Jt.shape[0] != 3:
         # compiled, T_s = J~ x formed in the same loop (kernels.gram_solve_series)
-        from . import kernels
+        from marinecdpr.model import kernels
 
         k, m = Jt.shape[:2]
         T = np.empty((m, n))
@@ -301,9 +301,9 @@ def _least_distance(
 
 def _compiled(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
               ok: np.ndarray, method: int) -> TensionSolution:
-    """The compiled per-step solvers over the steps (:func:`marinecdpr.kernels.tension_series`):
+    """The compiled per-step solvers over the steps (:func:`marinecdpr.model.kernels.tension_series`):
     ``method`` 2 the exact least-distance QP to ``target``, 4 the improved closed form."""
-    from . import kernels
+    from marinecdpr.model import kernels
 
     n, m, k = J.shape
     Jt = _time_last(J)

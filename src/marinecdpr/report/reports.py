@@ -20,10 +20,10 @@ from typing import Iterator
 
 import numpy as np
 
-from .errors import OutputError
-from .planning import TWIST_NAMES, Plan
-from .scenario import Scenario
-from .textfiles import strip_control
+from marinecdpr.errors import OutputError
+from marinecdpr.planning.planner import TWIST_NAMES, Plan
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.textfiles import strip_control
 
 __all__ = [
     "StagedOutput",
@@ -488,13 +488,13 @@ def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: P
 
     Returns
     -------
-    marinecdpr.planning.PlanSummary
+    marinecdpr.planning.planner.PlanSummary
         The plan's figures (steps, feasible steps, tension ranges, :meth:`infeasibility`),
         with ``planning_s``, the time spent making the pieces, s.
     """
     import time
 
-    from .planning import PlanSummary
+    from marinecdpr.planning.planner import PlanSummary
 
     summary = PlanSummary()
     envelope = TensionEnvelope(scenario.time.n_steps, scenario.robot.n_cables)
@@ -1087,7 +1087,7 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
 
 def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``."""
-    from .operability import LIMITING_HS_MEANING
+    from marinecdpr.studies.operability import LIMITING_HS_MEANING
 
     plt = _pyplot()
     folder = Path(folder)

@@ -7,8 +7,8 @@ length), the cable/actuator model turns the command into applied tensions, and t
 plant advances one step with those tensions held.
 
 Plants (``simulation.plant``):
-  ``mujoco``  the independent engine (:mod:`~marinecdpr.mjmodel`), the default;
-  ``own``     this package's forward dynamics (:func:`~marinecdpr.kernels.forward_step`),
+  ``mujoco``  the independent engine (:mod:`~marinecdpr.prototype.mujoco_model`), the default;
+  ``own``     this package's forward dynamics (:func:`~marinecdpr.model.kernels.forward_step`),
               integrated with classic RK4 on the platform's state relative to C.
 
 Runs:
@@ -29,14 +29,14 @@ from typing import Callable
 import numpy as np
 from numba import njit, types
 
-from . import kernels as K
-from .basemotion import evaluate_base_motion
-from .dynamics import disturbance_in_C
-from .errors import InfeasibleError, SimulationDivergedError
-from .planning import Plan, plan_at
-from .rotations import matrix_from_euler
-from .scenario import Scenario
-from .trajectory import evaluate_disturbance
+from marinecdpr.model import kernels as K
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.model.dynamics import disturbance_in_C
+from marinecdpr.errors import InfeasibleError, SimulationDivergedError
+from marinecdpr.planning.planner import Plan, plan_at
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.motion.trajectory import evaluate_disturbance
 
 __all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
 
@@ -456,9 +456,9 @@ def simulate(
     SimulationDivergedError
         If the platform ends up more than 10 m from its plan or its state is not finite.
     ScenarioError
-        If the run would not fit in memory (:func:`marinecdpr.budget.check_run_size`).
+        If the run would not fit in memory (:func:`marinecdpr.planning.budget.check_run_size`).
     """
-    from .budget import check_run_size
+    from marinecdpr.planning.budget import check_run_size
 
     if run not in RUNS:
         raise ValueError(f"run must be one of {', '.join(RUNS)}, not {run!r}")
@@ -655,7 +655,7 @@ def _exchange_args(k, h, a):
 def _run_mujoco(scenario, run, n, t, h, ship_h, x0, R0, v0, w0, f_C, m_C, shared, progress):
     import mujoco
 
-    from .mjmodel import SHIP_INERTIA_KG_M2, SHIP_MASS_KG, build_model
+    from marinecdpr.prototype.mujoco_model import SHIP_INERTIA_KG_M2, SHIP_MASS_KG, build_model
 
     mm = build_model(scenario)
     model = mm.model

@@ -20,10 +20,11 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from .errors import InfeasibleError, ScenarioError, SimulationDivergedError
-from .memory import keep_freed_memory
-from .scenario import TENSION_METHODS, builtin_scenarios, load_scenario
-from .textfiles import strip_control
+from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
+from marinecdpr.memory import keep_freed_memory
+from marinecdpr.scenario.fields import TENSION_METHODS
+from marinecdpr.scenario.loading import builtin_scenarios, load_scenario
+from marinecdpr.textfiles import strip_control
 
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
@@ -42,7 +43,7 @@ err_console = Console(stderr=True)
 
 def _version(value: bool) -> None:
     if value:
-        from . import __version__
+        from marinecdpr import __version__
 
         console.print(f"marinecdpr {__version__}", highlight=False)
         raise typer.Exit()
@@ -98,9 +99,9 @@ def plan(
     ),
 ) -> None:
     """Plan cable tensions along the scenario's trajectory on its moving ship."""
-    from . import planning
-    from .budget import check_run_size
-    from .reports import write_plan_stream
+    from marinecdpr.planning import planner as planning
+    from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.report.reports import write_plan_stream
 
     if method is not None and method not in TENSION_METHODS:
         _fail(f"--method {method}: expected one of {', '.join(TENSION_METHODS)}")
@@ -150,9 +151,9 @@ def simulate(
     plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
     report.html.
     """
-    from .analysis import virtual_prototype
-    from .reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
-    from .simulation import KERNEL_COMPILE_S, RUNS, kernels_cached
+    from marinecdpr.studies.prototype_runs import virtual_prototype
+    from marinecdpr.report.reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
+    from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, RUNS, kernels_cached
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
@@ -163,7 +164,7 @@ def simulate(
         _warn_scale(sc, scenario)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
-        from .budget import check_run_size
+        from marinecdpr.planning.budget import check_run_size
 
         check_run_size(sc, "virtual_prototype")  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
@@ -213,9 +214,9 @@ def simulate(
 @contextmanager
 def _output(out: Path):
     """The output folder, checked before the work starts and filled all at once at the end
-    (see :class:`marinecdpr.reports.StagedOutput`); a failure writing it is one line, exit 2."""
-    from .errors import OutputError
-    from .reports import StagedOutput
+    (see :class:`marinecdpr.report.reports.StagedOutput`); a failure writing it is one line, exit 2."""
+    from marinecdpr.errors import OutputError
+    from marinecdpr.report.reports import StagedOutput
 
     try:
         staged = StagedOutput(out)
@@ -351,8 +352,8 @@ def workspace(
     step: Optional[float] = typer.Option(None, help="Time step, s."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
-    from .reports import write_workspace
-    from .workspace import workspace_map
+    from marinecdpr.report.reports import write_workspace
+    from marinecdpr.studies.workspace import workspace_map
 
     try:
         n = tuple(int(k) for k in points.lower().split("x"))
@@ -363,7 +364,7 @@ def workspace(
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
     _number("--fixed", fixed, finite_only=True)
     sc = _load(scenario, duration, step)
-    from .budget import check_run_size
+    from marinecdpr.planning.budget import check_run_size
 
     try:
         check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
@@ -417,11 +418,10 @@ def operability(
     """
     from importlib import resources
 
-    from .budget import check_run_size
-    from .operability import (Cell, cell_scenario, check_scheduler, choose_executor, dask_installed,
-                              read_scatter_csv, study_steps)
-    from .operability import operability as run
-    from .reports import write_operability
+    from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.studies.operability import Cell, cell_scenario, check_scheduler, choose_executor, dask_installed, read_scatter_csv, study_steps
+    from marinecdpr.studies.operability import operability as run
+    from marinecdpr.report.reports import write_operability
 
     if serial and (workers is not None or scheduler):
         _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
@@ -520,7 +520,7 @@ def operability(
 
 def _warn_scale(sc, scenario: str) -> None:
     """Print the scenario's scale warnings on stderr (a warning: the exit code is unchanged)."""
-    from .scenario import scale_warnings
+    from marinecdpr.scenario.scale import scale_warnings
 
     for line in scale_warnings(sc):
         err_console.print(f"[bold yellow]warning:[/] {_plain(scenario)}: {_plain(line)}", highlight=False,
@@ -545,8 +545,8 @@ def _load(scenario: str, duration: float | None, step: float | None):
 @app.command()
 def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-in name.")) -> None:
     """Validate a scenario file (keys, units, physics, trajectory inside the frame)."""
-    from .budget import check_run_size
-    from .planning import check_trajectory
+    from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.planning.planner import check_trajectory
 
     try:
         sc = load_scenario(scenario)

@@ -15,13 +15,15 @@ from typing import Iterator
 
 import numpy as np
 
-from .basemotion import evaluate_base_motion, still_ship
-from .dynamics import disturbance_in_C, uncontrolled, wrench_terms
-from .kinematics import cable_kinematics
-from .rotations import matrix_from_euler
-from .scenario import Robot, Scenario
-from .tension import distribute_tensions, pseudo_inverse_tensions
-from .trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.ship import still_ship
+from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
+from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.scenario.robot import Robot
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
            "TWIST_NAMES"]
@@ -398,7 +400,7 @@ def plan(
     scenario : Scenario
         From :func:`~marinecdpr.load_scenario`.
     method : str, optional
-        Tension method (see :mod:`marinecdpr.tension`); default the scenario's.
+        Tension method (see :mod:`marinecdpr.model.tension`); default the scenario's.
     base_model : {"moving", "fixed"}, optional
         "fixed" plans as if the ship were still (the traditional model).
     chunk_steps : int
@@ -413,10 +415,10 @@ def plan(
     Raises
     ------
     ScenarioError
-        If the plan would not fit in memory (see :func:`marinecdpr.budget.check_run_size`;
+        If the plan would not fit in memory (see :func:`marinecdpr.planning.budget.check_run_size`;
         :func:`iter_plan` streams longer ones), or the trajectory leaves the frame.
     """
-    from .budget import check_run_size
+    from marinecdpr.planning.budget import check_run_size
 
     check_run_size(scenario, "plan", chunk_steps=chunk_steps)
     t = np.arange(scenario.time.n_steps) * scenario.time.step_s

@@ -22,11 +22,11 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import ScenarioError
-from .memory import keep_freed_memory
-from .planning import iter_plan
-from .scenario import Scenario, SeaStateMotion
-from .workspace import tension_margin
+from marinecdpr.errors import ScenarioError
+from marinecdpr.memory import keep_freed_memory
+from marinecdpr.planning.planner import iter_plan
+from marinecdpr.scenario.schema import Scenario, SeaStateMotion
+from marinecdpr.studies.workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed",
@@ -197,7 +197,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     at every step (the plan is made with those tightened limits) and, if
     ``max_error_m`` is given, the closed loop flown on the own plant keeps the platform
     within that distance of its plan. With ``workspace = (n_u, n_v)`` the trajectory is
-    replaced by a grid of held poses over the frame (:func:`~marinecdpr.workspace.workspace_map`),
+    replaced by a grid of held poses over the frame (:func:`~marinecdpr.studies.workspace.workspace_map`),
     and the cell is workable if at least ``min_area`` of the poses inside the frame stay
     feasible throughout; ``fraction_feasible`` is then that share of poses.
     """
@@ -205,7 +205,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
     tight = with_margin(sc, margin_N)
     if workspace is not None:
-        from .workspace import workspace_map
+        from marinecdpr.studies.workspace import workspace_map
 
         ws = workspace_map(tight, n=workspace)
         inside = np.isfinite(ws.fraction_feasible)
@@ -223,7 +223,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     operable = ok == n
     error = float("nan")
     if max_error_m is not None and operable:
-        from .simulation import simulate
+        from marinecdpr.prototype.simulation import simulate
 
         try:
             res = simulate(tight, run="closed_loop", plant="own")

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _vec as vec
+from marinecdpr.geometry import _vec as vec
 
 __all__ = ["CableKinematics", "cable_kinematics", "global_jacobian"]
 

@@ -5,7 +5,7 @@ Conventions (see ``docs/conventions.md``, "Sea states"):
 * Wave elevation at S's origin, a sum of regular components,
   zeta(t) = sum_k Re(a_k exp(i (omega_k t + eps_k))).
 * A response is eta_j(t) = sum_k Re(RAO_j(omega_k, beta_k) a_k exp(i (omega_k t + eps_k)))
-  (:mod:`marinecdpr.rao` for the RAO conventions): velocities and accelerations follow
+  (:mod:`marinecdpr.motion.rao` for the RAO conventions): velocities and accelerations follow
   exactly, multiplying by i omega and -omega^2.
 * beta is the direction the waves travel towards, from the ship's +x axis,
   counter-clockwise: 0 following, 90 from starboard, 180 head seas. The ship's own
@@ -183,7 +183,7 @@ def sea_record(
         Significant wave height (m), peak period (s).
     heading_deg : float
         Mean wave direction beta, deg.
-    rao : marinecdpr.rao.RAO
+    rao : marinecdpr.motion.rao.RAO
         The ship's RAOs (``rao.at(omega, heading_deg)`` -> complex (6, K)).
     spectrum : {"jonswap", "pierson_moskowitz"}
     gamma : float, optional

@@ -1,4 +1,4 @@
-"""Ship (base) motion as time series: the 6-DOF record and its exact derivatives.
+"""The ship's motion a scenario's ``[base_motion]`` describes, evaluated at given times.
 
 The ship's generalised coordinates are ``eta = (x, y, z, roll, pitch, yaw)``:
 the position of S's origin in O (surge, sway, heave; m) and the SNAME Euler
@@ -10,80 +10,16 @@ dynamics need.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
-from .errors import ScenarioError
-from .rotations import euler_kinematics
-from .scenario import SHIP_DOFS, RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
+from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.ship import ShipMotion, ship_motion, still_ship
+from marinecdpr.scenario.fields import SHIP_DOFS
+from marinecdpr.scenario.schema import RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
-__all__ = ["ShipMotion", "ship_motion", "evaluate_base_motion", "still_ship"]
-
-
-@dataclass(frozen=True)
-class ShipMotion:
-    """The ship's motion over a time series (all arrays share ``n_steps``).
-
-    Attributes
-    ----------
-    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
-        ``(x, y, z, roll, pitch, yaw)`` of S in O (m, rad) and derivatives.
-    R_SO : ndarray, shape (n_steps, 3, 3)
-        R_S^O: maps S-frame vectors to O.
-    omega_SO_S : ndarray, shape (n_steps, 3)
-        Ship angular velocity omega_SO expressed in S, rad/s.
-    alpha_SO_S : ndarray, shape (n_steps, 3)
-        Ship angular acceleration expressed in S, rad/s^2.
-    """
-
-    eta: np.ndarray
-    eta_dot: np.ndarray
-    eta_ddot: np.ndarray
-    R_SO: np.ndarray
-    omega_SO_S: np.ndarray
-    alpha_SO_S: np.ndarray
-
-    @property
-    def x_SO_O(self) -> np.ndarray:
-        """Position of S's origin in O, shape (n_steps, 3), m."""
-        return self.eta[:, :3]
-
-    @property
-    def a_SO_O(self) -> np.ndarray:
-        """Acceleration of S's origin in O, shape (n_steps, 3), m/s^2."""
-        return self.eta_ddot[:, :3]
-
-    @property
-    def is_still(self) -> bool:
-        return not (np.any(self.eta) or np.any(self.eta_dot) or np.any(self.eta_ddot))
-
-
-def ship_motion(eta: np.ndarray, eta_dot: np.ndarray, eta_ddot: np.ndarray) -> ShipMotion:
-    """Rotation, angular velocity and acceleration of the ship from its coordinates.
-
-    Parameters
-    ----------
-    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
-        ``(x, y, z, roll, pitch, yaw)`` of S in O in m and rad, and their first
-        and second time derivatives.
-
-    Returns
-    -------
-    ShipMotion
-    """
-    eta = np.asarray(eta, dtype=float)
-    eta_dot = np.asarray(eta_dot, dtype=float)
-    eta_ddot = np.asarray(eta_ddot, dtype=float)
-    R, omega, alpha = euler_kinematics(eta[:, 3:], eta_dot[:, 3:], eta_ddot[:, 3:])
-    return ShipMotion(eta, eta_dot, eta_ddot, R, omega, alpha)
-
-
-def still_ship(n_steps: int) -> ShipMotion:
-    """A ship at rest with S on O, for ``n_steps`` samples (the fixed-base model)."""
-    z = np.zeros((n_steps, 6))
-    return ship_motion(z, z, z)
+__all__ = ["evaluate_base_motion"]
 
 
 def evaluate_base_motion(
@@ -102,7 +38,7 @@ def evaluate_base_motion(
     if isinstance(config, StillMotion):
         return still_ship(t.size)
     if isinstance(config, SeaStateMotion):
-        from .seastate import synthesize
+        from marinecdpr.motion.seastate import synthesize
 
         return ship_motion(*synthesize(sea_record_of(config), t))
     if isinstance(config, RecordedMotion):
@@ -136,8 +72,8 @@ def evaluate_base_motion(
 
 @lru_cache(maxsize=32)
 def _rao(source_json: str):
-    from .rao import box_hull_rao, read_capytaine, read_rao_csv
-    from .scenario import RAOSource
+    from marinecdpr.motion.rao import box_hull_rao, read_capytaine, read_rao_csv
+    from marinecdpr.scenario.schema import RAOSource
 
     src = RAOSource.model_validate_json(source_json)
     if src.source == "csv":
@@ -151,7 +87,7 @@ def _rao(source_json: str):
 
 @lru_cache(maxsize=64)
 def _sea_record(config_json: str):
-    from .seastate import sea_record
+    from marinecdpr.motion.seastate import sea_record
 
     c = SeaStateMotion.model_validate_json(config_json)
     return sea_record(
@@ -164,13 +100,13 @@ def _sea_record(config_json: str):
 
 
 def sea_record_of(config: SeaStateMotion):
-    """The :class:`~marinecdpr.seastate.SeaRecord` of a sea-state base motion (cached)."""
+    """The :class:`~marinecdpr.motion.seastate.SeaRecord` of a sea-state base motion (cached)."""
     return _sea_record(config.model_dump_json())
 
 
 @lru_cache(maxsize=8)
 def _recording(config_json: str):
-    from .recorded import read_motion_csv
+    from marinecdpr.motion.recorded import read_motion_csv
 
     c = RecordedMotion.model_validate_json(config_json)
     kwargs = {} if c.smoothing_s is None else {"smoothing_s": c.smoothing_s}

@@ -13,9 +13,9 @@ from typing import Callable
 
 import numpy as np
 
-from .errors import ScenarioError
-from .planning import iter_plan
-from .scenario import Scenario
+from marinecdpr.errors import ScenarioError
+from marinecdpr.planning.planner import iter_plan
+from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range"]
 
@@ -74,7 +74,7 @@ def pose_range(scenario: Scenario, orientation_deg: tuple[float, float, float] =
     Along an axis where the frame has no extent (a planar robot's y), or where the
     platform is wider than the frame, the frame anchors' range is returned.
     """
-    from .rotations import matrix_from_euler
+    from marinecdpr.geometry.rotations import matrix_from_euler
 
     c = scenario.robot.frame_anchors
     lo, hi = c.min(axis=0), c.max(axis=0)
@@ -114,7 +114,7 @@ def workspace_map(
         Platform orientation held, (rx, ry, rz) deg.
     progress : callable(done, total), optional
     """
-    from .budget import check_run_size
+    from marinecdpr.planning.budget import check_run_size
 
     axes = axes or ("x", "z")
     if len(axes) != 2 or any(a not in AXES for a in axes) or axes[0] == axes[1]:

@@ -11,15 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _vec as vec
-from .errors import ScenarioError
-from .rotations import euler_kinematics
-from .scenario import (
-    CircleTrajectory,
-    Disturbance,
-    LineTrajectory,
-    WaypointsTrajectory,
-)
+from marinecdpr.geometry import _vec as vec
+from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.scenario.schema import CircleTrajectory, Disturbance, LineTrajectory, WaypointsTrajectory
 
 __all__ = [
     "PlatformMotion",

@@ -1,0 +1,5 @@
+import sys
+
+from marinecdpr.cli.app import main
+
+sys.exit(main())

@@ -1,0 +1,8 @@
+"""Geometry: rotations, small-vector algebra on arrays and the cables' kinematics (eqs. 1-6).
+
+The foundation every layer may use: pure functions of poses and anchors, no scenario.
+
+- :mod:`.rotations`   Euler angles, rotation matrices, angular velocity and acceleration;
+- :mod:`._vec`        3-vectors as component lists over ``(n_steps,)`` arrays;
+- :mod:`.kinematics`  cable vectors, lengths and the structure matrix J~ (eqs. 1-6).
+"""

@@ -1,0 +1,10 @@
+"""Motion: what moves over time (the ship, the platform's planned path, the loads).
+
+- :mod:`.ship`        the ship's 6-DOF motion record and its rotation kinematics;
+- :mod:`.basemotion`  a scenario's ``[base_motion]`` evaluated at times (still, sinusoids,
+  sea state, record);
+- :mod:`.seastate`    irregular seas: spectra, RAOs, time series;
+- :mod:`.rao`         response amplitude operators: box hull, CSV, Capytaine files;
+- :mod:`.recorded`    measured ship motion from CSV files, smoothed and differentiated;
+- :mod:`.trajectory`  the platform's trajectory and the disturbance on it.
+"""

@@ -1,0 +1,1 @@
+"""Report: files, figures and the HTML page of every command's results."""

@@ -1,0 +1,139 @@
+"""Scenario files: the robot, the ship, its motion, the trajectory, the plan's options.
+
+This module: the shared field types (ranges with units) and constants.
+
+A scenario is a TOML file (see ``docs/scenario.md`` for every key and its unit) or
+a built-in name (``paper``). Keys carry their unit in their name (``mass_kg``,
+``amplitude_deg``); angles in files are in degrees, everything is SI otherwise.
+
+Structure and types are checked by pydantic; physical sense (a positive definite
+inertia, T_min < T_max, enough cables, distinct anchors, a planar trajectory for a
+planar robot) by validators on the models. Every failure surfaces as one
+:class:`~marinecdpr.errors.ScenarioError` naming the source and the key.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any
+
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, StrictFloat
+
+
+SHIP_DOFS = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+"""Ship degrees of freedom, in the order of the 6-vector eta = (x, y, z, roll, pitch, yaw)."""
+
+CONTROLLED_DOFS = {"planar": (0, 2, 4), "spatial": (0, 1, 2, 3, 4, 5)}
+"""Indices into the twist (v_x, v_y, v_z, w_x, w_y, w_z) in C that the cables control."""
+
+TENSION_METHODS = (
+    "pseudo_inverse",
+    "minimum_variance",
+    "closed_form",
+    "improved_closed_form",
+    "minimum_norm",
+)
+
+Vec3 = tuple[StrictFloat, StrictFloat, StrictFloat]
+ANCHOR_TOLERANCE_M = 1e-9
+
+POSITION_MAX_M = 1e4
+"""Largest coordinate of a position (anchors, the frame's origin on the ship, the trajectory),
+m: any ship, with room for a robot drawn in millimetres to load and be flagged by
+:func:`scale_warnings`."""
+TIME_MAX_S = 1e6
+"""Longest duration (of a plan, of a move, a trajectory's times), s: 11.6 days."""
+MOVE_MIN_S = 0.01
+"""Shortest move (a line, between waypoints) and circle period, s."""
+CABLES_MAX = 1000
+"""Most cables a robot may have."""
+RADIUS_OF_GYRATION_RANGE_M = (1e-4, POSITION_MAX_M)
+"""The platform's radii of gyration sqrt(I / m) about its principal axes, m."""
+DEGENERATE_RELATIVE = 1e-4
+"""Anchors within this fraction of the robot's size of one point (or, spatial, one line)
+make a degenerate robot."""
+RANK_TOLERANCE = 1e-9
+"""Singular values of J~ (moment columns over the robot's size) below this fraction of the
+largest count as zero."""
+
+
+def _num(x: float) -> str:
+    """A number as messages show it: 6 significant digits, exponents as 1e6 and 1e-5."""
+    text = f"{x:g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        text = f"{mantissa}e{int(exponent)}"
+    return text
+
+
+def _range_text(lo: float, hi: float, unit: str, *, above: bool = False) -> str:
+    u = f" {unit}" if unit else ""
+    if above:
+        return f"must be above {_num(lo)} and at most {_num(hi)}{u}"
+    return f"must be between {_num(lo)} and {_num(hi)}{u}"
+
+
+def _not_finite(value: Any) -> bool:
+    return isinstance(value, float) and not math.isfinite(value)
+
+
+def _ranged(lo: float, hi: float, unit: str, why: str, *, above: bool = False) -> Any:
+    """A finite number in [lo, hi] ((lo, hi] with ``above``); refused with the range, unit and why."""
+    text = _range_text(lo, hi, unit, above=above)
+
+    def finite(value: Any) -> Any:
+        if _not_finite(value):
+            raise ValueError(f"{text.replace('must be', 'must be a finite number')} ({why}), got {value}")
+        return value
+
+    def check(value: float) -> float:
+        if (value <= lo if above else value < lo) or value > hi:
+            raise ValueError(f"{text} ({why}), got {_num(value)}")
+        return value
+
+    return Annotated[StrictFloat, BeforeValidator(finite), AfterValidator(check)]
+
+
+def _ranged_vec3(bound: float, unit: str, why: str, names: tuple[str, ...] = ("x", "y", "z")) -> Any:
+    """A 3-vector of finite numbers, each within +-bound."""
+    text = _range_text(-bound, bound, unit)
+
+    def finite(value: Any) -> Any:
+        if isinstance(value, (list, tuple)) and len(value) == 3:
+            for name, v in zip(names, value):
+                if _not_finite(v):
+                    raise ValueError(f"each entry {text.replace('must be', 'must be a finite number')} "
+                                     f"({why}), got {name} = {v}")
+        return value
+
+    def check(value: tuple[float, float, float]) -> tuple[float, float, float]:
+        for name, v in zip(names, value):
+            if abs(v) > bound:
+                raise ValueError(f"each entry {text} ({why}), got {name} = {_num(v)}")
+        return value
+
+    return Annotated[Vec3, BeforeValidator(finite), AfterValidator(check)]
+
+
+Position = _ranged_vec3(POSITION_MAX_M, "m", "positions on a ship, in metres")
+Orientation = _ranged_vec3(180.0, "deg", "SNAME angles: at most half a turn", ("rx", "ry", "rz"))
+Phase = _ranged(-360.0, 360.0, "deg", "one turn either way")
+Tension = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN")
+TensionMax = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN", above=True)
+TimeOfDay = _ranged(0.0, TIME_MAX_S, "s", "11.6 days")
+Force = _ranged_vec3(1e8, "N", "beyond what ten cables of 10 MN can hold")
+Moment = _ranged_vec3(1e9, "N m", "beyond what ten cables of 10 MN can hold")
+
+
+class _KeyedError(ValueError):
+    """A validator's error that names a key below the model that raised it."""
+
+    def __init__(self, key: str, message: str):
+        self.key = key
+        super().__init__(message)
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+

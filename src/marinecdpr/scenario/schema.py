@@ -1,0 +1,463 @@
+"""The scenario's sections other than the robot, and the scenario itself."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import (
+    BaseModel,
+    Field,
+    StrictStr,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+
+from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
+from marinecdpr.scenario.messages import scenario_error
+from marinecdpr.scenario.robot import Robot
+# ---------------------------------------------------------------------- ship, sea
+class Ship(_Model):
+    """Where the robot stands on the ship."""
+
+    frame_origin_m: Position = (0.0, 0.0, 0.0)
+    """Origin of the robot frame C in the ship frame S, m (C's axes are S's)."""
+
+
+class StillMotion(_Model):
+    """A ship that does not move (S coincides with O)."""
+
+    type: Literal["still"]
+
+
+ShipDisplacement = _ranged(0.0, 30.0, "m", "a ship's surge, sway or heave in the worst storm")
+ShipAngle = _ranged(0.0, 180.0, "deg", "at most 90 deg for roll and pitch, 180 deg for yaw")
+ShipAngleOffset = _ranged(-180.0, 180.0, "deg", "at most 90 deg for roll and pitch, 180 deg for yaw")
+ShipPeriod = _ranged(0.5, 3600.0, "s", "a ship's motion, from vibration to a slow drift")
+
+
+class SineComponent(_Model):
+    """``offset + amplitude * sin(2 pi t / period_s + phase)`` on one ship DOF."""
+
+    dof: Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]
+    amplitude_m: ShipDisplacement | None = None
+    amplitude_deg: ShipAngle | None = None
+    offset_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions, in metres") | None = None
+    offset_deg: ShipAngleOffset | None = None
+    period_s: ShipPeriod
+    phase_deg: Phase = 0.0
+
+    @model_validator(mode="after")
+    def _check_units(self) -> "SineComponent":
+        angular = self.dof in ("roll", "pitch", "yaw")
+        want, wrong = ("deg", "m") if angular else ("m", "deg")
+        kind = "an angle" if angular else "a displacement"
+        for stem in ("amplitude", "offset"):
+            if getattr(self, f"{stem}_{wrong}") is not None:
+                raise _KeyedError(
+                    f"{stem}_{wrong}", f"{self.dof} is {kind}: give {stem}_{want}, not {stem}_{wrong}"
+                )
+        if getattr(self, f"amplitude_{want}") is None:
+            raise _KeyedError(f"amplitude_{want}", f"missing (the amplitude of {self.dof})")
+        if self.dof in ("roll", "pitch"):
+            for key, lo in (("amplitude_deg", 0.0), ("offset_deg", -90.0)):
+                value = getattr(self, key)
+                if value is not None and not lo <= value <= 90.0:
+                    raise _KeyedError(key, f"{_range_text(lo, 90.0, 'deg')} for {self.dof} (a ship "
+                                           f"heeled or trimmed past 90 deg has capsized), got {_num(value)}")
+        return self
+
+    @property
+    def amplitude(self) -> float:
+        """Amplitude in SI (m or rad)."""
+        return self._si(self.amplitude_m, self.amplitude_deg)
+
+    @property
+    def offset(self) -> float:
+        """Mean value in SI (m or rad)."""
+        return self._si(self.offset_m, self.offset_deg)
+
+    @staticmethod
+    def _si(metres: float | None, degrees: float | None) -> float:
+        if degrees is not None:
+            return math.radians(degrees)
+        return metres or 0.0
+
+
+class SinusoidalMotion(_Model):
+    """A sum of sinusoids on the ship's six degrees of freedom."""
+
+    type: Literal["sinusoidal"]
+    components: list[SineComponent] = Field(min_length=1)
+
+
+def _resolve_file(value: str, info: ValidationInfo) -> str:
+    """A path relative to the scenario file's folder (or the working folder), made absolute."""
+    base = (info.context or {}).get("base_dir")
+    path = Path(value).expanduser()
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if not path.is_file():
+        raise ValueError(f"no such file: {path}")
+    return str(path.resolve())
+
+
+class RAOSource(_Model):
+    """Where the ship's response amplitude operators come from."""
+
+    source: Literal["box_hull", "csv", "capytaine"] = "box_hull"
+    file: StrictStr | None = None
+    """csv or capytaine: the file (relative paths from the scenario's folder)."""
+    length_m: _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship") | None = None
+    beam_m: _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform") | None = None
+    draught_m: _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker") | None = None
+    gm_m: _ranged(0.01, 100.0, "m", "a floating hull's metacentric height") | None = None
+    roll_damping_ratio: _ranged(0.01, 1.0, "", "a fraction of critical damping") = 0.05
+
+    @field_validator("file")
+    @classmethod
+    def _check_file(cls, value: str | None, info: ValidationInfo) -> str | None:
+        return None if value is None else _resolve_file(value, info)
+
+    @model_validator(mode="after")
+    def _check_source(self) -> "RAOSource":
+        if self.source == "box_hull":
+            for key in ("length_m", "beam_m", "draught_m", "gm_m"):
+                if getattr(self, key) is None:
+                    raise _KeyedError(key, "missing: the box-hull model needs the hull's length, "
+                                           "beam, draught and GM")
+        elif self.file is None:
+            raise _KeyedError("file", f"missing: a {self.source} RAO source needs its file")
+        return self
+
+
+SEA_COMPONENTS_MAX = 12_000
+"""Most wave frequencies a sea-state record may sum (6 record_s / tp_s): the synthesis holds
+thousands of samples of each at once."""
+
+
+class SeaStateMotion(_Model):
+    """Irregular seas: a wave spectrum turned into 6-DOF ship motion through RAOs."""
+
+    type: Literal["sea_state"]
+    spectrum: Literal["jonswap", "pierson_moskowitz"] = "jonswap"
+    hs_m: _ranged(0.01, 30.0, "m", "from ripples to the highest storm seas")
+    tp_s: _ranged(1.0, 40.0, "s", "from ripples to the longest swell")
+    gamma: _ranged(1.0, 10.0, "", "JONSWAP peak enhancement; measured seas lie within 1 to 7") | None = None
+    """JONSWAP peak enhancement; default from Tp / sqrt(Hs) (DNV-RP-C205)."""
+    heading_deg: Phase = 180.0
+    """Direction the waves travel towards, from the ship's +x, counter-clockwise: 180 = head seas."""
+    spreading: Literal["none", "cos2s", "cosn"] = "none"
+    spreading_exponent: _ranged(0.0, 100.0, "", "cos-2s s: about 1 for wind seas, 75 for swell",
+                                above=True) = 10.0
+    n_directions: Annotated[int, Field(ge=1, le=181, strict=True)] = 15
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    record_s: _ranged(60.0, 10800.0, "s", "a sea state holds for at most about 3 hours") = 1800.0
+    """Repeat period of the synthesised record (frequency step 2 pi / record_s)."""
+    rao: RAOSource
+
+    @model_validator(mode="after")
+    def _check_components(self) -> "SeaStateMotion":
+        n = 6.0 * self.record_s / self.tp_s  # frequencies up to 6 omega_p in steps of 2 pi / record_s
+        if n > SEA_COMPONENTS_MAX:
+            raise _KeyedError(
+                "record_s",
+                f"a {_num(self.record_s)} s record at Tp = {_num(self.tp_s)} s sums {_num(round(n))} wave "
+                f"frequencies (6 record_s / tp_s), more than {SEA_COMPONENTS_MAX}: make record_s at most "
+                f"{_num(SEA_COMPONENTS_MAX * self.tp_s / 6)} s",
+            )
+        return self
+
+
+class RecordedMotion(_Model):
+    """Ship motion measured on board, from a CSV file."""
+
+    type: Literal["recorded"]
+    file: StrictStr
+    """Columns time_s, surge_m, sway_m, heave_m, roll, pitch, yaw (relative paths from the
+    scenario's folder)."""
+    z_axis: Literal["up", "down"] = "up"
+    """up: x forward, y to port, z up (ours); down: x forward, y to starboard, z down."""
+    angles: Literal["deg", "rad"] = "deg"
+    smoothing_s: _ranged(0.0, 60.0, "s", "a spline's time scale; slower motion is what the ship does",
+                         above=True) | None = None
+    """Time scale of the smoothing spline that gives velocities and accelerations."""
+    start_s: TimeOfDay = 0.0
+    """Time in the record that the scenario's t = 0 corresponds to."""
+
+    @field_validator("file")
+    @classmethod
+    def _check_file(cls, value: str, info: ValidationInfo) -> str:
+        return _resolve_file(value, info)
+
+
+BaseMotion = Annotated[
+    Union[StillMotion, SinusoidalMotion, SeaStateMotion, RecordedMotion], Field(discriminator="type")
+]
+
+
+# ----------------------------------------------------------------------- trajectory
+class CircleTrajectory(_Model):
+    """``center + r (cos(2 pi t/T + phase) e1 + sin(2 pi t/T + phase) e2)`` in C (eq. 21)."""
+
+    type: Literal["circle"]
+    center_m: Position
+    radius_m: _ranged(0.0, POSITION_MAX_M, "m", "positions on a ship, in metres", above=True)
+    period_s: _ranged(MOVE_MIN_S, TIME_MAX_S, "s", "from faster than any cable robot to 11.6 days")
+    phase_deg: Phase = 0.0
+    plane: Literal["xz", "xy", "yz"] = "xz"
+    """Axes (e1, e2) of the circle's plane: "xz" runs x = cos, z = sin as in eq. 21."""
+    orientation_deg: Orientation = (0.0, 0.0, 0.0)
+    """Constant platform orientation (rx, ry, rz) in C, deg."""
+
+
+class Waypoint(_Model):
+    time_s: TimeOfDay
+    position_m: Position
+    orientation_deg: Orientation = (0.0, 0.0, 0.0)
+
+
+class WaypointsTrajectory(_Model):
+    """Rest-to-rest quintic segments through poses; holds the first and last pose outside."""
+
+    type: Literal["waypoints"]
+    waypoints: list[Waypoint] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _check_times(self) -> "WaypointsTrajectory":
+        for i in range(1, len(self.waypoints)):
+            if self.waypoints[i].time_s < self.waypoints[i - 1].time_s + MOVE_MIN_S:
+                raise _KeyedError(
+                    f"waypoints[{i + 1}].time_s",
+                    f"must be later than waypoint {i}'s ({self.waypoints[i - 1].time_s:g} s), by at "
+                    f"least {_num(MOVE_MIN_S)} s (faster than any cable robot moves)",
+                )
+        return self
+
+
+class LineTrajectory(_Model):
+    """A straight rest-to-rest move (quintic time law) between two poses."""
+
+    type: Literal["line"]
+    start_position_m: Position
+    end_position_m: Position
+    start_orientation_deg: Orientation = (0.0, 0.0, 0.0)
+    end_orientation_deg: Orientation | None = None
+    """Defaults to the start orientation."""
+    start_time_s: TimeOfDay = 0.0
+    duration_s: _ranged(MOVE_MIN_S, TIME_MAX_S, "s", "from faster than any cable robot to 11.6 days")
+
+    @model_validator(mode="after")
+    def _check_end(self) -> "LineTrajectory":
+        if self.start_time_s + self.duration_s > TIME_MAX_S:
+            raise _KeyedError("duration_s", f"the move must end by {_num(TIME_MAX_S)} s (11.6 days), "
+                                            f"got start_time_s + duration_s = "
+                                            f"{_num(self.start_time_s + self.duration_s)}")
+        return self
+
+    def as_waypoints(self) -> WaypointsTrajectory:
+        end_rot = self.end_orientation_deg or self.start_orientation_deg
+        return WaypointsTrajectory(
+            type="waypoints",
+            waypoints=[
+                Waypoint(time_s=self.start_time_s, position_m=self.start_position_m,
+                         orientation_deg=self.start_orientation_deg),
+                Waypoint(time_s=self.start_time_s + self.duration_s,
+                         position_m=self.end_position_m, orientation_deg=end_rot),
+            ],
+        )
+
+
+Trajectory = Annotated[
+    Union[CircleTrajectory, WaypointsTrajectory, LineTrajectory], Field(discriminator="type")
+]
+
+
+# ------------------------------------------------------------------ the rest
+class Disturbance(_Model):
+    """External force f_r and moment m_r on the platform (eq. 12): constant plus sinusoid."""
+
+    frame: Literal["O", "C", "P"] = "O"
+    """Frame the vectors are given in: O (earth, as the paper), C (ship-fixed) or P (platform)."""
+    force_N: Force = (0.0, 0.0, 0.0)
+    moment_N_m: Moment = (0.0, 0.0, 0.0)
+    force_amplitude_N: Force = (0.0, 0.0, 0.0)
+    moment_amplitude_N_m: Moment = (0.0, 0.0, 0.0)
+    period_s: _ranged(1e-3, TIME_MAX_S, "s", "from a 1 kHz vibration to 11.6 days") | None = None
+    phase_deg: Phase = 0.0
+
+    @model_validator(mode="after")
+    def _check_period(self) -> "Disturbance":
+        if self.period_s is None and any(self.force_amplitude_N + self.moment_amplitude_N_m):
+            raise _KeyedError("period_s", "missing: a sinusoidal disturbance needs its period")
+        return self
+
+
+class Time(_Model):
+    step_s: _ranged(1e-5, 1.0, "s", "from 100 kHz to one sample a second") = 0.001
+    duration_s: _ranged(0.0, TIME_MAX_S, "s", "11.6 days", above=True)
+
+    @property
+    def n_steps(self) -> int:
+        """Number of samples, both ends included."""
+        return int(math.floor(self.duration_s / self.step_s + 1e-9)) + 1
+
+
+class Planning(_Model):
+    method: Literal[
+        "pseudo_inverse", "minimum_variance", "closed_form", "improved_closed_form", "minimum_norm"
+    ] = "minimum_variance"
+    base_model: Literal["moving", "fixed"] = "moving"
+    """"fixed" plans as if the ship were still (the traditional model), for comparison."""
+
+
+class CableModel(_Model):
+    """How a cable turns a command into tension (the virtual prototype's actuators)."""
+
+    model: Literal["ideal", "elastic"] = "ideal"
+    """ideal: the commanded tension acts (as in the paper). elastic: a cable on a winch."""
+    stiffness_EA_N: _ranged(1.0, 1e10, "N", "from a rubber cord to a 25 cm steel rope") | None = None
+    """Axial stiffness E A of an elastic cable, N: tension = E A (L - L0) / L0 + damping."""
+    damping_N_s_m: _ranged(0.0, 1e9, "N s/m", "beyond critical for the stiffest cable") = 0.0
+    """Axial damping of an elastic cable, N per (m/s) of stretch rate."""
+    winch: Literal["length", "tension"] = "length"
+    """length: the winch pays out a commanded unstretched length L0; tension: it tracks a
+    commanded tension (with its tension sensor)."""
+    winch_time_constant_s: _ranged(0.0, 60.0, "s", "a winch that lags a minute holds nothing") = 0.0
+    """First-order lag of the winch on its command (0: none)."""
+
+    @model_validator(mode="after")
+    def _check_stiffness(self) -> "CableModel":
+        if self.model == "elastic" and self.stiffness_EA_N is None:
+            raise _KeyedError("stiffness_EA_N", "missing: an elastic cable needs its axial stiffness")
+        return self
+
+
+def _noise(hi: float, unit: str) -> Any:
+    return _ranged(0.0, hi, unit, "a sensor's standard deviation, not what it measures")
+
+
+class Noise(_Model):
+    """Gaussian noise (standard deviations) on what the closed-loop controller measures."""
+
+    seed: Annotated[int, Field(ge=0, strict=True)] = 0
+    pose_m: _noise(10.0, "m") = 0.0
+    pose_deg: _noise(30.0, "deg") = 0.0
+    velocity_m_s: _noise(10.0, "m/s") = 0.0
+    rate_deg_s: _noise(360.0, "deg/s") = 0.0
+    tension_N: _noise(1e7, "N") = 0.0
+    """On the winch's tension sensor (tension-controlled winches)."""
+    ship_position_m: _noise(30.0, "m") = 0.0
+    ship_angle_deg: _noise(30.0, "deg") = 0.0
+    ship_velocity_m_s: _noise(30.0, "m/s") = 0.0
+    ship_rate_deg_s: _noise(360.0, "deg/s") = 0.0
+    ship_acceleration_m_s2: _noise(100.0, "m/s^2") = 0.0
+    ship_angular_acceleration_deg_s2: _noise(3600.0, "deg/s^2") = 0.0
+
+
+class Control(_Model):
+    """Closed-loop computed-torque gains: a critically damped second-order error by default."""
+
+    bandwidth_hz: _ranged(1e-3, 1000.0, "Hz", "from a drifting loop to beyond any winch") = 5.0
+    damping_ratio: _ranged(0.01, 10.0, "", "from barely damped to heavily overdamped") = 1.0
+
+
+class Simulation(_Model):
+    """The virtual prototype: which plant, its cables, the controller's gains and sensors."""
+
+    plant: Literal["mujoco", "own"] = "mujoco"
+    """mujoco: the independent physics engine; own: this package's forward dynamics (RK4)."""
+    integrator: Literal["RK4", "Euler", "implicitfast"] = "RK4"
+    """MuJoCo's integrator (the own plant always uses RK4)."""
+    cables: CableModel = CableModel()
+    noise: Noise = Noise()
+    control: Control = Control()
+    initial_error_m: _ranged_vec3(100.0, "m", "an error, not another pose") = (0.0, 0.0, 0.0)
+    """Platform position error at t = 0 (actual minus planned), in C, m."""
+    initial_error_deg: _ranged_vec3(90.0, "deg", "an error, not another pose",
+                                    ("rx", "ry", "rz")) = (0.0, 0.0, 0.0)
+    """Platform orientation error at t = 0 (rx, ry, rz), deg."""
+    max_error_m: _ranged(0.0, POSITION_MAX_M, "m", "positions on a ship, in metres", above=True) | None = None
+    """A run whose position or cable-length error passes this is flagged; default 1% of
+    the frame's largest extent."""
+    max_error_deg: _ranged(0.0, 180.0, "deg", "half a turn", above=True) = 1.0
+    """A run whose orientation error passes this is flagged, deg."""
+
+
+class Environment(_Model):
+    gravity_m_s2: _ranged(0.1, 30.0, "m/s^2", "from a small moon's to beyond Jupiter's") = 9.8
+    """Magnitude of gravity; it points along -z of O."""
+
+
+class Scenario(_Model):
+    """A complete description of one robot, one ship motion and one task."""
+
+    name: StrictStr = "scenario"
+    description: StrictStr = ""
+    robot: Robot
+    ship: Ship = Ship()
+    base_motion: BaseMotion = StillMotion(type="still")
+    trajectory: Trajectory
+    disturbance: Disturbance = Disturbance()
+    time: Time
+    planning: Planning = Planning()
+    simulation: Simulation = Simulation()
+    environment: Environment = Environment()
+
+    @model_validator(mode="after")
+    def _check_record(self) -> "Scenario":
+        if isinstance(self.base_motion, SeaStateMotion) and self.base_motion.record_s < self.time.duration_s:
+            raise _KeyedError("base_motion.record_s",
+                              f"the sea-state record ({self.base_motion.record_s:g} s) would repeat within "
+                              f"the duration ({self.time.duration_s:g} s): make it at least as long")
+        return self
+
+    @model_validator(mode="after")
+    def _check_planar_trajectory(self) -> "Scenario":
+        if self.robot.dofs != "planar":
+            return self
+        traj = self.trajectory
+        msg_rot = "a planar robot turns only about y: rx and rz must be 0"
+        if isinstance(traj, CircleTrajectory):
+            if traj.plane != "xz":
+                raise _KeyedError("trajectory.plane", "a planar robot moves in the x-z plane of C: use \"xz\"")
+            if traj.orientation_deg[0] or traj.orientation_deg[2]:
+                raise _KeyedError("trajectory.orientation_deg", msg_rot)
+            return self
+        if isinstance(traj, LineTrajectory):
+            poses = [("start_", traj.start_position_m, traj.start_orientation_deg),
+                     ("end_", traj.end_position_m, traj.end_orientation_deg or (0.0, 0.0, 0.0))]
+        else:
+            poses = [(f"waypoints[{i}].", w.position_m, w.orientation_deg)
+                     for i, w in enumerate(traj.waypoints, start=1)]
+        y0 = poses[0][1][1]
+        for prefix, pos, rot in poses:
+            if rot[0] or rot[2]:
+                raise _KeyedError(f"trajectory.{prefix}orientation_deg", msg_rot)
+            if pos[1] != y0:
+                raise _KeyedError(
+                    f"trajectory.{prefix}position_m",
+                    f"a planar robot moves in the x-z plane of C: y must stay {y0:g} m",
+                )
+        return self
+
+    def with_changes(self, **sections: Any) -> "Scenario":
+        """A validated copy with top-level sections replaced, e.g. ``planning={...}``.
+
+        Raises
+        ------
+        ScenarioError
+            One line naming the key, as for a file.
+        """
+        data = self.model_dump(exclude_none=True)
+        for key, value in sections.items():
+            data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
+        try:
+            return Scenario.model_validate(data)
+        except ValidationError as exc:
+            raise scenario_error(exc, data, None, Scenario) from None
+
+
