@@ -57,7 +57,8 @@ def run(cmd: list[str]) -> tuple[float, float, int, str]:
 
 IN_MEMORY = """
 import sys, marinecdpr
-from marinecdpr.report.reports import plot_tensions, write_plan_csv
+from marinecdpr.report.figures import plot_tensions
+from marinecdpr.report.writers import write_plan_csv
 
 sc = marinecdpr.load_scenario(sys.argv[1])
 p = marinecdpr.plan(sc)

@@ -88,22 +88,22 @@ def main() -> None:
 
 def main_job(sc, bare, repeats: int) -> None:
     """The whole main job against bare MuJoCo, each repeat timing both (the machine may be shared)."""
-    from marinecdpr.report import reports
+    from marinecdpr.report import figures, writers
 
     folder = Path(tempfile.mkdtemp(prefix="bench-main-job-"))
     exe = Path(sys.executable).parent / "marinecdpr"
-    can_fork = reports._can_fork
+    can_fork = figures._can_fork
 
     def in_process(two: bool) -> tuple[float, float]:
-        reports._can_fork = can_fork if two else (lambda: False)
+        figures._can_fork = can_fork if two else (lambda: False)
         try:
             t0 = time.perf_counter()
             vp = marinecdpr.virtual_prototype(sc)
             t1 = time.perf_counter()
-            reports.write_virtual_prototype(vp, folder / "in_process")
+            writers.write_virtual_prototype(vp, folder / "in_process")
             return t1 - t0, time.perf_counter() - t1
         finally:
-            reports._can_fork = can_fork
+            figures._can_fork = can_fork
 
     def command() -> float:
         t0 = time.perf_counter()

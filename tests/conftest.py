@@ -41,7 +41,7 @@ def paper_plan(paper):
 @pytest.fixture()
 def captured_figures(monkeypatch) -> dict:
     """The figures the report functions draw, by file name, kept open instead of saved."""
-    import marinecdpr.report.reports as reports
+    import marinecdpr.report.figures as figures
 
     figs = {}
 
@@ -49,5 +49,5 @@ def captured_figures(monkeypatch) -> dict:
         figs[Path(path).name] = fig
         return Path(path)
 
-    monkeypatch.setattr(reports, "_save", keep)
+    monkeypatch.setattr(figures, "_save", keep)
     return figs

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from marinecdpr.report.reports import MANIFEST
+from marinecdpr.report.files import MANIFEST
 
 EXE = str(Path(sys.executable).parent / "marinecdpr")
 

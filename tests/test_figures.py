@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 import marinecdpr
-import marinecdpr.report.reports as reports
-from marinecdpr.report.reports import RUN_TITLES, decimate
+import marinecdpr.report.figures as figures
+import marinecdpr.report.writers as writers
+from marinecdpr.report.figures import RUN_TITLES, decimate
 from marinecdpr.prototype.simulation import RUNS, SimResult
 
 N = 15_001
@@ -119,9 +120,9 @@ def _long_runs(scenario, n: int = N) -> dict:
 def test_time_series_figures_draw_each_pixel_column_with_its_extremes(figure, paper, captured_figures, tmp_path):
     runs = _long_runs(paper)
     figs = captured_figures
-    getattr(reports, f"plot_{figure}")(runs, paper, tmp_path / f"{figure}.png")
+    getattr(figures, f"plot_{figure}")(runs, paper, tmp_path / f"{figure}.png")
     fig = figs[f"{figure}.png"]
-    columns = int(np.ceil(fig.get_figwidth() * reports.FIGURE_DPI))
+    columns = int(np.ceil(fig.get_figwidth() * figures.FIGURE_DPI))
     if figure == "tracking":
         series = [lambda r, planned, i=i: (np.degrees if i >= 3 else np.asarray)(
             (r.pose_planned if planned else r.pose)[:, i]) for i in (0, 2, 4)]
@@ -148,9 +149,9 @@ def test_time_series_figures_draw_each_pixel_column_with_its_extremes(figure, pa
 
 def test_tension_and_path_figures_keep_their_extremes(paper, paper_plan, captured_figures, tmp_path):
     figs = captured_figures
-    reports.plot_tensions(paper_plan, paper, tmp_path / "tensions.png")
+    figures.plot_tensions(paper_plan, paper, tmp_path / "tensions.png")
     fig = figs["tensions.png"]
-    columns = int(np.ceil(fig.get_figwidth() * reports.TENSION_FIGURE_DPI))
+    columns = int(np.ceil(fig.get_figwidth() * figures.TENSION_FIGURE_DPI))
     for ax, T in zip(fig.axes, (paper_plan.tensions_pinv, paper_plan.tensions)):
         lines = {ln.get_label(): ln for ln in ax.get_lines()}
         for i in range(paper.robot.n_cables):
@@ -158,7 +159,7 @@ def test_tension_and_path_figures_keep_their_extremes(paper, paper_plan, capture
             assert len(y) <= 4 * columns < paper_plan.n_steps
             assert y.max() == T[:, i].max() and y.min() == T[:, i].min()
     runs = _long_runs(paper)
-    reports.plot_path(runs, paper, tmp_path / "path.png")
+    figures.plot_path(runs, paper, tmp_path / "path.png")
     ax = figs["path.png"].axes[0]
     lines = {ln.get_label(): ln for ln in ax.get_lines()}
     for name, res in runs.items():
@@ -180,18 +181,18 @@ def test_the_main_job_writes_the_same_files_in_one_process_or_two(short_vp, tmp_
 
     pids = tmp_path / "pids"
     pids.mkdir()
-    real = reports.plot_cable_lengths
+    real = writers.plot_cable_lengths
 
     def recorded(*args, **kwargs):
         (pids / str(os.getpid())).touch()
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(reports, "plot_cable_lengths", recorded)
-    two = reports.write_virtual_prototype(short_vp, tmp_path / "two")
-    if reports._can_fork():
+    monkeypatch.setattr(writers, "plot_cable_lengths", recorded)
+    two = writers.write_virtual_prototype(short_vp, tmp_path / "two")
+    if figures._can_fork():
         assert [p.name for p in pids.iterdir()] != [str(os.getpid())]  # drawn by another process
-    monkeypatch.setattr(reports, "_can_fork", lambda: False)
-    one = reports.write_virtual_prototype(short_vp, tmp_path / "one")
+    monkeypatch.setattr(figures, "_can_fork", lambda: False)
+    one = writers.write_virtual_prototype(short_vp, tmp_path / "one")
     assert [p.name for p in one] == [p.name for p in two]
     for a, b in zip(one, two):
         if a.suffix == ".png":
@@ -205,33 +206,33 @@ def test_a_failure_in_the_second_process_is_raised_here_with_its_errno(short_vp,
     def full_disk(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(reports, "plot_cable_lengths", full_disk)
+    monkeypatch.setattr(writers, "plot_cable_lengths", full_disk)
     with pytest.raises(OSError) as info:
-        reports.write_virtual_prototype(short_vp, tmp_path / "o")
+        writers.write_virtual_prototype(short_vp, tmp_path / "o")
     assert info.value.errno == errno.ENOSPC and info.value.strerror == "No space left on device"
     assert multiprocessing.active_children() == []
 
 
 def test_an_interrupt_here_ends_the_second_process_at_once(short_vp, tmp_path, monkeypatch):
-    monkeypatch.setattr(reports, "plot_cable_lengths", lambda *a, **k: time.sleep(60))
+    monkeypatch.setattr(writers, "plot_cable_lengths", lambda *a, **k: time.sleep(60))
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(reports, "plot_tracking", interrupted)
+    monkeypatch.setattr(writers, "plot_tracking", interrupted)
     t0 = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        reports.write_virtual_prototype(short_vp, tmp_path / "o")
+        writers.write_virtual_prototype(short_vp, tmp_path / "o")
     assert time.perf_counter() - t0 < 20
     assert multiprocessing.active_children() == []
 
 
-@pytest.mark.skipif(not reports._can_fork(), reason="figures are drawn in one process here")
+@pytest.mark.skipif(not figures._can_fork(), reason="figures are drawn in one process here")
 def test_the_second_process_dies_with_a_killed_parent(tmp_path):
     script = textwrap.dedent("""
         import sys, time
-        import marinecdpr.report.reports as reports
-        f = reports._Forked(lambda: time.sleep(60))
+        import marinecdpr.report.figures as figures
+        f = figures._Forked(lambda: time.sleep(60))
         print(f._process.pid, flush=True)
         time.sleep(60)
     """)

@@ -17,7 +17,9 @@ from marinecdpr.studies.prototype_runs import error_bounds, is_paper_scenario, r
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.cli.app import app
 from marinecdpr.motion.recorded import write_motion_csv
-from marinecdpr.report.reports import MANIFEST, atomic_path, beyond_text, error_table, length_unit
+from marinecdpr.report.figures import length_unit
+from marinecdpr.report.files import MANIFEST, atomic_path
+from marinecdpr.report.text import beyond_text, error_table
 from marinecdpr.prototype.simulation import SimResult, simulate
 
 from conftest import make_scenario, paper_dict
@@ -195,12 +197,12 @@ def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
     assert _main_job(out).exit_code == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a crash while writing the report (a full disk, say): one line, exit 2, nothing changed
-    import marinecdpr.report.reports as reports
+    import marinecdpr.report.writers as writers
 
     def full(*args, **kwargs):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(reports, "write_report_html", full)
+    monkeypatch.setattr(writers, "write_report_html", full)
     res = _main_job(out, "paper_sea")
     assert res.exit_code == 2 and "Traceback" not in res.output
     lines = res.stderr.strip().splitlines()
@@ -283,7 +285,7 @@ def test_output_files_honour_the_umask(tmp_path):
 
 # ------------------------------------------------------------------- item 6: figures
 def test_error_panels_are_log_scaled_in_units_from_the_data(paper, captured_figures, tmp_path):
-    from marinecdpr.report.reports import plot_tracking
+    from marinecdpr.report.figures import plot_tracking
 
     runs = {run: simulate(paper, run=run, n_steps=400) for run in ("open_loop", "closed_loop",
                                                                     "fixed_base_open_loop")}
@@ -305,7 +307,7 @@ def test_error_panels_are_log_scaled_in_units_from_the_data(paper, captured_figu
 
 
 def test_tension_figure_names_infeasible_steps_in_its_legend(captured_figures, tmp_path):
-    from marinecdpr.report.reports import plot_tensions
+    from marinecdpr.report.figures import plot_tensions
 
     heavy = make_scenario(lambda d: (d["robot"].update(mass_kg=20.0), d["time"].update(duration_s=4.0)))
     p = marinecdpr.plan(heavy)

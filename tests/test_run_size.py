@@ -150,7 +150,7 @@ def _heavy(tmp_path: Path, mass: str, duration: str) -> Path:
 @pytest.mark.parametrize("mass, duration", [("200.0", "0.5"), ("12.0", "7.5")])
 def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
     from marinecdpr.planning.planner import iter_plan
-    from marinecdpr.report.reports import write_plan_csv, write_plan_stream
+    from marinecdpr.report.writers import write_plan_csv, write_plan_stream
 
     sc = marinecdpr.load_scenario(_heavy(tmp_path, mass, duration))
     whole = marinecdpr.plan(sc)
@@ -170,7 +170,7 @@ def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
 
 def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypatch):
     from marinecdpr.planning import planner as planning
-    from marinecdpr.report.reports import write_plan_csv
+    from marinecdpr.report.writers import write_plan_csv
 
     scen = _heavy(tmp_path, "12.0", "7.5")
     sc = marinecdpr.load_scenario(scen)
@@ -205,7 +205,7 @@ def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypa
 
 
 def test_tension_envelope_keeps_every_extreme(paper_plan):
-    from marinecdpr.report.reports import TensionEnvelope
+    from marinecdpr.report.figures import TensionEnvelope
     from marinecdpr.planning.planner import iter_plan
 
     env = TensionEnvelope(paper_plan.n_steps, 4, columns=97)

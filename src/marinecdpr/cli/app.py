@@ -101,7 +101,7 @@ def plan(
     """Plan cable tensions along the scenario's trajectory on its moving ship."""
     from marinecdpr.planning import planner as planning
     from marinecdpr.planning.budget import check_run_size
-    from marinecdpr.report.reports import write_plan_stream
+    from marinecdpr.report.writers import write_plan_stream
 
     if method is not None and method not in TENSION_METHODS:
         _fail(f"--method {method}: expected one of {', '.join(TENSION_METHODS)}")
@@ -152,7 +152,9 @@ def simulate(
     report.html.
     """
     from marinecdpr.studies.prototype_runs import virtual_prototype
-    from marinecdpr.report.reports import RUN_TITLES, beyond_text, error_table, findings, write_virtual_prototype
+    from marinecdpr.report.figures import RUN_TITLES
+    from marinecdpr.report.text import beyond_text, error_table, findings
+    from marinecdpr.report.writers import write_virtual_prototype
     from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, RUNS, kernels_cached
 
     if plant is not None and plant not in ("mujoco", "own"):
@@ -214,9 +216,9 @@ def simulate(
 @contextmanager
 def _output(out: Path):
     """The output folder, checked before the work starts and filled all at once at the end
-    (see :class:`marinecdpr.report.reports.StagedOutput`); a failure writing it is one line, exit 2."""
+    (see :class:`marinecdpr.report.files.StagedOutput`); a failure writing it is one line, exit 2."""
     from marinecdpr.errors import OutputError
-    from marinecdpr.report.reports import StagedOutput
+    from marinecdpr.report.files import StagedOutput
 
     try:
         staged = StagedOutput(out)
@@ -352,7 +354,7 @@ def workspace(
     step: Optional[float] = typer.Option(None, help="Time step, s."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
-    from marinecdpr.report.reports import write_workspace
+    from marinecdpr.report.writers import write_workspace
     from marinecdpr.studies.workspace import workspace_map
 
     try:
@@ -421,7 +423,7 @@ def operability(
     from marinecdpr.planning.budget import check_run_size
     from marinecdpr.studies.operability import Cell, cell_scenario, check_scheduler, choose_executor, dask_installed, read_scatter_csv, study_steps
     from marinecdpr.studies.operability import operability as run
-    from marinecdpr.report.reports import write_operability
+    from marinecdpr.report.writers import write_operability
 
     if serial and (workers is not None or scheduler):
         _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")

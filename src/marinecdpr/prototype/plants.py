@@ -253,10 +253,11 @@ def mujoco_loop(k0, k1, addresses, h, mj, drive, parts):
     """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*).
     Returns (fallbacks, -1 or the diverged step)."""
     fallbacks = 0
-    for k in range(k0, k1):
-        fb = mujoco_exchange(k, h, mj, drive, parts)
-        if fb < 0:
+    for k in range(k0, k1):  # mujoco_exchange, written out: one compiled call level less
+        x, R, v, w = _mujoco_state(mj)
+        if diverged(x, parts.ref.x[k]):
             return fallbacks, k
-        fallbacks += fb
+        fallbacks += exchange(k, h, x, R, v, w, parts)
+        _mujoco_inputs(k, R, mj, drive, parts)
         _c_mj_step(addresses[0], addresses[1])
     return fallbacks, -1

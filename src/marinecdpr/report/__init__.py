@@ -1,1 +1,9 @@
-"""Report: files, figures and the HTML page of every command's results."""
+"""Report: files, figures and the HTML page of every command's results.
+
+Its modules, each importing only those listed above it:
+
+- ``files``: writing files safely: atomic renames, staged output folders, CSV and JSON.
+- ``figures``: every figure (matplotlib), decimated to its pixels, and drawing in a forked process.
+- ``text``: the words of a report (error table, findings, base motion) and the HTML page.
+- ``writers``: each command's files (plan, main job, workspace, operability), composed from the above.
+"""

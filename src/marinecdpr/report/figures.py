@@ -1,0 +1,542 @@
+"""The figures: like the paper's 5-7, the platform's path, the workspace and operability maps.
+
+Every line is drawn at the figure's resolution (:func:`decimate`: each pixel column keeps its
+extremes), so a long run draws as fast as a short one and shows what it holds. The main job
+draws two of its figures in a forked copy of the process where that pays (:class:`_Forked`).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from marinecdpr.planning.planner import TWIST_NAMES, Plan
+from marinecdpr.report.files import atomic_path
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.textfiles import strip_control
+
+__all__ = [
+    "decimate",
+    "plot_tensions",
+    "TensionEnvelope",
+    "plot_tension_envelope",
+    "plot_cable_lengths",
+    "plot_tracking",
+    "plot_path",
+    "plot_workspace",
+    "plot_operability",
+    "length_unit",
+]
+
+
+# ------------------------------------------------------- figures at their resolution
+def _column_groups(first: int, k: int, n: int, columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """Samples ``first`` .. ``first + k - 1`` of a series of ``n``, split as the whole series is
+    into ``columns`` consecutive groups of (almost) equal size: the groups met, and where
+    each starts among the ``k`` (the first one possibly a group begun before ``first``)."""
+    col = (np.arange(first, first + k, dtype=np.int64) * columns) // n
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+    return col[starts], starts
+
+
+def decimate(x: np.ndarray, y: np.ndarray, columns: int) -> tuple[np.ndarray, np.ndarray]:
+    """A line thinned to what ``columns`` pixel columns can show, every extreme kept.
+
+    The samples are split into ``columns`` consecutive groups (one per pixel column for
+    a uniformly sampled series drawn across ``columns`` pixels); of each group only its
+    first, smallest, largest and last sample are kept, in time order (the M4 rule: the
+    line drawn through them covers the pixels the whole line covers), and the first
+    NaN of each gap in the group, so that gaps stay gaps. A series of at most
+    ``4 * columns`` samples is returned whole.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,)
+    y : ndarray, shape (n,) or (n, m)
+        With m series (a path's coordinates), a sample is kept where any of them needs it.
+    columns : int
+
+    Returns
+    -------
+    x, y : ndarray
+        The kept samples, at most about ``4 * columns`` (``4 * m * columns`` for m series).
+    """
+    x, y = np.asarray(x), np.asarray(y, dtype=float)
+    n = y.shape[0]
+    if n <= 4 * max(int(columns), 1):
+        return x, y
+    _, starts = _column_groups(0, n, n, int(columns))
+    ends = np.r_[starts[1:], n]
+    grid = starts[:, None] + np.arange(int((ends - starts).max()))
+    outside = grid >= ends[:, None]
+    grid = np.minimum(grid, n - 1)
+    nan = np.isnan(y)
+    gap = nan & ~np.concatenate([np.zeros((1,) + y.shape[1:], dtype=bool), nan[:-1]])
+    vals, gap = y[grid], gap[grid]                      # (groups, width[, m])
+    if y.ndim > 1:
+        outside = outside[:, :, None]
+    skip = outside | np.isnan(vals)
+    offsets = [np.where(skip, np.inf, vals).argmin(axis=1), np.where(skip, -np.inf, vals).argmax(axis=1),
+               np.where(outside, False, gap).argmax(axis=1)]  # a group without a gap gives its first
+    starts_m = starts if y.ndim == 1 else starts[:, None]
+    kept = np.unique(np.concatenate([starts, ends - 1] + [(starts_m + o).ravel() for o in offsets]))
+    return x[kept], y[kept]
+
+
+def _figure_columns(fig, dpi: float) -> int:
+    """Pixel columns across ``fig`` saved at ``dpi``: more than any of its axes spans."""
+    return int(np.ceil(fig.get_figwidth() * dpi))
+
+
+FIGURE_DPI = 110
+"""Resolution of the main job's figures but the tension figure's (TENSION_FIGURE_DPI)."""
+TENSION_FIGURE_DPI = 120
+
+
+def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> Path:
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    with atomic_path(path, suffix=path.suffix) as tmp:
+        fig.savefig(tmp, dpi=dpi)
+    plt.close(fig)
+    return path
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _plain(text: str) -> str:
+    """``text`` for a matplotlib title, read literally: no mathtext, no control characters."""
+    return strip_control(text).replace("$", r"\$")
+
+
+def _pose_names(scenario: Scenario) -> tuple[list[str], list[int]]:
+    if scenario.robot.dofs == "planar":
+        return ["x", "z", "theta_y"], [0, 2, 4]
+    return list(TWIST_NAMES), list(range(6))
+
+
+# ------------------------------------------------------------------ plan tensions
+def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
+    """Figure like the paper's figure 5: tensions (a) before and (b) after optimisation."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    robot = scenario.robot
+    fig, axes = plt.subplots(2, 1, figsize=(11, 7.5), sharex=True, constrained_layout=True)
+    titles = (
+        "(a) pseudo-inverse tensions, eq. (18)",
+        f"(b) {plan.method.replace('_', ' ')} tensions ({plan.base_model} base)",
+    )
+    columns = _figure_columns(fig, TENSION_FIGURE_DPI)
+    for ax, T, title in zip(axes, (plan.tensions_pinv, plan.tensions), titles):
+        for i in range(robot.n_cables):
+            ax.plot(*decimate(plan.t, T[:, i], columns), label=f"cable {i + 1}", lw=1.2)
+        for j, v in enumerate(np.unique(np.concatenate([robot.tension_min, robot.tension_max]))):
+            ax.axhline(v, color="k", ls="--", lw=0.8, label="limits" if j == 0 else None)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_ylabel("tension (N)")
+        ax.set_title(title, loc="left", fontsize=10)
+        ax.grid(alpha=0.3)
+    # (a) keeps its own range: eq. (18)'s tensions are small and may be negative
+    lo_a, hi_a = np.nanmin(plan.tensions_pinv), np.nanmax(plan.tensions_pinv)
+    pad = 0.1 * max(hi_a - lo_a, 1.0)
+    axes[0].set_ylim(min(lo_a, 0.0) - pad, max(hi_a, robot.tension_min.max()) + pad)
+    if not plan.all_feasible:
+        bad = ~plan.feasible
+        axes[1].fill_between(plan.t, 0, 1, where=bad, color="red", alpha=0.15,
+                             transform=axes[1].get_xaxis_transform(), label="infeasible steps")
+    _legend_below(fig, axes, max_columns=8)
+    axes[1].set_xlabel("t (s)")
+    fig.suptitle(f"Cable tensions: {_plain(scenario.name)}", fontsize=11)
+    return _save(fig, path, dpi=TENSION_FIGURE_DPI)
+
+
+TENSION_FIGURE_COLUMNS = 2000
+"""Time columns the streamed tension figure keeps, each with its smallest and largest
+tension: more than the figure's axes have pixel columns, so no extreme is lost."""
+
+
+class _TensionTrace:
+    """What :func:`plot_tensions` draws, from a :class:`TensionEnvelope` instead of a Plan."""
+
+    def __init__(self, t, tensions_pinv, tensions, feasible, method, base_model):
+        self.t, self.tensions_pinv, self.tensions, self.feasible = t, tensions_pinv, tensions, feasible
+        self.method, self.base_model = method, base_model
+
+    @property
+    def all_feasible(self) -> bool:
+        return bool(self.feasible.all())
+
+
+class TensionEnvelope:
+    """A plan's tensions decimated to the figure's resolution while it streams.
+
+    The plan's steps are split into ``columns`` consecutive groups; for each, the
+    smallest and largest eq. 18 and planned tension of every cable (NaN ignored), the
+    first and last time, and whether any step is infeasible. Memory does not grow with
+    the plan. Feed every piece in order to :meth:`add`; draw with :func:`plot_tension_envelope`.
+
+    Parameters
+    ----------
+    n_steps : int
+        Steps of the whole plan.
+    n_cables : int
+    columns : int
+        Groups kept (at most ``n_steps``: a short plan keeps every step).
+    """
+
+    def __init__(self, n_steps: int, n_cables: int, columns: int = TENSION_FIGURE_COLUMNS):
+        self.n_steps = int(n_steps)
+        self.columns = max(1, min(int(columns), self.n_steps))
+        shape = (self.columns, int(n_cables))
+        self.lo = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.hi = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        # each group's first and last values: a falling group is drawn from its largest to its smallest
+        self.first = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.last = {name: np.full(shape, np.nan) for name in ("tensions_pinv", "tensions")}
+        self.t_first = np.full(self.columns, np.nan)
+        self.t_last = np.full(self.columns, np.nan)
+        self.infeasible = np.zeros(self.columns, dtype=bool)
+        self.counts = np.zeros(self.columns, dtype=np.int64)
+        self.done = 0
+        self.method: str | None = None
+        self.base_model: str | None = None
+
+    def add(self, piece: Plan) -> None:
+        """Take in the next piece of the plan."""
+        k = piece.n_steps
+        if k == 0:
+            return
+        if self.done + k > self.n_steps:
+            raise ValueError(f"the pieces hold more than the {self.n_steps} steps announced")
+        self.method, self.base_model = piece.method, piece.base_model
+        cols, starts = _column_groups(self.done, k, self.n_steps, self.columns)
+        new = self.counts[cols] == 0
+        ends = np.r_[starts[1:], k] - 1
+        for name in self.lo:
+            a = getattr(piece, name)
+            self.first[name][cols[new]] = a[starts[new]]
+            self.last[name][cols] = a[ends]
+            self.lo[name][cols] = np.fmin(self.lo[name][cols], np.fmin.reduceat(a, starts, axis=0))
+            self.hi[name][cols] = np.fmax(self.hi[name][cols], np.fmax.reduceat(a, starts, axis=0))
+        self.t_first[cols] = np.fmin(self.t_first[cols], np.minimum.reduceat(piece.t, starts))
+        self.t_last[cols] = np.fmax(self.t_last[cols], np.maximum.reduceat(piece.t, starts))
+        self.infeasible[cols] |= np.logical_or.reduceat(~np.asarray(piece.feasible, dtype=bool), starts)
+        self.counts[cols] += np.diff(np.r_[starts, k])
+        self.done += k
+
+    def trace(self) -> _TensionTrace:
+        """The line to draw: per group and cable, its smallest and largest tension at the group's
+        first and last time (the largest first where the tension falls over the group; one
+        point per step where each group is one step)."""
+        used = self.counts > 0
+        lo = {name: v[used] for name, v in self.lo.items()}
+        if (self.counts[used] <= 1).all():
+            return _TensionTrace(self.t_first[used], lo["tensions_pinv"], lo["tensions"],
+                                 ~self.infeasible[used], self.method, self.base_model)
+        t = np.column_stack([self.t_first[used], self.t_last[used]]).ravel()
+
+        def zigzag(name: str) -> np.ndarray:
+            hi = self.hi[name][used]
+            falls = self.first[name][used] > self.last[name][used]
+            pair = (np.where(falls, hi, lo[name]), np.where(falls, lo[name], hi))
+            return np.stack(pair, axis=1).reshape(t.size, -1)
+
+        return _TensionTrace(t, zigzag("tensions_pinv"), zigzag("tensions"),
+                             np.repeat(~self.infeasible[used], 2), self.method, self.base_model)
+
+
+def plot_tension_envelope(envelope: TensionEnvelope, scenario: Scenario, path: Path) -> Path:
+    """:func:`plot_tensions` (the paper's figure 5) from a :class:`TensionEnvelope`: each pixel
+    column spans its steps' smallest to largest tension, so extremes stay visible."""
+    return plot_tensions(envelope.trace(), scenario, path)
+
+
+# ------------------------------------------------------------------ simulations
+RUN_TITLES = {
+    "open_loop": "open loop (plan fed forward)",
+    "closed_loop": "closed loop (computed torque)",
+    "fixed_base_open_loop": "fixed-base plan, open loop",
+}
+RUN_COLOURS = {"open_loop": "C0", "closed_loop": "C2", "fixed_base_open_loop": "C3"}
+# the open loop (the paper's test) is drawn wide and underneath, the closed loop dashed on
+# top, so that both stay visible where they coincide
+RUN_STYLES = {"fixed_base_open_loop": dict(lw=1.3, ls="-"), "open_loop": dict(lw=3.0, ls="-", alpha=0.55),
+              "closed_loop": dict(lw=1.1, ls=(0, (4, 2)))}
+
+
+def _drawing_order(results: dict):
+    """Runs in drawing order: the closed loop, usually the smallest error, last (on top)."""
+    order = ["fixed_base_open_loop", "open_loop", "closed_loop"]
+    return sorted(results.items(), key=lambda kv: order.index(kv[0]) if kv[0] in order else -1)
+
+
+def _run_style(name: str) -> dict:
+    return dict(color=RUN_COLOURS.get(name), **RUN_STYLES.get(name, dict(lw=1.0)))
+
+
+def _legend_below(fig, axes, max_columns: int = 4) -> None:
+    """One legend for the figure, below the axes, from every labelled artist of ``axes``."""
+    handles, labels = [], []
+    for ax in np.ravel(axes):
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), max_columns), fontsize=9)
+
+
+LENGTH_UNITS = ((1.0, "m"), (1e-3, "mm"), (1e-6, "µm"), (1e-9, "nm"))
+"""Units a length is shown in, largest first, with their size in metres."""
+
+
+def length_unit(largest_m: float) -> tuple[float, str]:
+    """The unit (metres per unit, name) in which ``largest_m`` reads as 1 to 999 (nm at least)."""
+    for size, name in LENGTH_UNITS:
+        if abs(largest_m) >= size:
+            return size, name
+    return LENGTH_UNITS[-1]
+
+
+def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, row_height: float, title: str,
+                       path: Path) -> Path:
+    """Two columns per row: planned and each run's actual value, and |actual - planned| on a
+    log scale (so runs whose errors differ by orders of magnitude all show), in a unit
+    chosen from the data.
+
+    ``rows``: (label, angular, value) with ``value(res, planned)`` the (n_steps,) series
+    of a SimResult (planned or actual) in m, or in deg if ``angular``.
+    """
+    plt = _pyplot()
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, row_height * len(rows) + 1.5), sharex=True,
+                             squeeze=False, constrained_layout=True)
+    first = next(iter(results.values()))
+    columns = _figure_columns(fig, FIGURE_DPI)
+    for (ax, ax_e), (label, angular, value) in zip(axes, rows):
+        errors = {name: np.abs(value(res, False) - value(res, True)) for name, res in results.items()}
+        largest = max(float(e.max()) for e in errors.values())
+        size, unit_e = (1.0, "deg") if angular else length_unit(largest)
+        for name, res in _drawing_order(results):
+            ax.plot(*decimate(res.t, value(res, False), columns), label=RUN_TITLES.get(name, name),
+                    **_run_style(name))
+            err = errors[name] / size
+            # the log scale shows the positive errors: decimated among themselves (zeros are gaps)
+            ax_e.plot(*decimate(res.t, np.where(err > 0, err, np.nan), columns), color=RUN_COLOURS.get(name),
+                      lw=0.8)
+        ax.plot(*decimate(first.t, value(first, True), columns), "k:", lw=1.1, label=planned_label)
+        ax.set_ylabel(f"{label} ({'deg' if angular else 'm'})")
+        ax_e.set_ylabel(f"|{label} error| ({unit_e})")
+        if largest > 0:
+            ax_e.set_yscale("log")
+        ax.grid(alpha=0.3)
+        ax_e.grid(alpha=0.3, which="both")
+    _legend_below(fig, axes[0, 0])
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 1].set_xlabel("t (s)")
+    fig.suptitle(title, fontsize=11)
+    return _save(fig, path)
+
+
+def plot_cable_lengths(results: dict, scenario: Scenario, path: Path) -> Path:
+    """Like the paper's figure 6: planned and actual cable lengths, and their difference."""
+    rows = [(f"L{i + 1}", False, lambda res, planned, i=i: (res.lengths_planned if planned else res.lengths)[:, i])
+            for i in range(scenario.robot.n_cables)]
+    return _planned_vs_actual(results, rows, planned_label="planned (kinematics)", row_height=1.9, path=path,
+                              title=f"Cable lengths, planned and on the virtual prototype: {_plain(scenario.name)}")
+
+
+def plot_tracking(results: dict, scenario: Scenario, path: Path) -> Path:
+    """Like the paper's figure 7: planned and actual pose, and the tracking errors."""
+    pose_names, dofs = _pose_names(scenario)
+    rows = [(name, i >= 3, lambda res, planned, i=i: (np.degrees if i >= 3 else np.asarray)(
+                (res.pose_planned if planned else res.pose)[:, i]))
+            for name, i in zip(pose_names, dofs)]
+    return _planned_vs_actual(results, rows, planned_label="planned", row_height=2.2, path=path,
+                              title=f"Tracking on the virtual prototype: {_plain(scenario.name)}")
+
+
+def plot_path(results: dict, scenario: Scenario, path: Path) -> Path:
+    """The platform's path in C, planned and of each run, with the frame anchors: the x-z
+    plane for a planar robot; x-z and x-y for a spatial one."""
+    plt = _pyplot()
+    planes = [(0, 2)] if scenario.robot.dofs == "planar" else [(0, 2), (0, 1)]
+    fig, axes = plt.subplots(1, len(planes), figsize=(6.5 * len(planes), 6.0), squeeze=False,
+                             constrained_layout=True)
+    c = scenario.robot.frame_anchors
+    first = next(iter(results.values()))
+    columns = _figure_columns(fig, FIGURE_DPI)
+    for ax, (i, j) in zip(axes[0], planes):
+        ax.plot(c[:, i], c[:, j], "ks", ms=7, label="frame anchors")
+        for name, res in _drawing_order(results):
+            # each coordinate's extremes kept, over time groups as fine as the figure's pixels
+            _, xy = decimate(res.t, res.pose[:, [i, j]], columns)
+            ax.plot(xy[:, 0], xy[:, 1], label=RUN_TITLES.get(name, name), **_run_style(name))
+        _, xy = decimate(first.t, first.pose_planned[:, [i, j]], columns)
+        ax.plot(xy[:, 0], xy[:, 1], "k:", lw=1.1, label="planned")
+        ax.plot(*first.pose_planned[0, [i, j]], "ko", ms=5, label="start")
+        ax.set_xlabel(f"{'xyz'[i]} in C (m)")
+        ax.set_ylabel(f"{'xyz'[j]} in C (m)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+    _legend_below(fig, axes[0, 0])
+    fig.suptitle(f"Platform path in the robot frame C: {_plain(scenario.name)}", fontsize=11)
+    return _save(fig, path)
+
+
+# ------------------------------------------------------------ workspace, operability
+def plot_workspace(ws, scenario: Scenario, path: Path) -> Path:
+    """The workspace maps over the grid of a :func:`~marinecdpr.studies.workspace.workspace_map`:
+    the fraction of time feasible, the smallest tension margin, and the fraction of time
+    eq. (18) alone is feasible, with the frame anchors."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), constrained_layout=True)
+    extent = (ws.u[0], ws.u[-1], ws.v[0], ws.v[-1])
+    panels = (
+        (ws.fraction_feasible, "fraction of time feasible", "RdYlGn", (0, 1)),
+        (np.where(np.isfinite(ws.min_margin_N), ws.min_margin_N, np.nan),
+         "smallest tension margin (N), poses feasible throughout", "viridis", (None, None)),
+        (ws.pinv_fraction_feasible, "fraction of time eq. (18) alone is feasible", "RdYlGn", (0, 1)),
+    )
+    c = scenario.robot.frame_anchors
+    i_u, i_v = "xyz".index(ws.axes[0]), "xyz".index(ws.axes[1])
+    for ax, (data, title, cmap, (vmin, vmax)) in zip(axes, panels):
+        im = ax.imshow(data.T, origin="lower", extent=extent, cmap=cmap, vmin=vmin, vmax=vmax,
+                       aspect="equal", interpolation="nearest")
+        ax.plot(c[:, i_u], c[:, i_v], "ks", ms=6, label="frame anchors")
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(f"{ws.axes[0]} in C (m)")
+        ax.set_ylabel(f"{ws.axes[1]} in C (m)")
+        fig.colorbar(im, ax=ax, shrink=0.8)
+    fig.suptitle(f"Workspace under ship motion: {_plain(scenario.name)} ({scenario.base_motion.type}, "
+                 f"{ws.n_steps} steps; {ws.fixed['axis']} = {ws.fixed['value_m']:g} m held)", fontsize=10)
+    return _save(fig, path)
+
+
+def plot_operability(op, scenario: Scenario, path: Path) -> Path:
+    """The operable sea states of an :func:`~marinecdpr.studies.operability.operability` study,
+    one panel per heading: Hs by Tp, green where workable, each cell's probability in %."""
+    plt = _pyplot()
+    k = len(op.headings_deg)
+    fig, axes = plt.subplots(1, k, figsize=(6.5 * k, 5.2), squeeze=False, constrained_layout=True)
+    from matplotlib.colors import ListedColormap
+
+    cmap = ListedColormap(["#d73027", "#1a9850"])
+    for ax, h in zip(axes[0], op.headings_deg):
+        grid = op.operable_grid(h)
+        ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=1, aspect="auto",
+                  extent=(-0.5, op.scatter.tp.size - 0.5, -0.5, op.scatter.hs.size - 0.5))
+        for i in range(op.scatter.hs.size):
+            for j in range(op.scatter.tp.size):
+                p = op.scatter.probability[i, j]
+                if p > 0:
+                    ax.text(j, i, f"{100 * p:.2g}", ha="center", va="center", fontsize=7, color="white")
+        ax.set_xticks(range(op.scatter.tp.size), [f"{v:g}" for v in op.scatter.tp])
+        ax.set_yticks(range(op.scatter.hs.size), [f"{v:g}" for v in op.scatter.hs])
+        ax.set_xlabel("Tp (s)")
+        ax.set_ylabel("Hs (m)")
+        ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %", fontsize=10)
+    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: workable with {op.margin_N:g} N margin; "
+                 "numbers: probability %)", fontsize=10)
+    return _save(fig, path)
+
+
+# ------------------------------------------------------- drawn in a second process
+def _can_fork() -> bool:
+    """True where work can go to a forked process, safely and to some gain: on Linux, with
+    two CPUs or more, from a process running no other Python thread (one could hold a
+    lock the copy would wait for forever) and allowed children (not a daemon, such as a
+    pool's worker)."""
+    import multiprocessing
+
+    return (sys.platform.startswith("linux") and "fork" in multiprocessing.get_all_start_methods()
+            and len(os.sched_getaffinity(0)) >= 2 and threading.active_count() == 1
+            and not multiprocessing.current_process().daemon)
+
+
+class _Forked:
+    """``fn()`` run in a forked copy of this process while this one goes on (where
+    :func:`_can_fork`; else by :meth:`result`, here).
+
+    The copy shares this process's state as it is at the fork (data, imports, caches:
+    nothing is pickled on the way in); it ignores Ctrl-C (this process handles it and
+    ends the copy) and is killed if this process dies. Call :meth:`result` for ``fn``'s
+    value or exception (an OSError keeps its errno), and :meth:`stop` in any case.
+    """
+
+    def __init__(self, fn):
+        self._fn = fn
+        self._process = None
+        if not _can_fork():
+            return
+        import multiprocessing
+        import warnings
+
+        ctx = multiprocessing.get_context("fork")
+        self._conn, child_end = ctx.Pipe(duplex=False)
+        self._process = ctx.Process(target=_forked_main, args=(fn, child_end, os.getpid()), daemon=True)
+        with warnings.catch_warnings():
+            # Python >= 3.12 warns of fork() in a process with threads; ours are BLAS's idle
+            # workers (fork-safe), and the copy only draws figures
+            warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*fork")
+            self._process.start()
+        child_end.close()
+
+    def result(self):
+        if self._process is None:
+            return self._fn()
+        try:
+            ok, value = self._conn.recv()
+        except EOFError:  # it died without a word
+            self._process.join()
+            ok, value = False, RuntimeError(f"the process drawing figures ended with exit code "
+                                            f"{self._process.exitcode}")
+        self._process.join()
+        if not ok:
+            raise value
+        return value
+
+    def stop(self) -> None:
+        """End the copy if it still runs, and wait for it."""
+        if self._process is None:
+            return
+        if self._process.is_alive():
+            self._process.terminate()
+        self._process.join()
+        self._conn.close()
+
+
+def _forked_main(fn, conn, parent: int) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:  # die with the parent (Linux): a killed command leaves no process drawing
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+    try:
+        out = (True, fn())
+    except BaseException as exc:  # noqa: BLE001 - handed to the parent, which raises it
+        out = (False, exc)
+    try:
+        conn.send(out)
+    except Exception as exc:  # noqa: BLE001 - the value or exception does not pickle
+        failure = out[1] if not out[0] else exc
+        conn.send((False, RuntimeError(f"{type(failure).__name__}: {failure}")))
+    conn.close()

@@ -1,0 +1,183 @@
+"""Writing files safely: each file complete or not at all, an output folder one run's files.
+
+Every file is written to a temporary name beside its target and renamed into
+place when complete, so an interrupted run never leaves a half-written file; a
+command writes all its files into a staging folder first (:class:`StagedOutput`), so
+an output folder holds one complete run or the previous one, never a mixture.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import tempfile
+import threading
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+import numpy as np
+
+from marinecdpr.errors import OutputError
+
+__all__ = ["StagedOutput", "atomic_path", "write_json"]
+
+
+def _file_mode() -> int:
+    """The mode a new file gets from open(): 0o666 less the process's umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+@contextmanager
+def atomic_path(path: Path, suffix: str = "") -> Iterator[Path]:
+    """A temporary path in ``path``'s folder, renamed to ``path`` if the block succeeds.
+
+    The file ends with the mode ``open()`` would give it (the umask honoured), not the
+    temporary file's private 0600.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, _file_mode())
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+MANIFEST = ".marinecdpr-files"
+"""Hidden file in an output folder listing the files of the run that wrote it."""
+
+
+class StagedOutput:
+    """An output folder that receives a command's files all at once.
+
+    Construct it before the work starts: it creates ``target`` (if needed) and a hidden
+    staging folder inside it, so a folder that cannot be written fails at once. Write
+    every file into the path the ``with`` block yields; when the block ends normally
+    the files replace those of the previous run (the ones its manifest lists; other
+    files in ``target`` are left alone), with SIGINT and SIGTERM held off for the few
+    renames. If the block raises, the staged files are deleted and ``target`` keeps the
+    previous run (or, if this created it, is removed again while still empty).
+
+    Raises
+    ------
+    OutputError
+        If ``target`` is not a folder or cannot be written.
+    """
+
+    def __init__(self, target: Path):
+        self.target = Path(target)
+        if self.target.exists() and not self.target.is_dir():
+            raise OutputError(f"{self.target}: exists and is not a folder")
+        self._created = not self.target.exists()
+        try:
+            self.target.mkdir(parents=True, exist_ok=True)
+            self.stage = Path(tempfile.mkdtemp(prefix=f".staging-{os.getpid()}-", dir=self.target))
+        except OSError as exc:
+            raise OutputError(f"{self.target}: cannot write there ({exc.strerror or exc})") from None
+        _remove_orphans(self.target)
+
+    def __enter__(self) -> Path:
+        return self.stage
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                self._commit()
+        finally:
+            shutil.rmtree(self.stage, ignore_errors=True)
+            if exc_type is not None and self._created:
+                try:
+                    self.target.rmdir()  # only while empty
+                except OSError:
+                    pass
+
+    def _commit(self) -> None:
+        new = sorted(p.name for p in self.stage.iterdir())
+        manifest = self.target / MANIFEST
+        try:
+            old = set(manifest.read_text(encoding="utf-8").split("\n")) - {""}
+        except (OSError, UnicodeDecodeError):
+            old = set()
+        with _signals_held():
+            for name in sorted(old - set(new)):
+                stale = self.target / name
+                if "/" not in name and stale.is_file():
+                    stale.unlink()
+            for name in new:
+                os.replace(self.stage / name, self.target / name)
+            with atomic_path(manifest) as tmp:
+                tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
+
+
+def _remove_orphans(folder: Path) -> None:
+    """Delete staging folders left in ``folder`` by runs that were killed (their process is gone)."""
+    for stage in folder.glob(".staging-*-*"):
+        try:
+            os.kill(int(stage.name.split("-")[1]), 0)
+        except ProcessLookupError:
+            shutil.rmtree(stage, ignore_errors=True)
+        except (ValueError, OSError):
+            pass  # not ours, or a live process of another user
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM off (delivered after the block) in the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+# ------------------------------------------------------------------ CSV and JSON
+def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool = True) -> Path:
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(",".join(names) + "\n")
+            if len(values) == 0:
+                fh.write("\n")
+            _write_rows(fh, _row_format(len(names), int_last), values)
+    return path
+
+
+def _row_format(n_columns: int, int_last: bool) -> str:
+    """A CSV row's ``%`` format: 10 significant digits, the last column an integer flag if ``int_last``."""
+    return ",".join(["%.10g"] * (n_columns - 1) + ["%d" if int_last else "%.10g"])
+
+
+CSV_BLOCK_ROWS = 4096
+"""Rows formatted per ``%`` operation when writing a CSV."""
+
+
+def _write_rows(fh, fmt: str, values: np.ndarray) -> None:
+    """Each row of ``values`` as ``fmt % row`` and a newline, NaN left empty.
+
+    A block of rows is formatted by one ``%`` on the row format repeated (the loop over the
+    numbers runs in C, not a Python call per row): the same bytes, about 25 % sooner.
+    """
+    line = fmt + "\n"
+    for i in range(0, len(values), CSV_BLOCK_ROWS):
+        block = values[i:i + CSV_BLOCK_ROWS]
+        fh.write((line * len(block) % tuple(block.ravel().tolist())).replace("nan", ""))
+
+
+def write_json(data: dict, path: Path) -> Path:
+    import json
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+    return path

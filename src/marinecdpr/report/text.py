@@ -1,0 +1,243 @@
+"""The words of a report, for the terminal and the HTML page, and the page itself: the
+tracking-error table, what the numbers say, the base motion in a line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from marinecdpr.planning.planner import TWIST_NAMES
+from marinecdpr.report.files import atomic_path
+from marinecdpr.report.figures import RUN_TITLES, _pose_names, length_unit
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.textfiles import strip_control
+
+__all__ = ["write_report_html", "error_table", "findings", "describe_base_motion", "beyond_text"]
+
+
+def _sim_runs(summary: dict) -> list[str]:
+    return [r for r in ("open_loop", "closed_loop", "fixed_base_open_loop") if r in summary]
+
+
+def _error_rows(summary: dict, scenario: Scenario) -> list[tuple[str, str, list[float], float | None]]:
+    """(label, kind, each run's value, the paper's value or None) of every tracking error:
+    each controlled DOF, the spatial rotation angle, and the largest cable-length error.
+    kind is "m" or "deg"."""
+    runs = _sim_runs(summary)
+    paper = summary.get("paper_reported")
+    rows = []
+    for name, i in zip(*_pose_names(scenario)):
+        if i < 3:
+            key = f"max_abs_error_{TWIST_NAMES[i]}_m"
+            rows.append((name, "m", [summary[r][key] for r in runs], paper.get(key) if paper else None))
+        elif scenario.robot.dofs == "planar":
+            key = "max_abs_error_theta_deg"
+            rows.append((name, "deg", [summary[r][key] for r in runs], paper.get(key) if paper else None))
+        else:
+            rows.append((name, "deg", [summary[r][f"max_abs_error_{name}_deg"] for r in runs], None))
+    if scenario.robot.dofs != "planar":
+        rows.append(("rotation angle", "deg", [summary[r]["max_abs_error_theta_deg"] for r in runs], None))
+    rows.append(("cable length", "m", [max(summary[r]["max_abs_cable_length_error_m"]) for r in runs],
+                 paper.get("max_abs_cable_length_error_m") if paper else None))
+    return rows
+
+
+def error_table(summary: dict, scenario: Scenario) -> tuple[list[str], list[list[str]]]:
+    """The tracking errors as text: header and rows, one unit per row (chosen from its
+    largest value), the paper's column only for the paper's experiment, and a last row
+    saying which runs stayed within the error bound."""
+    runs = _sim_runs(summary)
+    paper = "paper_reported" in summary
+    header = ["max |error|"] + (["paper (Adams, open loop)"] if paper else []) + [RUN_TITLES[r] for r in runs]
+    rows = []
+    for label, kind, values, paper_value in _error_rows(summary, scenario):
+        everything = values + ([paper_value] if paper_value is not None else [])
+        size, unit = (1.0, "deg") if kind == "deg" else length_unit(max(everything))
+        cells = [f"{v / size:.3g}" for v in values]
+        lead = ([f"{paper_value / size:.3g}" if paper_value is not None else "–"] if paper else [])
+        rows.append([f"{label} ({unit})"] + lead + cells)
+    size, unit = length_unit(summary["error_bound_m"])
+    rows.append([f"within {summary['error_bound_m'] / size:.3g} {unit} / {summary['error_bound_deg']:g} deg"]
+                + (["–"] if paper else [])
+                + ["yes" if summary[r]["within_error_bound"] else "NO: " + beyond_text(summary[r]["beyond_error_bound"])
+                   for r in runs])
+    return header, rows
+
+
+def beyond_text(names: list[str]) -> str:
+    """``["x", "rz", "cable 1", "cable 2", "cable 3", "cable 5"]`` as "x, rz, cables 1-3, 5"."""
+    cables = [int(n.split()[1]) for n in names if n.startswith("cable ")]
+    parts = [n for n in names if not n.startswith("cable ")]
+    runs: list[str] = []
+    for i in cables:
+        if runs and runs[-1][1] == i - 1:
+            runs[-1] = (runs[-1][0], i)
+        else:
+            runs.append((i, i))
+    if runs:
+        text = ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in runs)
+        parts.append(("cable " if len(cables) == 1 else "cables ") + text)
+    return ", ".join(parts)
+
+
+def _times(ratio: float) -> str:
+    """A ratio for a sentence: 3.56, 61 100 (not 6.11e+04)."""
+    return f"{ratio:.3g}" if ratio < 1000 else f"{float(f'{ratio:.3g}'):,.0f}".replace(",", " ")
+
+
+def _fmt_length(v: float) -> str:
+    size, unit = length_unit(v)
+    return f"{v / size:.3g} {unit}"
+
+
+def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> list[str]:
+    """What the numbers say, as sentences written from them (for the report and terminal);
+    with ``warnings``, the summary's warnings too."""
+    runs = _sim_runs(summary)
+    out = []
+    bound = f"{_fmt_length(summary['error_bound_m'])} and {summary['error_bound_deg']:g} deg"
+
+    def worst(r: str) -> tuple[float, float]:
+        s = summary[r]
+        pos = max(v for k, v in s.items() if k.startswith("max_abs_error_") and k.endswith("_m"))
+        return max(pos, max(s["max_abs_cable_length_error_m"])), s["max_abs_error_theta_deg"]
+
+    for r in runs:
+        pos, ang = worst(r)
+        verdict = ("within the bound" if summary[r]["within_error_bound"] else
+                   "BEYOND the bound (" + beyond_text(summary[r]["beyond_error_bound"]) + ")")
+        out.append(f"{RUN_TITLES[r]}: largest position or cable-length error {_fmt_length(pos)}, "
+                   f"angle {ang:.3g} deg: {verdict} of {bound}.")
+    ideal = scenario.simulation.cables.model == "ideal"
+    if "open_loop" in summary:
+        pos, _ = worst("open_loop")
+        if not summary["open_loop"]["within_error_bound"]:
+            out.append("Open loop leaves its plan: tensions fed forward without feedback do not hold this "
+                       "robot on its path" + (" (with ideal cables plan and plant share one model, so this is "
+                                              "the platform's open-loop instability, not a modelling error)"
+                                              if ideal else "") + "; judge the robot by the closed loop.")
+        elif ideal and pos < 1e-3 * summary["error_bound_m"]:
+            out.append("With ideal cables the plan and the plant share one model: open loop follows the plan "
+                       "but for the hold of the tensions over each step.")
+    if "closed_loop" in summary:
+        c = summary["closed_loop"]
+        if not c["within_error_bound"]:
+            out.append("The closed loop too leaves the bound: the feedback gains, the sensors or the "
+                       "cables do not hold this robot on its plan.")
+        elif c["controller_fallbacks"] > 0.01 * summary["steps"]:
+            out.append("The closed loop stays within the bound, but on the plan's tensions at "
+                       f"{c['controller_fallbacks']} of {summary['steps']} steps: it shows the plan, not the controller.")
+        else:
+            out.append("The closed loop holds the platform within the bound.")
+    if "open_loop" in summary and "fixed_base_open_loop" in summary:
+        fixed, moving = worst("fixed_base_open_loop")[0], worst("open_loop")[0]
+        if fixed > 2 * moving:
+            out.append(f"The fixed-base plan, which leaves out the ship's motion, errs by {_fmt_length(fixed)}, "
+                       f"{_times(fixed / max(moving, 1e-300))} times the moving-base plan's {_fmt_length(moving)}: "
+                       "what ignoring the ship costs.")
+    if "paper_reported" in summary:
+        out.append("The paper's column is its section 4.2: open loop on Adams with a 1 ms exchange.")
+    out += [f"Warning: {w}." for w in summary.get("warnings", [])] if warnings else []
+    for r in runs:
+        excess = summary[r]["tension_limit_excess_N"]
+        if excess > 0:
+            out.append(f"{RUN_TITLES[r]}: applied tensions left their limits by up to {excess:.3g} N.")
+    return out
+
+
+def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path) -> Path:
+    """One self-contained page: the scenario, the error table (beside the paper's for the
+    paper's experiment), what the numbers say, and every figure."""
+    import base64
+    import html
+
+    def esc(text: str) -> str:
+        return html.escape(strip_control(text))
+
+    runs = _sim_runs(summary)
+    header, rows = error_table(summary, scenario)
+    body = []
+    for row in rows:
+        cells = "".join(f"<td><b>{esc(c)}</b></td>" if c.startswith("NO") else f"<td>{esc(c)}</td>"
+                        for c in row[1:])
+        body.append(f"<tr><th>{esc(row[0])}</th>{cells}</tr>")
+    lead = "<td>–</td>" if "paper_reported" in summary else ""
+    cells = "".join(f"<td>{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N</td>"
+                    for r in runs)
+    body.append(f"<tr><th>applied tensions</th>{lead}{cells}</tr>")
+    cells = "".join(
+        "<td>within</td>" if summary[r]["tension_limit_excess_N"] == 0 else
+        f"<td><b>outside by {summary[r]['tension_limit_excess_N']:.3g} N</b></td>" for r in runs)
+    limits = f"{scenario.robot.tension_min.min():g} .. {scenario.robot.tension_max.max():g} N"
+    body.append(f"<tr><th>tension limits ({limits})</th>{lead}{cells}</tr>")
+    head = "".join(f"<th>{esc(h)}</th>" for h in header)
+    sim = scenario.simulation
+    r = scenario.robot
+    facts = [
+        ("robot", f"{r.dofs}, {r.n_cables} cables, {r.mass_kg:g} kg, tensions "
+                  f"{r.tension_min.min():g} .. {r.tension_max.max():g} N"),
+        ("base motion", describe_base_motion(scenario.base_motion)),
+        ("trajectory", scenario.trajectory.type),
+        ("time", f"{scenario.time.duration_s:g} s at {scenario.time.step_s * 1e3:g} ms "
+                 f"({summary['steps']} steps)"),
+        ("tensions", f"{summary['method'].replace('_', ' ')}: {summary['opt_tension_min_N']:.1f} .. "
+                     f"{summary['opt_tension_max_N']:.1f} N (pseudo-inverse, eq. 18, alone: down to "
+                     f"{summary['pinv_tension_min_N']:.1f} N)"),
+        ("plant", f"{sim.plant} ({sim.integrator}), cables {sim.cables.model}"
+                  + (f", EA {sim.cables.stiffness_EA_N:g} N, {sim.cables.winch} winch, lag "
+                     f"{sim.cables.winch_time_constant_s * 1e3:g} ms" if sim.cables.model == "elastic" else "")),
+        ("closed loop", f"computed torque, bandwidth {sim.control.bandwidth_hz:g} Hz, damping ratio "
+                        f"{sim.control.damping_ratio:g}"),
+    ]
+    fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
+    notes = "".join(f"<li>{esc(sentence)}</li>" for sentence in findings(summary, scenario))
+    imgs = []
+    for caption, fig_path in figures.items():
+        data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
+        imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
+                    f"<figcaption>{esc(caption)}</figcaption></figure>")
+    title = "Tracking errors, the paper's and ours" if "paper_reported" in summary else "Tracking errors"
+    page = f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>marinecdpr: {esc(scenario.name)}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em;
+       color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: left; }}
+thead th {{ background: #f2f2f2; }}
+figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
+figcaption {{ color: #555; font-size: 0.9em; }}
+</style></head><body>
+<h1>Virtual prototype, scenario: {esc(scenario.name)}</h1>
+<p>{esc(scenario.description)}</p>
+<h2>Scenario</h2><table>{fact_rows}</table>
+<h2>{title}</h2>
+<table><thead><tr>{head}</tr></thead>
+<tbody>{''.join(body)}</tbody></table>
+<p>Errors are the largest of |actual − planned| over the run, each row in one unit.</p>
+<ul>{notes}</ul>
+<h2>Figures</h2>
+{''.join(imgs)}
+</body></html>
+"""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(page, encoding="utf-8")
+    return path
+
+
+def describe_base_motion(bm) -> str:
+    """One line describing a ``[base_motion]`` of any type."""
+    if bm.type == "still":
+        return "still"
+    if bm.type == "sinusoidal":
+        return "sinusoidal: " + ", ".join(
+            f"{c.dof} {c.amplitude_deg if c.amplitude_deg is not None else c.amplitude_m:g}"
+            f"{' deg' if c.amplitude_deg is not None else ' m'} / {c.period_s:g} s" for c in bm.components)
+    if bm.type == "sea_state":
+        spectrum = {"jonswap": "JONSWAP", "pierson_moskowitz": "Pierson-Moskowitz"}[bm.spectrum]
+        return (f"sea state: {spectrum}, Hs {bm.hs_m:g} m, Tp {bm.tp_s:g} s, heading {bm.heading_deg:g} deg, "
+                f"spreading {bm.spreading}, RAOs from {bm.rao.source.replace('_', ' ')}, seed {bm.seed}")
+    if bm.type == "recorded":
+        return (f"recorded: {Path(bm.file).name} (z {bm.z_axis}, angles in {bm.angles}, "
+                f"from {bm.start_s:g} s of the record)")
+    return bm.type

@@ -1,0 +1,243 @@
+"""Each command's files, composed from the CSVs, figures and page of the modules below:
+``plan.csv`` and ``tensions.png`` (plan), the main job's folder (simulate), the workspace
+and operability maps."""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+import numpy as np
+
+from marinecdpr.planning.planner import Plan
+from marinecdpr.report.figures import (
+    TensionEnvelope,
+    _Forked,
+    _pose_names,
+    _pyplot,
+    plot_cable_lengths,
+    plot_operability,
+    plot_path,
+    plot_tension_envelope,
+    plot_tensions,
+    plot_tracking,
+    plot_workspace,
+)
+from marinecdpr.report.files import _row_format, _write_csv, _write_rows, atomic_path, write_json
+from marinecdpr.report.text import write_report_html
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = [
+    "plan_columns",
+    "write_plan_csv",
+    "plan_csv_writer",
+    "write_plan_stream",
+    "write_sim_csv",
+    "write_virtual_prototype",
+    "write_workspace",
+    "write_operability",
+]
+
+
+def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]:
+    """Column names and values of ``plan.csv``.
+
+    Columns: ``t`` (s); the controlled pose in C (``x``, ``z``, ``theta_y`` for a
+    planar robot, ``x, y, z, rx, ry, rz`` for a spatial one; m and deg);
+    ``L1..Ln`` (cable lengths, m); ``Tpinv1..Tpinvn`` (eq. 18 tensions, N);
+    ``T1..Tn`` (the method's tensions, N; empty where infeasible); ``feasible`` (1/0).
+
+    Returns
+    -------
+    names : list of str
+    values : ndarray, shape (n_steps, n_columns)
+    """
+    pose_names, dofs = _pose_names(scenario)
+    pose = _pose_columns(plan.pose, dofs)
+    n = scenario.robot.n_cables
+    names = (
+        ["t"] + pose_names + [f"L{i}" for i in range(1, n + 1)]
+        + [f"Tpinv{i}" for i in range(1, n + 1)] + [f"T{i}" for i in range(1, n + 1)]
+        + ["feasible"]
+    )
+    values = np.column_stack(
+        [plan.t, pose, plan.lengths, plan.tensions_pinv, plan.tensions, plan.feasible.astype(float)]
+    )
+    return names, values
+
+
+def _pose_columns(pose: np.ndarray, dofs: list[int]) -> np.ndarray:
+    """The pose's controlled columns, angles in degrees."""
+    out = pose[:, dofs].copy()
+    for col, i in enumerate(dofs):
+        if i >= 3:
+            out[:, col] = np.degrees(out[:, col])
+    return out
+
+
+def write_plan_csv(plan: Plan, scenario: Scenario, path: Path) -> Path:
+    """Write :func:`plan_columns` as CSV (NaN written as an empty field)."""
+    names, values = plan_columns(plan, scenario)
+    return _write_csv(names, values, path)
+
+
+# ------------------------------------------------------------ plans made in chunks
+@contextmanager
+def plan_csv_writer(scenario: Scenario, path: Path) -> Iterator:
+    """``plan.csv`` written piece by piece: yields ``write(piece)``, to call with each piece
+    of a plan (:func:`~marinecdpr.iter_plan`) in order, at least one.
+
+    The file is byte for byte what :func:`write_plan_csv` writes for the whole plan, and
+    appears (atomically) only when the block ends without an error; memory holds one
+    piece's text at a time.
+    """
+    path = Path(path)
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
+        rows = [0]
+
+        def write(piece: Plan) -> None:
+            names, values = plan_columns(piece, scenario)
+            if len(values) == 0:
+                return
+            if rows[0] == 0:
+                fh.write(",".join(names) + "\n")
+            _write_rows(fh, _row_format(len(names), int_last=True), values)
+            rows[0] += len(values)
+
+        yield write
+        if rows[0] == 0:
+            raise ValueError("plan_csv_writer: no piece of a plan was written")
+
+
+def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: Path):
+    """``plan.csv`` and ``tensions.png`` from a plan made in pieces (:func:`~marinecdpr.iter_plan`),
+    holding one piece at a time.
+
+    Parameters
+    ----------
+    pieces : iterable of Plan
+        The scenario's whole plan, in order.
+    scenario : Scenario
+    csv_path, figure_path : Path
+
+    Returns
+    -------
+    marinecdpr.planning.planner.PlanSummary
+        The plan's figures (steps, feasible steps, tension ranges, :meth:`infeasibility`),
+        with ``planning_s``, the time spent making the pieces, s.
+    """
+    import time
+
+    from marinecdpr.planning.planner import PlanSummary
+
+    summary = PlanSummary()
+    envelope = TensionEnvelope(scenario.time.n_steps, scenario.robot.n_cables)
+    summary.planning_s = 0.0
+    it = iter(pieces)
+    with plan_csv_writer(scenario, csv_path) as write:
+        while True:
+            t0 = time.perf_counter()
+            piece = next(it, None)
+            summary.planning_s += time.perf_counter() - t0
+            if piece is None:
+                break
+            write(piece)
+            envelope.add(piece)
+            summary.add(piece)
+            del piece
+    plot_tension_envelope(envelope, scenario, figure_path)
+    return summary
+
+
+# ------------------------------------------------------------------ simulations
+def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
+    """``sim_<run>.csv``: t; planned and actual pose (``x_plan``.., ``x``..; m, deg);
+    planned and actual cable lengths (``Lplan1``.., ``L1``..; m); applied and commanded
+    tensions (``T1``.., ``Tcmd1``..; N)."""
+    pose_names, dofs = _pose_names(scenario)
+    n = scenario.robot.n_cables
+    names = (["t"] + [f"{p}_plan" for p in pose_names] + pose_names
+             + [f"Lplan{i}" for i in range(1, n + 1)] + [f"L{i}" for i in range(1, n + 1)]
+             + [f"T{i}" for i in range(1, n + 1)] + [f"Tcmd{i}" for i in range(1, n + 1)])
+    values = np.column_stack([
+        res.t, _pose_columns(res.pose_planned, dofs), _pose_columns(res.pose, dofs),
+        res.lengths_planned, res.lengths, res.tensions, res.tensions_commanded])
+    return _write_csv(names, values, path, int_last=False)
+
+
+def write_virtual_prototype(vp, folder: Path) -> list[Path]:
+    """Every file of the main job in ``folder``: plan.csv, sim_<run>.csv, the figures,
+    summary.json and report.html. Returns the paths written.
+
+    Where it pays (:func:`~marinecdpr.report.figures._can_fork`), two of the figures are drawn by a
+    forked copy of this process meanwhile; the files are the same either way.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    sc = vp.scenario
+    # drawing the figures is most of the work: two of them (about half) are drawn in a
+    # second process while this one writes the CSVs and draws the other two
+    _pyplot()  # imported once, before the fork, for both
+    apart = _Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
+                             plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png")))
+    try:
+        paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
+        for name, res in vp.results.items():
+            paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
+        tracking = plot_tracking(vp.results, sc, folder / "tracking.png")
+        path_figure = plot_path(vp.results, sc, folder / "path.png")
+        tensions, lengths = apart.result()
+    finally:
+        apart.stop()
+    figures = {
+        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation": tensions,
+        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)": lengths,
+        "Figure 7: planned and actual pose, and the tracking errors": tracking,
+        "The platform's path in C, planned and actual": path_figure,
+    }
+    paths += list(figures.values())
+    paths.append(write_json(vp.summary, folder / "summary.json"))
+    paths.append(write_report_html(vp.summary, sc, figures, folder / "report.html"))
+    return paths
+
+
+# ------------------------------------------------------------ workspace, operability
+def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
+    """``workspace.csv`` (one row per grid pose) and ``workspace.png`` (the maps, :func:`plot_workspace`)."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    U, V = np.meshgrid(ws.u, ws.v, indexing="ij")
+    names = [f"{ws.axes[0]}_m", f"{ws.axes[1]}_m", "fraction_feasible", "min_margin_N",
+             "pinv_fraction_feasible"]
+    values = np.column_stack([U.ravel(), V.ravel(), ws.fraction_feasible.ravel(),
+                              ws.min_margin_N.ravel(), ws.pinv_fraction_feasible.ravel()])
+    csv_path = _write_csv(names, values, folder / "workspace.csv", int_last=False)
+    return [csv_path, plot_workspace(ws, scenario, folder / "workspace.png")]
+
+
+def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
+    """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``
+    (:func:`plot_operability`)."""
+    from marinecdpr.studies.operability import LIMITING_HS_MEANING
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
+             "max_error_m"]
+    values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
+                        r.fraction_feasible, r.min_margin_N, r.max_error_m] for r in op.results])
+    paths = [_write_csv(names, values, folder / "operability.csv", int_last=False)]
+    summary = {
+        "scenario": scenario.name,
+        "operability": op.operability,
+        "margin_N": op.margin_N,
+        "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
+        "limiting_hs_m": op.limiting_hs_json(),
+        "limiting_hs_meaning": LIMITING_HS_MEANING,
+        "cells": len(op.results),
+        "steps_per_cell": op.results[0].n_steps if op.results else 0,
+    }
+    paths.append(write_json(summary, folder / "operability.json"))
+    paths.append(plot_operability(op, scenario, folder / "operability.png"))
+    return paths
