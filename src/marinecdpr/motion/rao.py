@@ -32,7 +32,7 @@ import csv
 import math
 from dataclasses import dataclass
 from os import PathLike
-from typing import NoReturn
+from typing import Any, Callable, NamedTuple, NoReturn
 
 import numpy as np
 
@@ -264,12 +264,72 @@ def read_rao_csv(path: str | PathLike) -> RAO:
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    expected = ",".join(_CSV_COLUMNS)
+    table = _read_csv_table(path, fail)
+    _check_field_lengths(table, fail)
+    col = _column_indices(table, fail)
+    _check_row_lengths(table, fail)
+    rows = _parse_rows(table, col, fail)
+    _check_row_ranges(rows, fail)
+    _check_row_limits(rows, fail)
+    grid = _grid_of(rows)
+    _check_duplicates(rows, grid, fail)
+    _check_full_grid(rows, grid, fail)
+    return RAO(grid.omegas, grid.headings, _grid_values(rows, grid))
+
+
+# Steps of read_rao_csv, in the order it takes them. Messages name the file's row (line)
+# numbers and the expected columns, never the file's text.
+
+_Fail = Callable[[str], NoReturn]
+_CSV_EXPECTED = ",".join(_CSV_COLUMNS)
+_CSV_WHAT = f"an RAO table in CSV ({_CSV_EXPECTED})"
+
+
+class _CsvTable(NamedTuple):
+    """An RAO CSV file's header (stripped, lower case) and data records, with their row numbers."""
+
+    header: list[str]
+    header_row: int
+    rows: list[list[str]]
+    row_numbers: list[int]
+
+
+class _RaoRows(NamedTuple):
+    """The data rows parsed, each of shape (n_rows,).
+
+    ``lines`` the row numbers, ``omega`` rad/s, ``heading`` deg, ``dof`` the index in
+    :data:`DOFS` (-1 if unknown), ``amplitude`` m/m or deg/m, ``phase`` deg.
+    """
+
+    lines: np.ndarray
+    omega: np.ndarray
+    heading: np.ndarray
+    dof: np.ndarray
+    amplitude: np.ndarray
+    phase: np.ndarray
+
+
+class _Grid(NamedTuple):
+    """The (heading, omega) grid of the rows.
+
+    ``omegas`` (n_o,) rad/s and ``headings`` (n_h,) deg are the distinct values, sorted;
+    ``io``, ``ih`` and ``key = (ih * n_o + io) * 6 + dof``, shape (n_rows,), place each row.
+    """
+
+    omegas: np.ndarray
+    headings: np.ndarray
+    io: np.ndarray
+    ih: np.ndarray
+    key: np.ndarray
+
+
+def _read_csv_table(path: str | PathLike, fail: _Fail) -> _CsvTable:
+    """The header and data records, comments (``#``) and blank lines skipped; refuses a file without a header."""
     header: list[str] | None = None
     header_row = 0
     rows: list[list[str]] = []
     row_numbers: list[int] = []
-    reader = csv.reader(read_lines(path, fail, f"an RAO table in CSV ({expected})", word="row"))
+    reader = csv.reader(read_lines(path, fail, _CSV_WHAT, word="row"))
     try:
         for rec in reader:
             first_field = rec[0].strip() if rec else ""
@@ -284,105 +344,155 @@ def read_rao_csv(path: str | PathLike) -> RAO:
     except csv.Error as exc:
         fail(f"row {reader.line_num}: not readable as CSV ({exc})")
     if header is None:
-        fail(f"empty file: expected a header row {expected}")
-    if (long := long_field([header] + rows)) is not None:
+        fail(f"empty file: expected a header row {_CSV_EXPECTED}")
+    return _CsvTable(header, header_row, rows, row_numbers)
+
+
+def _check_field_lengths(table: _CsvTable, fail: _Fail) -> None:
+    """Refuse a field (header included) over :data:`MAX_FIELD_CHARS` characters."""
+    if (long := long_field([table.header] + table.rows)) is not None:
         i, j = long
-        fail(f"row {header_row if i == 0 else row_numbers[i - 1]}, field {j + 1}: over "
-             f"{MAX_FIELD_CHARS} characters; expected an RAO table in CSV ({expected})")
+        fail(f"row {table.header_row if i == 0 else table.row_numbers[i - 1]}, field {j + 1}: over "
+             f"{MAX_FIELD_CHARS} characters; expected {_CSV_WHAT}")
+
+
+def _column_indices(table: _CsvTable, fail: _Fail) -> dict[str, int]:
+    """The header's index of each column of the format; refuses a missing or repeated one."""
     col: dict[str, int] = {}
     for name in _CSV_COLUMNS:
-        if header.count(name) != 1:
-            what = "lacks" if name not in header else "repeats"
-            fail(f"row {header_row}: the header {what} column {name!r} (expected {expected})")
-        col[name] = header.index(name)
-    if not rows:
-        fail(f"row {header_row}: no data rows after the header")
-    lines = np.asarray(row_numbers)
-    for rec, line in zip(rows, row_numbers):
-        if len(rec) != len(header):
-            fail(f"row {line}: {len(rec)} fields, but the header has {len(header)}")
+        if table.header.count(name) != 1:
+            what = "lacks" if name not in table.header else "repeats"
+            fail(f"row {table.header_row}: the header {what} column {name!r} (expected {_CSV_EXPECTED})")
+        col[name] = table.header.index(name)
+    return col
 
-    def column(name: str) -> list[str]:
-        return [rec[col[name]].strip() for rec in rows]
 
-    def numbers(name: str) -> np.ndarray:
-        text = column(name)
-        try:
-            x = np.asarray(text, dtype=float)
-        except ValueError:
-            x = None
-        if x is None or not np.all(np.isfinite(x)):
-            for i, s in enumerate(text):  # only on error: find the first bad field
-                try:
-                    v = float(s)
-                except ValueError:  # say where, not what: the text is not echoed
-                    fail(f"row {row_numbers[i]}, column {name}: "
-                         f"{'not a number' if s else 'an empty field is not a number'}")
-                if not math.isfinite(v):
-                    fail(f"row {row_numbers[i]}: {name} '{v:g}' is not a finite number")
-        return x
+def _check_row_lengths(table: _CsvTable, fail: _Fail) -> None:
+    """Refuse a table without data rows, or a row whose number of fields differs from the header's."""
+    if not table.rows:
+        fail(f"row {table.header_row}: no data rows after the header")
+    for rec, line in zip(table.rows, table.row_numbers):
+        if len(rec) != len(table.header):
+            fail(f"row {line}: {len(rec)} fields, but the header has {len(table.header)}")
 
-    omega = numbers("omega_rad_s")
-    heading = numbers("heading_deg")
-    amplitude = numbers("amplitude")
-    phase = numbers("phase_deg")
-    names, inverse = np.unique(np.char.lower(np.asarray(column("dof"), dtype=str)), return_inverse=True)
+
+def _parse_rows(table: _CsvTable, col: dict[str, int], fail: _Fail) -> _RaoRows:
+    """The data rows' numbers and DOF indices; refuses a field that is not a finite number."""
+    lines = np.asarray(table.row_numbers)
+    omega = _numbers(table, col, "omega_rad_s", fail)
+    heading = _numbers(table, col, "heading_deg", fail)
+    amplitude = _numbers(table, col, "amplitude", fail)
+    phase = _numbers(table, col, "phase_deg", fail)
+    dof_names = np.char.lower(np.asarray(_column(table, col, "dof"), dtype=str))
+    names, inverse = np.unique(dof_names, return_inverse=True)
     known = np.array([DOFS.index(n) if n in DOFS else -1 for n in names.tolist()])
-    dof = known[inverse.ravel()]
+    return _RaoRows(lines, omega, heading, known[inverse.ravel()], amplitude, phase)
 
-    def first(mask: np.ndarray) -> int | None:
-        hit = np.flatnonzero(mask)
-        return int(hit[0]) if hit.size else None
 
-    if (i := first(dof < 0)) is not None:
+def _column(table: _CsvTable, col: dict[str, int], name: str) -> list[str]:
+    """The stripped fields of column ``name``, one per data row."""
+    return [rec[col[name]].strip() for rec in table.rows]
+
+
+def _numbers(table: _CsvTable, col: dict[str, int], name: str, fail: _Fail) -> np.ndarray:
+    """Column ``name`` as floats, shape (n_rows,); refuses a non-number, NaN or inf, naming the first."""
+    text = _column(table, col, name)
+    try:
+        x = np.asarray(text, dtype=float)
+    except ValueError:
+        x = None
+    if x is None or not np.all(np.isfinite(x)):
+        for i, s in enumerate(text):  # only on error: find the first bad field
+            try:
+                v = float(s)
+            except ValueError:  # say where, not what: the text is not echoed
+                fail(f"row {table.row_numbers[i]}, column {name}: "
+                     f"{'not a number' if s else 'an empty field is not a number'}")
+            if not math.isfinite(v):
+                fail(f"row {table.row_numbers[i]}: {name} '{v:g}' is not a finite number")
+    return x
+
+
+def _first(mask: np.ndarray) -> int | None:
+    """The index of the first True in ``mask``, or None."""
+    hit = np.flatnonzero(mask)
+    return int(hit[0]) if hit.size else None
+
+
+def _check_row_ranges(rows: _RaoRows, fail: _Fail) -> None:
+    """Refuse an unknown DOF, omega <= 0, a heading outside [0, 360) deg or a negative amplitude."""
+    lines = rows.lines
+    if (i := _first(rows.dof < 0)) is not None:
         fail(f"row {lines[i]}: unknown dof (expected one of {', '.join(DOFS)})")
-    if (i := first(omega <= 0.0)) is not None:
-        fail(f"row {lines[i]}: omega_rad_s must be > 0; got {omega[i]:g}")
-    if (i := first((heading < 0.0) | (heading >= 360.0))) is not None:
-        fail(f"row {lines[i]}: heading_deg must be in [0, 360); got {heading[i]:g}")
-    if (i := first(amplitude < 0.0)) is not None:
-        fail(f"row {lines[i]}: negative amplitude {amplitude[i]:g}")
-    if (i := first(omega > OMEGA_MAX_RAD_S)) is not None:
+    if (i := _first(rows.omega <= 0.0)) is not None:
+        fail(f"row {lines[i]}: omega_rad_s must be > 0; got {rows.omega[i]:g}")
+    if (i := _first((rows.heading < 0.0) | (rows.heading >= 360.0))) is not None:
+        fail(f"row {lines[i]}: heading_deg must be in [0, 360); got {rows.heading[i]:g}")
+    if (i := _first(rows.amplitude < 0.0)) is not None:
+        fail(f"row {lines[i]}: negative amplitude {rows.amplitude[i]:g}")
+
+
+def _check_row_limits(rows: _RaoRows, fail: _Fail) -> None:
+    """Refuse an omega (rad/s), amplitude (m/m, deg/m) or |phase| (deg) beyond the module's limits."""
+    lines, omega, amplitude, dof = rows.lines, rows.omega, rows.amplitude, rows.dof
+    if (i := _first(omega > OMEGA_MAX_RAD_S)) is not None:
         fail(f"row {lines[i]}: omega_rad_s {omega[i]:g} is above {OMEGA_MAX_RAD_S:g} rad/s; "
              f"expected wave frequencies in rad/s")
     limit = np.where(_ROTATIONS[np.maximum(dof, 0)], ROTATION_RAO_MAX_DEG_M, TRANSLATION_RAO_MAX_M_M)
-    if (i := first(amplitude > limit)) is not None:
+    if (i := _first(amplitude > limit)) is not None:
         unit = "deg/m" if _ROTATIONS[dof[i]] else "m/m"
         fail(f"row {lines[i]}: {DOFS[dof[i]]} amplitude {amplitude[i]:g} {unit} is above "
              f"{limit[i]:g} {unit}; expected a ship's response per metre of wave amplitude")
-    if (i := first(np.abs(phase) > PHASE_MAX_DEG)) is not None:
-        fail(f"row {lines[i]}: phase_deg {phase[i]:g} is beyond +-{PHASE_MAX_DEG:g} deg")
+    if (i := _first(np.abs(rows.phase) > PHASE_MAX_DEG)) is not None:
+        fail(f"row {lines[i]}: phase_deg {rows.phase[i]:g} is beyond +-{PHASE_MAX_DEG:g} deg")
 
-    omegas, io = np.unique(omega, return_inverse=True)
-    headings, ih = np.unique(heading, return_inverse=True)
+
+def _grid_of(rows: _RaoRows) -> _Grid:
+    """The distinct omegas and headings of the rows, and each row's place in the grid."""
+    omegas, io = np.unique(rows.omega, return_inverse=True)
+    headings, ih = np.unique(rows.heading, return_inverse=True)
     io, ih = io.ravel(), ih.ravel()
-    n_o, n_h = omegas.size, headings.size
-    key = (ih * n_o + io) * 6 + dof
-    order = np.argsort(key, kind="stable")
-    same = np.flatnonzero(key[order][1:] == key[order][:-1])
+    key = (ih * omegas.size + io) * 6 + rows.dof
+    return _Grid(omegas, headings, io, ih, key)
+
+
+def _check_duplicates(rows: _RaoRows, grid: _Grid, fail: _Fail) -> None:
+    """Refuse two rows of the same (omega, heading, DOF), naming the later row of the first such pair."""
+    order = np.argsort(grid.key, kind="stable")
+    same = np.flatnonzero(grid.key[order][1:] == grid.key[order][:-1])
     if same.size:
         later, earlier = order[same + 1], order[same]
         j = int(np.argmin(later))
         i, e = int(later[j]), int(earlier[j])
-        fail(f"row {lines[i]}: duplicate of row {lines[e]} (omega {omega[i]:g} rad/s, "
-             f"heading {heading[i]:g} deg, dof {DOFS[dof[i]]})")
+        fail(f"row {rows.lines[i]}: duplicate of row {rows.lines[e]} (omega {rows.omega[i]:g} rad/s, "
+             f"heading {rows.heading[i]:g} deg, dof {DOFS[rows.dof[i]]})")
+
+
+def _check_full_grid(rows: _RaoRows, grid: _Grid, fail: _Fail) -> None:
+    """Refuse an (omega, heading) pair lacking a DOF, or an omega lacking a heading."""
+    n_o, n_h = grid.omegas.size, grid.headings.size
     present = np.zeros(n_h * n_o * 6, dtype=bool)
-    present[key] = True
+    present[grid.key] = True
     if not present.all():
         m = int(np.flatnonzero(~present)[0])
         pair, d = divmod(m, 6)
         mh, mo = divmod(pair, n_o)
-        in_pair = first((ih == mh) & (io == mo))
+        in_pair = _first((grid.ih == mh) & (grid.io == mo))
         if in_pair is not None:
-            fail(f"row {lines[in_pair]}: omega {omegas[mo]:g} rad/s at heading {headings[mh]:g} deg "
-                 f"lacks dof {DOFS[d]} (every (omega, heading) pair needs all six DOFs)")
-        i = first(io == mo)
-        fail(f"row {lines[i]}: omega {omegas[mo]:g} rad/s has no rows at heading {headings[mh]:g} deg "
-             f"(the (omega, heading) pairs must form a full grid)")
-    amp = np.where(_ROTATIONS[dof], np.radians(amplitude), amplitude)
-    values = np.zeros((6, n_h, n_o), dtype=complex)
-    values[dof, ih, io] = amp * np.exp(1j * np.radians(phase))
-    return RAO(omegas, headings, values)
+            fail(f"row {rows.lines[in_pair]}: omega {grid.omegas[mo]:g} rad/s at heading "
+                 f"{grid.headings[mh]:g} deg lacks dof {DOFS[d]} "
+                 f"(every (omega, heading) pair needs all six DOFs)")
+        i = _first(grid.io == mo)
+        fail(f"row {rows.lines[i]}: omega {grid.omegas[mo]:g} rad/s has no rows at heading "
+             f"{grid.headings[mh]:g} deg (the (omega, heading) pairs must form a full grid)")
+
+
+def _grid_values(rows: _RaoRows, grid: _Grid) -> np.ndarray:
+    """The RAO values, complex shape (6, n_heading, n_omega): m/m and rad/m (rotations from deg/m)."""
+    amp = np.where(_ROTATIONS[rows.dof], np.radians(rows.amplitude), rows.amplitude)
+    values = np.zeros((6, grid.headings.size, grid.omegas.size), dtype=complex)
+    values[rows.dof, grid.ih, grid.io] = amp * np.exp(1j * np.radians(rows.phase))
+    return values
 
 
 def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
@@ -501,6 +611,70 @@ def read_capytaine(path: str | PathLike) -> RAO:
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
+    xr = _import_xarray(fail)
+    check_file(path, fail, "a Capytaine NetCDF file", MAX_NETCDF_BYTES)
+    ds = _merge_complex_values(_load_dataset(xr, path, fail), fail)
+    _check_forward_speed(ds, fail)
+    response = _stored_rao(ds, fail) if "RAO" in ds.data_vars else _computed_rao(ds, fail)
+    _check_response(response, fail)
+    rows = _rigid_body_rows(response.dofs, fail)
+    axes = _sorted_axes(response.omega, response.directions, fail)
+    values = _six_dof_values(response.X, rows, axes)
+    _check_capytaine_limits(axes, values, fail)
+    return RAO(axes.omega, axes.headings, values)
+
+
+# Steps of read_capytaine, in the order it takes them.
+
+
+class _Response(NamedTuple):
+    """A Capytaine RAO as in the file, at the frequencies in (0, inf).
+
+    ``omega`` (n_w,) rad/s, ``dofs`` the n_dof radiating DOF names, ``X`` complex
+    (n_w, n_dir, n_dof) in Capytaine's exp(-i omega t) convention, ``directions``
+    (n_dir,) the wave directions, rad.
+    """
+
+    omega: np.ndarray
+    dofs: list[str]
+    X: np.ndarray
+    directions: np.ndarray
+
+
+class _Frequencies(NamedTuple):
+    """A variable's frequency dimension ``dim``, ``omega`` (n_w,) rad/s and ``keep`` (n_w,): omega in (0, inf)."""
+
+    dim: str
+    omega: np.ndarray
+    keep: np.ndarray
+
+
+class _Terms(NamedTuple):
+    """The terms of H X = F: A, B (n_w, n_dof, n_dof), M, K (n_dof, n_dof), F (n_w, n_dir, n_dof).
+
+    Indexed [influenced_dof, radiating_dof]; xarray DataArrays until :func:`_arranged_terms`
+    makes them arrays.
+    """
+
+    added_mass: Any
+    damping: Any
+    inertia: Any
+    stiffness: Any
+    force: Any
+
+
+class _Axes(NamedTuple):
+    """The RAO's axes, sorted: ``omega`` (n_omega,) rad/s, ``headings`` (n_heading,) deg, and the
+    orders ``o_order``, ``h_order`` that sort the file's frequencies and directions."""
+
+    omega: np.ndarray
+    headings: np.ndarray
+    o_order: np.ndarray
+    h_order: np.ndarray
+
+
+def _import_xarray(fail: _Fail) -> Any:
+    """The xarray module; refuses to go on without it, h5netcdf or h5py (the `bem` extra)."""
     try:
         import h5netcdf  # noqa: F401  (xarray's engine)
         import h5py  # noqa: F401  (h5netcdf's HDF5 backend, an extra since h5netcdf 1.7)
@@ -508,81 +682,132 @@ def read_capytaine(path: str | PathLike) -> RAO:
     except ImportError:
         fail("reading a Capytaine file needs xarray, h5netcdf and h5py: install the `bem` extra "
              "(pip install marinecdpr[bem])")
-    check_file(path, fail, "a Capytaine NetCDF file", MAX_NETCDF_BYTES)
+    return xr
+
+
+def _load_dataset(xr: Any, path: str | PathLike, fail: _Fail) -> Any:
+    """The file's xarray Dataset, loaded into memory; refuses a file that is not NetCDF."""
     try:
         with xr.open_dataset(path, engine="h5netcdf") as opened:
             ds = opened.load()
     except Exception as exc:  # h5py/h5netcdf/xarray raise many kinds for a bad file
         first_line = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
         fail(f"cannot read as a NetCDF file: {first_line}")
-    ds = _merge_complex_values(ds, fail)
+    return ds
 
+
+def _check_forward_speed(ds: Any, fail: _Fail) -> None:
+    """Refuse a non-zero ``forward_speed`` (m/s)."""
     if "forward_speed" in ds.variables:
         speed = np.asarray(ds["forward_speed"].values, dtype=float)
         if np.any(speed != 0.0):
             fail(f"forward_speed {np.max(np.abs(speed)):g} m/s: only zero forward speed is supported")
 
-    if "RAO" in ds.data_vars:
-        rao = _with_direction_dim(ds["RAO"])
-        fdim = _frequency_dim(rao, "RAO", fail)
-        omega = _omega_values(ds, fdim, fail)
-        keep = np.isfinite(omega) & (omega > 0.0)
-        dofs = _labels(rao, "radiating_dof", "RAO", fail)
-        X = _arranged(rao, (fdim, "wave_direction", "radiating_dof"), "RAO", fail)[keep]
-        directions = _coordinate(rao, "wave_direction", fail)
-    else:
-        missing = [v for v in ("added_mass", "radiation_damping", "hydrostatic_stiffness", "inertia_matrix")
-                   if v not in ds.data_vars]
-        if "excitation_force" in ds.data_vars:
-            F_da = ds["excitation_force"]
-        elif "Froude_Krylov_force" in ds.data_vars and "diffraction_force" in ds.data_vars:
-            F_da = ds["Froude_Krylov_force"] + ds["diffraction_force"]
-        else:
-            F_da = None
-            missing.insert(0, "excitation_force (or Froude_Krylov_force and diffraction_force)")
-        if missing:
-            fail(f"no 'RAO' variable, and computing it needs {', '.join(missing)} in the file")
-        F_da = _with_direction_dim(F_da)
-        fdim = _frequency_dim(F_da, "excitation_force", fail)
-        omega = _omega_values(ds, fdim, fail)
-        keep = np.isfinite(omega) & (omega > 0.0)
-        dofs = _labels(ds["added_mass"], "radiating_dof", "added_mass", fail)
-        sel = {"influenced_dof": dofs, "radiating_dof": dofs}
-        try:
-            A = ds["added_mass"].sel(sel)
-            B = ds["radiation_damping"].sel(sel)
-            M = ds["inertia_matrix"].sel(sel)
-            K = ds["hydrostatic_stiffness"].sel(sel)
-            F_da = F_da.sel(influenced_dof=dofs)
-        except (KeyError, ValueError) as exc:
-            fail(f"the radiating and influenced DOFs do not match: {exc}")
-        mat = ("influenced_dof", "radiating_dof")
-        A = _arranged(A, (fdim,) + mat, "added_mass", fail)[keep]
-        B = _arranged(B, (fdim,) + mat, "radiation_damping", fail)[keep]
-        M = _arranged(M, mat, "inertia_matrix", fail)
-        K = _arranged(K, mat, "hydrostatic_stiffness", fail)
-        F = _arranged(F_da, (fdim, "wave_direction", "influenced_dof"), "excitation_force", fail)[keep]
-        w = omega[keep][:, None, None]
-        H = -w**2 * (M + A) - 1j * w * B + K  # Capytaine's rao_transfer_function
-        if not (np.all(np.isfinite(H)) and np.all(np.isfinite(F))):
-            fail("the added mass, damping, matrices or excitation force are not finite "
-                 "at a frequency in (0, inf)")
-        try:
-            X = np.linalg.solve(H[:, None], F[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            fail("the matrix -omega^2 (M + A) - i omega B + K is singular at a frequency")
-        directions = _coordinate(F_da, "wave_direction", fail)
 
-    omega = omega[keep]
-    if omega.size == 0:
+def _frequencies(ds: Any, da: Any, name: str, fail: _Fail) -> _Frequencies:
+    """The frequency dimension of variable ``da`` (called ``name``) and its angular frequencies."""
+    fdim = _frequency_dim(da, name, fail)
+    omega = _omega_values(ds, fdim, fail)
+    return _Frequencies(fdim, omega, np.isfinite(omega) & (omega > 0.0))
+
+
+def _stored_rao(ds: Any, fail: _Fail) -> _Response:
+    """The RAO of the file's ``RAO`` variable."""
+    rao = _with_direction_dim(ds["RAO"])
+    freq = _frequencies(ds, rao, "RAO", fail)
+    dofs = _labels(rao, "radiating_dof", "RAO", fail)
+    X = _arranged(rao, (freq.dim, "wave_direction", "radiating_dof"), "RAO", fail)[freq.keep]
+    return _Response(freq.omega[freq.keep], dofs, X, _coordinate(rao, "wave_direction", fail))
+
+
+def _computed_rao(ds: Any, fail: _Fail) -> _Response:
+    """The RAO solved from the file's coefficients and excitation force, as Capytaine's ``post_pro.rao``."""
+    F_da = _excitation_force(ds, fail)
+    freq = _frequencies(ds, F_da, "excitation_force", fail)
+    dofs = _labels(ds["added_mass"], "radiating_dof", "added_mass", fail)
+    terms = _select_dofs(ds, F_da, dofs, fail)
+    X = _solve_rao(freq.omega[freq.keep], _arranged_terms(terms, freq, fail), fail)
+    return _Response(freq.omega[freq.keep], dofs, X, _coordinate(terms.force, "wave_direction", fail))
+
+
+def _excitation_force(ds: Any, fail: _Fail) -> Any:
+    """The excitation force DataArray (FK + diffraction if need be); refuses a file lacking a needed variable."""
+    missing = [v for v in ("added_mass", "radiation_damping", "hydrostatic_stiffness", "inertia_matrix")
+               if v not in ds.data_vars]
+    if "excitation_force" in ds.data_vars:
+        F_da = ds["excitation_force"]
+    elif "Froude_Krylov_force" in ds.data_vars and "diffraction_force" in ds.data_vars:
+        F_da = ds["Froude_Krylov_force"] + ds["diffraction_force"]
+    else:
+        F_da = None
+        missing.insert(0, "excitation_force (or Froude_Krylov_force and diffraction_force)")
+    if missing:
+        fail(f"no 'RAO' variable, and computing it needs {', '.join(missing)} in the file")
+    return _with_direction_dim(F_da)
+
+
+def _select_dofs(ds: Any, F_da: Any, dofs: list[str], fail: _Fail) -> _Terms:
+    """The terms as DataArrays over the radiating DOFs ``dofs``; refuses influenced DOFs that differ."""
+    sel = {"influenced_dof": dofs, "radiating_dof": dofs}
+    try:
+        A = ds["added_mass"].sel(sel)
+        B = ds["radiation_damping"].sel(sel)
+        M = ds["inertia_matrix"].sel(sel)
+        K = ds["hydrostatic_stiffness"].sel(sel)
+        F_da = F_da.sel(influenced_dof=dofs)
+    except (KeyError, ValueError) as exc:
+        fail(f"the radiating and influenced DOFs do not match: {exc}")
+    return _Terms(A, B, M, K, F_da)
+
+
+def _arranged_terms(terms: _Terms, freq: _Frequencies, fail: _Fail) -> _Terms:
+    """The terms as arrays in the shapes of :class:`_Terms`, at the kept frequencies."""
+    mat = ("influenced_dof", "radiating_dof")
+    fdim, keep = freq.dim, freq.keep
+    return _Terms(
+        _arranged(terms.added_mass, (fdim,) + mat, "added_mass", fail)[keep],
+        _arranged(terms.damping, (fdim,) + mat, "radiation_damping", fail)[keep],
+        _arranged(terms.inertia, mat, "inertia_matrix", fail),
+        _arranged(terms.stiffness, mat, "hydrostatic_stiffness", fail),
+        _arranged(terms.force, (fdim, "wave_direction", "influenced_dof"), "excitation_force", fail)[keep],
+    )
+
+
+def _solve_rao(omega: np.ndarray, terms: _Terms, fail: _Fail) -> np.ndarray:
+    """X, complex (n_w, n_dir, n_dof), solving H X = F at each omega (n_w,) rad/s; refuses a bad H or F."""
+    A, B, M, K, F = terms
+    w = omega[:, None, None]
+    H = -w**2 * (M + A) - 1j * w * B + K  # Capytaine's rao_transfer_function
+    if not (np.all(np.isfinite(H)) and np.all(np.isfinite(F))):
+        fail("the added mass, damping, matrices or excitation force are not finite "
+             "at a frequency in (0, inf)")
+    try:
+        X = np.linalg.solve(H[:, None], F[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        fail("the matrix -omega^2 (M + A) - i omega B + K is singular at a frequency")
+    return X
+
+
+def _check_response(response: _Response, fail: _Fail) -> None:
+    """Refuse an RAO without a frequency in (0, inf) or with a value that is not finite."""
+    if response.omega.size == 0:
         fail("no frequency in (0, inf)")
-    if not np.all(np.isfinite(X)):
-        bad = np.argwhere(~np.isfinite(X))[0]
-        fail(f"RAO not finite at omega {omega[bad[0]]:g} rad/s")
+    if not np.all(np.isfinite(response.X)):
+        bad = np.argwhere(~np.isfinite(response.X))[0]
+        fail(f"RAO not finite at omega {response.omega[bad[0]]:g} rad/s")
+
+
+def _rigid_body_rows(dofs: list[str], fail: _Fail) -> list[tuple[int, int]]:
+    """(index in ``dofs``, index in :data:`DOFS`) of each rigid-body DOF of the file; refuses none."""
     rows = [(j, _CAPYTAINE_DOFS.get(name.lower())) for j, name in enumerate(dofs)]
     rows = [(j, k) for j, k in rows if k is not None]
     if not rows:
         fail(f"no rigid-body DOF among {', '.join(dofs)} (expected Surge, Sway, Heave, Roll, Pitch, Yaw)")
+    return rows
+
+
+def _sorted_axes(omega: np.ndarray, directions: np.ndarray, fail: _Fail) -> _Axes:
+    """omega (rad/s) and the headings in [0, 360) deg of the directions (rad), sorted; refuses repeats."""
     headings = np.round(np.mod(np.degrees(directions), 360.0), 10)
     headings[headings >= 360.0] -= 360.0
     h_order = np.argsort(headings, kind="stable")
@@ -592,13 +817,22 @@ def read_capytaine(path: str | PathLike) -> RAO:
         fail(f"two wave directions give the same heading {headings[np.diff(headings) == 0.0][0]:g} deg")
     if np.any(np.diff(omega) == 0.0):
         fail(f"omega {omega[np.diff(omega) == 0.0][0]:g} rad/s appears twice")
-    X = X[o_order][:, h_order]  # (n_omega, n_heading, n_dof)
-    values = np.zeros((6, headings.size, omega.size), dtype=complex)
+    return _Axes(omega, headings, o_order, h_order)
+
+
+def _six_dof_values(X: np.ndarray, rows: list[tuple[int, int]], axes: _Axes) -> np.ndarray:
+    """The RAO values, complex (6, n_heading, n_omega), exp(+i omega t): conj(X) sorted, 0 for absent DOFs."""
+    X = X[axes.o_order][:, axes.h_order]  # (n_omega, n_heading, n_dof)
+    values = np.zeros((6, axes.headings.size, axes.omega.size), dtype=complex)
     for j, k in rows:
         values[k] = np.conj(X[:, :, j]).T  # exp(-i w t) -> exp(+i w t)
-    if (problem := _rao_out_of_range(omega, headings, values)) is not None:
+    return values
+
+
+def _check_capytaine_limits(axes: _Axes, values: np.ndarray, fail: _Fail) -> None:
+    """Refuse a frequency or RAO beyond the limits of :func:`read_rao_csv`."""
+    if (problem := _rao_out_of_range(axes.omega, axes.headings, values)) is not None:
         fail(problem + (" (potential flow lacks viscous roll damping)" if "roll RAO" in problem else ""))
-    return RAO(omega, headings, values)
 
 
 def _label(x) -> str:

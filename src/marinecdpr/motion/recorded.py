@@ -54,7 +54,7 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NoReturn
+from typing import Callable, NamedTuple, NoReturn
 
 import numpy as np
 from scipy.interpolate import BSpline, make_smoothing_spline
@@ -288,60 +288,103 @@ def read_motion_csv(
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    expected = ",".join(MOTION_CSV_COLUMNS)
-    what = f"a ship-motion CSV file ({expected})"
-    reader = csv.reader(read_lines(path, fail, what))
+    row_lines, rows = _nonblank_rows(_read_records(path, fail), fail)
+    order = _column_order(rows[0], row_lines[0], fail)
+    samples = _parse_samples(rows[1:], row_lines[1:], order, fail)
+    _check_times(samples, fail)
+    _check_sampling(samples, fail)
+    _check_positions(samples, fail)
+    _check_roll_pitch(samples, angles, fail)
+    _check_yaw(samples, angles, fail)
+    return RecordedMotion(samples.values[:, 0], _to_eta(samples.values, angles, z_axis), smoothing_s)
+
+
+# Steps of read_motion_csv, in the order it takes them. Messages name the file's line
+# numbers (counted from 1, blank lines included) and the expected columns, never the file's text.
+
+_Fail = Callable[[str], NoReturn]
+_EXPECTED = ",".join(MOTION_CSV_COLUMNS)
+_WHAT = f"a ship-motion CSV file ({_EXPECTED})"
+
+
+class _Samples(NamedTuple):
+    """The data rows of a motion file: ``lines`` (n,) their line numbers, ``values`` (n, 7) the numbers.
+
+    ``values`` has the columns of :data:`MOTION_CSV_COLUMNS` in that order, in the file's
+    units and axes (s, m, and ``angles``).
+    """
+
+    lines: np.ndarray
+    values: np.ndarray
+
+
+def _read_records(path: str | Path, fail: _Fail) -> list[list[str]]:
+    """The file's CSV records, one per line (``[]`` if blank); refuses a quoted field spanning lines."""
+    reader = csv.reader(read_lines(path, fail, _WHAT))
     try:
         records = list(reader)
     except csv.Error as exc:
         fail(f"line {reader.line_num}: not readable as CSV ({exc})")
     if reader.line_num != len(records):  # a quoted field with a line break
-        reader = csv.reader(read_lines(path, fail, what))
+        reader = csv.reader(read_lines(path, fail, _WHAT))
         line = next(reader.line_num for k, _ in enumerate(reader, 1) if reader.line_num != k)
-        fail(f"line {line}: a quoted field spans lines; expected {what}")
-    # line numbers count the file's lines from 1; blank lines (and spreadsheets' rows of
-    # empty cells ",,,") are skipped
+        fail(f"line {line}: a quoted field spans lines; expected {_WHAT}")
+    return records
+
+
+def _nonblank_rows(records: list[list[str]], fail: _Fail) -> tuple[list[int], list[list[str]]]:
+    """The line numbers and records of the non-blank rows; refuses an empty file or an overlong field."""
+    # blank lines (and spreadsheets' rows of empty cells ",,,") are skipped
     row_lines = [k for k, rec in enumerate(records, 1) if "".join(rec).strip()]
     rows = [records[k - 1] for k in row_lines]
     if not rows:
-        fail(f"the file is empty; expected a header row {expected}")
+        fail(f"the file is empty; expected a header row {_EXPECTED}")
     if (long := long_field(rows)) is not None:
         k, j = long
-        fail(f"line {row_lines[k]}, field {j + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
+        fail(f"line {row_lines[k]}, field {j + 1}: over {MAX_FIELD_CHARS} characters; expected {_WHAT}")
+    return row_lines, rows
 
-    # header: named by the expected columns and positions, never by the file's text
-    head = row_lines[0]
-    header = [h.strip() for h in rows[0]]
+
+def _column_order(row: list[str], line: int, fail: _Fail) -> list[int]:
+    """The header row's index of each of :data:`MOTION_CSV_COLUMNS`; refuses any other set of columns."""
+    header = [h.strip() for h in row]
     missing = [c for c in MOTION_CSV_COLUMNS if c not in header]
     if len(missing) == len(MOTION_CSV_COLUMNS):
         n = len(header)
-        fail(f"line {head}: expected a header row with the columns {expected} "
+        fail(f"line {line}: expected a header row with the columns {_EXPECTED} "
              f"(got {n} other column{'s' if n != 1 else ''})")
     unexpected = [j + 1 for j, h in enumerate(header) if h not in MOTION_CSV_COLUMNS]
     repeated = sorted({h for h in header if h in MOTION_CSV_COLUMNS and header.count(h) > 1})
     if missing or unexpected or repeated:
-        problems = []
-        if missing:
-            problems.append(f"missing {', '.join(repr(c) for c in missing)}")
-        if unexpected:
-            shown = ", ".join(map(str, unexpected[:5])) + (f", ... ({len(unexpected)} in all)"
-                                                           if len(unexpected) > 5 else "")
-            problems.append(f"unexpected column{'s' if len(unexpected) > 1 else ''} {shown}")
-        if repeated:
-            problems.append(f"repeated {', '.join(repr(c) for c in repeated)}")
-        fail(f"line {head}: wrong columns ({'; '.join(problems)}); expected exactly {expected}")
-    order = [header.index(c) for c in MOTION_CSV_COLUMNS]
+        problems = _header_problems(missing, unexpected, repeated)
+        fail(f"line {line}: wrong columns ({'; '.join(problems)}); expected exactly {_EXPECTED}")
+    return [header.index(c) for c in MOTION_CSV_COLUMNS]
 
-    # data rows
-    lines = np.array(row_lines[1:], dtype=int)
-    data = rows[1:]
+
+def _header_problems(missing: list[str], unexpected: list[int], repeated: list[str]) -> list[str]:
+    """One phrase per kind of header fault, naming expected columns and the positions (from 1) of others."""
+    problems = []
+    if missing:
+        problems.append(f"missing {', '.join(repr(c) for c in missing)}")
+    if unexpected:
+        shown = ", ".join(map(str, unexpected[:5])) + (f", ... ({len(unexpected)} in all)"
+                                                       if len(unexpected) > 5 else "")
+        problems.append(f"unexpected column{'s' if len(unexpected) > 1 else ''} {shown}")
+    if repeated:
+        problems.append(f"repeated {', '.join(repr(c) for c in repeated)}")
+    return problems
+
+
+def _parse_samples(data: list[list[str]], data_lines: list[int], order: list[int], fail: _Fail) -> _Samples:
+    """The data rows as finite numbers; refuses none, wrong field counts, non-numbers or under 10 rows."""
+    lines = np.array(data_lines, dtype=int)
     if not data:
         fail("no data rows after the header")
     n_fields = np.array([len(r) for r in data])
     bad = np.flatnonzero(n_fields != len(MOTION_CSV_COLUMNS))
     if bad.size:
         k = bad[0]
-        fail(f"line {lines[k]} has {n_fields[k]} fields; expected {len(MOTION_CSV_COLUMNS)} ({expected})")
+        fail(f"line {lines[k]} has {n_fields[k]} fields; expected {len(MOTION_CSV_COLUMNS)} ({_EXPECTED})")
     cells = np.char.strip(np.array(data, dtype=str)[:, order])
     values = _to_float(cells, lines, fail)
     nonfinite = ~np.isfinite(values)
@@ -351,21 +394,29 @@ def read_motion_csv(
     n = values.shape[0]
     if n < _MIN_SAMPLES:
         fail(f"only {n} samples; a recorded motion needs at least {_MIN_SAMPLES}")
+    return _Samples(lines, values)
 
-    # time
-    t = values[:, 0]
+
+def _check_times(samples: _Samples, fail: _Fail) -> None:
+    """Refuse a time (s) beyond :data:`MAX_TIME_S` or times that do not strictly increase."""
+    t, lines = samples.values[:, 0], samples.lines
     over = np.flatnonzero(np.abs(t) > MAX_TIME_S)
     if over.size:
         k = over[0]
         fail(f"line {lines[k]}, column time_s: {t[k]:g} s is beyond {MAX_TIME_S:g} s; expected times in seconds")
-    dt = np.diff(t)
-    bad = np.flatnonzero(dt <= 0.0)
+    bad = np.flatnonzero(np.diff(t) <= 0.0)
     if bad.size:
         k = bad[0] + 1
         fail(
             f"line {lines[k]}, column time_s: time {t[k]:g} s does not increase "
             f"(previous sample at {t[k - 1]:g} s, line {lines[k - 1]})"
         )
+
+
+def _check_sampling(samples: _Samples, fail: _Fail) -> None:
+    """Refuse a sampling interval over 1 % from the median interval, or a median below :data:`MIN_INTERVAL_S`."""
+    t, lines = samples.values[:, 0], samples.lines
+    dt = np.diff(t)
     dt_med = float(np.median(dt))
     bad = np.flatnonzero(np.abs(dt - dt_med) > _MAX_JITTER * dt_med)
     if bad.size:
@@ -379,7 +430,10 @@ def read_motion_csv(
         fail(f"line {lines[1]}, column time_s: sampling interval {dt_med:g} s is below {MIN_INTERVAL_S:g} s "
              f"(faster than {1.0 / MIN_INTERVAL_S:g} Hz); expected times in seconds")
 
-    # positions: beyond a kilometre means another unit or absolute coordinates
+
+def _check_positions(samples: _Samples, fail: _Fail) -> None:
+    """Refuse a surge, sway or heave (m) beyond :data:`MAX_TRANSLATION_M`: another unit or absolute coordinates."""
+    values, lines = samples.values, samples.lines
     for j, name in ((1, "surge_m"), (2, "sway_m"), (3, "heave_m")):
         over = np.flatnonzero(np.abs(values[:, j]) > MAX_TRANSLATION_M)
         if over.size:
@@ -387,7 +441,10 @@ def read_motion_csv(
             fail(f"line {lines[k]}, column {name}: {values[k, j]:g} m is beyond {MAX_TRANSLATION_M:g} m; "
                  f"expected the motion in metres about a nearby point (not mm, not absolute coordinates)")
 
-    # angles: roll and pitch beyond 90 deg mean a wrong unit (or wrapped angles)
+
+def _check_roll_pitch(samples: _Samples, angles: str, fail: _Fail) -> None:
+    """Refuse a |roll| or |pitch| over 90 deg (in unit ``angles``): a wrong unit or wrapped angles."""
+    values, lines = samples.values, samples.lines
     limit = 90.0 if angles == "deg" else np.pi / 2
     for j, name in ((4, "roll"), (5, "pitch")):
         over = np.flatnonzero(np.abs(values[:, j]) > limit)
@@ -402,6 +459,11 @@ def read_motion_csv(
                 f"line {lines[k]}, column {name}: {name} exceeds "
                 f"{'90 deg' if angles == 'deg' else 'pi/2 rad'} ({values[k, j]:g} {angles}): {hint}"
             )
+
+
+def _check_yaw(samples: _Samples, angles: str, fail: _Fail) -> None:
+    """Refuse a |yaw| (in unit ``angles``) over :data:`MAX_YAW_DEG`, 100 turns."""
+    values, lines = samples.values, samples.lines
     yaw_limit = MAX_YAW_DEG if angles == "deg" else np.radians(MAX_YAW_DEG)
     over = np.flatnonzero(np.abs(values[:, 6]) > yaw_limit)
     if over.size:
@@ -409,13 +471,16 @@ def read_motion_csv(
         fail(f"line {lines[k]}, column yaw: {values[k, 6]:g} {angles} is beyond {yaw_limit:g} {angles} "
              f"(100 turns); expected the ship's heading in {angles}")
 
+
+def _to_eta(values: np.ndarray, angles: str, z_axis: str) -> np.ndarray:
+    """eta, shape (n, 6), in the package's convention (m, rad, z up, yaw unwrapped) from values (n, 7)."""
     eta = values[:, 1:].copy()
     if angles == "deg":
         eta[:, 3:] = np.radians(eta[:, 3:])
     eta[:, 5] = np.unwrap(eta[:, 5])
     if z_axis == "down":
         eta = flip_z_axis(eta)
-    return RecordedMotion(t, eta, smoothing_s)
+    return eta
 
 
 def write_motion_csv(
