@@ -343,6 +343,16 @@ def test_capytaine_complains_in_one_line(tmp_path, monkeypatch):
     with pytest.raises(ScenarioError, match="cannot read as a NetCDF file"):
         read_capytaine(text)
 
+    # a repeated wave direction (0 and 2 pi) or frequency: one line naming it, not an IndexError
+    twice = xr.Dataset(coords=capytaine_coords([0.5, 1.0], [0.0, 2 * np.pi], ["Heave"]))
+    twice["RAO"] = (("omega", "wave_direction", "radiating_dof"), np.ones((2, 2, 1), dtype=complex))
+    with pytest.raises(ScenarioError, match="two wave directions give the same heading 0 deg"):
+        read_capytaine(save(twice, tmp_path / "directions.nc"))
+    twice = xr.Dataset(coords=capytaine_coords([0.5, 0.7, 0.7], [0.0], ["Heave"]))
+    twice["RAO"] = (("omega", "wave_direction", "radiating_dof"), np.ones((3, 1, 1), dtype=complex))
+    with pytest.raises(ScenarioError, match="omega 0.7 rad/s appears twice"):
+        read_capytaine(save(twice, tmp_path / "omega.nc"))
+
     monkeypatch.setitem(sys.modules, "xarray", None)
     with pytest.raises(ScenarioError, match=r"pip install marinecdpr\[bem\]"):
         read_capytaine(path)

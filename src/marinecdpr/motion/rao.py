@@ -814,9 +814,9 @@ def _sorted_axes(omega: np.ndarray, directions: np.ndarray, fail: _Fail) -> _Axe
     o_order = np.argsort(omega, kind="stable")
     headings, omega = headings[h_order], omega[o_order]
     if np.any(np.diff(headings) == 0.0):
-        fail(f"two wave directions give the same heading {headings[np.diff(headings) == 0.0][0]:g} deg")
+        fail(f"two wave directions give the same heading {headings[1:][np.diff(headings) == 0.0][0]:g} deg")
     if np.any(np.diff(omega) == 0.0):
-        fail(f"omega {omega[np.diff(omega) == 0.0][0]:g} rad/s appears twice")
+        fail(f"omega {omega[1:][np.diff(omega) == 0.0][0]:g} rad/s appears twice")
     return _Axes(omega, headings, o_order, h_order)
 
 
