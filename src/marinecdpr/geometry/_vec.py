@@ -34,43 +34,9 @@ def dot(a: Vec, b: Vec):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def add(*vs: Vec) -> list:
-    return [sum(v[i] for v in vs) for i in range(3)]
-
-
-def scale(s, a: Vec) -> list:
-    return [s * a[0], s * a[1], s * a[2]]
-
-
 def matvec(R: np.ndarray, v: Vec) -> list:
     """R @ v with R of shape (n, 3, 3) (or (3, 3))."""
     return [R[..., i, 0] * v[0] + R[..., i, 1] * v[1] + R[..., i, 2] * v[2] for i in range(3)]
-
-
-def matTvec(R: np.ndarray, v: Vec) -> list:
-    """R^T @ v with R of shape (n, 3, 3) (or (3, 3))."""
-    return [R[..., 0, i] * v[0] + R[..., 1, i] * v[1] + R[..., 2, i] * v[2] for i in range(3)]
-
-
-def sym_matvec(S: Sequence, v: Vec) -> list:
-    """S @ v for a symmetric S given as (Sxx, Syy, Szz, Sxy, Sxz, Syz)."""
-    xx, yy, zz, xy, xz, yz = S
-    return [
-        xx * v[0] + xy * v[1] + xz * v[2],
-        xy * v[0] + yy * v[1] + yz * v[2],
-        xz * v[0] + yz * v[1] + zz * v[2],
-    ]
-
-
-def rotate_inertia(R: np.ndarray, I: np.ndarray) -> list:
-    """R I R^T as its six independent components (xx, yy, zz, xy, xz, yz)."""
-    RI = [[R[..., i, 0] * I[0, k] + R[..., i, 1] * I[1, k] + R[..., i, 2] * I[2, k]
-           for k in range(3)] for i in range(3)]
-
-    def entry(i: int, j: int):
-        return RI[i][0] * R[..., j, 0] + RI[i][1] * R[..., j, 1] + RI[i][2] * R[..., j, 2]
-
-    return [entry(0, 0), entry(1, 1), entry(2, 2), entry(0, 1), entry(0, 2), entry(1, 2)]
 
 
 def pack(parts: Sequence, n: int) -> np.ndarray:

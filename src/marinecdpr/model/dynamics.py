@@ -19,6 +19,14 @@ DOFs they do not control, the guide) must supply is eq. (15):
 
 The fixed-base (traditional) model is the same with the ship still, so that
 C_s = 0 and the gravity tilt vanishes.
+
+The equations are written once, as compiled functions of one step in
+:mod:`~marinecdpr.model.kernels` (:func:`~marinecdpr.model.kernels.wrench_parts_step`,
+:func:`~marinecdpr.model.kernels.forward_step`, ...), which the closed loop calls step by
+step. The functions here take whole time series, shaped ``(n_steps, ...)``, and run those
+per-step functions in compiled loops over the steps (``kernels.wrench_series`` and the
+like), reading and writing time-last buffers: the arrays they return are views of them
+(``docs/conventions.md``, "Array layout").
 """
 
 from __future__ import annotations
@@ -27,9 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marinecdpr.geometry import _vec as vec
+from marinecdpr.model import kernels as K
 from marinecdpr.motion.ship import ShipMotion
-from marinecdpr.geometry.rotations import skew
 
 __all__ = [
     "AbsoluteMotion",
@@ -92,6 +99,19 @@ class AbsoluteMotion:
     alpha_PO_O: np.ndarray
 
 
+def _time_last(a: np.ndarray) -> np.ndarray:
+    """(n_steps, ...) as a C-contiguous (..., n_steps) float array (no copy for a time-last view)."""
+    return np.ascontiguousarray(np.moveaxis(np.asarray(a, dtype=float), 0, -1))
+
+
+def _const(a: np.ndarray) -> np.ndarray:
+    """A constant of the model (an inertia, an origin) as a C-contiguous float array."""
+    return np.ascontiguousarray(a, dtype=float)
+
+
+# ------------------------------------------------------------------------ over time series
+
+
 def absolute_motion(
     x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray, ship: ShipMotion,
     *, frame_origin_S: np.ndarray,
@@ -112,19 +132,13 @@ def absolute_motion(
     -------
     AbsoluteMotion
     """
-    n = x_PC.shape[0]
-    R = ship.R_SO
-    r = [x_PC[:, i] + float(frame_origin_S[i]) for i in range(3)]  # x_PS^S
-    w_s, al_s = vec.comps(ship.omega_SO_S), vec.comps(ship.alpha_SO_S)
-    v, w_pc = vec.comps(twist[:, :3]), vec.comps(twist[:, 3:])
-    a, al_pc = vec.comps(twist_dot[:, :3]), vec.comps(twist_dot[:, 3:])
-    x = vec.add(vec.comps(ship.x_SO_O), vec.matvec(R, r))  # eq. (7)
-    vel = vec.add(vec.comps(ship.eta_dot[:, :3]), vec.matvec(R, vec.add(vec.cross(w_s, r), v)))  # eq. (8)
-    acc = vec.add(vec.comps(ship.a_SO_O), vec.matvec(R, vec.add(  # eq. (9), products taken in S
-        vec.cross(al_s, r), vec.cross(w_s, vec.cross(w_s, r)), vec.scale(2.0, vec.cross(w_s, v)), a)))
-    omega = vec.matvec(R, vec.add(w_s, w_pc))  # eq. (10)
-    alpha = vec.matvec(R, vec.add(al_s, vec.cross(w_s, w_pc), al_pc))  # eq. (11)
-    return AbsoluteMotion(*(vec.pack(q, n) for q in (x, vel, acc, omega, alpha)))
+    xt = _time_last(x_PC)
+    out = np.empty((5, 3, xt.shape[1]))
+    K.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta),
+                      _time_last(ship.eta_dot), _time_last(ship.eta_ddot), _time_last(ship.R_SO),
+                      _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _const(frame_origin_S),
+                      out)  # eqs. (7)-(11)
+    return AbsoluteMotion(*(out[p].T for p in range(5)))
 
 
 def inertial_frame_terms(
@@ -154,14 +168,12 @@ def inertial_frame_terms(
     G : ndarray, shape (n_steps, 6)
         (m g, 0) with g = (0, 0, -g): the paper's "G = [0 0 mg 0 0 0]" with its g = -9.8.
     """
-    R_PO = np.einsum("nij,njk->nik", R_SO, R_PC)
-    M = spatial_inertia(R_PO, mass, I_PP)
-    n = M.shape[0]
-    C = np.zeros((n, 6, 6))
-    C[:, 3:, 3:] = np.einsum("nij,njk->nik", skew(omega_PO_O), M[:, 3:, 3:])
-    G = np.zeros((n, 6))
-    G[:, 2] = -mass * gravity
-    return M, C, G
+    wt = _time_last(omega_PO_O)
+    n = wt.shape[1]
+    Mt, Ct, Gt = np.empty((6, 6, n)), np.empty((6, 6, n)), np.empty((6, n))
+    K.inertial_series(_time_last(R_SO), _time_last(R_PC), wt, float(mass), _const(I_PP), float(gravity),
+                      Mt, Ct, Gt)  # eq. (13)
+    return Mt.transpose(2, 0, 1), Ct.transpose(2, 0, 1), Gt.T
 
 
 def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarray:
@@ -179,19 +191,10 @@ def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarr
     -------
     M : ndarray, shape (n_steps, 6, 6)
     """
-    n = R_PC.shape[0]
-    xx, yy, zz, xy, xz, yz = vec.rotate_inertia(R_PC, np.asarray(I_PP, dtype=float))
-    zero = np.zeros(n)
-    mass_row = [mass + zero, zero, zero]
-    return vec.pack(
-        [mass_row + [zero] * 3,
-         [zero, mass + zero, zero] + [zero] * 3,
-         [zero, zero, mass + zero] + [zero] * 3,
-         [zero] * 3 + [xx, xy, xz],
-         [zero] * 3 + [xy, yy, yz],
-         [zero] * 3 + [xz, yz, zz]],
-        n,
-    )
+    Rt = _time_last(R_PC)
+    Mt = np.empty((6, 6, Rt.shape[2]))
+    K.spatial_inertia_series(Rt, float(mass), _const(I_PP), Mt)
+    return Mt.transpose(2, 0, 1)
 
 
 def disturbance_in_C(
@@ -210,10 +213,13 @@ def disturbance_in_C(
     m = np.asarray(m, dtype=float)
     if frame == "C":
         return f, m
-    n = f.shape[0]
-    rot = vec.matTvec if frame == "O" else vec.matvec
-    R = R_SO if frame == "O" else R_PC
-    return vec.pack(rot(R, vec.comps(f)), n), vec.pack(rot(R, vec.comps(m)), n)
+    ft = _time_last(f)
+    fCt, mCt = np.empty(ft.shape), np.empty(ft.shape)
+    # only the frame's own rotation is read (the other may be None): R_SO^T for O, R_PC for P
+    in_O = frame == "O"
+    R = _time_last(R_SO if in_O else R_PC)
+    K.disturbance_series(ft, _time_last(m), K.FRAME_CODES["O" if in_O else "P"], R, R, fCt, mCt)
+    return fCt.T, mCt.T
 
 
 def wrench_terms(
@@ -257,50 +263,16 @@ def wrench_terms(
     -------
     WrenchTerms
     """
-    n = x_PC.shape[0]
-    twist = np.asarray(twist, dtype=float)
-    twist_dot = np.asarray(twist_dot, dtype=float)
-    v, w_pc = vec.comps(twist[:, :3]), vec.comps(twist[:, 3:])
-    a, al_pc = vec.comps(twist_dot[:, :3]), vec.comps(twist_dot[:, 3:])
-    w_s, al_s = vec.comps(ship.omega_SO_S), vec.comps(ship.alpha_SO_S)
-    origin = np.asarray(frame_origin_S, dtype=float)
-    r = [x_PC[:, i] + origin[i] for i in range(3)]  # x_PS^S
-    I_C = vec.rotate_inertia(R_PC, np.asarray(I_PP, dtype=float))  # R_PC I_PP R_PC^T
-
-    def I_dot(x):
-        return vec.sym_matvec(I_C, x)
-
-    I_w_pc = I_dot(w_pc)
-    gyro_pc = vec.cross(w_pc, I_w_pc)
-    relative = vec.scale(mass, a) + vec.add(I_dot(al_pc), gyro_pc)
-
-    # eq. (9) in S: base, Euler, centripetal and Coriolis accelerations
-    a_base = vec.matTvec(ship.R_SO, vec.comps(ship.a_SO_O))
-    acc = vec.add(
-        a_base,
-        vec.cross(al_s, r),
-        vec.cross(w_s, vec.cross(w_s, r)),
-        vec.scale(2.0, vec.cross(w_s, v)),
-    )
-    W = vec.add(w_s, w_pc)  # eq. (10) in S
-    # eq. (11) in S, and the gyroscopic term beyond the platform's own
-    mom = vec.add(I_dot(vec.add(al_s, vec.cross(w_s, w_pc))), vec.cross(W, I_dot(W)))
-    C_s = vec.scale(mass, acc) + [mom[i] - gyro_pc[i] for i in range(3)]
-
-    # gravity (0, 0, -g) in O, and in S: R_SO^T g_O = -g (third row of R_SO)
-    g_S = [-gravity * ship.R_SO[:, 2, i] for i in range(3)]
-    zero = np.zeros(n)
-    grav = [zero, zero, mass * gravity + zero, zero, zero, zero]
-    tilt = [-mass * g_S[0], -mass * g_S[1], mass * (-gravity - g_S[2]), zero, zero, zero]
-    if f_ext_C is None:
-        f_ext_C = np.zeros((n, 3))
-    if m_ext_C is None:
-        m_ext_C = np.zeros((n, 3))
-    external = [-f_ext_C[:, i] for i in range(3)] + [-m_ext_C[:, i] for i in range(3)]
-    return WrenchTerms(
-        vec.pack(relative, n), vec.pack(grav, n), vec.pack(C_s, n), vec.pack(tilt, n),
-        vec.pack(external, n),
-    )
+    xt = _time_last(x_PC)
+    n = xt.shape[1]
+    ft = np.zeros((3, n)) if f_ext_C is None else _time_last(f_ext_C)
+    mt = np.zeros((3, n)) if m_ext_C is None else _time_last(m_ext_C)
+    out = np.empty((5, 6, n))
+    K.wrench_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(R_PC), _time_last(ship.R_SO),
+                    _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _time_last(ship.a_SO_O),
+                    _const(frame_origin_S), float(mass), _const(I_PP), float(gravity), ft, mt,
+                    out)  # eqs. (9)-(16)
+    return WrenchTerms(*(out[p].T for p in range(5)))
 
 
 def uncontrolled(controlled: tuple[int, ...]) -> tuple[int, ...]:
@@ -339,13 +311,10 @@ def forward_dynamics(
     reaction : ndarray, shape (n_steps, 6 - len(controlled))
         Wrench the guide supplies in the uncontrolled DOFs, in C.
     """
-    c = list(controlled)
-    u = list(uncontrolled(controlled))
-    cable_wrench = np.einsum("nmk,nm->nk", J_tilde, tensions)  # J~^T T
-    rhs = (cable_wrench - bias)[:, c]
-    twist_dot = np.zeros_like(bias)
-    twist_dot[:, c] = np.linalg.solve(M[:, c][:, :, c], rhs[..., None])[..., 0]
-    reaction = (
-        np.einsum("nij,nj->ni", M[:, u][:, :, c], twist_dot[:, c]) + bias[:, u] - cable_wrench[:, u]
-    )
-    return twist_dot, reaction
+    Tt = _time_last(tensions)
+    n = Tt.shape[1]
+    c = np.asarray(controlled, dtype=np.int64)
+    acc_t, react_t = np.empty((6, n)), np.empty((6 - c.size, n))
+    Jt = np.ascontiguousarray(np.asarray(J_tilde, dtype=float).transpose(2, 1, 0))  # (6, n_cables, n)
+    K.forward_series(Tt, Jt, _time_last(M), _time_last(bias), c, acc_t, react_t)
+    return acc_t.T, react_t.T
