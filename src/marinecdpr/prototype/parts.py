@@ -244,7 +244,7 @@ def diverged(x, ref_x):
 
 
 # ---------------------------------------------------------------------------- steps
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def measure(k, h, x, R, v, w, sensors, ref):
     """What the sensors report at t_k, predicted to mid-step, where the held command acts.
 
@@ -277,7 +277,7 @@ def measure(k, h, x, R, v, w, sensors, ref):
     return x_m, R_m, v_m, w_m, R_SO, w_s, al_s, eta[2, k, :3]
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def _feedback_tensions(k, h, x, R, v, w, parts):
     """Computed torque on the mid-step reference (a = a_ref + Kd e_v + Kp e, rotation error
     in C), the wrench it needs (eq. 15) and the tension method: T_cmd. Returns 1 where the
@@ -304,13 +304,13 @@ def _feedback_tensions(k, h, x, R, v, w, parts):
     return 1
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def _unstretched(ref, k, cables):
     """The winch length that holds the plan's length at the plan's tension (m,)."""
     return ref.L[k] / (1.0 + (ref.T[k] - cables.damping * ref.Ldot[k]) / cables.EA)
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def command(k, h, x, R, v, w, parts):
     """The controller: T_cmd (tension-controlled winches, ideal cables) and L0_cmd
     (length-controlled winches) into the bus. Returns 1 on a fallback to feed-forward."""
@@ -339,7 +339,7 @@ def command(k, h, x, R, v, w, parts):
     return fallback
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def winch_step(k, winch, bus, sensors):
     """Advance the winches one step: L0 towards L0_cmd, or the tension loop (on its noisy
     sensor) towards T_cmd, each with the first-order lag."""
@@ -350,7 +350,7 @@ def winch_step(k, winch, bus, sensors):
             winch.L0[i] += winch.lag * (bus.L0_cmd[i] - winch.L0[i])
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def elastic_tension(L, L0, Ldot, cables):
     """An elastic cable's tension: EA strain plus damping when taut, 0 when slack, N."""
     if L > L0:
@@ -358,7 +358,7 @@ def elastic_tension(L, L0, Ldot, cables):
     return 0.0
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def cable_step(cables, winch, bus):
     """The tensions the cables apply, T_app: the command (ideal cables), the stretch over the
     winch's L0 (elastic, length-controlled), or the winch's tension loop (elastic,
@@ -372,7 +372,7 @@ def cable_step(cables, winch, bus):
             bus.T_app[i] = elastic_tension(bus.L[i], winch.L0[i], bus.Ldot[i], cables)
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def log_step(k, x, R, bus, log):
     log.pose[k, :3] = x
     e = np.empty(3)
@@ -383,7 +383,7 @@ def log_step(k, x, R, bus, log):
     log.T_app[k] = bus.T_app
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def exchange(k, h, x, R, v, w, parts):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: sensors, controller,
     winches, cables, log. Leaves the applied tensions in ``parts.bus.T_app``; returns 1 on a
