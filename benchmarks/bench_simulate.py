@@ -88,14 +88,15 @@ def main() -> None:
 
 def main_job(sc, bare, repeats: int) -> None:
     """The whole main job against bare MuJoCo, each repeat timing both (the machine may be shared)."""
-    from marinecdpr.report import figures, writers
+    from marinecdpr import forked
+    from marinecdpr.report import writers
 
     folder = Path(tempfile.mkdtemp(prefix="bench-main-job-"))
     exe = Path(sys.executable).parent / "marinecdpr"
-    can_fork = figures._can_fork
+    can_fork = forked.can_fork
 
     def in_process(two: bool) -> tuple[float, float]:
-        figures._can_fork = can_fork if two else (lambda: False)
+        forked.can_fork = can_fork if two else (lambda: False)
         try:
             t0 = time.perf_counter()
             vp = marinecdpr.virtual_prototype(sc)
@@ -103,7 +104,7 @@ def main_job(sc, bare, repeats: int) -> None:
             writers.write_virtual_prototype(vp, folder / "in_process")
             return t1 - t0, time.perf_counter() - t1
         finally:
-            figures._can_fork = can_fork
+            forked.can_fork = can_fork
 
     def command() -> float:
         t0 = time.perf_counter()

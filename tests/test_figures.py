@@ -16,6 +16,7 @@ import pytest
 
 import marinecdpr
 import marinecdpr.report.figures as figures
+from marinecdpr import forked
 import marinecdpr.report.writers as writers
 from marinecdpr.report.figures import RUN_TITLES, decimate
 from marinecdpr.prototype.simulation import RUNS, SimResult
@@ -189,9 +190,9 @@ def test_the_main_job_writes_the_same_files_in_one_process_or_two(short_vp, tmp_
 
     monkeypatch.setattr(writers, "plot_cable_lengths", recorded)
     two = writers.write_virtual_prototype(short_vp, tmp_path / "two")
-    if figures._can_fork():
+    if forked.can_fork():
         assert [p.name for p in pids.iterdir()] != [str(os.getpid())]  # drawn by another process
-    monkeypatch.setattr(figures, "_can_fork", lambda: False)
+    monkeypatch.setattr(forked, "can_fork", lambda: False)
     one = writers.write_virtual_prototype(short_vp, tmp_path / "one")
     assert [p.name for p in one] == [p.name for p in two]
     for a, b in zip(one, two):
@@ -227,12 +228,12 @@ def test_an_interrupt_here_ends_the_second_process_at_once(short_vp, tmp_path, m
     assert multiprocessing.active_children() == []
 
 
-@pytest.mark.skipif(not figures._can_fork(), reason="figures are drawn in one process here")
+@pytest.mark.skipif(not forked.can_fork(), reason="figures are drawn in one process here")
 def test_the_second_process_dies_with_a_killed_parent(tmp_path):
     script = textwrap.dedent("""
         import sys, time
-        import marinecdpr.report.figures as figures
-        f = figures._Forked(lambda: time.sleep(60))
+        from marinecdpr import forked
+        f = forked.Forked(lambda: time.sleep(60))
         print(f._process.pid, flush=True)
         time.sleep(60)
     """)

@@ -201,3 +201,26 @@ def test_simulate_command_failures(tmp_path):
     res = runner.invoke(app, ["simulate", str(wild), "--out", str(tmp_path / "o")])
     assert res.exit_code == 4 and "open_loop diverged at t = " in res.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_the_run_flown_in_a_forked_process_is_the_same_run(monkeypatch):
+    from marinecdpr import forked
+
+    if not forked.can_fork():
+        pytest.skip("no second CPU or no fork here: every run flies in this process")
+    sc = marinecdpr.load_scenario("paper_elastic")
+    sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 0.4})
+    calls = []
+    apart = marinecdpr.virtual_prototype(sc, progress=lambda run, done, total: calls.append((run, done, total)))
+    # the last run is reported at its start and its end only: it flew in the copy
+    n = sc.time.n_steps
+    assert [c for c in calls if c[0] == "fixed_base_open_loop"] == [("fixed_base_open_loop", 0, n),
+                                                                    ("fixed_base_open_loop", n, n)]
+    assert [c for c in calls if c[0] == "open_loop"][-1] == ("open_loop", n, n)
+    monkeypatch.setattr(forked, "can_fork", lambda: False)
+    here = marinecdpr.virtual_prototype(sc)
+    assert list(apart.results) == list(here.results) == ["open_loop", "closed_loop", "fixed_base_open_loop"]
+    for run in here.results:
+        for field in ("pose", "lengths", "tensions", "tensions_commanded"):
+            np.testing.assert_array_equal(getattr(apart.results[run], field), getattr(here.results[run], field))
+    assert apart.summary == here.summary

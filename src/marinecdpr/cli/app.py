@@ -266,16 +266,17 @@ class _PlainProgress:
     def add_task(self, description: str = "", total: float | None = None, **_) -> int:
         now = time.perf_counter()
         self._tasks.append(dict(description=description, total=total, done=0, printed=0, start=now,
-                                printed_at=now, finished=False))
+                                printed_at=now, finished=False, started=False))
         return len(self._tasks) - 1
 
     def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
                advance: float | None = None, **_) -> None:
         task = self._tasks[task_id]
-        if not task["done"] and not task["finished"]:
+        if not task["started"]:
             # tasks that run one after another: a task's clock starts when the last one finished
+            # (a task that runs alongside the others is updated with 0 done at its start)
             ends = [t["ended"] for t in self._tasks if t["finished"]]
-            task["start"] = max([task["start"]] + ends)
+            task.update(start=max([task["start"]] + ends), started=True)
         if total is not None:
             task["total"] = total
         if completed is not None:
@@ -327,8 +328,17 @@ def _progress_bar(label: str, unit: str = ""):
     from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
                                TimeRemainingColumn)
 
-    return Progress(TextColumn(escape(f"{label:<16}")), TextColumn("{task.description}"), BarColumn(),
-                    MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(), console=err_console)
+    class Bar(Progress):
+        """rich's bar, redrawn at each update rather than by a thread of its own: a process with
+        no other thread may hand work to a forked copy of itself (:mod:`marinecdpr.forked`)."""
+
+        def update(self, *args, **kwargs) -> None:
+            super().update(*args, **kwargs)
+            self.refresh()
+
+    return Bar(TextColumn(escape(f"{label:<16}")), TextColumn("{task.description}"), BarColumn(),
+               MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(), console=err_console,
+               auto_refresh=False)
 
 
 @contextmanager

@@ -13,7 +13,6 @@ import numpy as np
 from marinecdpr.planning.planner import Plan
 from marinecdpr.report.figures import (
     TensionEnvelope,
-    _Forked,
     _pose_names,
     _pyplot,
     plot_cable_lengths,
@@ -24,6 +23,7 @@ from marinecdpr.report.figures import (
     plot_tracking,
     plot_workspace,
 )
+from marinecdpr.forked import Forked
 from marinecdpr.report.files import _row_format, _write_csv, _write_rows, atomic_path, write_json
 from marinecdpr.report.text import write_report_html
 from marinecdpr.scenario.schema import Scenario
@@ -170,7 +170,7 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     """Every file of the main job in ``folder``: plan.csv, sim_<run>.csv, the figures,
     summary.json and report.html. Returns the paths written.
 
-    Where it pays (:func:`~marinecdpr.report.figures._can_fork`), two of the figures are drawn by a
+    Where it pays (:func:`~marinecdpr.forked.can_fork`), two of the figures are drawn by a
     forked copy of this process meanwhile; the files are the same either way.
     """
     folder = Path(folder)
@@ -179,7 +179,7 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     # drawing the figures is most of the work: two of them (about half) are drawn in a
     # second process while this one writes the CSVs and draws the other two
     _pyplot()  # imported once, before the fork, for both
-    apart = _Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
+    apart = Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
                              plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png")))
     try:
         paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]

@@ -7,6 +7,7 @@ import numpy as np
 from dataclasses import dataclass
 from typing import Callable
 
+from marinecdpr import forked
 from marinecdpr.planning.planner import Plan, plan
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
@@ -204,6 +205,12 @@ def virtual_prototype(
         Position error bound beyond which a run is flagged (default: the scenario's,
         see :func:`error_bounds`).
     progress : callable(run, done, total), optional
+        Called as each run goes on; for a run flown in a forked process (below), at its
+        start (done = 0) and at its end.
+
+    Where it is safe and pays (:func:`~marinecdpr.forked.can_fork`: Linux, two CPUs or
+    more, no other thread), the last run flies in a forked copy of this process while
+    this one flies the others; the results are the same either way.
 
     Raises
     ------
@@ -211,7 +218,24 @@ def virtual_prototype(
     """
     p = plan(scenario)
     results = {}
-    for run in runs:
-        cb = None if progress is None else (lambda done, total, run=run: progress(run, done, total))
-        results[run] = simulate(scenario, run=run, reference=p, plant=plant, progress=cb)
+    apart, here = None, list(runs)
+    if len(runs) > 1 and forked.can_fork():
+        # the last run flies in a forked copy of this process (on the second core) meanwhile;
+        # its progress is known when it ends
+        last = here.pop()
+        apart = forked.Forked(lambda: simulate(scenario, run=last, reference=p, plant=plant))
+        if progress is not None:
+            progress(last, 0, scenario.time.n_steps)
+    try:
+        for run in here:
+            cb = None if progress is None else (lambda done, total, run=run: progress(run, done, total))
+            results[run] = simulate(scenario, run=run, reference=p, plant=plant, progress=cb)
+        if apart is not None:
+            res = results[last] = apart.result()
+            if progress is not None:
+                progress(last, res.t.size, res.t.size)
+    finally:
+        if apart is not None:
+            apart.stop()
+    results = {run: results[run] for run in runs}
     return VirtualPrototype(scenario, p, results, summary(p, results, scenario, max_error_m=max_error_m))
