@@ -51,7 +51,8 @@ def _still_scenario(tmp_path: Path) -> Path:
     return path
 
 
-SCENARIOS = ["paper", "paper_elastic", "paper_sea", "examples/spatial_cube8.toml", "recorded", "still"]
+SCENARIOS = ["paper", "paper_elastic", "paper_sea", "paper_clean", "examples/spatial_cube8.toml", "recorded",
+             "still"]
 
 
 def _source(name: str, tmp_path: Path) -> str:
@@ -99,6 +100,13 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
     else:
         assert res.exit_code == 2 and "needs a [base_motion] of type sea_state" in res.stderr
         assert "Traceback" not in res.output
+    res = runner.invoke(app, ["clean", src, "--duration", "0.5", "--out", str(tmp_path / "clean")])
+    if sc.cleaning is not None:
+        assert res.exit_code == 0, res.output
+        assert {p.name for p in (tmp_path / "clean").iterdir()} == {
+            "clean.csv", "coverage.png", "cleaning.png", "summary.json", "report.html", MANIFEST}
+    else:
+        assert res.exit_code == 2 and "no cleaning job" in res.stderr and len(res.stderr.strip().splitlines()) == 1
 
 
 # ---------------------------------------------------------------- item 2: tumbling

@@ -50,7 +50,7 @@ CASES = {
     "wrong unit": (lambda d: d["base_motion"]["components"][0].update(amplitude_m=6.0),
                    "base_motion.components[1].amplitude_m: roll is an angle: give amplitude_deg"),
     "unknown type": (lambda d: d["trajectory"].update(type="spiral"),
-                     "trajectory.type: expected one of 'circle', 'line', 'waypoints' (got 'spiral')"),
+                     "trajectory.type: expected one of 'circle', 'coverage', 'line', 'waypoints' (got 'spiral')"),
     "misspelt key": (lambda d: d.update(trajectory=dict(type="line", start_position_m=[0.5, 0, 0.5],
                                                         end_position_m=[1, 0, 1], duraton_s=3.0)),
                      "trajectory.duraton_s: unknown key; did you mean 'duration_s'?"),

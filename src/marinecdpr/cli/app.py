@@ -136,6 +136,71 @@ def plan(
             raise typer.Exit(EXIT_INFEASIBLE)
 
 
+def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleaning: bool = False):
+    """The scenario, its first ``duration`` seconds if given, refused in one line (exit 2)
+    before any work if it is malformed, has no cleaning job where one is needed, or the
+    run would not fit in memory."""
+    from marinecdpr.planning.budget import check_run_size
+
+    try:
+        sc = load_scenario(scenario)
+        _warn_scale(sc, scenario)
+        if cleaning and (sc.cleaning is None or sc.trajectory.type != "coverage"):
+            raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
+                                source=sc.name, key="cleaning")
+        if duration is not None:
+            sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
+        check_run_size(sc, run)  # before any work: too big is one line, exit 2
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    return sc
+
+
+def _compile_notice(plant: str) -> None:
+    """A line on stderr when the simulation's loop must first be compiled (a fresh install)."""
+    from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, kernels_cached
+
+    if not kernels_cached(plant):
+        err_console.print(f"compiling the simulation kernels, once (about {KERNEL_COMPILE_S:g} s; cached for "
+                          "later runs)...", highlight=False, soft_wrap=True)
+
+
+@app.command()
+def clean(
+    scenario: str = typer.Argument("paper_clean", help="A scenario file with a [cleaning] section, or a built-in name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for clean.csv, the figures, summary.json and "
+                             "report.html."),
+    plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
+    duration: Optional[float] = typer.Option(None, help="Clean only the first seconds of the path."),
+) -> None:
+    """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
+    scenario's sea, and measure the cleaned area from the simulated brush."""
+    from marinecdpr.report.cleaning import cleaning_findings, write_cleaning
+    from marinecdpr.studies.cleaning import cleaning_job
+
+    if plant is not None and plant not in ("mujoco", "own"):
+        _fail(f"--plant {plant}: expected mujoco or own")
+    _number("--duration", duration)
+    sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
+    t0 = time.perf_counter()
+    with _output(out) as folder:
+        _compile_notice(plant or sc.simulation.plant)
+        with _progress("clean", sc.time.n_steps, "steps") as update:
+            try:
+                job = cleaning_job(sc, plant=plant, progress=update)
+            except ScenarioError as exc:
+                _fail_scenario(exc, scenario)
+            except InfeasibleError as exc:
+                _fail(str(exc), EXIT_INFEASIBLE)
+            except SimulationDivergedError as exc:
+                _fail(str(exc), EXIT_DIVERGED)
+        paths = write_cleaning(job, folder)
+    for sentence in cleaning_findings(job.summary):
+        console.print(_plain(sentence), highlight=False, soft_wrap=True)
+    console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)} "
+                  f"({time.perf_counter() - t0:.1f} s)", highlight=False, soft_wrap=True)
+
+
 @app.command()
 def simulate(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
@@ -155,27 +220,16 @@ def simulate(
     from marinecdpr.report.figures import RUN_TITLES
     from marinecdpr.report.text import beyond_text, error_table, findings
     from marinecdpr.report.writers import write_virtual_prototype
-    from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, RUNS, kernels_cached
+    from marinecdpr.prototype.simulation import RUNS
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
     _number("--duration", duration)
     _number("--max-error", max_error)
-    try:
-        sc = load_scenario(scenario)
-        _warn_scale(sc, scenario)
-        if duration is not None:
-            sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
-        from marinecdpr.planning.budget import check_run_size
-
-        check_run_size(sc, "virtual_prototype")  # before any work: too big is one line, exit 2
-    except ScenarioError as exc:
-        _fail_scenario(exc, scenario)
+    sc = _scenario_to_fly(scenario, duration, "virtual_prototype")
     t0 = time.perf_counter()
     with _output(out) as folder:
-        if not kernels_cached(plant or sc.simulation.plant):
-            err_console.print(f"compiling the simulation kernels, once (about {KERNEL_COMPILE_S:g} s; cached for "
-                              "later runs)...", highlight=False, soft_wrap=True)
+        _compile_notice(plant or sc.simulation.plant)
         with _progress_bar("simulate", "steps") as bar:
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
@@ -574,6 +628,16 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         f"{sc.time.n_steps} steps of {sc.time.step_s:g} s; method {sc.planning.method}",
         highlight=False,
     )
+    if sc.trajectory.type == "coverage":
+        from marinecdpr.motion.trajectory import cleaning_path
+
+        path = cleaning_path(sc.cleaning)
+        end = sc.trajectory.start_time_s + path.duration_s
+        console.print(f"coverage path: {path.lanes} lanes {path.spacing_m:.4g} m apart at {path.direction_deg:g} deg, "
+                      f"{path.length_m:.4g} m, {path.duration_s:.4g} s"
+                      + ("" if end <= sc.time.duration_s + 1e-9 else
+                         f" (the scenario's {sc.time.duration_s:g} s ends before the path: only part of the panel)"),
+                      highlight=False, soft_wrap=True)
 
 
 @app.command()

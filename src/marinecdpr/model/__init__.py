@@ -5,5 +5,6 @@
   loops that run them over time series;
 - :mod:`.dynamics`  the array functions over time series (``wrench_terms``,
   ``forward_dynamics``, ...), each a call of a compiled loop;
-- :mod:`.tension`   tension distribution over time series (eqs. 17-20 and Pott's forms).
+- :mod:`.tension`   tension distribution over time series (eqs. 17-20 and Pott's forms);
+- :mod:`.brush`     a cleaning brush's loads on the platform (friction, reaction moment, jet).
 """

@@ -6,5 +6,6 @@
 - :mod:`.seastate`    irregular seas: spectra, RAOs, time series;
 - :mod:`.rao`         response amplitude operators: box hull, CSV, Capytaine files;
 - :mod:`.recorded`    measured ship motion from CSV files, smoothed and differentiated;
-- :mod:`.trajectory`  the platform's trajectory and the disturbance on it.
+- :mod:`.trajectory`  the platform's trajectory and the disturbance on it;
+- :mod:`.coverage`    boustrophedon coverage paths over a panel, jerk-limited (the cleaning job).
 """

@@ -8,12 +8,14 @@ Rz(rz) Ry(ry) Rx(rx), rad. A planar robot uses x, z and ry (= theta_y) only.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from marinecdpr.geometry import _vec as vec
 from marinecdpr.errors import ScenarioError
 from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.schema import CircleTrajectory, Disturbance, LineTrajectory, WaypointsTrajectory
 
 __all__ = [
@@ -22,6 +24,7 @@ __all__ = [
     "evaluate_trajectory",
     "evaluate_disturbance",
     "check_in_frame",
+    "cleaning_path",
 ]
 
 
@@ -100,19 +103,51 @@ def _quintic(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return s, ds, dds
 
 
+def cleaning_path(cleaning: Cleaning):
+    """The coverage path (:class:`~marinecdpr.motion.coverage.CoveragePath`) of a
+    ``[cleaning]`` section: the brush's centre over the panel (cached per section)."""
+    return _cleaning_path(cleaning.model_dump_json())
+
+
+@lru_cache(maxsize=8)
+def _cleaning_path(key: str):
+    from marinecdpr.motion.coverage import coverage_path
+
+    c = Cleaning.model_validate_json(key)
+
+    def path(boundary_pass: bool):
+        return coverage_path(np.asarray(c.panel_m), [np.asarray(h) for h in c.holes_m], width_m=c.brush_diameter_m,
+                             overlap_m=c.overlap_m, speed_m_s=c.speed_m_s, accel_m_s2=c.acceleration_m_s2,
+                             jerk_m_s3=c.jerk_m_s3, direction_deg=c.direction_deg, boundary_pass=boundary_pass)
+
+    try:
+        return path(c.boundary_pass is not False)
+    except ScenarioError as exc:
+        if exc.key == "boundary_pass" and c.boundary_pass is None:
+            return path(False)  # by default only where it can be done
+        raise ScenarioError(exc.detail, key=f"cleaning.{exc.key}" if exc.key else "cleaning") from None
+
+
 def evaluate_trajectory(
-    config: CircleTrajectory | WaypointsTrajectory | LineTrajectory, t: np.ndarray
+    config: CircleTrajectory | WaypointsTrajectory | LineTrajectory | CoverageTrajectory, t: np.ndarray,
+    cleaning: Cleaning | None = None,
 ) -> PlatformMotion:
     """The planned platform motion a scenario's ``[trajectory]`` describes.
 
     Parameters
     ----------
-    config : CircleTrajectory, WaypointsTrajectory or LineTrajectory
+    config : CircleTrajectory, WaypointsTrajectory, LineTrajectory or CoverageTrajectory
     t : ndarray, shape (n_steps,)
         Times, s.
+    cleaning : Cleaning, optional
+        The scenario's ``[cleaning]`` section, which a coverage trajectory follows: the
+        brush's centre (``cleaning.brush_offset_m`` in P) runs along the coverage path in
+        the plane y = ``plane_y_m``, the platform's orientation fixed.
     """
     t = np.asarray(t, dtype=float)
     n = t.size
+    if isinstance(config, CoverageTrajectory):
+        return _coverage_motion(config, cleaning, t)
     # time-last buffers (see _vec); the (n_steps, 6) views are taken at the end
     pose = np.zeros((6, n))
     pose_dot = np.zeros((6, n))
@@ -148,6 +183,22 @@ def evaluate_trajectory(
         pose_dot[:] = delta * (ds / dur)
         pose_ddot[:] = delta * (dds / dur**2)
     return platform_motion(pose.T, pose_dot.T, pose_ddot.T)
+
+
+def _coverage_motion(config: CoverageTrajectory, cleaning: Cleaning | None, t: np.ndarray) -> PlatformMotion:
+    if cleaning is None:
+        raise ScenarioError("missing: a coverage trajectory cleans the [cleaning] section's panel", key="cleaning")
+    p, v, a = cleaning_path(cleaning).evaluate(t - config.start_time_s)
+    angles = np.radians(config.orientation_deg)
+    R = euler_kinematics(angles[None], np.zeros((1, 3)), np.zeros((1, 3)))[0][0]
+    r_C = R @ np.asarray(cleaning.brush_offset_m, dtype=float)  # brush centre from P's origin, in C
+    n = t.size
+    pose, pose_dot, pose_ddot = np.zeros((n, 6)), np.zeros((n, 6)), np.zeros((n, 6))
+    pose[:, 0], pose[:, 1], pose[:, 2] = p[:, 0] - r_C[0], config.plane_y_m - r_C[1], p[:, 1] - r_C[2]
+    pose[:, 3:] = angles
+    pose_dot[:, [0, 2]] = v
+    pose_ddot[:, [0, 2]] = a
+    return platform_motion(pose, pose_dot, pose_ddot)
 
 
 def evaluate_disturbance(config: Disturbance, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -17,6 +17,7 @@ import numpy as np
 
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.ship import still_ship
+from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
@@ -206,7 +207,7 @@ def _columns(J: np.ndarray, dofs: list[int]) -> np.ndarray:
 
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str) -> dict:
     robot = scenario.robot
-    platform = evaluate_trajectory(scenario.trajectory, t)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
     ship = (
         still_ship(t.size) if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, t)
     )
@@ -217,6 +218,10 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str)
     check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
+    if scenario.cleaning is not None:
+        # the brush's drag, reaction moment, jet and the hull's push, at the pusher's preload
+        f_b, m_b = cleaning_loads(scenario.cleaning, twist, platform.R_PC, scenario.cleaning.preload)
+        f_C, m_C = f_C + f_b, m_C + m_b
     terms = wrench_terms(
         platform.x_PC_C, twist, platform.twist_dot, platform.R_PC, ship,
         frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
@@ -258,7 +263,7 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
     evaluate_base_motion(scenario.base_motion, np.array([0.0, (n - 1) * step]))
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
-        platform = evaluate_trajectory(scenario.trajectory, t)
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
         kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors,
                                robot.platform_anchors)
         check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)

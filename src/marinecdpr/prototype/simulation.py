@@ -41,7 +41,8 @@ from marinecdpr.errors import InfeasibleError, SimulationDivergedError
 from marinecdpr.planning.planner import Plan, plan_at
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.scenario.schema import Scenario
-from marinecdpr.motion.trajectory import evaluate_disturbance
+from marinecdpr.model.brush import cleaning_loads
+from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
 
 __all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
 
@@ -227,10 +228,19 @@ def _loads(scenario: Scenario, ship_h) -> tuple[np.ndarray, np.ndarray, bool]:
     plant and the controller turn them with the platform's actual (measured) orientation.
     """
     dist = scenario.disturbance
-    f, m = evaluate_disturbance(dist, np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s))
+    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
+    f, m = evaluate_disturbance(dist, t_h)
     in_P = dist.frame == "P"
     if not in_P:
         f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
+    if scenario.cleaning is not None:
+        # the brush's loads along the planned path, at the pusher's preload (fed to the plant
+        # as a load history: they do not yet react to the platform's actual motion)
+        platform = evaluate_trajectory(scenario.trajectory, t_h, scenario.cleaning)
+        f_b, m_b = cleaning_loads(scenario.cleaning, platform.twist, platform.R_PC, scenario.cleaning.preload)
+        if in_P:  # into P with the planned orientation
+            f_b, m_b = (np.einsum("nji,nj->ni", platform.R_PC, x) for x in (f_b, m_b))
+        f, m = f + f_b, m + m_b
     return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
 
 

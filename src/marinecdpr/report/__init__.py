@@ -3,7 +3,8 @@
 Its modules, each importing only those listed above it:
 
 - ``files``: writing files safely: atomic renames, staged output folders, CSV and JSON.
-- ``figures``: every figure (matplotlib), decimated to its pixels, and drawing in a forked process.
+- ``figures``: every figure (matplotlib), decimated to its pixels.
 - ``text``: the words of a report (error table, findings, base motion) and the HTML page.
 - ``writers``: each command's files (plan, main job, workspace, operability), composed from the above.
+- ``cleaning``: the cleaning job's files (clean.csv, the coverage map, summary.json, report.html).
 """

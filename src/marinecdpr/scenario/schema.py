@@ -17,6 +17,7 @@ from pydantic import (
 )
 
 from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
+from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.robot import Robot
 # ---------------------------------------------------------------------- ship, sea
@@ -272,7 +273,7 @@ class LineTrajectory(_Model):
 
 
 Trajectory = Annotated[
-    Union[CircleTrajectory, WaypointsTrajectory, LineTrajectory], Field(discriminator="type")
+    Union[CircleTrajectory, WaypointsTrajectory, LineTrajectory, CoverageTrajectory], Field(discriminator="type")
 ]
 
 
@@ -406,6 +407,24 @@ class Scenario(_Model):
     planning: Planning = Planning()
     simulation: Simulation = Simulation()
     environment: Environment = Environment()
+    cleaning: Cleaning | None = None
+
+    @model_validator(mode="after")
+    def _check_cleaning(self) -> "Scenario":
+        if isinstance(self.trajectory, CoverageTrajectory) and self.cleaning is None:
+            raise _KeyedError("cleaning", "missing: a coverage trajectory cleans the [cleaning] section's panel")
+        if self.cleaning is None:
+            return self
+        frame = self.robot.frame_anchors[:, [0, 2]]
+        lo, hi = frame.min(axis=0), frame.max(axis=0)
+        tol = 1e-9 * max(1.0, float(abs(frame).max()))
+        for i, (x, z) in enumerate(self.cleaning.panel_m, start=1):
+            if not (lo[0] - tol <= x <= hi[0] + tol and lo[1] - tol <= z <= hi[1] + tol):
+                raise _KeyedError(f"cleaning.panel_m[{i}]",
+                                  f"[{_num(x)}, {_num(z)}] m is outside the frame: its anchors span x in "
+                                  f"[{_num(float(lo[0]))}, {_num(float(hi[0]))}] and z in "
+                                  f"[{_num(float(lo[1]))}, {_num(float(hi[1]))}] m")
+        return self
 
     @model_validator(mode="after")
     def _check_record(self) -> "Scenario":
@@ -424,6 +443,10 @@ class Scenario(_Model):
         if isinstance(traj, CircleTrajectory):
             if traj.plane != "xz":
                 raise _KeyedError("trajectory.plane", "a planar robot moves in the x-z plane of C: use \"xz\"")
+            if traj.orientation_deg[0] or traj.orientation_deg[2]:
+                raise _KeyedError("trajectory.orientation_deg", msg_rot)
+            return self
+        if isinstance(traj, CoverageTrajectory):
             if traj.orientation_deg[0] or traj.orientation_deg[2]:
                 raise _KeyedError("trajectory.orientation_deg", msg_rot)
             return self

@@ -1,0 +1,164 @@
+"""The cleaning job's files: clean.csv, coverage.png, cleaning.png, summary.json, report.html."""
+
+from __future__ import annotations
+
+import base64
+import html
+from pathlib import Path
+
+import numpy as np
+
+from marinecdpr.report.figures import FIGURE_DPI, _legend_below, _plain, _pyplot, _save, decimate, _figure_columns
+from marinecdpr.report.files import _row_format, atomic_path, write_json
+from marinecdpr.report.files import _write_rows
+from marinecdpr.report.text import describe_base_motion
+from marinecdpr.textfiles import strip_control
+
+__all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings"]
+
+CLEAN_COLUMNS = ("t", "brush_x_m", "brush_y_m", "brush_z_m", "brush_x_planned_m", "brush_z_planned_m",
+                 "normal_force_N", "in_band", "cross_track_error_m")
+"""The first columns of clean.csv; the cable tensions T1..Tn follow."""
+
+
+def write_clean_csv(job, path: Path) -> Path:
+    """One row per step: time (s), the brush's centre in C actual (x, y, z) and planned
+    (x, z), m, the normal force (N), in band (1/0), the cross-track error (m), the applied
+    tensions T1..Tn (N)."""
+    res = job.result
+    m = res.tensions.shape[1]
+    names = list(CLEAN_COLUMNS) + [f"T{i}" for i in range(1, m + 1)]
+    values = np.column_stack([res.t, job.brush, job.brush_planned[:, [0, 2]], job.normal_force,
+                              job.in_band.astype(float), job.cross_track, res.tensions])
+    fmt = _row_format(len(names), False).split(",")
+    fmt[CLEAN_COLUMNS.index("in_band")] = "%d"
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            fh.write(",".join(names) + "\n")
+            _write_rows(fh, ",".join(fmt), values)
+    return path
+
+
+def plot_coverage(job, path: Path) -> Path:
+    """A map of the panel: cleaned once, twice or more, missed; the panel and holes outlined,
+    the brush's actual path drawn thin."""
+    plt = _pyplot()
+    from matplotlib.colors import ListedColormap
+
+    cov, cleaning = job.coverage, job.scenario.cleaning
+    shown = np.where(cov.passes < 0, np.nan, np.minimum(cov.passes, 2))
+    width = max(float(np.ptp(cov.x)), 1e-3)
+    height = max(float(np.ptp(cov.z)), 1e-3)
+    fig, ax = plt.subplots(figsize=(9.0, min(9.0, max(3.5, 8.0 * height / width)) + 1.2))
+    cmap = ListedColormap(["#d73027", "#91cf60", "#1a9850"])
+    h = cov.resolution_m
+    ax.imshow(shown, origin="lower", cmap=cmap, vmin=-0.5, vmax=2.5, interpolation="nearest",
+              extent=(cov.x[0] - h / 2, cov.x[-1] + h / 2, cov.z[0] - h / 2, cov.z[-1] + h / 2))
+    for poly in [cleaning.panel_m] + list(cleaning.holes_m):
+        p = np.asarray(poly + [poly[0]])
+        ax.plot(p[:, 0], p[:, 1], "k-", lw=1.0)
+    ax.plot(job.brush[:, 0], job.brush[:, 2], color="k", lw=0.4, alpha=0.5, label="brush centre (actual)")
+    for colour, label in (("#d73027", "missed"), ("#91cf60", "cleaned once"), ("#1a9850", "cleaned twice or more")):
+        ax.fill_between([], [], color=colour, label=label)
+    s = job.summary
+    ax.set_title(f"{s['coverage_pct']:.2f} % of the panel cleaned ({s['reachable_coverage_pct']:.2f} % of what a "
+                 f"round brush can reach), {s['overlap_pct']:.1f} % overlap", fontsize=10)
+    ax.set_xlabel("x in C (m)")
+    ax.set_ylabel("z in C (m)")
+    ax.set_aspect("equal")
+    _legend_below(fig, ax, max_columns=4, wspace=0.2)
+    fig.suptitle(f"Coverage of the panel: {_plain(job.scenario.name)}", fontsize=11)
+    return _save(fig, path)
+
+
+def plot_cleaning_series(job, path: Path) -> Path:
+    """Over time: the cable tensions, the normal force within its band, the cross-track error."""
+    plt = _pyplot()
+    res, cleaning = job.result, job.scenario.cleaning
+    fig, axes = plt.subplots(3, 1, figsize=(11, 8.5), sharex=True)
+    columns = _figure_columns(fig, FIGURE_DPI)
+    for i in range(res.tensions.shape[1]):
+        axes[0].plot(*decimate(res.t, res.tensions[:, i], columns), lw=1.0, label=f"cable {i + 1}")
+    axes[0].set_ylabel("tension (N)")
+    lo, hi = cleaning.band_N
+    axes[1].plot(*decimate(res.t, job.normal_force, columns), color="k", lw=1.0, label="normal force")
+    axes[1].axhspan(lo, hi, color="#1a9850", alpha=0.15, label="band")
+    axes[1].set_ylabel("normal force (N)")
+    err = job.cross_track * 1e3
+    axes[2].plot(*decimate(res.t, err, columns), color="C3", lw=1.0, label="cross-track error")
+    axes[2].set_ylabel("cross-track error (mm)")
+    axes[2].set_xlabel("t (s)")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    _legend_below(fig, axes, max_columns=8, hspace=0.15)
+    fig.suptitle(f"Tensions, normal force and tracking while cleaning: {_plain(job.scenario.name)}", fontsize=11)
+    return _save(fig, path)
+
+
+def cleaning_findings(summary: dict) -> list[str]:
+    """What the numbers say, in sentences written from them."""
+    s = summary
+    out = [f"The brush cleaned {s['coverage_pct']:.2f} % of the {s['panel_area_m2']:.3g} m2 panel "
+           f"({s['reachable_coverage_pct']:.2f} % of the {s['reachable_area_m2']:.3g} m2 a round brush of "
+           f"{s['brush_width_m']:g} m can reach); {s['missed_area_m2']:.3g} m2 missed.",
+           f"{s['lanes']} lanes {s['lane_spacing_m']:.3g} m apart, {s['path_length_m']:.3g} m of path in "
+           f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h.",
+           f"The normal force stayed within its band {s['normal_force_in_band_pct']:.2f} % of the time "
+           f"(contact lost {s['contact_lost_s']:.2f} s).",
+           f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
+           f"steps in the plan; cross-track error at most {s['max_cross_track_error_m'] * 1e3:.3g} mm "
+           f"(95 % below {s['p95_cross_track_error_m'] * 1e3:.3g} mm); winches "
+           f"{s['winch_energy_kJ']:.3g} kJ."]
+    out.append("Model limits: the brush's drag and moment act along the planned path at the preload; the "
+               "normal force is the plan's (the guide holds the platform along the hull normal).")
+    return out
+
+
+def write_cleaning_html(job, figures: dict, path: Path) -> Path:
+    def esc(text: str) -> str:
+        return html.escape(strip_control(text))
+
+    sc, s = job.scenario, job.summary
+    c = sc.cleaning
+    facts = [("robot", f"{sc.robot.dofs}, {sc.robot.n_cables} cables, {sc.robot.mass_kg:g} kg"),
+             ("base motion", describe_base_motion(sc.base_motion)),
+             ("brush", f"{c.brush}, {c.brush_diameter_m:g} m, friction {c.friction:g}, preload {c.preload:g} N, "
+                       f"band {c.band_N[0]:g} .. {c.band_N[1]:g} N"),
+             ("path", f"{s['lanes']} lanes, spacing {s['lane_spacing_m']:.3g} m, {s['path_length_m']:.3g} m, "
+                      f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s")]
+    rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
+    keys = ("coverage_pct", "reachable_coverage_pct", "missed_area_m2", "overlap_pct", "area_rate_m2_h",
+            "normal_force_in_band_pct", "contact_lost_s", "tension_min_N", "tension_max_N",
+            "max_cross_track_error_m", "p95_cross_track_error_m", "winch_energy_kJ")
+    numbers = "".join(f"<tr><th>{esc(k)}</th><td>{s[k]:.6g}</td></tr>" for k in keys)
+    notes = "".join(f"<li>{esc(x)}</li>" for x in cleaning_findings(s))
+    imgs = "".join(
+        f'<figure><img src="data:image/png;base64,{base64.b64encode(Path(p).read_bytes()).decode("ascii")}" '
+        f'alt="{esc(cap)}"><figcaption>{esc(cap)}</figcaption></figure>' for cap, p in figures.items())
+    page = f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>marinecdpr clean: {esc(sc.name)}</title>
+<style>body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em; }}
+table {{ border-collapse: collapse; margin: 1em 0; }} th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em;
+text-align: left; }} img {{ max-width: 100%; }} figcaption {{ color: #555; font-size: 0.9em; }}</style>
+</head><body><h1>Cleaning job, scenario: {esc(sc.name)}</h1><p>{esc(sc.description)}</p>
+<h2>Scenario</h2><table>{rows}</table><h2>The job</h2><table>{numbers}</table><ul>{notes}</ul>
+<h2>Figures</h2>{imgs}</body></html>
+"""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(page, encoding="utf-8")
+    return path
+
+
+def write_cleaning(job, folder: Path) -> list[Path]:
+    """Every file of the cleaning job in ``folder``; returns the paths written."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = [write_clean_csv(job, folder / "clean.csv")]
+    figures = {"Coverage of the panel from the simulated brush": plot_coverage(job, folder / "coverage.png"),
+               "Tensions, normal force and cross-track error": plot_cleaning_series(job, folder / "cleaning.png")}
+    paths += list(figures.values())
+    paths.append(write_json(job.summary, folder / "summary.json"))
+    paths.append(write_cleaning_html(job, figures, folder / "report.html"))
+    return paths

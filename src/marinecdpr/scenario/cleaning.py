@@ -1,0 +1,138 @@
+"""The cleaning job: the hull panel to clean, the brush, and its contact with the hull.
+
+The panel lies in the frame's x-z plane (the hull side the frame stands on); its outline
+and any openings to keep clear are polygons of ``[x, z]`` points in C, m. The brush's
+centre moves along a boustrophedon coverage path over the panel (``[trajectory]
+type = "coverage"``), pressed on the hull with a normal force that must stay within a
+band for the brush to clean.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import AfterValidator, Field, model_validator
+
+from marinecdpr.scenario.fields import (
+    POSITION_MAX_M, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
+)
+
+__all__ = ["Cleaning", "CoverageTrajectory"]
+
+Coordinate = _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions on a ship, in metres")
+
+
+def _point(value: list) -> tuple[float, float]:
+    return tuple(value)
+
+
+Point = Annotated[tuple[Coordinate, Coordinate], AfterValidator(_point)]
+Polygon = Annotated[list[Point], Field(min_length=3, max_length=10_000)]
+
+
+def polygon_area(points: np.ndarray) -> float:
+    """Signed area of a polygon of (k, 2) points (shoelace), m^2; positive counter-clockwise."""
+    x, z = points[:, 0], points[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z))
+
+
+class Cleaning(_Model):
+    """``[cleaning]``: the panel, the tool and the contact."""
+
+    panel_m: Polygon
+    """The panel's outline, [x, z] points in C (m), in order."""
+    holes_m: list[Polygon] = []
+    """Openings to keep clear (sea chests, anodes), each an outline inside the panel."""
+    brush: Literal["disc", "pair"] = "disc"
+    """A single disc brush (its drag turns the platform about the hull normal) or a
+    counter-rotating pair (whose moments cancel)."""
+    brush_diameter_m: _ranged(0.01, 5.0, "m", "from a 1 cm pad to a 5 m roller", above=True)
+    overlap_m: _ranged(0.0, 5.0, "m", "between neighbouring lanes") = 0.0
+    speed_m_s: _ranged(0.0, 5.0, "m/s", "a brush's travel speed", above=True)
+    acceleration_m_s2: _ranged(0.0, 50.0, "m/s^2", "of the travel at turns", above=True)
+    jerk_m_s3: _ranged(0.0, 5000.0, "m/s^3", "of the travel at turns", above=True)
+    direction_deg: _ranged(-180.0, 180.0, "deg", "the lanes' angle from x towards z") | None = None
+    """The lanes' direction; by default the one with the fewest lanes."""
+    boundary_pass: bool | None = None
+    """After the lanes, once round the panel's outline inset by the brush's radius (cleans
+    the slivers along the edges); by default on for a convex panel without holes."""
+    normal_force_N: tuple[_ranged(0.0, 1e6, "N", "a brush's contact force"),
+                          _ranged(0.0, 1e6, "N", "a brush's contact force")]
+    """The band [F_min, F_max] within which the brush cleans, N."""
+    preload_N: _ranged(0.0, 1e6, "N", "a brush's contact force") | None = None
+    """The force the pusher presses the brush on with, N; by default mid-band."""
+    friction: _ranged(0.0, 2.0, "", "brush on paint, about 0.3-0.6")
+    jet_N: _ranged(-1e5, 1e5, "N", "a water jet's reaction") = 0.0
+    """A water jet's reaction on the tool, N, positive away from the hull."""
+    brush_offset_m: Position = (0.0, 0.0, 0.0)
+    """The brush's centre in the platform frame P, m."""
+    hull_normal: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    """The hull's normal in C, pointing from the hull towards the robot (the frame's y)."""
+
+    @model_validator(mode="after")
+    def _check(self) -> "Cleaning":
+        if self.overlap_m >= self.brush_diameter_m:
+            raise _KeyedError("overlap_m", f"must be less than brush_diameter_m ({_num(self.brush_diameter_m)} m), "
+                                           f"got {_num(self.overlap_m)}")
+        lo, hi = self.normal_force_N
+        if lo > hi:
+            raise _KeyedError("normal_force_N", f"the band [F_min, F_max] must have F_min <= F_max, "
+                                                f"got [{_num(lo)}, {_num(hi)}]")
+        if self.preload_N is not None and not lo <= self.preload_N <= hi:
+            raise _KeyedError("preload_N", f"must be within normal_force_N [{_num(lo)}, {_num(hi)}] N, "
+                                           f"got {_num(self.preload_N)}")
+        n = np.asarray(self.hull_normal, dtype=float)
+        if not np.isfinite(n).all() or abs(float(np.linalg.norm(n)) - 1.0) > 1e-6:
+            raise _KeyedError("hull_normal", "must be a unit vector [x, y, z] in C")
+        panel = np.asarray(self.panel_m)
+        size = float(np.ptp(panel, axis=0).max())
+        if abs(polygon_area(panel)) <= 1e-9 * max(size, 1e-9) ** 2:
+            raise _KeyedError("panel_m", "the outline encloses no area")
+        for i, hole in enumerate(self.holes_m, start=1):
+            inside = _inside(np.asarray(hole), panel)
+            if not inside.all():
+                raise _KeyedError(f"holes_m[{i}]", "must lie inside panel_m")
+        return self
+
+    @property
+    def band_N(self) -> tuple[float, float]:
+        return tuple(float(v) for v in self.normal_force_N)
+
+    @property
+    def preload(self) -> float:
+        """The pusher's force, N (mid-band unless given)."""
+        lo, hi = self.normal_force_N
+        return float(self.preload_N if self.preload_N is not None else 0.5 * (lo + hi))
+
+
+def _inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
+    """True for each of (n, 2) points inside (or on) the polygon (k, 2): even-odd rule."""
+    x, z = points[:, 0][:, None], points[:, 1][:, None]
+    x0, z0 = polygon[:, 0][None], polygon[:, 1][None]
+    x1, z1 = np.roll(polygon[:, 0], -1)[None], np.roll(polygon[:, 1], -1)[None]
+    crosses = (z0 > z) != (z1 > z)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xc = x0 + (z - z0) * (x1 - x0) / (z1 - z0)
+    inside = (crosses & (x < xc)).sum(axis=1) % 2 == 1
+    # on an edge counts as inside
+    ex, ez = x1 - x0, z1 - z0
+    length2 = ex * ex + ez * ez
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.clip(((x - x0) * ex + (z - z0) * ez) / length2, 0.0, 1.0)
+    d2 = (x0 + s * ex - x) ** 2 + (z0 + s * ez - z) ** 2
+    scale = max(float(np.ptp(polygon, axis=0).max()), 1e-9)
+    return inside | (d2.min(axis=1) <= (1e-9 * scale) ** 2)
+
+
+class CoverageTrajectory(_Model):
+    """``type = "coverage"``: the brush's centre along a boustrophedon path over the
+    ``[cleaning]`` panel (lanes, then rest-to-rest jerk-limited moves at the turns)."""
+
+    type: Literal["coverage"]
+    start_time_s: TimeOfDay = 0.0
+    """When the path starts; the platform waits at its start before."""
+    orientation_deg: Orientation = (0.0, 0.0, 0.0)
+    """The platform's (fixed) orientation while cleaning."""
+    plane_y_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions on a ship, in metres") = 0.0
+    """y of the brush's centre in C (the panel's plane)."""

@@ -1,0 +1,207 @@
+"""The cleaning job: plan the coverage path, fly it closed loop, and measure what got cleaned.
+
+:func:`cleaning_job` plans a scenario whose ``[trajectory]`` is the ``coverage`` path of
+its ``[cleaning]`` panel, flies the plan closed loop on the virtual prototype in the
+scenario's sea, and measures the job from the *simulated* brush: the cleaned area is the
+union of the brush's footprint along its actual path while the normal force is within
+the band, clipped to the panel (:func:`~marinecdpr.studies.coverage.coverage_map`).
+
+The normal force. The pusher presses the brush on the hull with the preload P along
+-n (n: the hull normal, from the hull towards the robot). On a planar robot the cables
+act in the x-z plane and nothing else holds the platform along n, so the contact force
+is what balances the pusher and the platform's inertia and weight along n:
+F_n = P + (m a - m g - jet)_n. The plan's reaction along n is that requirement less the
+planned contact (P) and jet, so F_n = reaction_n + 2 P, from the plan at each step
+(the platform's motion along n is the plan's: the guide holds it). On a spatial robot the
+cables hold the brush on at the preload: F_n = P.
+
+Model limits (stated in the report): the brush's drag and reaction moment act on the
+prototype as planned (at the planned brush velocity and the preload), not from the
+simulated velocity and normal force.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.model.brush import brush_velocity
+from marinecdpr.motion.trajectory import cleaning_path
+from marinecdpr.planning.planner import Plan, plan
+from marinecdpr.prototype.simulation import SimResult, simulate
+from marinecdpr.scenario.cleaning import CoverageTrajectory
+from marinecdpr.scenario.schema import Scenario
+from marinecdpr.studies.coverage import CoverageMap, coverage_map
+
+__all__ = ["CleaningJob", "cleaning_job", "brush_positions", "normal_force", "cross_track_error",
+           "reachable_cells"]
+
+
+@dataclass(frozen=True)
+class CleaningJob:
+    """A cleaning job flown on the virtual prototype. Arrays share ``n_steps`` (times ``t``).
+
+    Attributes
+    ----------
+    scenario : Scenario
+    plan : Plan
+    result : SimResult
+        The closed-loop run.
+    brush, brush_planned : ndarray, shape (n_steps, 3)
+        The brush's centre in C, actual and planned, m.
+    normal_force : ndarray, shape (n_steps,)
+        The brush's contact force on the hull, N.
+    in_band : ndarray of bool, shape (n_steps,)
+        True where the normal force is within ``[cleaning] normal_force_N``.
+    cross_track : ndarray, shape (n_steps,)
+        The actual brush's distance across its planned direction of travel, m.
+    coverage : CoverageMap
+    summary : dict
+        The job's figures (``summary.json``).
+    """
+
+    scenario: Scenario
+    plan: Plan
+    result: SimResult
+    brush: np.ndarray
+    brush_planned: np.ndarray
+    normal_force: np.ndarray
+    in_band: np.ndarray
+    cross_track: np.ndarray
+    coverage: CoverageMap
+    summary: dict
+
+
+def brush_positions(pose: np.ndarray, offset_P) -> np.ndarray:
+    """The brush's centre in C, (n_steps, 3), m, from the platform's pose (n_steps, 6)
+    ``(x, y, z, rx, ry, rz)`` in C and the brush's centre ``offset_P`` (3,) in P."""
+    R = matrix_from_euler(pose[:, 3:])
+    return pose[:, :3] + np.einsum("nij,j->ni", R, np.asarray(offset_P, dtype=float))
+
+
+def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
+    """The brush's contact force over the plan's steps, (n_steps,), N (see the module's notes)."""
+    cleaning = scenario.cleaning
+    P = cleaning.preload
+    n = np.asarray(cleaning.hull_normal, dtype=float)
+    if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
+        return np.full(p.n_steps, P)  # the cables hold the brush on at the preload
+    reaction_n = p.reaction[:, p.reaction_dofs.index("y")] * n[1]
+    return reaction_n + 2.0 * P
+
+
+def cross_track_error(brush: np.ndarray, planned: np.ndarray, planned_velocity: np.ndarray) -> np.ndarray:
+    """Distance of the actual brush (n, 2) from the planned one (n, 2) across the planned
+    direction of travel (from ``planned_velocity`` (n, 2)); the whole distance where the
+    plan is at rest. m."""
+    e = brush - planned
+    speed = np.linalg.norm(planned_velocity, axis=1)
+    moving = speed > 1e-9
+    d = np.zeros_like(planned_velocity)
+    d[moving] = planned_velocity[moving] / speed[moving, None]
+    along = np.einsum("ni,ni->n", e, d)
+    across = e - along[:, None] * d
+    return np.linalg.norm(across, axis=1)
+
+
+def reachable_cells(cov: CoverageMap, radius_m: float) -> np.ndarray:
+    """Cells of the panel a round brush of ``radius_m`` can reach at all (its disc kept within
+    the panel and clear of the holes): the panel's opening by the disc, on the coverage
+    raster. (nz, nx) bool. A rectangle's four corners, r^2 (1 - pi/4) each, are out of reach."""
+    from scipy.ndimage import distance_transform_edt
+
+    inside = np.pad(cov.passes >= 0, 1)
+    centres = distance_transform_edt(inside) * cov.resolution_m >= radius_m
+    reach = distance_transform_edt(~centres) * cov.resolution_m <= radius_m
+    return (reach & inside)[1:-1, 1:-1]
+
+
+def cleaning_job(
+    scenario: Scenario,
+    *,
+    plant: str | None = None,
+    n_steps: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> CleaningJob:
+    """Plan the coverage path, fly it closed loop, and measure the cleaning.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With a ``[cleaning]`` section and a ``coverage`` trajectory.
+    plant : {"mujoco", "own"}, optional
+    n_steps : int, optional
+        Only the first steps (short horizons).
+    progress : callable(done, total), optional
+
+    Raises
+    ------
+    ScenarioError
+        If the scenario has no cleaning job.
+    InfeasibleError, SimulationDivergedError
+    """
+    cleaning = scenario.cleaning
+    if cleaning is None or not isinstance(scenario.trajectory, CoverageTrajectory):
+        raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
+                            key="cleaning", source=scenario.name)
+    p = plan(scenario)
+    res = simulate(scenario, run="closed_loop", reference=p, plant=plant, n_steps=n_steps, progress=progress)
+    n = res.t.size
+    brush = brush_positions(res.pose, cleaning.brush_offset_m)
+    planned = brush_positions(res.pose_planned, cleaning.brush_offset_m)
+    v_planned = brush_velocity(p.twist[:n, :3], p.twist[:n, 3:], matrix_from_euler(p.pose[:n, 3:]),
+                               cleaning.brush_offset_m)
+    F_n = normal_force(p, scenario)[:n]
+    lo, hi = cleaning.band_N
+    tol = 1e-9 * max(hi, 1.0)
+    in_band = (F_n >= lo - tol) & (F_n <= hi + tol)
+    cross = cross_track_error(brush[:, [0, 2]], planned[:, [0, 2]], v_planned[:, [0, 2]])
+    cov = coverage_map(np.asarray(cleaning.panel_m), [np.asarray(h) for h in cleaning.holes_m],
+                       brush[:, [0, 2]], in_band, width_m=cleaning.brush_diameter_m)
+    summary = _summary(scenario, p, res, in_band, cross, cov)
+    return CleaningJob(scenario, p, res, brush, planned, F_n, in_band, cross, cov, summary)
+
+
+def _summary(scenario: Scenario, p: Plan, res: SimResult, in_band: np.ndarray, cross: np.ndarray,
+             cov: CoverageMap) -> dict:
+    cleaning = scenario.cleaning
+    path = cleaning_path(cleaning)
+    reach = reachable_cells(cov, 0.5 * cleaning.brush_diameter_m)
+    cleaned = cov.passes > 0
+    h = scenario.time.step_s
+    n = res.t.size
+    job_time = min(path.duration_s, float(res.t[-1]) + h) if n else 0.0
+    rates = np.gradient(res.lengths, h, axis=0) if n > 1 else np.zeros_like(res.lengths)
+    energy = float(np.sum(np.abs(res.tensions * rates)) * h)  # sum over cables of |T L'| dt, J
+    return {
+        "scenario": scenario.name,
+        "steps": int(n),
+        "panel_polygon_m": [list(map(float, v)) for v in cleaning.panel_m],
+        "brush_width_m": float(cleaning.brush_diameter_m),
+        "lane_spacing_m": float(path.spacing_m),
+        "panel_area_m2": float(cov.panel_area_m2),
+        "coverage_pct": float(cov.coverage_pct),
+        "missed_area_m2": float(cov.missed_area_m2),
+        "reachable_area_m2": float(reach.sum() * cov.resolution_m ** 2),
+        "reachable_coverage_pct": float(100.0 * (cleaned & reach).sum() / max(reach.sum(), 1)),
+        "overlap_pct": float(cov.overlap_pct),
+        "path_length_m": float(path.length_m),
+        "lanes": int(path.lanes),
+        "path_duration_s": float(path.duration_s),
+        "job_time_s": float(job_time),
+        "area_rate_m2_h": float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
+        "normal_force_band_N": [float(v) for v in cleaning.band_N],
+        "normal_force_in_band_pct": float(100.0 * in_band.mean()) if n else 0.0,
+        "contact_lost_s": float(np.count_nonzero(~in_band) * h),
+        "tension_min_N": float(res.tensions.min()),
+        "tension_max_N": float(res.tensions.max()),
+        "infeasible_steps": int(np.count_nonzero(~p.feasible)),
+        "max_cross_track_error_m": float(cross.max()) if n else 0.0,
+        "p95_cross_track_error_m": float(np.percentile(cross, 95)) if n else 0.0,
+        "winch_energy_kJ": energy / 1000.0,
+        "coverage_resolution_m": float(cov.resolution_m),
+    }
