@@ -44,7 +44,10 @@ BEFORE = "530035b"
 CLOSED_LOOP = """
 import json, statistics, sys, time
 import marinecdpr
-from marinecdpr.prototype.simulation import simulate
+try:
+    from marinecdpr.prototype.simulation import simulate
+except ImportError:  # before the layout in subpackages
+    from marinecdpr.simulation import simulate
 sc = marinecdpr.load_scenario(sys.argv[1])
 p = marinecdpr.plan(sc)
 out = {"module": marinecdpr.__file__}
