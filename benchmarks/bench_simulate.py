@@ -8,7 +8,7 @@ Prints, for the built-in ``paper`` scenario (15 s at 1 ms, 15 001 exchanges):
     tensions and the cable model at every exchange, ship driven along its motion;
   * the same for open loop, and the own plant (RK4) for both;
 with the real-time factor of each and the closed loop's ratio to bare stepping. Targets:
->= 20x real time and <= 2.5x bare MuJoCo.
+>= 20x real time; issue 10 asks the closed loop within 1.3x bare MuJoCo.
 
 Then the whole main job, each repeat beside a bare MuJoCo loop timed in the same repeat:
   * in this process: ``virtual_prototype`` (plan, three runs) plus ``write_virtual_prototype``
@@ -78,7 +78,7 @@ def main() -> None:
     for plant in ("mujoco", "own"):
         for run in ("closed_loop", "open_loop"):
             t_run = best(lambda: simulate(sc, run=run, reference=p, plant=plant), 5)
-            extra = f"   {t_run / t_bare:.2f}x bare MuJoCo (target <= 2.5x)" if plant == "mujoco" else ""
+            extra = f"   {t_run / t_bare:.2f}x bare MuJoCo (issue 10 asks <= 1.3x)" if plant == "mujoco" else ""
             print(f"simulate {run:12s} on {plant:6s}: {t_run:6.3f} s  ({duration / t_run:5.0f}x real time,"
                   f" target >= 20x){extra}")
     t_main = best(lambda: marinecdpr.virtual_prototype(sc), 3)
