@@ -117,3 +117,27 @@ def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean):
     assert np.ptp(sea.normal_force) > 1.0 and lo <= sea.normal_force.min() and sea.normal_force.max() <= hi
     assert sea.summary["normal_force_in_band_pct"] == calm.summary["normal_force_in_band_pct"] == 100.0
     assert np.abs(sea.result.tensions - calm.result.tensions).max() > 0.1  # 0.33 N: a mild sea for a 5 kg robot
+
+
+def test_the_brush_part_applies_the_loads_at_the_actual_velocity_less_the_planned_ones():
+    from marinecdpr.model.brush import brush_params
+    from marinecdpr.prototype.parts import BrushContact, brush_step
+
+    params = brush_params(0.5, 0.1, kind=0)
+    plan_f, plan_m = np.array([[1.0, 2.0, 3.0]]), np.array([[0.5, 0.0, -0.5]])
+    b = BrushContact(True, params, np.array([0.0, 1.0, 0.0]), np.array([100.0]), plan_f, plan_m,
+                     np.zeros(3), np.zeros(3), np.zeros(3))
+    # the platform moves along +x at 0.2 m/s and turns about y: the brush at P's origin
+    brush_step(0, np.eye(3), np.array([0.2, 0.0, 0.0]), np.array([0.0, 0.3, 0.0]), b)
+    drag = -0.5 * 100.0 * 0.2 / np.hypot(0.2, 1e-3)
+    np.testing.assert_allclose(b.f, [drag - 1.0, 100.0 - 2.0, -3.0], rtol=1e-12)
+    np.testing.assert_allclose(b.m, [-0.5, -2.0 / 3.0 * 0.5 * 100.0 * 0.1, 0.5], rtol=1e-12)
+
+
+def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
+    # the plan compensates the drag along the planned velocity; the prototype's brush drags
+    # along the actual one: open loop stays on the plan only if the two agree
+    calm = clean.with_changes(base_motion={"type": "still"}, time={"step_s": 0.001, "duration_s": 10.0})
+    for plant in ("own", "mujoco"):
+        res = marinecdpr.simulate(calm, run="open_loop", plant=plant)
+        assert np.abs(res.pose_error[:, [0, 2]]).max() < 1e-4, plant

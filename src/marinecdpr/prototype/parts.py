@@ -9,6 +9,7 @@ in this order::
       -> controller   :func:`command`        computed torque + the tension method -> T_cmd, L0_cmd
       -> winch        :func:`winch_step`     lag on the length or tension command
       -> cables       :func:`cable_step`     ideal (T = T_cmd) or elastic (T from stretch)
+      -> brush        :func:`brush_step`     a cleaning brush's loads at the actual velocity
       -> plant        (:mod:`~marinecdpr.prototype.plants`) advances one step with the tensions
     and :func:`log_step` records what happened.
 
@@ -30,9 +31,10 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.model import kernels as K
+from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 
 __all__ = ["Reference", "RobotModel", "Sensors", "Controller", "Loads", "Winch", "Cables", "Bus", "Log",
-           "Parts", "exchange", "measure", "command", "winch_step", "cable_step", "log_step"]
+           "BrushContact", "Parts", "exchange", "measure", "command", "winch_step", "cable_step", "log_step"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -137,6 +139,27 @@ class Cables(NamedTuple):
     damping: float
 
 
+class BrushContact(NamedTuple):
+    """A cleaning brush on the hull (``[cleaning]``); inactive otherwise.
+
+    params : the brush (:class:`~marinecdpr.model.brush.BrushParams`). n_C : (3,) the hull
+    normal in C. F_n : (n_steps,) the normal force, N. f_plan, m_plan : (n_steps, 3) the
+    brush's loads along the planned path, in C, which ``Loads`` holds for the controller's
+    model. State: f, m (3,) the loads at the actual brush velocity, in C about P, which
+    the plant applies instead of the planned ones; v (3,) scratch.
+    """
+
+    active: bool
+    params: BrushParams
+    n_C: np.ndarray
+    F_n: np.ndarray
+    f_plan: np.ndarray
+    m_plan: np.ndarray
+    f: np.ndarray
+    m: np.ndarray
+    v: np.ndarray
+
+
 class Bus(NamedTuple):
     """The signals of the current exchange: L, Ldot (m,) actual lengths and rates; J (m, 6)
     J~ at the actual pose; T_cmd, L0_cmd (m,) the commands; T_app (m,) the applied tensions."""
@@ -171,6 +194,7 @@ class Parts(NamedTuple):
     cables: Cables
     bus: Bus
     log: Log
+    brush: BrushContact
 
 
 def empty_bus(m: int) -> Bus:
@@ -373,6 +397,18 @@ def cable_step(cables, winch, bus):
 
 
 @njit(cache=_cache, inline="always")
+def brush_step(k, R, v, w, brush):
+    """The brush's loads at the platform's actual velocity (v, w in C) and orientation R,
+    less those along the plan that the controller's load model holds: written to
+    ``brush.f``, ``brush.m`` (in C, about P), held over the step by the plant."""
+    brush_velocity_step(v, w, R, brush.params.offset_P, brush.v)
+    brush_wrench_step(brush.v, brush.n_C, brush.F_n[k], R, brush.params, brush.f, brush.m)
+    for i in range(3):
+        brush.f[i] -= brush.f_plan[k, i]
+        brush.m[i] -= brush.m_plan[k, i]
+
+
+@njit(cache=_cache, inline="always")
 def log_step(k, x, R, bus, log):
     log.pose[k, :3] = x
     e = np.empty(3)
@@ -395,5 +431,7 @@ def exchange(k, h, x, R, v, w, parts):
     if parts.cables.elastic:  # ideal cables apply the command: no winch dynamics
         winch_step(k, parts.winch, bus, parts.sensors)
     cable_step(parts.cables, parts.winch, bus)
+    if parts.brush.active:
+        brush_step(k, R, v, w, parts.brush)
     log_step(k, x, R, bus, parts.log)
     return fallback

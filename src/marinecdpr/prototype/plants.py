@@ -75,6 +75,9 @@ def _own_rhs(y, j, plant, parts, dy):
     bias = np.empty(6)
     zero = np.zeros(3)
     f_j, m_j = disturbance_C(plant.f[j], plant.m[j], parts.loads.in_P, R)
+    if parts.brush.active:  # the brush's loads at the actual velocity, held over the step
+        f_j = f_j + parts.brush.f
+        m_j = m_j + parts.brush.m
     K.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
                   model.origin, model.mass, model.I_PP, model.g, f_j, m_j, bias)
     acc = np.empty(6)
@@ -214,6 +217,12 @@ def _mujoco_inputs(k, R, mj, drive, parts):
     else:
         mj.xfrc[mj.body, :3] = drive.f_O[k]
         mj.xfrc[mj.body, 3:] = drive.m_O[k]
+    brush = parts.brush
+    if brush.active:  # the brush's loads at the actual velocity (in C), into O
+        for i in range(3):
+            for j in range(3):
+                mj.xfrc[mj.body, i] += drive.R_SO[k, i, j] * brush.f[j]
+                mj.xfrc[mj.body, 3 + i] += drive.R_SO[k, i, j] * brush.m[j]
 
 
 @njit(cache=_cache)

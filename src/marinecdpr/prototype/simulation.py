@@ -169,7 +169,8 @@ def simulate(
         ref=_reference(ff), model=_robot_model(scenario), sensors=_sensors(scenario, run, ship_h, n),
         controller=_controller(scenario, run), loads=P.Loads(np.ascontiguousarray(f_h[::2][:n]),
                                                              np.ascontiguousarray(m_h[::2][:n]), in_P),
-        winch=_winch(scenario, ff, x0, R0), cables=_cables(scenario), bus=P.empty_bus(m), log=P.empty_log(n, m))
+        winch=_winch(scenario, ff, x0, R0), cables=_cables(scenario), bus=P.empty_bus(m), log=P.empty_log(n, m),
+        brush=_brush(scenario, ref, n))
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
@@ -234,14 +235,45 @@ def _loads(scenario: Scenario, ship_h) -> tuple[np.ndarray, np.ndarray, bool]:
     if not in_P:
         f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
     if scenario.cleaning is not None:
-        # the brush's loads along the planned path, at the pusher's preload (fed to the plant
-        # as a load history: they do not yet react to the platform's actual motion)
+        # the brush's loads along the planned path at the preload: the controller's load model
+        # (the plant replaces them by the loads at the actual velocity: BrushContact)
         platform = evaluate_trajectory(scenario.trajectory, t_h, scenario.cleaning)
         f_b, m_b = cleaning_loads(scenario.cleaning, platform.twist, platform.R_PC, scenario.cleaning.preload)
         if in_P:  # into P with the planned orientation
             f_b, m_b = (np.einsum("nji,nj->ni", platform.R_PC, x) for x in (f_b, m_b))
         f, m = f + f_b, m + m_b
     return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
+
+
+def _brush(scenario: Scenario, ref: Plan, n: int) -> P.BrushContact:
+    """The cleaning brush's contact part: its loads along the plan at t_k (what the
+    controller's load model holds) and the normal force, the plan's guide reaction plus the
+    preload (:func:`~marinecdpr.studies.cleaning.normal_force`'s model); inactive without
+    ``[cleaning]``."""
+    from marinecdpr.model.brush import brush_params, cleaning_brush
+
+    cleaning = scenario.cleaning
+    if cleaning is None:
+        return P.BrushContact(False, brush_params(0.0, 0.0), np.zeros(3), np.zeros(1), np.zeros((1, 3)),
+                              np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3))
+    F_n = np.ascontiguousarray(normal_force(ref, scenario)[:n])
+    f_b, m_b = cleaning_loads(cleaning, ref.twist[:n], matrix_from_euler(ref.pose[:n, 3:]), cleaning.preload)
+    return P.BrushContact(True, cleaning_brush(cleaning), np.asarray(cleaning.hull_normal, dtype=float), F_n,
+                          np.ascontiguousarray(f_b), np.ascontiguousarray(m_b), np.zeros(3), np.zeros(3),
+                          np.zeros(3))
+
+
+def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
+    """The brush's contact force over the plan's steps, (n_steps,), N: on a planar robot the
+    plan's guide reaction along the hull normal plus twice the preload (the pusher presses
+    with the preload; the planned loads include the hull's push at the preload); on a
+    robot whose cables control the normal, the preload."""
+    cleaning = scenario.cleaning
+    P_n = cleaning.preload
+    n = np.asarray(cleaning.hull_normal, dtype=float)
+    if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
+        return np.full(p.n_steps, P_n)
+    return p.reaction[:, p.reaction_dofs.index("y")] * n[1] + 2.0 * P_n
 
 
 def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> P.Sensors:

@@ -110,8 +110,9 @@ def cleaning_findings(summary: dict) -> list[str]:
            f"steps in the plan; cross-track error at most {s['max_cross_track_error_m'] * 1e3:.3g} mm "
            f"(95 % below {s['p95_cross_track_error_m'] * 1e3:.3g} mm); winches "
            f"{s['winch_energy_kJ']:.3g} kJ."]
-    out.append("Model limits: the brush's drag and moment act along the planned path at the preload; the "
-               "normal force is the plan's (the guide holds the platform along the hull normal).")
+    out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
+               "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
+               "from the plan (the guide holds the platform along the normal).")
     return out
 
 

@@ -15,9 +15,9 @@ planned contact (P) and jet, so F_n = reaction_n + 2 P, from the plan at each st
 (the platform's motion along n is the plan's: the guide holds it). On a spatial robot the
 cables hold the brush on at the preload: F_n = P.
 
-Model limits (stated in the report): the brush's drag and reaction moment act on the
-prototype as planned (at the planned brush velocity and the preload), not from the
-simulated velocity and normal force.
+On the prototype the brush's drag and reaction moment follow the platform's actual
+velocity (a part of its own, :class:`~marinecdpr.prototype.parts.BrushContact`), with
+the normal force above; the controller's load model holds them along the plan.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import brush_velocity
 from marinecdpr.motion.trajectory import cleaning_path
 from marinecdpr.planning.planner import Plan, plan
-from marinecdpr.prototype.simulation import SimResult, simulate
+from marinecdpr.prototype.simulation import SimResult, normal_force, simulate
 from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
@@ -81,17 +81,6 @@ def brush_positions(pose: np.ndarray, offset_P) -> np.ndarray:
     ``(x, y, z, rx, ry, rz)`` in C and the brush's centre ``offset_P`` (3,) in P."""
     R = matrix_from_euler(pose[:, 3:])
     return pose[:, :3] + np.einsum("nij,j->ni", R, np.asarray(offset_P, dtype=float))
-
-
-def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
-    """The brush's contact force over the plan's steps, (n_steps,), N (see the module's notes)."""
-    cleaning = scenario.cleaning
-    P = cleaning.preload
-    n = np.asarray(cleaning.hull_normal, dtype=float)
-    if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
-        return np.full(p.n_steps, P)  # the cables hold the brush on at the preload
-    reaction_n = p.reaction[:, p.reaction_dofs.index("y")] * n[1]
-    return reaction_n + 2.0 * P
 
 
 def cross_track_error(brush: np.ndarray, planned: np.ndarray, planned_velocity: np.ndarray) -> np.ndarray:
