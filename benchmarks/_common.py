@@ -1,11 +1,13 @@
 """What the benchmarks share: the line each prints first (which machine, how busy, which
-versions, when) and the general-solver baseline a user would pick for the tension problem."""
+versions, when), the general-solver baseline a user would pick for the tension problem, and
+the best-of-n timer."""
 
 from __future__ import annotations
 
 import datetime
 import os
 import platform
+import time
 
 import numpy as np
 
@@ -46,3 +48,13 @@ def quadprog_per_step(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.n
         C = np.hstack([J[i], eye2])
         T[i] = quadprog.solve_qp(G, target, C, np.concatenate([w[i], b_bounds]), k)[0]
     return T
+
+
+def best_of(repeats: int, fn):
+    """The result of fn() and its smallest wall time over ``repeats`` calls, s."""
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return out, best

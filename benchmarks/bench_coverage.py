@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from marinecdpr.studies.coverage import DECIMATE_CELLS, coverage_map, decimate_path
-from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
+from _common import best_of, machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
 PANEL = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 1.4], [0.0, 1.4]])
 HOLE = np.array([[0.8, 0.5], [1.1, 0.5], [1.1, 0.7], [0.8, 0.7]])
@@ -73,16 +73,6 @@ def shapely_coverage(path: np.ndarray, contact: np.ndarray) -> float:
 def _kept(path: np.ndarray, contact: np.ndarray, h: float) -> int:
     """How many samples coverage_map keeps after decimation (its default tolerances)."""
     return len(decimate_path(path, contact, tol_m=DECIMATE_CELLS * h, max_chord_m=0.05 * WIDTH))
-
-
-def best_of(repeats: int, fn):
-    """The result of fn() and its smallest wall time over ``repeats`` calls, s."""
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return out, best
 
 
 def main() -> None:

@@ -17,7 +17,6 @@ default 30 x 20 grid.
 from __future__ import annotations
 
 import argparse
-import time
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +24,7 @@ import numpy as np
 import marinecdpr
 from marinecdpr.errors import ScenarioError
 from marinecdpr.studies.workspace import pose_range, workspace_map
-from _common import machine  # benchmarks/_common.py (the script's folder is on sys.path)
+from _common import best_of, machine  # benchmarks/_common.py (the script's folder is on sys.path)
 
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -49,16 +48,6 @@ def per_pose_loop(sc, n: tuple[int, int]) -> np.ndarray:
             except ScenarioError:
                 pass  # outside the frame
     return frac
-
-
-def best_of(repeats: int, fn):
-    """The result of fn() and its smallest wall time over ``repeats`` calls, s."""
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return out, best
 
 
 def bench(name: str, sc, n: tuple[int, int], repeats: int) -> None:

@@ -156,6 +156,20 @@ def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleanin
     return sc
 
 
+@contextmanager
+def _run_errors(scenario: str):
+    """A run's failures as one line each: a bad scenario exits 2, an infeasible plan 3, a
+    diverged simulation 4."""
+    try:
+        yield
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    except InfeasibleError as exc:
+        _fail(str(exc), EXIT_INFEASIBLE)
+    except SimulationDivergedError as exc:
+        _fail(str(exc), EXIT_DIVERGED)
+
+
 def _compile_notice(plant: str) -> None:
     """A line on stderr when the simulation's loop must first be compiled (a fresh install)."""
     from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, kernels_cached
@@ -186,14 +200,8 @@ def clean(
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
         with _progress("clean", sc.time.n_steps, "steps") as update:
-            try:
+            with _run_errors(scenario):
                 job = cleaning_job(sc, plant=plant, progress=update)
-            except ScenarioError as exc:
-                _fail_scenario(exc, scenario)
-            except InfeasibleError as exc:
-                _fail(str(exc), EXIT_INFEASIBLE)
-            except SimulationDivergedError as exc:
-                _fail(str(exc), EXIT_DIVERGED)
         paths = write_cleaning(job, folder)
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
@@ -236,14 +244,8 @@ def simulate(
             def progress(run: str, done: int, total: int) -> None:
                 bar.update(tasks[run], completed=done, total=total)
 
-            try:
+            with _run_errors(scenario):
                 vp = virtual_prototype(sc, plant=plant, max_error_m=max_error, progress=progress)
-            except ScenarioError as exc:
-                _fail_scenario(exc, scenario)
-            except InfeasibleError as exc:
-                _fail(str(exc), EXIT_INFEASIBLE)
-            except SimulationDivergedError as exc:
-                _fail(str(exc), EXIT_DIVERGED)
         paths = write_virtual_prototype(vp, folder)
     elapsed = time.perf_counter() - t0
 

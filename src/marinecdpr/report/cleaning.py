@@ -8,9 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
-from marinecdpr.report.figures import FIGURE_DPI, _legend_below, _plain, _pyplot, _save, decimate, _figure_columns
-from marinecdpr.report.files import _row_format, atomic_path, write_json
-from marinecdpr.report.files import _write_rows
+from marinecdpr.report.figures import FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate
+from marinecdpr.report.files import _row_format, _write_rows, atomic_path, write_json
 from marinecdpr.report.text import describe_base_motion
 from marinecdpr.textfiles import strip_control
 
