@@ -13,8 +13,8 @@ shaped ``(n_steps, ...)``.
 from marinecdpr.errors import InfeasibleError, MarineCDPRError, ScenarioError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import Plan, iter_plan, plan
-from marinecdpr.scenario.schema import Scenario
 from marinecdpr.scenario.loading import builtin_scenarios, load_scenario
+from marinecdpr.scenario.schema import Scenario
 
 __all__ = [
     "load_scenario",

@@ -59,8 +59,8 @@ from typing import Callable, NamedTuple, NoReturn
 import numpy as np
 from scipy.interpolate import BSpline, make_smoothing_spline
 
-from marinecdpr.motion.ship import ShipMotion, ship_motion
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.ship import ShipMotion, ship_motion
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines
 
 __all__ = [

@@ -12,8 +12,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from marinecdpr.geometry import _vec as vec
 from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry import _vec as vec
 from marinecdpr.geometry.rotations import euler_kinematics
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.schema import CircleTrajectory, Disturbance, LineTrajectory, WaypointsTrajectory

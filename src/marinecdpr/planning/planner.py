@@ -15,16 +15,16 @@ from typing import Iterator
 
 import numpy as np
 
-from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.motion.ship import still_ship
-from marinecdpr.model.brush import cleaning_loads
-from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.model.brush import cleaning_loads
+from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
+from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.ship import still_ship
+from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 from marinecdpr.scenario.robot import Robot
 from marinecdpr.scenario.schema import Scenario
-from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
-from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
            "TWIST_NAMES"]

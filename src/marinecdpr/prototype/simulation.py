@@ -31,18 +31,18 @@ from typing import Callable
 
 import numpy as np
 from marinecdpr.model import kernels as K
-from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.model.dynamics import disturbance_in_C
+from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import parts as P
 from marinecdpr.prototype.plants import (
     MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
 )
 from marinecdpr.errors import InfeasibleError, SimulationDivergedError
-from marinecdpr.planning.planner import Plan, plan_at
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.scenario.schema import Scenario
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
+from marinecdpr.planning.planner import Plan, plan_at
+from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from marinecdpr.planning.planner import TWIST_NAMES
-from marinecdpr.report.files import atomic_path
 from marinecdpr.report.figures import RUN_TITLES, _pose_names, length_unit
+from marinecdpr.report.files import atomic_path
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.textfiles import strip_control
 

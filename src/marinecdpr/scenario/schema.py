@@ -16,8 +16,8 @@ from pydantic import (
     model_validator,
 )
 
-from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
+from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.robot import Robot
 # ---------------------------------------------------------------------- ship, sea

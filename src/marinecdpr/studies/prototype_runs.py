@@ -9,8 +9,8 @@ from typing import Callable
 
 from marinecdpr import forked
 from marinecdpr.planning.planner import Plan, plan
-from marinecdpr.scenario.schema import Scenario
 from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
+from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
            "is_paper_scenario", "error_bounds", "run_warnings"]
