@@ -141,3 +141,23 @@ def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
     for plant in ("own", "mujoco"):
         res = marinecdpr.simulate(calm, run="open_loop", plant=plant)
         assert np.abs(res.pose_error[:, [0, 2]]).max() < 1e-4, plant
+
+
+def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path):
+    from marinecdpr.studies.cleaning import guaranteed_job
+
+    short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 15.0})
+    first = cleaning_job(short)
+    job = guaranteed_job(short)
+    g = job.summary["guarantee"]
+    e95 = first.summary["p95_cross_track_error_m"]
+    assert g["first_run_p95_cross_track_error_m"] == e95 > 0.0
+    assert g["second_run"] and g["overlap_m"] == pytest.approx(2.1 * e95, rel=1e-12)
+    assert g["lane_spacing_m"] <= short.cleaning.brush_diameter_m - 2.0 * e95
+    assert g["checked"] == (2.0 * g["checked_p95_cross_track_error_m"] <= g["overlap_m"])
+    # enough overlap already: one run, and it says so
+    kept = guaranteed_job(_with(short, overlap_m=0.03)).summary["guarantee"]
+    assert not kept["second_run"] and kept["overlap_m"] == 0.03 and "already covers" in kept["reason"]
+    res = runner.invoke(app, ["clean", "paper_clean", "--guarantee", "--duration", "2", "--out", str(tmp_path)])
+    assert res.exit_code == 0 and "guarantee:" in res.stdout
+    assert json.loads((tmp_path / "summary.json").read_text())["guarantee"]["checked"] is True

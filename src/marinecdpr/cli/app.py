@@ -186,11 +186,13 @@ def clean(
                              "report.html."),
     plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
     duration: Optional[float] = typer.Option(None, help="Clean only the first seconds of the path."),
+    guarantee: bool = typer.Option(False, "--guarantee", help="Set the lanes' overlap to twice the brush's "
+                                   "p95 cross-track error from a first run, and check it with a second."),
 ) -> None:
     """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
     scenario's sea, and measure the cleaned area from the simulated brush."""
     from marinecdpr.report.cleaning import cleaning_findings, write_cleaning
-    from marinecdpr.studies.cleaning import cleaning_job
+    from marinecdpr.studies.cleaning import cleaning_job, guaranteed_job
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
@@ -201,10 +203,16 @@ def clean(
         _compile_notice(plant or sc.simulation.plant)
         with _progress("clean", sc.time.n_steps, "steps") as update:
             with _run_errors(scenario):
-                job = cleaning_job(sc, plant=plant, progress=update)
+                job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=update)
         paths = write_cleaning(job, folder)
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
+    if guarantee:
+        g = job.summary["guarantee"]
+        console.print(_plain(f"guarantee: {g['reason']}; lanes {g['lane_spacing_m']:.4g} m apart; "
+                             + (("checked by a second run" if g["second_run"] else "as flown") if g["checked"] else
+                                f"NOT met: the run's p95 cross-track error is {g['checked_p95_cross_track_error_m']:.3g} m")),
+                      highlight=False, soft_wrap=True)
     console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)} "
                   f"({time.perf_counter() - t0:.1f} s)", highlight=False, soft_wrap=True)
 

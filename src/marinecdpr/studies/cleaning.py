@@ -37,8 +37,8 @@ from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
 
-__all__ = ["CleaningJob", "cleaning_job", "brush_positions", "normal_force", "cross_track_error",
-           "reachable_cells"]
+__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "brush_positions", "normal_force",
+           "cross_track_error", "reachable_cells"]
 
 
 @dataclass(frozen=True)
@@ -194,3 +194,46 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, in_band: np.ndarray, c
         "winch_energy_kJ": energy / 1000.0,
         "coverage_resolution_m": float(cov.resolution_m),
     }
+
+
+def guaranteed_job(
+    scenario: Scenario,
+    *,
+    plant: str | None = None,
+    n_steps: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> CleaningJob:
+    """The cleaning job with lanes close enough that the brush's tracking cannot open a gap.
+
+    A first run measures the brush's cross-track error; its 95th percentile e95 calls for
+    lanes no more than ``brush_diameter_m - 2 e95`` apart, an overlap of at least 2 e95. If
+    the scenario's overlap is less, a second run flies the path with that overlap and checks
+    that its own e95 stays within half of it. ``summary["guarantee"]`` says which spacing
+    was used and why; ``checked`` is False if the second run's error still passes the margin.
+    """
+    first = cleaning_job(scenario, plant=plant, n_steps=n_steps, progress=progress)
+    e95 = first.summary["p95_cross_track_error_m"]
+    cleaning = scenario.cleaning
+    needed = 2.0 * e95
+    if cleaning.overlap_m >= needed:
+        reason = (f"the scenario's overlap {cleaning.overlap_m:g} m already covers twice the p95 cross-track "
+                  f"error ({e95:.3g} m)")
+        job, overlap = first, cleaning.overlap_m
+    else:
+        overlap = min(needed * 1.05, 0.95 * cleaning.brush_diameter_m)  # a 5 % margin, within the brush
+        reason = (f"overlap raised from {cleaning.overlap_m:g} m to {overlap:.4g} m: twice the first run's p95 "
+                  f"cross-track error ({e95:.3g} m) with a 5 % margin")
+        wider = scenario.with_changes(cleaning=cleaning.model_dump(exclude_none=True) | {"overlap_m": overlap})
+        job = cleaning_job(wider, plant=plant, n_steps=n_steps, progress=progress)
+    e95_check = job.summary["p95_cross_track_error_m"]
+    summary = dict(job.summary)
+    summary["guarantee"] = {
+        "first_run_p95_cross_track_error_m": float(e95),
+        "overlap_m": float(overlap),
+        "lane_spacing_m": float(job.summary["lane_spacing_m"]),
+        "reason": reason,
+        "second_run": job is not first,
+        "checked": bool(2.0 * e95_check <= overlap + 1e-12),
+        "checked_p95_cross_track_error_m": float(e95_check),
+    }
+    return CleaningJob(**{**job.__dict__, "summary": summary})
