@@ -161,3 +161,20 @@ def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(c
     res = runner.invoke(app, ["clean", "paper_clean", "--guarantee", "--duration", "2", "--out", str(tmp_path)])
     assert res.exit_code == 0 and "guarantee:" in res.stdout
     assert json.loads((tmp_path / "summary.json").read_text())["guarantee"]["checked"] is True
+
+
+def test_a_ship_side_is_placements_of_the_frame_by_hand():
+    from marinecdpr.studies.cleaning import ship_side
+
+    # 1.04 m2 panels, 0.04 m2 missed each: 1 m2 per placement in 100 s; 10.5 m2 of hull
+    s = {"panel_area_m2": 1.04, "missed_area_m2": 0.04, "job_time_s": 100.0}
+    hull = ship_side(s, hull_area_m2=10.5, move_time_s=60.0)
+    assert hull["placements"] == 11
+    assert hull["hours"] == pytest.approx((11 * 100.0 + 10 * 60.0) / 3600.0)
+    assert hull["area_rate_m2_h"] == pytest.approx(10.5 / (1700.0 / 3600.0))
+    assert ship_side(s, hull_area_m2=10.0, move_time_s=0.0)["placements"] == 10
+    with pytest.raises(ValueError, match="hull_area_m2"):
+        ship_side(s, hull_area_m2=0.0, move_time_s=60.0)
+    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "1", "--hull-area", "100", "--move-time",
+                              "-1", "--out", "unused"])
+    assert res.exit_code == 2 and "--move-time -1: expected a non-negative number" in res.stderr

@@ -188,15 +188,20 @@ def clean(
     duration: Optional[float] = typer.Option(None, help="Clean only the first seconds of the path."),
     guarantee: bool = typer.Option(False, "--guarantee", help="Set the lanes' overlap to twice the brush's "
                                    "p95 cross-track error from a first run, and check it with a second."),
+    hull_area: Optional[float] = typer.Option(None, "--hull-area", help="Estimate a hull of this many m2 (e.g. "
+                                              "one side: length x draught), panel after panel."),
+    move_time: float = typer.Option(600.0, "--move-time", help="Seconds to move the frame to its next place."),
 ) -> None:
     """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
     scenario's sea, and measure the cleaned area from the simulated brush."""
     from marinecdpr.report.cleaning import cleaning_findings, write_cleaning
-    from marinecdpr.studies.cleaning import cleaning_job, guaranteed_job
+    from marinecdpr.studies.cleaning import cleaning_job, guaranteed_job, ship_side
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
     _number("--duration", duration)
+    _number("--hull-area", hull_area)
+    _number("--move-time", move_time, zero_ok=True)
     sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
     t0 = time.perf_counter()
     with _output(out) as folder:
@@ -204,9 +209,19 @@ def clean(
         with _progress("clean", sc.time.n_steps, "steps") as update:
             with _run_errors(scenario):
                 job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=update)
+        if hull_area is not None:
+            try:
+                job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)
+            except ValueError as exc:
+                _fail(f"--hull-area: {exc}")
         paths = write_cleaning(job, folder)
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
+    if hull_area is not None:
+        hull = job.summary["hull"]
+        console.print(f"hull of {hull['hull_area_m2']:g} m2: {hull['placements']} placements of the frame, "
+                      f"{hull['hours']:.1f} h with {move_time:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h)",
+                      highlight=False, soft_wrap=True)
     if guarantee:
         g = job.summary["guarantee"]
         console.print(_plain(f"guarantee: {g['reason']}; lanes {g['lane_spacing_m']:.4g} m apart; "

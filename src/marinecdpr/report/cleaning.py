@@ -109,6 +109,10 @@ def cleaning_findings(summary: dict) -> list[str]:
            f"steps in the plan; cross-track error at most {s['max_cross_track_error_m'] * 1e3:.3g} mm "
            f"(95 % below {s['p95_cross_track_error_m'] * 1e3:.3g} mm); winches "
            f"{s['winch_energy_kJ']:.3g} kJ."]
+    if "hull" in s:
+        hull = s["hull"]
+        out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
+                   f"{hull['hours']:.1f} h with {hull['move_time_s']:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h).")
     out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
                "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
                "from the plan (the guide holds the platform along the normal).")

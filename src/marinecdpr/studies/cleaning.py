@@ -37,7 +37,7 @@ from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
 
-__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "brush_positions", "normal_force",
+__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells"]
 
 
@@ -237,3 +237,29 @@ def guaranteed_job(
         "checked_p95_cross_track_error_m": float(e95_check),
     }
     return CleaningJob(**{**job.__dict__, "summary": summary})
+
+
+def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict:
+    """How long a hull of ``hull_area_m2`` takes, panel by panel, from one panel's job.
+
+    Each frame placement cleans what the panel's job cleaned (``cleaned area`` = panel
+    less missed, m^2) in ``job_time_s``; moving the frame to its next place takes
+    ``move_time_s``. Placements = ceil(hull area / cleaned area).
+
+    Returns
+    -------
+    dict
+        ``hull_area_m2``, ``move_time_s``, ``placements``, ``hours``, ``area_rate_m2_h``
+        (hull area over the whole time, moves included).
+    """
+    if not (np.isfinite(hull_area_m2) and hull_area_m2 > 0):
+        raise ValueError(f"hull_area_m2 must be a positive number of m2, got {hull_area_m2}")
+    if not (np.isfinite(move_time_s) and move_time_s >= 0):
+        raise ValueError(f"move_time_s must be a number of seconds >= 0, got {move_time_s}")
+    cleaned = summary["panel_area_m2"] - summary["missed_area_m2"]
+    if cleaned <= 0:
+        raise ValueError("the panel's job cleaned nothing: no estimate for the hull")
+    placements = int(np.ceil(hull_area_m2 / cleaned - 1e-9))
+    seconds = placements * summary["job_time_s"] + max(placements - 1, 0) * move_time_s
+    return {"hull_area_m2": float(hull_area_m2), "move_time_s": float(move_time_s), "placements": placements,
+            "hours": seconds / 3600.0, "area_rate_m2_h": float(hull_area_m2 / seconds * 3600.0) if seconds else 0.0}
