@@ -217,11 +217,6 @@ def clean(
         paths = write_cleaning(job, folder)
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
-    if hull_area is not None:
-        hull = job.summary["hull"]
-        console.print(f"hull of {hull['hull_area_m2']:g} m2: {hull['placements']} placements of the frame, "
-                      f"{hull['hours']:.1f} h with {move_time:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h)",
-                      highlight=False, soft_wrap=True)
     if guarantee:
         g = job.summary["guarantee"]
         console.print(_plain(f"guarantee: {g['reason']}; lanes {g['lane_spacing_m']:.4g} m apart; "
