@@ -14,6 +14,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import AfterValidator, Field, model_validator
 
+from marinecdpr.geometry.polygons import inside_or_on, polygon_area
 from marinecdpr.scenario.fields import (
     POSITION_MAX_M, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
 )
@@ -29,12 +30,6 @@ def _point(value: list) -> tuple[float, float]:
 
 Point = Annotated[tuple[Coordinate, Coordinate], AfterValidator(_point)]
 Polygon = Annotated[list[Point], Field(min_length=3, max_length=10_000)]
-
-
-def polygon_area(points: np.ndarray) -> float:
-    """Signed area of a polygon of (k, 2) points (shoelace), m^2; positive counter-clockwise."""
-    x, z = points[:, 0], points[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z))
 
 
 class Cleaning(_Model):
@@ -85,13 +80,12 @@ class Cleaning(_Model):
         n = np.asarray(self.hull_normal, dtype=float)
         if not np.isfinite(n).all() or abs(float(np.linalg.norm(n)) - 1.0) > 1e-6:
             raise _KeyedError("hull_normal", "must be a unit vector [x, y, z] in C")
-        panel = np.asarray(self.panel_m)
+        panel = np.asarray(self.panel_m, dtype=float)
         size = float(np.ptp(panel, axis=0).max())
         if abs(polygon_area(panel)) <= 1e-9 * max(size, 1e-9) ** 2:
             raise _KeyedError("panel_m", "the outline encloses no area")
         for i, hole in enumerate(self.holes_m, start=1):
-            inside = _inside(np.asarray(hole), panel)
-            if not inside.all():
+            if not inside_or_on(np.asarray(hole, dtype=float), panel).all():
                 raise _KeyedError(f"holes_m[{i}]", "must lie inside panel_m")
         return self
 
@@ -104,25 +98,6 @@ class Cleaning(_Model):
         """The pusher's force, N (mid-band unless given)."""
         lo, hi = self.normal_force_N
         return float(self.preload_N if self.preload_N is not None else 0.5 * (lo + hi))
-
-
-def _inside(points: np.ndarray, polygon: np.ndarray) -> np.ndarray:
-    """True for each of (n, 2) points inside (or on) the polygon (k, 2): even-odd rule."""
-    x, z = points[:, 0][:, None], points[:, 1][:, None]
-    x0, z0 = polygon[:, 0][None], polygon[:, 1][None]
-    x1, z1 = np.roll(polygon[:, 0], -1)[None], np.roll(polygon[:, 1], -1)[None]
-    crosses = (z0 > z) != (z1 > z)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xc = x0 + (z - z0) * (x1 - x0) / (z1 - z0)
-    inside = (crosses & (x < xc)).sum(axis=1) % 2 == 1
-    # on an edge counts as inside
-    ex, ez = x1 - x0, z1 - z0
-    length2 = ex * ex + ez * ez
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.clip(((x - x0) * ex + (z - z0) * ez) / length2, 0.0, 1.0)
-    d2 = (x0 + s * ex - x) ** 2 + (z0 + s * ez - z) ** 2
-    scale = max(float(np.ptp(polygon, axis=0).max()), 1e-9)
-    return inside | (d2.min(axis=1) <= (1e-9 * scale) ** 2)
 
 
 class CoverageTrajectory(_Model):

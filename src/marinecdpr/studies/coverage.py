@@ -78,6 +78,10 @@ from typing import Sequence
 import numpy as np
 from numba import njit
 
+from marinecdpr.geometry.polygons import (
+    as_polygon, boundary_distance, boundary_tolerance, edges, inside_or_on, points_in_polygon, polygon_area,
+)
+
 __all__ = [
     "CoverageMap",
     "coverage_map",
@@ -142,77 +146,10 @@ class CoverageMap:
 
 # --------------------------------------------------------------------------- polygons
 
-def _as_polygon(poly, name: str) -> np.ndarray:
-    p = np.asarray(poly, dtype=float)
-    if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 3:
-        raise ValueError(f"{name}: expected a polygon of shape (k, 2) with k >= 3, got shape {p.shape}")
-    if not np.all(np.isfinite(p)):
-        raise ValueError(f"{name}: vertices must be finite")
-    if np.array_equal(p[0], p[-1]) and p.shape[0] > 3:
-        p = p[:-1]                      # a closed ring given with its first vertex repeated
-    return np.ascontiguousarray(p)
-
-
-def polygon_area(poly) -> float:
-    """Area of a simple polygon by the shoelace formula (exact up to rounding).
-
-    Parameters
-    ----------
-    poly : array_like, shape (k, 2)
-        Vertices (x, z) in order, either orientation, m; the ring closes itself (a
-        repeated first vertex at the end is allowed).
-
-    Returns
-    -------
-    float
-        Area, m^2 (non-negative).
-    """
-    p = _as_polygon(poly, "polygon")
-    x, z = p[:, 0] - p[:, 0].mean(), p[:, 1] - p[:, 1].mean()   # centred: less cancellation
-    return 0.5 * abs(float(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z)))
-
-
-def points_in_polygon(points, poly) -> np.ndarray:
-    """Which points are inside a polygon (even-odd rule), vectorised.
-
-    Parameters
-    ----------
-    points : array_like, shape (..., 2)
-        Points (x, z), m.
-    poly : array_like, shape (k, 2)
-        Polygon vertices (x, z), m.
-
-    Returns
-    -------
-    ndarray of bool, shape (...)
-        True inside. An edge counts as crossing a point's horizontal ray when its ends are
-        on opposite sides of the point's z, one end counted as above when level with it
-        (points exactly on the boundary may land either side) - the rule the raster uses.
-    """
-    pts = np.asarray(points, dtype=float)
-    p = _as_polygon(poly, "polygon")
-    shape = pts.shape[:-1]
-    px, pz = pts.reshape(-1, 2).T
-    inside = np.zeros(px.shape, dtype=bool)
-    ax, az = p[:, 0], p[:, 1]
-    bx, bz = np.roll(ax, -1), np.roll(az, -1)
-    for e in range(p.shape[0]):       # one pass over the points per edge: memory O(points)
-        if az[e] == bz[e]:
-            continue
-        crosses = (az[e] > pz) != (bz[e] > pz)
-        xc = ax[e] + (pz - az[e]) * (bx[e] - ax[e]) / (bz[e] - az[e])
-        inside ^= crosses & (px < xc)
-    return inside.reshape(shape)
-
-
-def _edges(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return p, np.roll(p, -1, axis=0)
-
-
 def _any_proper_crossing(p: np.ndarray, q: np.ndarray) -> bool:
     """Does an edge of ring p properly cross (interiors, at one point) an edge of ring q?"""
-    a, b = _edges(p)
-    c, d = _edges(q)
+    a, b = edges(p)
+    c, d = edges(q)
     chunk = max(1, 4_000_000 // max(1, len(c)))
     for s in range(0, len(a), chunk):
         A, B = a[s:s + chunk, None, :], b[s:s + chunk, None, :]
@@ -234,7 +171,7 @@ def _check_holes(panel: np.ndarray, holes: list[np.ndarray]) -> None:
     for i, h in enumerate(holes):
         if _any_proper_crossing(h, h):
             raise ValueError(f"holes[{i}]: the polygon crosses itself")
-        if _any_proper_crossing(h, panel) or not np.all(_inside_or_on(h, panel)):
+        if _any_proper_crossing(h, panel) or not np.all(inside_or_on(h, panel)):
             raise ValueError(f"holes[{i}]: must lie inside the panel")
         for j in range(i):
             o = holes[j]
@@ -243,23 +180,8 @@ def _check_holes(panel: np.ndarray, holes: list[np.ndarray]) -> None:
                 raise ValueError(f"holes[{j}] and holes[{i}] overlap; merge them into one hole")
 
 
-def _boundary_distance(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    a, b = _edges(poly)
-    d = b - a
-    t = np.clip(np.einsum("pek,ek->pe", pts[:, None, :] - a[None], d) / np.maximum((d * d).sum(1), 1e-300), 0, 1)
-    return np.linalg.norm(pts[:, None, :] - (a[None] + t[..., None] * d[None]), axis=2).min(axis=1)
-
-
-def _tol(poly: np.ndarray) -> float:
-    return 1e-9 * max(1.0, float(np.abs(poly).max()))
-
-
-def _inside_or_on(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    return points_in_polygon(pts, poly) | (_boundary_distance(pts, poly) <= _tol(poly))
-
-
 def _strictly_inside(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    return points_in_polygon(pts, poly) & (_boundary_distance(pts, poly) > _tol(poly))
+    return points_in_polygon(pts, poly) & (boundary_distance(pts, poly) > boundary_tolerance(poly))
 
 
 # --------------------------------------------------------------------------- resolution
@@ -283,7 +205,7 @@ def default_resolution_m(panel, width_m: float) -> float:
     float
         Cell size, m.
     """
-    p = _as_polygon(panel, "panel")
+    p = as_polygon(panel, "panel")
     w = _check_width(width_m)
     area = polygon_area(p)
     perimeter = float(np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1).sum())
@@ -686,8 +608,8 @@ def coverage_map(
         Malformed or non-finite inputs, holes outside the panel or overlapping, a panel
         smaller than a cell, or a raster over 2e8 cells.
     """
-    p = _as_polygon(panel, "panel")
-    hole_list = [_as_polygon(h, f"holes[{i}]") for i, h in enumerate(holes)]
+    p = as_polygon(panel, "panel")
+    hole_list = [as_polygon(h, f"holes[{i}]") for i, h in enumerate(holes)]
     w = _check_width(width_m)
     xy = np.asarray(path, dtype=float)
     if xy.ndim != 2 or xy.shape[1] != 2:
