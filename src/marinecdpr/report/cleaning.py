@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from marinecdpr.report.figures import FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate
-from marinecdpr.report.files import _row_format, _write_rows, atomic_path, write_json
+from marinecdpr.report.files import _write_csv, atomic_path, write_json
 from marinecdpr.report.text import describe_base_motion
 from marinecdpr.textfiles import strip_control
 
@@ -29,14 +29,7 @@ def write_clean_csv(job, path: Path) -> Path:
     names = list(CLEAN_COLUMNS) + [f"T{i}" for i in range(1, m + 1)]
     values = np.column_stack([res.t, job.brush, job.brush_planned[:, [0, 2]], job.normal_force,
                               job.in_band.astype(float), job.cross_track, res.tensions])
-    fmt = _row_format(len(names), False).split(",")
-    fmt[CLEAN_COLUMNS.index("in_band")] = "%d"
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="") as fh:
-            fh.write(",".join(names) + "\n")
-            _write_rows(fh, ",".join(fmt), values)
-    return path
+    return _write_csv(names, values, path, int_last=False, int_columns=(CLEAN_COLUMNS.index("in_band"),))
 
 
 def plot_coverage(job, path: Path) -> Path:

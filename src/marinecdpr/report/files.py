@@ -142,20 +142,23 @@ def _signals_held() -> Iterator[None]:
 
 
 # ------------------------------------------------------------------ CSV and JSON
-def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool = True) -> Path:
+def _write_csv(names: list[str], values: np.ndarray, path: Path, int_last: bool = True,
+               int_columns: tuple[int, ...] = ()) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             fh.write(",".join(names) + "\n")
             if len(values) == 0:
                 fh.write("\n")
-            _write_rows(fh, _row_format(len(names), int_last), values)
+            _write_rows(fh, _row_format(len(names), int_last, int_columns), values)
     return path
 
 
-def _row_format(n_columns: int, int_last: bool) -> str:
-    """A CSV row's ``%`` format: 10 significant digits, the last column an integer flag if ``int_last``."""
-    return ",".join(["%.10g"] * (n_columns - 1) + ["%d" if int_last else "%.10g"])
+def _row_format(n_columns: int, int_last: bool, int_columns: tuple[int, ...] = ()) -> str:
+    """A CSV row's ``%`` format: 10 significant digits; integers (flags) in ``int_columns``
+    and, if ``int_last``, in the last column."""
+    ints = set(int_columns) | ({n_columns - 1} if int_last else set())
+    return ",".join("%d" if i in ints else "%.10g" for i in range(n_columns))
 
 
 CSV_BLOCK_ROWS = 4096
