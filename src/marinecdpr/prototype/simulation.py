@@ -162,7 +162,8 @@ def simulate(
     ref, ff = _plans(scenario, run, t, reference)
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
-    f_h, m_h, in_P = _loads(scenario, ship_h)
+    brush_h = _planned_brush_loads(scenario, ship_h)
+    f_h, m_h, in_P = _loads(scenario, ship_h, brush_h)
     m = scenario.robot.n_cables
     x0, R0, v0, w0 = _initial_state(scenario, ref)
     parts = P.Parts(
@@ -170,7 +171,7 @@ def simulate(
         controller=_controller(scenario, run), loads=P.Loads(np.ascontiguousarray(f_h[::2][:n]),
                                                              np.ascontiguousarray(m_h[::2][:n]), in_P),
         winch=_winch(scenario, ff, x0, R0), cables=_cables(scenario), bus=P.empty_bus(m), log=P.empty_log(n, m),
-        brush=_brush(scenario, ref, n))
+        brush=_brush(scenario, ref, n, brush_h))
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
@@ -222,8 +223,22 @@ def _robot_model(scenario: Scenario) -> P.RobotModel:
         robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method])
 
 
-def _loads(scenario: Scenario, ship_h) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The disturbance on the half-step grid, in C, or in P (then ``in_P``).
+def _planned_brush_loads(scenario: Scenario, ship_h):
+    """The cleaning brush's loads along the planned path at the preload, on the half-step
+    grid of ``ship_h``: f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None
+    without ``[cleaning]``."""
+    if scenario.cleaning is None:
+        return None
+    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
+    platform = evaluate_trajectory(scenario.trajectory, t_h, scenario.cleaning)
+    f_b, m_b = cleaning_loads(scenario.cleaning, platform.twist, platform.R_PC, scenario.cleaning.preload)
+    return f_b, m_b, platform.R_PC
+
+
+def _loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The disturbance on the half-step grid, in C, or in P (then ``in_P``), with the brush's
+    planned loads ``brush_h`` (:func:`_planned_brush_loads`) if any: the controller's load
+    model (the plant replaces the brush's by those at the actual velocity: BrushContact).
 
     Loads given in O turn into C with the ship's motion; loads given in P stay in P, and the
     plant and the controller turn them with the platform's actual (measured) orientation.
@@ -234,33 +249,28 @@ def _loads(scenario: Scenario, ship_h) -> tuple[np.ndarray, np.ndarray, bool]:
     in_P = dist.frame == "P"
     if not in_P:
         f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
-    if scenario.cleaning is not None:
-        # the brush's loads along the planned path at the preload: the controller's load model
-        # (the plant replaces them by the loads at the actual velocity: BrushContact)
-        platform = evaluate_trajectory(scenario.trajectory, t_h, scenario.cleaning)
-        f_b, m_b = cleaning_loads(scenario.cleaning, platform.twist, platform.R_PC, scenario.cleaning.preload)
+    if brush_h is not None:
+        f_b, m_b, R_PC = brush_h
         if in_P:  # into P with the planned orientation
-            f_b, m_b = (np.einsum("nji,nj->ni", platform.R_PC, x) for x in (f_b, m_b))
+            f_b, m_b = (np.einsum("nji,nj->ni", R_PC, x) for x in (f_b, m_b))
         f, m = f + f_b, m + m_b
     return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
 
 
-def _brush(scenario: Scenario, ref: Plan, n: int) -> P.BrushContact:
-    """The cleaning brush's contact part: its loads along the plan at t_k (what the
-    controller's load model holds) and the normal force, the plan's guide reaction plus the
-    preload (:func:`~marinecdpr.studies.cleaning.normal_force`'s model); inactive without
-    ``[cleaning]``."""
+def _brush(scenario: Scenario, ref: Plan, n: int, brush_h) -> P.BrushContact:
+    """The cleaning brush's contact part: its planned loads at t_k (``brush_h``'s every other
+    row, what the controller's load model holds) and the normal force (:func:`normal_force`);
+    inactive without ``[cleaning]``."""
     from marinecdpr.model.brush import brush_params, cleaning_brush
 
     cleaning = scenario.cleaning
     if cleaning is None:
         return P.BrushContact(False, brush_params(0.0, 0.0), np.zeros(3), np.zeros(1), np.zeros((1, 3)),
                               np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3))
-    F_n = np.ascontiguousarray(normal_force(ref, scenario)[:n])
-    f_b, m_b = cleaning_loads(cleaning, ref.twist[:n], matrix_from_euler(ref.pose[:n, 3:]), cleaning.preload)
-    return P.BrushContact(True, cleaning_brush(cleaning), np.asarray(cleaning.hull_normal, dtype=float), F_n,
-                          np.ascontiguousarray(f_b), np.ascontiguousarray(m_b), np.zeros(3), np.zeros(3),
-                          np.zeros(3))
+    f_b, m_b, _ = brush_h
+    return P.BrushContact(True, cleaning_brush(cleaning), np.asarray(cleaning.hull_normal, dtype=float),
+                          np.ascontiguousarray(normal_force(ref, scenario)[:n]), np.ascontiguousarray(f_b[::2][:n]),
+                          np.ascontiguousarray(m_b[::2][:n]), np.zeros(3), np.zeros(3), np.zeros(3))
 
 
 def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
