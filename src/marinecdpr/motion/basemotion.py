@@ -1,11 +1,8 @@
 """The ship's motion a scenario's ``[base_motion]`` describes, evaluated at given times.
 
-The ship's generalised coordinates are ``eta = (x, y, z, roll, pitch, yaw)``:
-the position of S's origin in O (surge, sway, heave; m) and the SNAME Euler
-angles of R_SO = R_S^O = Rz(yaw) Ry(pitch) Rx(roll) (rad). Every source of base
-motion (sinusoids here; sea spectra and records later) produces ``eta`` and its
-first two time derivatives; :func:`ship_motion` turns them into the quantities the
-dynamics need.
+Each source (still, sinusoids, a sea state through RAOs, a recorded file) gives ``eta``
+and its first two time derivatives; :func:`~marinecdpr.motion.ship.ship_motion` (where
+``eta`` and the frames are defined) turns them into the quantities the dynamics need.
 """
 
 from __future__ import annotations
