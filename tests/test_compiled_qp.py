@@ -128,11 +128,12 @@ def test_tensions_step_equals_quadprog(n, k):
     rng = np.random.default_rng(11 * n + k)
     dofs = np.array([0, 2, 4]) if k == 3 else np.arange(6)
     J6, w6, T = np.zeros((n, 6)), np.zeros(6), np.empty(n)
+    work = K.tension_work(n, k)  # one working memory for every solve: nothing carries over
     for _ in range(300):
         A, b, lo, hi = problem(rng, n, k)
         J6[:, dofs], w6[dofs] = A, b
         for method, target in (("minimum_variance", 0.5 * (lo + hi)), ("minimum_norm", np.zeros(n))):
-            ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T)
+            ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T, work)
             ref = qp_reference(A, b, target, lo, hi)
             assert ok == (ref is not None)
             if ok:
@@ -241,11 +242,12 @@ def test_improved_closed_form_equals_its_numpy_transcription(n, k):
     sol = distribute_tensions(J, w, lo, hi, method="improved_closed_form")
     dofs = np.array([0, 2, 4]) if k == 3 else np.arange(6)
     J6, w6, T = np.zeros((n, 6)), np.zeros(6), np.empty(n)
+    work = K.tension_work(n, k)
     fixed = 0
     for s in range(len(w)):
         ref = improved_closed_form_reference(J[s], w[s], lo, hi)
         J6[:, dofs], w6[dofs] = J[s], w[s]
-        ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES["improved_closed_form"], T)
+        ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES["improved_closed_form"], T, work)
         assert sol.feasible[s] == ok == (ref is not None), s
         if ref is not None:
             np.testing.assert_allclose(sol.tensions[s], ref, rtol=1e-9, atol=1e-9 * hi.max())

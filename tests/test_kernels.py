@@ -71,10 +71,11 @@ def test_tensions_step_matches_distribute_tensions(seed, method, shape):
     J6 = np.zeros((m, 6))
     w6 = np.zeros(6)
     T = np.empty(m)
+    work = K.tension_work(m, k)
     for i in range(len(w)):
         J6[:, dofs] = J[i]
         w6[dofs] = w[i]
-        ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T)
+        ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T, work)
         assert ok == sol.feasible[i]
         if ok:
             np.testing.assert_allclose(T, sol.tensions[i], rtol=1e-9, atol=1e-9)
@@ -91,14 +92,14 @@ def test_tensions_step_does_every_method_for_any_redundancy():
     for method in ("minimum_variance", "minimum_norm", "improved_closed_form"):
         sol = distribute_tensions(J, w, lo, hi, method=method)
         assert sol.feasible[0]
-        assert K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES[method], T)
+        assert K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES[method], T, K.tension_work(8, 6))
         np.testing.assert_allclose(T, sol.tensions[0], rtol=1e-9)
     J4, w4, lo4, hi4 = random_problem(5, 1, 4, 3, 10.0)
     J6 = np.zeros((4, 6))
     J6[:, [0, 2, 4]] = J4[0]
     T4 = np.empty(4)
     assert K.tensions_step(J6, np.array([w4[0, 0], 0, w4[0, 1], 0, w4[0, 2], 0]), np.array([0, 2, 4]),
-                           lo4, hi4, K.METHOD_CODES["improved_closed_form"], T4)
+                           lo4, hi4, K.METHOD_CODES["improved_closed_form"], T4, K.tension_work(4, 3))
     np.testing.assert_allclose(T4, distribute_tensions(J4, w4, lo4, hi4, method="improved_closed_form")
                                .tensions[0], rtol=1e-9)
 

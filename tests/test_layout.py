@@ -7,7 +7,7 @@ from pathlib import Path
 import marinecdpr
 
 PACKAGE = Path(marinecdpr.__file__).parent
-LAYERS = (("errors", "textfiles", "memory", "forked"), ("geometry",), ("scenario",), ("motion",), ("model",),
+LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed"), ("geometry",), ("scenario",), ("motion",), ("model",),
           ("planning",), ("prototype",), ("studies",), ("report",), ("cli",))
 
 

@@ -23,6 +23,8 @@ time series (:func:`tension_series`): one implementation for planning and the lo
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -40,6 +42,9 @@ __all__ = [
     "disturbance_step",
     "cables_step",
     "tensions_step",
+    "TensionWork",
+    "tension_work",
+    "sum_wrench_parts",
     "least_distance",
     "improved_closed_form",
     "tension_series",
@@ -275,6 +280,12 @@ def wrench_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origin, mas
     parts = np.empty((5, 6))
     wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origin, mass, I_PP, g,
                       f_C, m_C, parts)
+    sum_wrench_parts(parts, out)
+
+
+@njit(cache=_cache, inline="always")
+def sum_wrench_parts(parts, out):
+    """w = the sum of :func:`wrench_parts_step`'s five rows (eq. 15), written to out (6,)."""
     for j in range(6):
         out[j] = parts[0, j] + parts[1, j] + parts[2, j] + parts[3, j] + parts[4, j]
 
@@ -1062,35 +1073,62 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
             feasible[s] = status > 0
 
 
+class TensionWork(NamedTuple):
+    """Working memory of :func:`tensions_step` for n cables and k controlled DOFs, allocated
+    once (:func:`tension_work`) so that a loop solves every step without allocating."""
+
+    A: np.ndarray  # (n, k) J~'s controlled columns
+    wc: np.ndarray  # (k,) the controlled wrench; then the solve's unknowns
+    mid: np.ndarray  # (n,) the middle of the tension range
+    zero: np.ndarray  # (n,) zeros: minimum norm's target
+    G: np.ndarray  # (k, k) Gram matrix
+    Ts: np.ndarray  # (n,) the tensions being built
+    N: np.ndarray  # (n,) null vector of A^T (r = 1)
+    sub: np.ndarray  # (k, k) a minor of A
+    rhs: np.ndarray  # (k,) zeros, for the minors' determinants
+    M: np.ndarray  # (3, k, k) the active-set solver's matrices
+    v: np.ndarray  # (2, k)
+    wn: np.ndarray  # (2, n)
+    state: np.ndarray  # (n,) int64 active set
+
+
+def tension_work(n: int, k: int) -> TensionWork:
+    """A :class:`TensionWork` for n cables and k controlled DOFs."""
+    return TensionWork(np.empty((n, k)), np.empty(k), np.empty(n), np.zeros(n), np.empty((k, k)), np.empty(n),
+                       np.empty(n), np.empty((k, k)), np.zeros(k), np.zeros((3, k, k)), np.empty((2, k)),
+                       np.empty((2, n)), np.empty(n, dtype=np.int64))
+
+
 @njit(cache=_cache)
-def tensions_step(J, w, controlled, lo, hi, method, T):
+def tensions_step(J, w, controlled, lo, hi, method, T, work):
     """Tensions at one step, written to T (n,); returns True if within limits.
 
     J: J~ (n, 6); w: required wrench (6,); controlled: int indices (k,); method: a
-    METHOD_CODES value. Every method, for any redundancy. Returns False (and NaN tensions)
-    where infeasible or singular.
+    METHOD_CODES value; work: a :class:`TensionWork` for (n, k), overwritten. Every method,
+    for any redundancy; no allocation. Returns False (and NaN tensions) where infeasible or
+    singular.
     """
     n = J.shape[0]
     k = controlled.shape[0]
-    A = np.empty((n, k))
-    wc = np.empty(k)
+    A, wc, mid = work.A, work.wc, work.mid
     for a in range(k):
         wc[a] = w[controlled[a]]
         for i in range(n):
             A[i, a] = J[i, controlled[a]]
-    mid = 0.5 * (lo + hi)
-    tol = 1e-9 * max(1.0, np.max(np.abs(hi)))
+    top = 1.0
+    for i in range(n):
+        mid[i] = 0.5 * (lo[i] + hi[i])
+        top = max(top, abs(hi[i]))
+    tol = 1e-9 * top
     if method == 4 or (method >= 2 and n - k != 1):
         # the improved closed form, or an exact method with redundancy other than 1: the
         # compiled active-set solvers (rank test as below, det G <= 1e-12 (max G_aa)^k)
-        M = np.zeros((3, k, k))
-        v = np.empty((2, k))
-        state = np.empty(n, dtype=np.int64)
+        work.M[:] = 0.0
         if method == 4:
-            return improved_closed_form(A, wc, mid, lo, hi, tol, 1e-12, T, M, v[0], state)
-        target = mid if method == 2 else np.zeros(n)
-        return least_distance(A, wc, target, lo, hi, tol, 1e-12, T, M, v, np.empty((2, n)), state) == 1
-    G = np.empty((k, k))
+            return improved_closed_form(A, wc, mid, lo, hi, tol, 1e-12, T, work.M, work.v[0], work.state)
+        target = mid if method == 2 else work.zero
+        return least_distance(A, wc, target, lo, hi, tol, 1e-12, T, work.M, work.v, work.wn, work.state) == 1
+    G = work.G
     _gram(A, G)
     scale = 0.0
     for a in range(k):
@@ -1103,7 +1141,7 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
     if abs(_lu_det_solve(G, x)) <= 1e-12 * scale**k:
         T[:] = np.nan
         return False
-    Ts = np.empty(n)
+    Ts = work.Ts
     for i in range(n):
         acc = mid[i] if method == 1 else 0.0
         for a in range(k):
@@ -1111,9 +1149,8 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
         Ts[i] = acc
     if method >= 2:
         # null vector of A^T from the signed k x k minors (r = 1), then clip lambda (eq. 20)
-        N = np.empty(n)
-        sub = np.empty((k, k))
-        rhs = np.zeros(k)
+        N, sub, rhs = work.N, work.sub, work.rhs
+        rhs[:] = 0.0
         for j in range(n):
             row = 0
             for i in range(n):
@@ -1121,7 +1158,12 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
                     sub[row, :] = A[i, :]
                     row += 1
             N[j] = _lu_det_solve(sub, rhs) * (1.0 if j % 2 == 0 else -1.0)
-        N /= np.sqrt(np.sum(N * N))
+        norm2 = 0.0
+        for i in range(n):
+            norm2 += N[i] * N[i]
+        norm = np.sqrt(norm2)
+        for i in range(n):
+            N[i] /= norm
         lam = 0.0
         for i in range(n):
             lam += N[i] * ((mid[i] if method == 2 else 0.0) - Ts[i])
@@ -1139,7 +1181,8 @@ def tensions_step(J, w, controlled, lo, hi, method, T):
             T[:] = np.nan
             return False
         lam = min(max(lam, low), high)
-        Ts += lam * N
+        for i in range(n):
+            Ts[i] += lam * N[i]
     for i in range(n):
         if not (Ts[i] >= lo[i] - tol and Ts[i] <= hi[i] + tol):
             T[:] = np.nan

@@ -34,7 +34,7 @@ from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 
 __all__ = ["Reference", "RobotModel", "Sensors", "Controller", "Loads", "Winch", "Cables", "Bus", "Log",
-           "BrushContact", "Parts", "exchange", "measure", "command", "winch_step", "cable_step", "log_step"]
+           "BrushContact", "Work", "Parts", "exchange", "measure", "command", "winch_step", "cable_step", "log_step"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -182,6 +182,30 @@ class Log(NamedTuple):
     T_app: np.ndarray
 
 
+class Work(NamedTuple):
+    """The exchange's working memory, allocated once per run (:func:`empty_work`) so that
+    no step allocates: the measured state (x, v, w (3,), R (3, 3)), the ship's (R_SO (3, 3),
+    w_s, al_s (3,)), the commanded accelerations, the wrench and its parts, the cables at
+    the measured pose (L (m,), J (m, 6)) and the tension solver's memory."""
+
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    R_SO: np.ndarray
+    w_s: np.ndarray
+    al_s: np.ndarray
+    eta: np.ndarray  # (2, 6) the ship's eta and eta' predicted to mid-step
+    a_cmd: np.ndarray  # (2, 3) commanded a and alpha
+    m3: np.ndarray  # (3, 3, 3) scratch matrices
+    v3: np.ndarray  # (4, 3) scratch vectors: zeros, angles, loads f and m
+    wrench: np.ndarray  # (6,)
+    wrench_parts: np.ndarray  # (5, 6)
+    L: np.ndarray
+    J: np.ndarray
+    tension: K.TensionWork
+
+
 class Parts(NamedTuple):
     """The prototype: every part's record, composed by :func:`exchange`."""
 
@@ -195,10 +219,18 @@ class Parts(NamedTuple):
     bus: Bus
     log: Log
     brush: BrushContact
+    work: Work
 
 
 def empty_bus(m: int) -> Bus:
     return Bus(np.empty(m), np.empty(m), np.empty((m, 6)), np.empty(m), np.empty(m), np.empty(m))
+
+
+def empty_work(m: int, k: int) -> Work:
+    """The working memory of an exchange with m cables and k controlled DOFs."""
+    return Work(np.empty(3), np.empty((3, 3)), np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(3),
+                np.empty(3), np.empty((2, 6)), np.empty((2, 3)), np.empty((3, 3, 3)), np.zeros((4, 3)),
+                np.empty(6), np.empty((5, 6)), np.empty(m), np.empty((m, 6)), K.tension_work(m, k))
 
 
 def empty_log(n_steps: int, m: int) -> Log:
@@ -249,11 +281,16 @@ def length_rates(J, v, w, out):
 
 
 @njit(cache=_cache)
-def disturbance_C(f, m, in_P, R):
-    """The disturbance in C: (f, m) as given if in C, R (f, m) if given in P."""
-    if not in_P:
-        return f, m
-    return R @ f, R @ m
+def disturbance_C(f, m, in_P, R, f_C, m_C):
+    """The disturbance in C, written to f_C, m_C (3,): (f, m) as given if in C, R (f, m) if
+    given in P."""
+    for i in range(3):
+        if in_P:
+            f_C[i] = R[i, 0] * f[0] + R[i, 1] * f[1] + R[i, 2] * f[2]
+            m_C[i] = R[i, 0] * m[0] + R[i, 1] * m[1] + R[i, 2] * m[2]
+        else:
+            f_C[i] = f[i]
+            m_C[i] = m[i]
 
 
 @njit(cache=_cache)
@@ -269,36 +306,40 @@ def diverged(x, ref_x):
 
 # ---------------------------------------------------------------------------- steps
 @njit(cache=_cache, inline="always")
-def measure(k, h, x, R, v, w, sensors, ref):
+def measure(k, h, x, R, v, w, sensors, ref, work):
     """What the sensors report at t_k, predicted to mid-step, where the held command acts.
 
-    Returns the measured (x, R, v, w) of the platform in C and the ship's R_SO, omega and
-    alpha in S and acceleration of S's origin in O, all at t_k + h/2.
+    Writes the measured x, R, v, w of the platform in C and the ship's R_SO, omega and alpha
+    in S, all at t_k + h/2, to ``work``; returns the acceleration of S's origin in O (3,).
     """
-    x_m = x + sensors.pose[k, :3]
-    Rn = np.empty((3, 3))
-    tmp = np.empty(3)
-    K.euler_step(sensors.pose[k, 3:], np.zeros(3), np.zeros(3), Rn, tmp, tmp)
-    R_m = np.empty((3, 3))
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    Rn, WR = work.m3[0], work.m3[1]
+    zero, tmp = work.v3[0], work.v3[1]
+    K.euler_step(sensors.pose[k, 3:], zero, zero, Rn, tmp, tmp)
     mm3(Rn, R, R_m)
-    v_m = v + sensors.twist[k, :3]
-    w_m = w + sensors.twist[k, 3:]
     hh = 0.5 * h
-    x_m = x_m + hh * v_m
-    v_m = v_m + hh * ref.a[k]
-    Wx = np.array([[0.0, -w_m[2], w_m[1]], [w_m[2], 0.0, -w_m[0]], [-w_m[1], w_m[0], 0.0]])
-    WR = np.empty((3, 3))
-    mm3(Wx, R_m, WR)
-    R_m = R_m + hh * WR
-    w_m = w_m + hh * ref.al[k]
-    eta = sensors.eta
-    eta_p = eta[0, k] + hh * eta[1, k]
-    deta_p = eta[1, k] + hh * eta[2, k]
-    R_SO = np.empty((3, 3))
-    w_s = np.empty(3)
-    al_s = np.empty(3)
-    K.euler_step(eta_p[3:], deta_p[3:], eta[2, k, 3:], R_SO, w_s, al_s)
-    return x_m, R_m, v_m, w_m, R_SO, w_s, al_s, eta[2, k, :3]
+    a, al = ref.a[k], ref.al[k]
+    for i in range(3):
+        v_m[i] = v[i] + sensors.twist[k, i]
+        w_m[i] = w[i] + sensors.twist[k, 3 + i]
+        x_m[i] = (x[i] + sensors.pose[k, i]) + hh * v_m[i]
+    for i in range(3):
+        v_m[i] = v_m[i] + hh * a[i]
+    # R' = [w]x R over half a step
+    for j in range(3):
+        WR[0, j] = -w_m[2] * R_m[1, j] + w_m[1] * R_m[2, j]
+        WR[1, j] = w_m[2] * R_m[0, j] - w_m[0] * R_m[2, j]
+        WR[2, j] = -w_m[1] * R_m[0, j] + w_m[0] * R_m[1, j]
+    for i in range(3):
+        w_m[i] = w_m[i] + hh * al[i]
+        for j in range(3):
+            R_m[i, j] = R_m[i, j] + hh * WR[i, j]
+    eta, eta_p = sensors.eta, work.eta
+    for i in range(6):
+        eta_p[0, i] = eta[0, k, i] + hh * eta[1, k, i]
+        eta_p[1, i] = eta[1, k, i] + hh * eta[2, k, i]
+    K.euler_step(eta_p[0, 3:], eta_p[1, 3:], eta[2, k, 3:], work.R_SO, work.w_s, work.al_s)
+    return eta[2, k, :3]
 
 
 @njit(cache=_cache, inline="always")
@@ -306,32 +347,34 @@ def _feedback_tensions(k, h, x, R, v, w, parts):
     """Computed torque on the mid-step reference (a = a_ref + Kd e_v + Kp e, rotation error
     in C), the wrench it needs (eq. 15) and the tension method: T_cmd. Returns 1 where the
     method has no solution within limits (then the feed-forward tensions are commanded)."""
-    ref, model, ctl, bus = parts.ref, parts.model, parts.controller, parts.bus
-    x_m, R_m, v_m, w_m, R_SO, w_s, al_s, a_SO = measure(k, h, x, R, v, w, parts.sensors, ref)
-    E = np.empty((3, 3))
+    ref, model, ctl, bus, work = parts.ref, parts.model, parts.controller, parts.bus, parts.work
+    a_SO = measure(k, h, x, R, v, w, parts.sensors, ref, work)
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    E = work.m3[2]
     mm3(ref.R[k], R_m, E, True)
-    e_rot = 0.5 * np.array([E[2, 1] - E[1, 2], E[0, 2] - E[2, 0], E[1, 0] - E[0, 1]])
-    a_cmd = ref.a[k] + ctl.kd * (ref.v[k] - v_m) + ctl.kp * (ref.x[k] - x_m)
-    al_cmd = ref.al[k] + ctl.kd * (ref.w[k] - w_m) + ctl.kp * e_rot
-    wr = np.empty(6)
-    f_k, m_k = disturbance_C(parts.loads.f[k], parts.loads.m[k], parts.loads.in_P, R_m)
-    K.wrench_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, R_SO, w_s, al_s, a_SO, model.origin,
-                  model.mass, model.I_PP, model.g, f_k, m_k, wr)
-    n = model.c_C.shape[0]
-    L_m = np.empty(n)
-    J = np.empty((n, 6))
-    K.cables_step(x_m, R_m, model.c_C, model.p_P, L_m, J)
+    e0, e1, e2 = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
+    a_cmd, al_cmd = work.a_cmd[0], work.a_cmd[1]
+    for i in range(3):
+        a_cmd[i] = ref.a[k, i] + ctl.kd * (ref.v[k, i] - v_m[i]) + ctl.kp * (ref.x[k, i] - x_m[i])
+        al_cmd[i] = ref.al[k, i] + ctl.kd * (ref.w[k, i] - w_m[i]) + ctl.kp * (e0 if i == 0 else (e1 if i == 1 else e2))
+    f_k, m_k = work.v3[2], work.v3[3]
+    disturbance_C(parts.loads.f[k], parts.loads.m[k], parts.loads.in_P, R_m, f_k, m_k)
+    K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
+                        model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
+    K.sum_wrench_parts(work.wrench_parts, work.wrench)
+    K.cables_step(x_m, R_m, model.c_C, model.p_P, work.L, work.J)
     # every method, exact for any redundancy, compiled (the planning layer's solvers)
-    if K.tensions_step(J, wr, model.controlled, model.lo, model.hi, model.method, bus.T_cmd):
+    if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, bus.T_cmd,
+                       work.tension):
         return 0
     bus.T_cmd[:] = ref.T[k]
     return 1
 
 
 @njit(cache=_cache, inline="always")
-def _unstretched(ref, k, cables):
-    """The winch length that holds the plan's length at the plan's tension (m,)."""
-    return ref.L[k] / (1.0 + (ref.T[k] - cables.damping * ref.Ldot[k]) / cables.EA)
+def _unstretched(ref, k, cables, i):
+    """The winch length of cable i that holds the plan's length at the plan's tension, m."""
+    return ref.L[k, i] / (1.0 + (ref.T[k, i] - cables.damping * ref.Ldot[k, i]) / cables.EA)
 
 
 @njit(cache=_cache, inline="always")
@@ -347,19 +390,22 @@ def command(k, h, x, R, v, w, parts):
     # a length-controlled winch pays out the reference length less the stretch the
     # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
     # (the cable's damping adds c L' of the plan: the stretch makes the rest)
-    bus.L0_cmd[:] = ref.L[k] / (1.0 + (bus.T_cmd - cables.damping * ref.Ldot[k]) / cables.EA)
+    for i in range(bus.L0_cmd.shape[0]):
+        bus.L0_cmd[i] = ref.L[k, i] / (1.0 + (bus.T_cmd[i] - cables.damping * ref.Ldot[k, i]) / cables.EA)
     if ctl.closed and ctl.lead_s > 0.0:
         # the controller knows its winches' lag: it leads the planned part of the command
         # by tau times the plan's (smooth) rate, u = r + tau r'
         kf, kb = min(k + 1, ref.T.shape[0] - 1), max(k - 1, 0)
         dt = (kf - kb) * h
         if parts.winch.tension_controlled:
-            bus.T_cmd[:] += ctl.lead_s * (ref.T[kf] - ref.T[kb]) / dt
             lo, hi = parts.model.lo, parts.model.hi
             for i in range(bus.T_cmd.shape[0]):  # a command stays within the cable's limits
-                bus.T_cmd[i] = min(max(bus.T_cmd[i], lo[i]), hi[i])
+                T_i = bus.T_cmd[i] + ctl.lead_s * (ref.T[kf, i] - ref.T[kb, i]) / dt
+                bus.T_cmd[i] = min(max(T_i, lo[i]), hi[i])
         else:
-            bus.L0_cmd[:] += ctl.lead_s * (_unstretched(ref, kf, cables) - _unstretched(ref, kb, cables)) / dt
+            for i in range(bus.L0_cmd.shape[0]):
+                bus.L0_cmd[i] += ctl.lead_s * (_unstretched(ref, kf, cables, i)
+                                               - _unstretched(ref, kb, cables, i)) / dt
     return fallback
 
 
@@ -411,9 +457,7 @@ def brush_step(k, R, v, w, brush):
 @njit(cache=_cache, inline="always")
 def log_step(k, x, R, bus, log):
     log.pose[k, :3] = x
-    e = np.empty(3)
-    euler_from_R(R, e)
-    log.pose[k, 3:] = e
+    euler_from_R(R, log.pose[k, 3:])
     log.lengths[k] = bus.L
     log.T_cmd[k] = bus.T_cmd
     log.T_app[k] = bus.T_app

@@ -19,9 +19,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, types
 
+from marinecdpr.borrowed import borrowed
 from marinecdpr.model import kernels as K
 from marinecdpr.prototype.parts import (
-    diverged, disturbance_C, elastic_tension, exchange, length_rates, quat_to_R,
+    diverged, disturbance_C, elastic_tension, exchange, length_rates, mm3, quat_to_R,
 )
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
@@ -49,7 +50,7 @@ class OwnPlant(NamedTuple):
     m: np.ndarray
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def _own_rhs(y, j, plant, parts, dy):
     """d/dt of y = (x, quaternion of R_PC, v, omega) in C at half-step row j.
 
@@ -74,10 +75,11 @@ def _own_rhs(y, j, plant, parts, dy):
             T[i] = elastic_tension(L[i], winch.L0[i], Ldot[i], cables)
     bias = np.empty(6)
     zero = np.zeros(3)
-    f_j, m_j = disturbance_C(plant.f[j], plant.m[j], parts.loads.in_P, R)
+    f_j, m_j = np.empty(3), np.empty(3)
+    disturbance_C(plant.f[j], plant.m[j], parts.loads.in_P, R, f_j, m_j)
     if parts.brush.active:  # the brush's loads at the actual velocity, held over the step
-        f_j = f_j + parts.brush.f
-        m_j = m_j + parts.brush.m
+        f_j += parts.brush.f
+        m_j += parts.brush.m
     K.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
                   model.origin, model.mass, model.I_PP, model.g, f_j, m_j, bias)
     acc = np.empty(6)
@@ -95,6 +97,7 @@ def _own_rhs(y, j, plant, parts, dy):
 @njit(cache=_cache)
 def own_loop(k0, k1, h, plant, parts):
     """Steps k0..k1-1 of the own plant (RK4). Returns (fallbacks, -1 or the diverged step)."""
+    plant, parts = borrowed(plant), borrowed(parts)  # no reference counting per step
     y = plant.y
     R = np.empty((3, 3))
     k1_, k2_, k3_, k4_ = np.empty(13), np.empty(13), np.empty(13), np.empty(13)
@@ -125,6 +128,7 @@ class MujocoPlant(NamedTuple):
     (x, z, theta_y) slides and a hinge, else a free joint. pq, pd: the platform's qpos and
     dof indices; body: its body id; ship_dofs: the ship's six dof indices.
     ship_err (1,): the largest deviation of the ship from its motion so far (m or rad).
+    x, v, w (3,), R (3, 3): the platform's state in C, read each step; R_PO (3, 3) scratch.
     """
 
     qpos: np.ndarray
@@ -141,6 +145,11 @@ class MujocoPlant(NamedTuple):
     body: int
     ship_dofs: np.ndarray
     ship_err: np.ndarray
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    R_PO: np.ndarray
 
 
 class ShipDrive(NamedTuple):
@@ -161,35 +170,33 @@ class ShipDrive(NamedTuple):
     R_SO: np.ndarray
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def _mujoco_state(mj):
-    """The platform's (x, R, v, w) in C from MuJoCo's qpos and qvel."""
+    """The platform's (x, R, v, w) in C from MuJoCo's qpos and qvel, into mj.x, .R, .v, .w."""
     qpos, qvel, pq, pd = mj.qpos, mj.qvel, mj.pq, mj.pd
-    x = np.zeros(3)
-    v = np.zeros(3)
-    w = np.zeros(3)
-    R = np.empty((3, 3))
+    x, R, v, w = mj.x, mj.R, mj.v, mj.w
     if mj.planar:
-        x[0], x[2] = qpos[pq[0]], qpos[pq[1]]
+        x[0], x[1], x[2] = qpos[pq[0]], 0.0, qpos[pq[1]]
         th = qpos[pq[2]]
         c, s = np.cos(th), np.sin(th)
         R[0, 0], R[0, 1], R[0, 2] = c, 0.0, s
         R[1, 0], R[1, 1], R[1, 2] = 0.0, 1.0, 0.0
         R[2, 0], R[2, 1], R[2, 2] = -s, 0.0, c
-        v[0], v[2] = qvel[pd[0]], qvel[pd[1]]
-        w[1] = qvel[pd[2]]
+        v[0], v[1], v[2] = qvel[pd[0]], 0.0, qvel[pd[1]]
+        w[0], w[1], w[2] = 0.0, qvel[pd[2]], 0.0
     else:
         for i in range(3):
             x[i] = qpos[pq[i]]
             v[i] = qvel[pd[i]]
-        q = np.array([qpos[pq[3]], qpos[pq[4]], qpos[pq[5]], qpos[pq[6]]])
-        quat_to_R(q / np.sqrt(np.sum(q * q)), R)
+        q0, q1, q2, q3 = qpos[pq[3]], qpos[pq[4]], qpos[pq[5]], qpos[pq[6]]
+        norm = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+        quat_to_R((q0 / norm, q1 / norm, q2 / norm, q3 / norm), R)
         for i in range(3):  # the ball's angular velocity is in the platform frame
             w[i] = R[i, 0] * qvel[pd[3]] + R[i, 1] * qvel[pd[4]] + R[i, 2] * qvel[pd[5]]
     return x, R, v, w
 
 
-@njit(cache=_cache)
+@njit(cache=_cache, inline="always")
 def _mujoco_inputs(k, R, mj, drive, parts):
     """Write the cables' forces (or springs), the ship's servo and the disturbance."""
     bus, winch, cables = parts.bus, parts.winch, parts.cables
@@ -211,9 +218,12 @@ def _mujoco_inputs(k, R, mj, drive, parts):
                         + drive.kd[j] * (drive.qd_des[k, j] - mj.qvel[dof]))
     loads = parts.loads
     if loads.in_P:  # a load fixed to the platform turns with its actual orientation
-        R_PO = drive.R_SO[k] @ R
-        mj.xfrc[mj.body, :3] = R_PO @ loads.f[k]
-        mj.xfrc[mj.body, 3:] = R_PO @ loads.m[k]
+        R_PO = mj.R_PO
+        mm3(drive.R_SO[k], R, R_PO)
+        for i in range(3):
+            mj.xfrc[mj.body, i] = R_PO[i, 0] * loads.f[k, 0] + R_PO[i, 1] * loads.f[k, 1] + R_PO[i, 2] * loads.f[k, 2]
+            mj.xfrc[mj.body, 3 + i] = (R_PO[i, 0] * loads.m[k, 0] + R_PO[i, 1] * loads.m[k, 1]
+                                       + R_PO[i, 2] * loads.m[k, 2])
     else:
         mj.xfrc[mj.body, :3] = drive.f_O[k]
         mj.xfrc[mj.body, 3:] = drive.m_O[k]
@@ -261,6 +271,7 @@ _c_mj_step = types.ExternalFunction("mj_step", types.void(types.uint64, types.ui
 def mujoco_loop(k0, k1, addresses, h, mj, drive, parts):
     """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*).
     Returns (fallbacks, -1 or the diverged step)."""
+    mj, drive, parts = borrowed(mj), borrowed(drive), borrowed(parts)  # no counting per step
     fallbacks = 0
     for k in range(k0, k1):  # mujoco_exchange, written out: one compiled call level less
         x, R, v, w = _mujoco_state(mj)

@@ -171,7 +171,7 @@ def simulate(
         controller=_controller(scenario, run), loads=P.Loads(np.ascontiguousarray(f_h[::2][:n]),
                                                              np.ascontiguousarray(m_h[::2][:n]), in_P),
         winch=_winch(scenario, ff, x0, R0), cables=_cables(scenario), bus=P.empty_bus(m), log=P.empty_log(n, m),
-        brush=_brush(scenario, ref, n, brush_h))
+        brush=_brush(scenario, ref, n, brush_h), work=P.empty_work(m, len(scenario.robot.controlled)))
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
@@ -429,7 +429,8 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
         data.qvel[pd[3:]] = R0.T @ w0
     return MujocoPlant(data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied,
                        model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping, planar,
-                       pq, pd, mm.platform_body, ship_dofs, np.zeros(1))
+                       pq, pd, mm.platform_body, ship_dofs, np.zeros(1), np.empty(3), np.empty((3, 3)), np.empty(3),
+                       np.empty(3), np.empty((3, 3)))
 
 
 def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, parts: P.Parts, progress):
