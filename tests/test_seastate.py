@@ -101,3 +101,36 @@ def test_spreading_keeps_the_energy_and_heading_enters_the_response():
     assert spread.hs_target == pytest.approx(long_crested.hs_target, rel=1e-12)
     beam = sea_record(hs=2.0, tp=9.0, heading_deg=90.0, rao=TableRAO([0, 0, 1, 0, 0, 0], True), seed=0)
     assert np.abs(beam.coeff).max() < 1e-12  # cos(90 deg) = 0: this RAO does not feel beam seas
+
+
+def test_a_grid_larger_than_the_cached_one_is_still_transformed_exactly():
+    """A long simulation's half-step grid (more samples than FFT_MAX_SAMPLES, as many as the
+    times asked for) goes through the row-by-row inverse FFT, not the slow direct sums, and
+    agrees with the direct sums, derivatives included; a chunk of it (fewer times than the
+    grid) still takes the direct sums."""
+    from marinecdpr.motion import seastate
+    from marinecdpr.motion.seastate import FFT_MAX_SAMPLES, _harmonic
+
+    rec = sea_record(hs=2.0, tp=8.0, heading_deg=150.0, rao=TableRAO([0.2, 0.1, 1.0, 0.02, 0.03, 0.01], True),
+                     spreading_kind="none", spreading_exponent=2, n_directions=1, record_s=30.0, seed=4)
+    dt = 1e-4
+    m = round(rec.record_s / dt)
+    assert m > FFT_MAX_SAMPLES
+    t = np.arange(m + 7) * dt  # past one period: the grid wraps
+    calls = []
+    direct = seastate._harmonic
+    try:
+        seastate._harmonic = lambda *a: calls.append(1) or direct(*a)
+        eta, eta_dot, eta_ddot = synthesize(rec, t)
+        assert not calls  # the FFT served every time
+        part = synthesize(rec, t[1000:1500])
+        assert calls  # a short stretch off the cached sizes: direct sums
+    finally:
+        seastate._harmonic = direct
+    pick = np.r_[0:5, 123_456, m - 2:m + 7]
+    coeff = rec.coeff
+    w = rec.omega
+    np.testing.assert_allclose(eta[pick], _harmonic(coeff, w, t[pick]).T, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(eta_dot[pick], _harmonic(coeff * (1j * w), w, t[pick]).T, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(eta_ddot[pick], _harmonic(coeff * -(w ** 2), w, t[pick]).T, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(part[0], eta[1000:1500], rtol=0, atol=1e-12)

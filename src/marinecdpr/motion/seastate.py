@@ -249,22 +249,33 @@ def _harmonic(coeff: np.ndarray, omega: np.ndarray, t: np.ndarray) -> np.ndarray
     return out
 
 
+def _irfft_rows(coeff: np.ndarray, k_index: np.ndarray, m: int, idx: np.ndarray | None = None) -> np.ndarray:
+    """Re sum_k coeff[r, k] e^{i omega_k t_n} on the grid t_n = n record_s / m over one
+    period (an inverse FFT per row, one row's spectrum in memory at a time); with ``idx``
+    only the samples idx (int, taken modulo m): shape (rows, m) or (rows, idx.size)."""
+    out = np.empty((coeff.shape[0], m if idx is None else idx.size))
+    spec = np.zeros(m // 2 + 1, dtype=complex)
+    for r in range(coeff.shape[0]):
+        spec[k_index] = coeff[r]
+        # irfft computes (1/m) sum over the full spectrum; Re sum_k C e^{i w t} = irfft(C m / 2)
+        row = np.fft.irfft(spec * (m / 2.0), n=m)
+        out[r] = row if idx is None else row[idx % m]
+    return out
+
+
 @lru_cache(maxsize=2)  # a record's grid can be tens of MB; a plan reuses one at a time
 def _grid_record(coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray:
-    """eta, eta', eta'' on the grid t_n = n record_s / m over one period (irfft)."""
+    """eta, eta', eta'' on the grid t_n = n record_s / m over one period, (18, m)."""
     coeff = np.frombuffer(coeff_bytes, dtype=complex).reshape(18, -1)
-    k_index = np.frombuffer(k_index_bytes, dtype=np.int64)
-    spec = np.zeros((18, m // 2 + 1), dtype=complex)
-    spec[:, k_index] = coeff
-    # irfft computes (1/m) sum over the full spectrum; Re sum_k C e^{i w t} = irfft(C m / 2)
-    return np.fft.irfft(spec * (m / 2.0), n=m, axis=1)
+    return _irfft_rows(coeff, np.frombuffer(k_index_bytes, dtype=np.int64), m)
 
 
 def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The ship's coordinates eta and their exact derivatives at times t.
 
     Times on the record's uniform grid (t = n record_s / m for an integer m up to
-    :data:`FFT_MAX_SAMPLES`) use an inverse FFT over one period, computed once per record;
+    :data:`FFT_MAX_SAMPLES`, or up to the number of times asked for) use an inverse FFT
+    over one period (computed once per record if m is up to :data:`FFT_MAX_SAMPLES`);
     other times a direct sum. Both are exact.
 
     Parameters
@@ -285,15 +296,21 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     if t.size > 1:
         dt = t[1] - t[0]
         m = int(round(rec.record_s / dt)) if dt > 0 else 0
-        # one inverse FFT per record (cached, reused by every chunk of a plan), while the
-        # record's grid fits in memory (2^18 samples: 38 MB); direct sums beyond
-        if 0 < m <= FFT_MAX_SAMPLES and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s:
+        # one inverse FFT per record, cached and reused by every chunk of a plan while the
+        # record's grid is small (2^18 samples: 38 MB); a larger grid is transformed row
+        # by row when the times asked for are as many (a long simulation: the result is
+        # that large anyway); direct sums otherwise
+        if (0 < m <= max(FFT_MAX_SAMPLES, t.size) and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s):
             idx = np.rint(t / dt)
             if np.allclose(idx * dt, t, rtol=0, atol=1e-9 * max(1.0, rec.record_s)):
                 k_index = np.rint(w / (2.0 * np.pi / rec.record_s)).astype(np.int64)
                 if k_index.max() <= m // 2:
-                    grid = _grid_record(coeff.tobytes(), k_index.tobytes(), m)
-                    vals = grid[:, idx.astype(np.int64) % m]
+                    idx = idx.astype(np.int64)
+                    if m <= FFT_MAX_SAMPLES:
+                        grid = _grid_record(coeff.tobytes(), k_index.tobytes(), m)
+                        vals = grid[:, idx % m]
+                    else:
+                        vals = grid = _irfft_rows(coeff, k_index, m, idx)
     if grid is None:
         vals = _harmonic(coeff, w, t)
     return vals[0:6].T, vals[6:12].T, vals[12:18].T

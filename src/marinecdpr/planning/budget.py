@@ -219,12 +219,12 @@ def _wave_components(sea: SeaStateMotion) -> tuple[int, int]:
     return k, 1 if sea.spreading == "none" else int(sea.n_directions)
 
 
-def _uses_fft(record_s: float, dt: float) -> bool:
-    """Does seastate.synthesize serve times spaced ``dt`` from its inverse-FFT grid?"""
+def _uses_fft(record_s: float, dt: float, per_call: int) -> bool:
+    """Does seastate.synthesize serve ``per_call`` times spaced ``dt`` from an inverse FFT?"""
     if dt <= 0:
         return False
     m = round(record_s / dt)
-    return 0 < m <= FFT_MAX_SAMPLES and abs(m * dt - record_s) < 1e-9 * record_s
+    return 0 < m <= max(FFT_MAX_SAMPLES, per_call) and abs(m * dt - record_s) < 1e-9 * record_s
 
 
 def _sea(scenario: Scenario, per_call: int, total: int, dt: float) -> tuple[int, int, int]:
@@ -236,9 +236,11 @@ def _sea(scenario: Scenario, per_call: int, total: int, dt: float) -> tuple[int,
     k, n_dir = _wave_components(sea)
     # spectrum and phases over every component; RAOs per direction; 18 response rows
     record = k * (1200 + 16 * n_dir)
-    if _uses_fft(sea.record_s, dt):
+    if _uses_fft(sea.record_s, dt, per_call):
         m = round(sea.record_s / dt)
-        return record + 3 * 144 * m, k, 0  # the spectrum and the grid (cached)
+        if m <= FFT_MAX_SAMPLES:
+            return record + 3 * 144 * m, k, 0  # the spectrum and the grid (cached)
+        return record + 144 * per_call + 4 * F8 * m, k, 0  # the result; one row's spectrum and samples
     # direct sums: exp(i omega t) over a block of times, complex (with its float and complex temporaries)
     block = k * min(per_call, HARMONIC_CHUNK) * (8 + 16 + 16)
     return record + block, k, total
