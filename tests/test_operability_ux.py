@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 import marinecdpr
 from marinecdpr import ScenarioError
 from marinecdpr.cli.app import app
-from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS, Cell, CellResult, ScatterDiagram, _summarise, choose_executor, operability, read_scatter_csv, study_steps
+from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS, Cell, CellResult, ScatterDiagram, summarise, choose_executor, operability, read_scatter_csv, study_steps
 from marinecdpr.studies.workspace import pose_range, workspace_map
 
 runner = CliRunner()
@@ -99,7 +99,7 @@ def test_limiting_hs_none_within_the_diagram_is_not_the_top_row():
     results = [_result(0, 1.0, 6.0, True, 0.1), _result(1, 1.0, 8.0, True, 0.1), _result(2, 1.0, 10.0, False, 0.1),
                _result(3, 2.0, 6.0, True, 0.1), _result(4, 2.0, 8.0, True, 0.1), _result(5, 2.0, 10.0, False, 0.1),
                _result(6, 3.0, 6.0, True, 0.1), _result(7, 3.0, 8.0, False, 0.2), _result(8, 3.0, 10.0, False, 0.1)]
-    op = _summarise(ScatterDiagram(hs, tp, prob), (180.0,), results, 0.0)
+    op = summarise(ScatterDiagram(hs, tp, prob), (180.0,), results, 0.0)
     lim = op.limiting_hs[180.0]
     assert lim[0] == np.inf            # Tp 6: all three workable, no limit within the diagram (was 3.0)
     assert lim[1] == 2.0               # Tp 8: fails at 3 m

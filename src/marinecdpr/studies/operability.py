@@ -6,9 +6,11 @@ that sea (the scenario's ``[base_motion]`` must be a ``sea_state``: its RAOs,
 spectrum and spreading are kept, Hs, Tp, heading and seed are the cell's). A cell is
 workable when tensions exist within the limits tightened by the margin the user asks
 for (T_min + margin, T_max - margin) at every step. Cells are independent: they run serially or on Dask
-(``dask.distributed``), with the same results either way (each cell's seed is the
-template's seed plus the cell's index); ``executor="auto"`` picks serial for small
-studies and when Dask is not installed (:func:`choose_executor`).
+(``dask.distributed``), with the same results either way (each cell's seed is a
+function of the template's seed and of the sea state, :func:`sea_state_seed`, so a
+cell's verdict does not depend on the other cells asked for); ``executor="auto"`` picks
+serial for small studies and when Dask is not installed (:func:`choose_executor`).
+:func:`run_cells` runs any per-cell function this way (the cleaning job's study uses it).
 """
 
 from __future__ import annotations
@@ -29,7 +31,8 @@ from marinecdpr.scenario.schema import Scenario, SeaStateMotion
 from marinecdpr.studies.workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
-           "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed",
+           "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
+           "scatter_cells", "run_cells", "summarise",
            "study_steps", "AUTO_DASK_MIN_STEPS", "HS_RANGE_M", "TP_RANGE_S"]
 
 HS_RANGE_M = (0.0, 30.0)
@@ -160,6 +163,15 @@ def check_sea_state(template: Scenario) -> None:
                             "and spreading are used in every cell)", key="base_motion.type")
 
 
+def sea_state_seed(seed: int, hs: float, tp: float, heading_deg: float) -> int:
+    """The seed of a sea state's record: a function of the template's ``seed`` and of the
+    sea state itself (Hs, Tp and heading, to 1e-6), never of its place in a study, so a
+    sea state gets the same record whichever other sea states are asked for and in
+    whatever order."""
+    key = [int(seed), round(hs * 1e6), round(tp * 1e6), round((heading_deg % 360.0) * 1e6)]
+    return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
+
+
 def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
     """The template in one cell's sea state, over ``duration_s`` at ``step_s``."""
     check_sea_state(template)
@@ -167,7 +179,8 @@ def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: flo
     return template.with_changes(
         base_motion=sea.model_copy(update={
             "hs_m": cell.hs, "tp_s": cell.tp, "heading_deg": cell.heading_deg,
-            "seed": sea.seed + cell.index, "record_s": max(sea.record_s, duration_s)}),
+            "seed": sea_state_seed(sea.seed, cell.hs, cell.tp, cell.heading_deg),
+            "record_s": max(sea.record_s, duration_s)}),
         time={"step_s": step_s, "duration_s": duration_s},
     )
 
@@ -369,7 +382,8 @@ def choose_executor(executor: str, total_steps: int, *, scheduler: str | None = 
     return "dask", "large"
 
 
-def _cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
+def scatter_cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
+    """One :class:`Cell` per heading and sea state of positive probability."""
     cells = []
     for heading in headings:
         for i, hs in enumerate(scatter.hs):
@@ -432,22 +446,33 @@ def operability(
     """
     check_sea_state(template)
     headings = tuple(float(h) for h in headings_deg)
-    cells = _cells(scatter, headings)
+    cells = scatter_cells(scatter, headings)
     kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m,
                   workspace=workspace, min_area=min_area)
     executor, _ = choose_executor(executor, study_steps(len(cells), duration_s=duration_s, step_s=step_s,
                                                         workspace=workspace, max_error_m=max_error_m),
                                   scheduler=scheduler)
+    results = run_cells(evaluate_cell, template, cells, kwargs, executor=executor, scheduler=scheduler,
+                        workers=workers, progress=progress)
+    return summarise(scatter, headings, results, margin_N, executor)
+
+
+def run_cells(evaluate: Callable, template: Scenario, cells: list[Cell], kwargs: dict, *, executor: str,
+              scheduler: str | None = None, workers: int = 2,
+              progress: Callable[[int, int], None] | None = None) -> list:
+    """``evaluate(template, cell, **kwargs)`` for every cell, in this process (``executor =
+    "serial"``) or on Dask (``"dask"``: a local cluster of ``workers`` processes, or the
+    ``scheduler``); the results in the cells' order, the same either way."""
     if executor == "serial":
         results = []
         for k, cell in enumerate(cells, start=1):
-            results.append(evaluate_cell(template, cell, **kwargs))
+            results.append(evaluate(template, cell, **kwargs))
             if progress is not None:
                 progress(k, len(cells))
     else:
-        results = _on_dask(template, cells, kwargs, scheduler, workers, progress)
+        results = _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress)
     results.sort(key=lambda r: r.cell.index)
-    return _summarise(scatter, headings, results, margin_N, executor)
+    return results
 
 
 SCHEDULER_TIMEOUT_S = 5.0
@@ -488,7 +513,7 @@ def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> Non
         raise ScenarioError(f"--scheduler {shown}: no Dask scheduler reachable there ({reason})") from None
 
 
-def _on_dask(template, cells, kwargs, scheduler, workers, progress):
+def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -507,7 +532,7 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
         # page-fault its memory back in; the workers keep it instead (see marinecdpr.memory)
         client.run(keep_freed_memory)
         scattered = client.scatter(template, broadcast=True)
-        futures = [client.submit(evaluate_cell, scattered, cell, pure=False, **kwargs) for cell in cells]
+        futures = [client.submit(evaluate, scattered, cell, pure=False, **kwargs) for cell in cells]
         results = []
         for k, fut in enumerate(as_completed(futures), start=1):
             results.append(fut.result())
@@ -520,7 +545,10 @@ def _on_dask(template, cells, kwargs, scheduler, workers, progress):
             cluster.close()
 
 
-def _summarise(scatter, headings, results, margin_N, executor="serial") -> Operability:
+def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: list, margin_N: float,
+              executor: str = "serial") -> Operability:
+    """The study's :class:`Operability` from per-cell results (anything with ``cell`` and
+    ``operable``): the workable share per heading and overall, and the limiting Hs."""
     per_heading, limiting = {}, {}
     for h in headings:
         rs = [r for r in results if r.cell.heading_deg == h]
