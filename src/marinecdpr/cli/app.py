@@ -191,9 +191,21 @@ def clean(
     hull_area: Optional[float] = typer.Option(None, "--hull-area", help="Estimate a hull of this many m2 (e.g. "
                                               "one side: length x draught), panel after panel."),
     move_time: float = typer.Option(600.0, "--move-time", help="Seconds to move the frame to its next place."),
+    seas: bool = typer.Option(False, "--seas", help="Fly the job in every sea state of a scatter diagram (the "
+                              "scenario's sea_state with each Hs, Tp and heading) and say where it works."),
+    scatter: Optional[Path] = typer.Option(None, help="With --seas: the scatter diagram CSV (hs_m,tp_s,"
+                                           "probability); default: the package's illustrative one."),
+    headings: str = typer.Option("180", help="With --seas: wave headings, deg, comma-separated."),
+    coverage_target: float = typer.Option(99.0, help="With --seas: % of the reachable panel a working job cleans."),
+    in_band_target: float = typer.Option(95.0, help="With --seas: % of the time a working job keeps the normal "
+                                         "force in band."),
+    serial: bool = typer.Option(False, "--serial", help="With --seas: run the sea states in this process."),
+    workers: Optional[int] = typer.Option(None, min=1, help="With --seas: a local Dask cluster of this many workers."),
+    scheduler: Optional[str] = typer.Option(None, help="With --seas: a running Dask scheduler at this address."),
 ) -> None:
     """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
-    scenario's sea, and measure the cleaned area from the simulated brush."""
+    scenario's sea, and measure the cleaned area from the simulated brush. With --seas,
+    in every sea state of a scatter diagram: where the job works, and its expected hours."""
     from marinecdpr.report.cleaning import cleaning_findings, write_cleaning
     from marinecdpr.studies.cleaning import cleaning_job, guaranteed_job, ship_side
 
@@ -203,6 +215,16 @@ def clean(
     _number("--hull-area", hull_area)
     _number("--move-time", move_time, zero_ok=True)
     sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
+    if seas or scatter is not None:
+        if guarantee:
+            _fail("--guarantee cannot go with --seas: it sets the lanes from one sea state's run")
+        for name, value in (("--coverage-target", coverage_target), ("--in-band-target", in_band_target)):
+            if not (math.isfinite(value) and 0.0 <= value <= 100.0):
+                _fail(f"{name} {value:g}: expected a percentage between 0 and 100")
+        heads = _sea_study_options(headings, serial, workers, scheduler)
+        return _clean_seas(scenario, sc, _scatter_diagram(scatter), heads, out, plant=plant, hull_area=hull_area,
+                           move_time=move_time, coverage_target=coverage_target, in_band_target=in_band_target,
+                           serial=serial, workers=workers, scheduler=scheduler)
     t0 = time.perf_counter()
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
@@ -225,6 +247,45 @@ def clean(
                       highlight=False, soft_wrap=True)
     console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)} "
                   f"({time.perf_counter() - t0:.1f} s)", highlight=False, soft_wrap=True)
+
+
+def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_area, move_time, coverage_target,
+                in_band_target, serial, workers, scheduler) -> None:
+    """``clean --seas``: the cleaning job over a scatter diagram."""
+    from marinecdpr.report.cleaning import write_cleaning_seas
+    from marinecdpr.studies.cleaning import cleaning_seas
+    from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST, check_sea_state
+
+    try:
+        check_sea_state(sc)
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    n_cells = int((diagram.probability > 0).sum()) * len(heads)
+    executor = _sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
+    n_workers = workers or 2
+    t0 = time.perf_counter()
+    with _output(out) as folder:
+        _compile_notice(plant or sc.simulation.plant)
+        with _progress_bar("sea states") as bar:
+            task = bar.add_task("", total=n_cells)
+            with _run_errors(scenario):
+                cs = cleaning_seas(sc, diagram, headings_deg=heads, coverage_target_pct=coverage_target,
+                                   in_band_target_pct=in_band_target, plant=plant, hull_area_m2=hull_area,
+                                   move_time_s=move_time, executor=executor, scheduler=scheduler, workers=n_workers,
+                                   progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+        paths = write_cleaning_seas(cs, sc, folder)
+    _print_sea_table(cs.sea, f"cleaning job over the sea states: {_plain(sc.name)}", scheduler, n_workers,
+                     time.perf_counter() - t0)
+    what = "the hull" if hull_area is not None else "one panel"
+    hours = ("no sea state" if cs.expected_hours != cs.expected_hours else
+             f"{cs.expected_hours:.3g} h for {what} where it works, {cs.expected_hours_with_weather:.3g} h "
+             "waiting for workable seas")
+    console.print(_plain(f"the job works in {_percent(cs.sea.operability)} of the sea states (at least "
+                         f"{coverage_target:g} % of the reachable panel cleaned, the normal force in band at least "
+                         f"{in_band_target:g} % of the time, tensions within limits); expected {hours}"),
+                  highlight=False, soft_wrap=True)
+    console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)}", highlight=False,
+                  soft_wrap=True)
 
 
 @app.command()
@@ -502,33 +563,16 @@ def operability(
     local Dask cluster for large ones; --serial, --workers or --scheduler
     choose. Results are the same whichever runs.
     """
-    from importlib import resources
-
     from marinecdpr.planning.budget import check_run_size
-    from marinecdpr.studies.operability import Cell, cell_scenario, check_scheduler, choose_executor, dask_installed, read_scatter_csv, study_steps
+    from marinecdpr.studies.operability import Cell, cell_scenario, study_steps
     from marinecdpr.studies.operability import operability as run
     from marinecdpr.report.writers import write_operability
 
-    if serial and (workers is not None or scheduler):
-        _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
-
-    try:
-        heads = tuple(float(h) for h in headings.split(","))
-    except ValueError:
-        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
-    if not all(math.isfinite(h) and -360.0 <= h <= 360.0 for h in heads):
-        _fail(f"--headings {headings}: expected finite headings between -360 and 360 deg")
-    if len({h % 360.0 for h in heads}) < len(heads):
-        _fail(f"--headings {headings}: a heading is given twice (headings are taken modulo 360 deg)")
+    heads = _sea_study_options(headings, serial, workers, scheduler)
     _number("--margin", margin, zero_ok=True)
     _number("--duration", duration)
     _number("--step", step)
     _number("--max-error", max_error)
-    if scheduler:
-        try:
-            check_scheduler(scheduler)
-        except ScenarioError as exc:
-            _fail(str(exc))
     grid = None
     if workspace_grid is not None:
         try:
@@ -537,11 +581,7 @@ def operability(
         except (ValueError, AssertionError):
             _fail(f"--workspace {workspace_grid}: expected two positive integers like 12x8")
     sc = _load(scenario, None, None)
-    try:
-        path = scatter or Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
-        diagram = read_scatter_csv(path)
-    except ScenarioError as exc:
-        _fail(str(exc))
+    diagram = _scatter_diagram(scatter)
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
     try:  # the largest cell's run: the highest sea and the shortest period that occur
         tp_min = float(diagram.tp[(diagram.probability > 0).any(axis=0)].min())
@@ -550,16 +590,8 @@ def operability(
                        workers=1 if serial else (workers or 2))
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
-    asked = "serial" if serial else "dask" if (workers is not None or scheduler) else "auto"
-    executor, why = choose_executor(asked, study_steps(n_cells, duration_s=duration, step_s=step, workspace=grid,
-                                                       max_error_m=max_error), scheduler=scheduler)
-    if why == "no dask":
-        err_console.print("note: running the sea states serially: Dask is not installed "
-                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
-                          soft_wrap=True)
-    elif executor == "dask" and not dask_installed():
-        _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
-              "(or leave them out to run serially)")
+    executor = _sea_executor(serial, workers, scheduler, study_steps(n_cells, duration_s=duration, step_s=step,
+                                                                     workspace=grid, max_error_m=max_error))
     n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:
@@ -575,33 +607,90 @@ def operability(
         elapsed = time.perf_counter() - t0
         paths = [out / p.name for p in write_operability(op, sc, folder)]
 
-    def percent(x: float) -> str:
-        """For display: 100 % and 0 % only when exact; the JSON keeps the exact values."""
-        text = f"{100 * x:.1f}"
-        return ("100 %" if x >= 1.0 else "0 %" if x <= 0.0 else "> 99.9 %" if text == "100.0"
-                else "< 0.1 %" if text == "0.0" else f"{text} %")
+    _print_sea_table(op, f"operability: {_plain(sc.name)}", scheduler, n_workers, elapsed)
+    console.print(f"overall {_percent(op.operability)}; written: " + ", ".join(_plain(p) for p in paths),
+                  highlight=False)
 
+
+def _percent(x: float) -> str:
+    """For display: 100 % and 0 % only when exact; the JSON keeps the exact values."""
+    text = f"{100 * x:.1f}"
+    return ("100 %" if x >= 1.0 else "0 %" if x <= 0.0 else "> 99.9 %" if text == "100.0"
+            else "< 0.1 %" if text == "0.0" else f"{text} %")
+
+
+def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elapsed: float) -> None:
+    """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
     ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
            else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
-    table = Table(title=f"operability: {_plain(sc.name)}",
-                  caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
+    table = Table(title=title, caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
     table.add_column("Tp (s)", justify="right")
     table.add_column("limiting Hs (m)")
-    for h in heads:
+    for h in op.headings_deg:
         first = True
-        for tp, v in zip(diagram.tp, op.limiting_hs[h]):
+        for tp, v in zip(op.scatter.tp, op.limiting_hs[h]):
             if v != v:   # no sea state of this Tp
                 continue
-            table.add_row(f"{h:g}" if first else "", percent(op.per_heading[h]) if first else "", f"{tp:g}",
+            table.add_row(f"{h:g}" if first else "", _percent(op.per_heading[h]) if first else "", f"{tp:g}",
                           "none within the diagram" if math.isinf(v) else f"{v:g}")
             first = False
     console.print(table)
     console.print("limiting Hs: the largest Hs up to which every sea state of that Tp is workable (0: not "
                   "even the smallest; none within the diagram: all are)", highlight=False)
-    console.print(f"overall {percent(op.operability)}; written: " + ", ".join(_plain(p) for p in paths),
-                  highlight=False)
+
+
+def _sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
+    """A sea-state study's headings (deg) from ``--headings``, its executor options checked
+    (``--serial`` alone; a ``--scheduler`` that answers)."""
+    from marinecdpr.studies.operability import check_scheduler
+
+    if serial and (workers is not None or scheduler):
+        _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
+    try:
+        heads = tuple(float(h) for h in headings.split(","))
+    except ValueError:
+        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
+    if not all(math.isfinite(h) and -360.0 <= h <= 360.0 for h in heads):
+        _fail(f"--headings {headings}: expected finite headings between -360 and 360 deg")
+    if len({h % 360.0 for h in heads}) < len(heads):
+        _fail(f"--headings {headings}: a heading is given twice (headings are taken modulo 360 deg)")
+    if scheduler:
+        try:
+            check_scheduler(scheduler)
+        except ScenarioError as exc:
+            _fail(str(exc))
+    return heads
+
+
+def _scatter_diagram(path: Path | None):
+    """The scatter diagram of ``--scatter`` (default: the package's illustrative one)."""
+    from importlib import resources
+
+    from marinecdpr.studies.operability import read_scatter_csv
+
+    try:
+        return read_scatter_csv(path or Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv")))
+    except ScenarioError as exc:
+        _fail(str(exc))
+
+
+def _sea_executor(serial: bool, workers: int | None, scheduler: str | None, steps: int) -> str:
+    """What runs a sea-state study's cells ("serial" or "dask") from the options and its size;
+    a note when Dask would help but is not installed."""
+    from marinecdpr.studies.operability import choose_executor, dask_installed
+
+    asked = "serial" if serial else "dask" if (workers is not None or scheduler) else "auto"
+    executor, why = choose_executor(asked, steps, scheduler=scheduler)
+    if why == "no dask":
+        err_console.print("note: running the sea states serially: Dask is not installed "
+                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
+                          soft_wrap=True)
+    elif executor == "dask" and not dask_installed():
+        _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
+              "(or leave them out to run serially)")
+    return executor
 
 
 def _warn_scale(sc, scenario: str) -> None:

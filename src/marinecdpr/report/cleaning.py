@@ -8,12 +8,15 @@ from pathlib import Path
 
 import numpy as np
 
-from marinecdpr.report.figures import FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate
+from marinecdpr.report.figures import (
+    FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate, plot_operability,
+)
 from marinecdpr.report.files import _write_csv, atomic_path, write_json
 from marinecdpr.report.text import describe_base_motion
 from marinecdpr.textfiles import strip_control
 
-__all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings"]
+__all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
+           "SEA_STATE_COLUMNS", "write_cleaning_seas"]
 
 CLEAN_COLUMNS = ("t", "brush_x_m", "brush_y_m", "brush_z_m", "brush_x_planned_m", "brush_z_planned_m",
                  "normal_force_N", "in_band", "cross_track_error_m")
@@ -158,4 +161,58 @@ def write_cleaning(job, folder: Path) -> list[Path]:
     paths += list(figures.values())
     paths.append(write_json(job.summary, folder / "summary.json"))
     paths.append(write_cleaning_html(job, figures, folder / "report.html"))
+    return paths
+
+
+SEA_STATE_COLUMNS = ("heading_deg", "hs_m", "tp_s", "probability", "works", "coverage_pct", "reachable_coverage_pct",
+                     "normal_force_in_band_pct", "tension_min_N", "tension_max_N", "job_time_s", "hours")
+"""The columns of sea_states.csv (``clean --scatter``), one row per sea state and heading."""
+
+
+def _number_or_none(x: float) -> float | None:
+    return float(x) if np.isfinite(x) else None
+
+
+def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
+    """The cleaning job over a scatter diagram (:func:`~marinecdpr.studies.cleaning.cleaning_seas`):
+    ``sea_states.csv`` (one row per sea state: its verdict and figures; empty cells where
+    the job could not be flown), ``summary.json`` (the share of sea states the job works
+    in, per heading, the limiting Hs, the expected hours, and why each failing sea state
+    fails) and ``sea_states.png`` (the workable sea states, one panel per heading)."""
+    from marinecdpr.studies.operability import LIMITING_HS_MEANING
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = [[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable), r.coverage_pct,
+             r.reachable_coverage_pct, r.in_band_pct, r.tension_min_N, r.tension_max_N, r.job_time_s, r.hours]
+            for r in cs.sea.results]
+    paths = [_write_csv(list(SEA_STATE_COLUMNS), np.array(rows, dtype=float).reshape(-1, len(SEA_STATE_COLUMNS)),
+                        folder / "sea_states.csv", int_last=False, int_columns=(SEA_STATE_COLUMNS.index("works"),))]
+    summary = {
+        "scenario": scenario.name,
+        "what_works": (f"the plan's tensions within limits at every step, the closed loop without fallback, "
+                       f"at least {cs.coverage_target_pct:g} % of the reachable panel cleaned and the normal "
+                       f"force in band at least {cs.in_band_target_pct:g} % of the time"),
+        "coverage_target_pct": cs.coverage_target_pct,
+        "in_band_target_pct": cs.in_band_target_pct,
+        "operability": cs.sea.operability,
+        "per_heading": {f"{h:g}": v for h, v in cs.sea.per_heading.items()},
+        "limiting_hs_m": cs.sea.limiting_hs_json(),
+        "limiting_hs_meaning": LIMITING_HS_MEANING,
+        "hours_for": "the hull" if cs.hull_area_m2 is not None else "one panel",
+        "hull_area_m2": cs.hull_area_m2,
+        "expected_hours": _number_or_none(cs.expected_hours),
+        "expected_hours_meaning": "hours of the job averaged over the sea states it works in, by probability",
+        "expected_hours_with_weather": _number_or_none(cs.expected_hours_with_weather),
+        "expected_hours_with_weather_meaning": "expected_hours / operability: calendar hours when the work waits "
+                                               "for workable sea states",
+        "sea_states": len(cs.sea.results),
+        "steps_per_sea_state": int(scenario.time.n_steps),
+        "not_working": [{"heading_deg": r.cell.heading_deg, "hs_m": r.cell.hs, "tp_s": r.cell.tp, "reason": r.reason}
+                        for r in cs.sea.results if not r.operable],
+    }
+    paths.append(write_json(summary, folder / "summary.json"))
+    paths.append(plot_operability(cs.sea, scenario, folder / "sea_states.png", workable=(
+        f"the cleaning job works: >= {cs.coverage_target_pct:g} % of reach cleaned, force in band "
+        f">= {cs.in_band_target_pct:g} % of the time")))
     return paths

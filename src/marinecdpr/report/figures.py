@@ -447,9 +447,10 @@ def plot_workspace(ws, scenario: Scenario, path: Path) -> Path:
     return _save(fig, path)
 
 
-def plot_operability(op, scenario: Scenario, path: Path) -> Path:
+def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None = None) -> Path:
     """The operable sea states of an :func:`~marinecdpr.studies.operability.operability` study,
-    one panel per heading: Hs by Tp, green where workable, each cell's probability in %."""
+    one panel per heading: Hs by Tp, green where workable, each cell's probability in %.
+    ``workable`` says what green means (default: the tensions with the study's margin)."""
     plt = _pyplot()
     k = len(op.headings_deg)
     fig, axes = plt.subplots(1, k, figsize=(6.5 * k, 5.2), squeeze=False, constrained_layout=True)
@@ -470,6 +471,6 @@ def plot_operability(op, scenario: Scenario, path: Path) -> Path:
         ax.set_xlabel("Tp (s)")
         ax.set_ylabel("Hs (m)")
         ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %", fontsize=10)
-    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: workable with {op.margin_N:g} N margin; "
-                 "numbers: probability %)", fontsize=10)
+    workable = workable or f"workable with {op.margin_N:g} N margin"
+    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: probability %)", fontsize=10)
     return _save(fig, path)

@@ -27,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from marinecdpr.errors import ScenarioError
+from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import brush_velocity
 from marinecdpr.motion.trajectory import cleaning_path
@@ -36,9 +36,13 @@ from marinecdpr.prototype.simulation import SimResult, normal_force, simulate
 from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
+from marinecdpr.studies.operability import (
+    Cell, Operability, ScatterDiagram, cell_scenario, check_sea_state, run_cells, scatter_cells, summarise,
+)
 
 __all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "brush_positions", "normal_force",
-           "cross_track_error", "reachable_cells"]
+           "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
+           "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT"]
 
 
 @dataclass(frozen=True)
@@ -263,3 +267,164 @@ def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict
     seconds = placements * summary["job_time_s"] + max(placements - 1, 0) * move_time_s
     return {"hull_area_m2": float(hull_area_m2), "move_time_s": float(move_time_s), "placements": placements,
             "hours": seconds / 3600.0, "area_rate_m2_h": float(hull_area_m2 / seconds * 3600.0) if seconds else 0.0}
+
+
+# ------------------------------------------------------------ over a scatter diagram
+COVERAGE_TARGET_PCT = 99.0
+"""Default share of the reachable panel a workable sea state's job cleans, %."""
+IN_BAND_TARGET_PCT = 95.0
+"""Default share of the job's time a workable sea state keeps the normal force in band, %."""
+
+
+@dataclass(frozen=True)
+class CleaningCellResult:
+    """The cleaning job in one sea state.
+
+    ``operable``: the job works there: the plan has tensions within limits at every step
+    and the closed loop held (no fallback, no divergence), the reachable coverage and the
+    share of time in band reach their targets. ``reason`` says why not ("" if it works).
+    Percentages are NaN where the job could not be flown.
+    """
+
+    cell: Cell
+    operable: bool
+    reason: str
+    coverage_pct: float
+    reachable_coverage_pct: float
+    in_band_pct: float
+    tension_min_N: float
+    tension_max_N: float
+    job_time_s: float
+    hours: float
+    """Hours of the job (the hull with ``hull_area_m2``, else the panel); NaN if it failed."""
+
+
+def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pct: float = COVERAGE_TARGET_PCT,
+                           in_band_target_pct: float = IN_BAND_TARGET_PCT, plant: str | None = None,
+                           hull_area_m2: float | None = None, move_time_s: float = 600.0) -> CleaningCellResult:
+    """Fly the template's cleaning job in one sea state (the template's time and sea
+    otherwise; the record's seed from the sea state, :func:`~marinecdpr.studies.operability.sea_state_seed`)
+    and judge it."""
+    sc = cell_scenario(template, cell, template.time.duration_s, template.time.step_s)
+    nan = float("nan")
+    try:
+        job = cleaning_job(sc, plant=plant)
+    except InfeasibleError:
+        return CleaningCellResult(cell, False, "no tensions within the limits at some step of the plan",
+                                  nan, nan, nan, nan, nan, nan, nan)
+    except SimulationDivergedError:
+        return CleaningCellResult(cell, False, "the closed loop diverged", nan, nan, nan, nan, nan, nan, nan)
+    s = job.summary
+    reasons = []
+    if job.result.controller_fallbacks:
+        reasons.append(f"the controller found no tensions within limits at {job.result.controller_fallbacks} steps")
+    if s["reachable_coverage_pct"] < coverage_target_pct:
+        reasons.append(f"reachable coverage {s['reachable_coverage_pct']:.2f} % < {coverage_target_pct:g} %")
+    if s["normal_force_in_band_pct"] < in_band_target_pct:
+        reasons.append(f"normal force in band {s['normal_force_in_band_pct']:.2f} % of the time "
+                       f"< {in_band_target_pct:g} %")
+    if hull_area_m2 is None:
+        hours = s["job_time_s"] / 3600.0
+    elif s["panel_area_m2"] > s["missed_area_m2"]:
+        hours = ship_side(s, hull_area_m2=hull_area_m2, move_time_s=move_time_s)["hours"]
+    else:  # nothing cleaned: the hull never gets done
+        hours = float("inf")
+    return CleaningCellResult(cell, not reasons, "; ".join(reasons), s["coverage_pct"], s["reachable_coverage_pct"],
+                              s["normal_force_in_band_pct"], s["tension_min_N"], s["tension_max_N"], s["job_time_s"],
+                              float(hours))
+
+
+@dataclass(frozen=True)
+class CleaningSeas:
+    """The cleaning job over a scatter diagram.
+
+    Attributes
+    ----------
+    sea : Operability
+        The verdicts summed up as for tensions (:func:`~marinecdpr.studies.operability.summarise`):
+        ``sea.results`` are :class:`CleaningCellResult`; ``sea.operability`` is the
+        probability that the job works (headings equally likely), ``sea.per_heading`` and
+        ``sea.limiting_hs`` per heading.
+    coverage_target_pct, in_band_target_pct : float
+        What a workable job reached, %.
+    hull_area_m2 : float or None
+        The hull the hours are for (None: one panel).
+    expected_hours : float
+        Hours of the job averaged over the sea states it works in, weighted by their
+        probability; NaN if it works in none.
+    expected_hours_with_weather : float
+        ``expected_hours / sea.operability``: the calendar hours when the work waits for
+        workable sea states (each hour's sea state drawn independently from the diagram).
+    """
+
+    sea: Operability
+    coverage_target_pct: float
+    in_band_target_pct: float
+    hull_area_m2: float | None
+    expected_hours: float
+    expected_hours_with_weather: float
+
+
+def cleaning_seas(
+    template: Scenario,
+    scatter: ScatterDiagram,
+    *,
+    headings_deg: tuple[float, ...] = (180.0,),
+    coverage_target_pct: float = COVERAGE_TARGET_PCT,
+    in_band_target_pct: float = IN_BAND_TARGET_PCT,
+    plant: str | None = None,
+    hull_area_m2: float | None = None,
+    move_time_s: float = 600.0,
+    executor: str = "serial",
+    scheduler: str | None = None,
+    workers: int = 2,
+    progress: Callable[[int, int], None] | None = None,
+) -> CleaningSeas:
+    """The cleaning job in every sea state of a scatter diagram: where it works, and the
+    expected hours.
+
+    Each sea state (and heading) flies the template's job (its ``[cleaning]`` path, time
+    and ``sea_state`` base motion with the cell's Hs, Tp and heading) closed loop on the
+    plant, as :func:`cleaning_job` does, and judges it (:func:`evaluate_cleaning_cell`).
+    Cells run serially or on Dask exactly as :func:`~marinecdpr.studies.operability.operability`'s
+    (``executor``, ``scheduler``, ``workers``), with the same results either way.
+
+    Parameters
+    ----------
+    template : Scenario
+        With ``[cleaning]``, a ``coverage`` trajectory and a ``sea_state`` base motion.
+    scatter : ScatterDiagram
+    headings_deg : tuple of float
+        Wave headings, equally likely, deg.
+    coverage_target_pct, in_band_target_pct : float
+        The reachable coverage and the share of time with the normal force in band a
+        workable job reaches, %.
+    plant : {"mujoco", "own"}, optional
+    hull_area_m2 : float, optional
+        Give the hours for this hull area panel after panel (:func:`ship_side`), else for
+        one panel.
+    move_time_s : float
+        With ``hull_area_m2``: seconds to move the frame to its next place.
+    """
+    check_sea_state(template)
+    if template.cleaning is None or not isinstance(template.trajectory, CoverageTrajectory):
+        raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
+                            key="cleaning", source=template.name)
+    for name, value in (("coverage_target_pct", coverage_target_pct), ("in_band_target_pct", in_band_target_pct)):
+        if not 0.0 <= value <= 100.0:
+            raise ValueError(f"{name} must be within 0..100 %, got {value}")
+    headings = tuple(float(h) for h in headings_deg)
+    cells = scatter_cells(scatter, headings)
+    kwargs = dict(coverage_target_pct=coverage_target_pct, in_band_target_pct=in_band_target_pct, plant=plant,
+                  hull_area_m2=hull_area_m2, move_time_s=move_time_s)
+    results = run_cells(evaluate_cleaning_cell, template, cells, kwargs, executor=executor, scheduler=scheduler,
+                        workers=workers, progress=progress)
+    sea = summarise(scatter, headings, results, 0.0, executor)
+    # headings equally likely: a cell's weight is its probability over the headings
+    weight = np.array([r.cell.probability / len(headings) for r in results])
+    works = np.array([r.operable for r in results], dtype=bool)
+    hours = np.array([r.hours for r in results])
+    expected = float(np.sum(weight[works] * hours[works]) / np.sum(weight[works])) if works.any() else float("nan")
+    with_weather = expected / sea.operability if sea.operability > 0 else float("nan")
+    return CleaningSeas(sea, float(coverage_target_pct), float(in_band_target_pct),
+                        None if hull_area_m2 is None else float(hull_area_m2), expected, with_weather)
