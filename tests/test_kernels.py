@@ -27,9 +27,23 @@ def _setting(t):
 
 
 def test_euler_step_matches_vectorised():
+    """The compiled step and series against the former numpy implementation."""
+    import vectorised
+
     rng = np.random.default_rng(1)
     a, r, acc = rng.uniform(-1, 1, (3, 5, 3))
-    R, w, al = euler_kinematics(a, r, acc)
+    R, w, al = vectorised.euler_kinematics(a, r, acc)
+    Rs, ws, als = euler_kinematics(a, r, acc)
+    np.testing.assert_allclose(Rs, R, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ws, w, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(als, al, rtol=0, atol=1e-14)
+    # broadcasting, a leading shape of two axes, no rates, constant angles (trig reused)
+    grid = rng.uniform(-1, 1, (4, 6, 3))
+    np.testing.assert_allclose(euler_kinematics(grid)[0], vectorised.euler_kinematics(grid)[0], atol=1e-15)
+    assert euler_kinematics(grid)[1] is None
+    const = np.broadcast_to(a[0], (7, 3))
+    for got, ref in zip(euler_kinematics(const, r[0], acc[:1]), vectorised.euler_kinematics(const, r[0], acc[:1])):
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-14)
     Rk, wk, alk = np.empty((3, 3)), np.empty(3), np.empty(3)
     for i in range(5):
         K.euler_step(a[i], r[i], acc[i], Rk, wk, alk)

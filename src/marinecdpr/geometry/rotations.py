@@ -16,28 +16,67 @@ rates: no small-angle approximation (MODEL_NOTES, "Frames and conventions").
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 __all__ = [
     "matrix_from_euler",
     "euler_kinematics",
-    "cos_sin",
+    "euler_step",
     "skew",
 ]
 
 
-def cos_sin(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """cos(x), sin(x); a constant series is evaluated once (trig dominates the hot path).
+@njit(cache=True, inline="always")
+def _euler_values(cph, sph, cth, sth, cps, sps, dph, dth, dps, ddph, ddth, ddps):
+    """R (9 entries, row by row), omega_b (3) and alpha_b (3) from the angles' cosines and
+    sines and their rates: the one implementation of :func:`euler_kinematics`' formulas."""
+    return (cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph,
+            sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph,
+            -sth, cth * sph, cth * cph,
+            dph - sth * dps,
+            cph * dth + sph * cth * dps,
+            -sph * dth + cph * cth * dps,
+            ddph - sth * ddps - cth * dth * dps,
+            (cph * ddth - sph * dph * dth + sph * cth * ddps
+             + cph * cth * dph * dps - sph * sth * dth * dps),
+            (-sph * ddth - cph * dph * dth + cph * cth * ddps
+             - sph * cth * dph * dps - cph * sth * dth * dps))
 
-    Parameters
-    ----------
-    x : ndarray, shape (...)
-        rad.
+
+@njit(cache=True)
+def euler_step(ang, rate, acc, R, omega, alpha):
+    """:func:`euler_kinematics` at one instant, compiled (the closed loop's sensors call it).
+
+    ang, rate, acc: (3,) rad, rad/s, rad/s^2. Writes R (3, 3), omega (3,), alpha (3,).
     """
-    x = np.asarray(x, dtype=float)
-    if x.size and x.flat[0] == x.flat[-1] and (x == x.flat[0]).all():
-        x0 = float(x.flat[0])
-        return np.full(x.shape, np.cos(x0)), np.full(x.shape, np.sin(x0))
-    return np.cos(x), np.sin(x)
+    v = _euler_values(np.cos(ang[0]), np.sin(ang[0]), np.cos(ang[1]), np.sin(ang[1]), np.cos(ang[2]),
+                      np.sin(ang[2]), rate[0], rate[1], rate[2], acc[0], acc[1], acc[2])
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = v[3 * i + j]
+        omega[i] = v[9 + i]
+        alpha[i] = v[12 + i]
+
+
+@njit(cache=True)
+def _euler_series(ang, rate, acc, Rt, wt, at):
+    """:func:`euler_step` for every row of ang, rate, acc (n, 3), written time-last: Rt
+    (3, 3, n), wt, at (3, n). A row with the previous row's angles reuses its cosines and
+    sines (a constant orientation costs no trigonometry)."""
+    last0, last1, last2 = np.nan, np.nan, np.nan
+    cph = sph = cth = sth = cps = sps = 0.0
+    for k in range(ang.shape[0]):
+        a0, a1, a2 = ang[k, 0], ang[k, 1], ang[k, 2]
+        if not (a0 == last0 and a1 == last1 and a2 == last2):
+            cph, sph, cth, sth, cps, sps = np.cos(a0), np.sin(a0), np.cos(a1), np.sin(a1), np.cos(a2), np.sin(a2)
+            last0, last1, last2 = a0, a1, a2
+        v = _euler_values(cph, sph, cth, sth, cps, sps, rate[k, 0], rate[k, 1], rate[k, 2],
+                          acc[k, 0], acc[k, 1], acc[k, 2])
+        for i in range(3):
+            for j in range(3):
+                Rt[i, j, k] = v[3 * i + j]
+            wt[i, k] = v[9 + i]
+            at[i, k] = v[12 + i]
 
 
 def euler_kinematics(
@@ -54,7 +93,9 @@ def euler_kinematics(
 
     and ``alpha_b = d(omega_b)/dt`` differentiated exactly. Because
     ``d(R omega_b)/dt = R alpha_b``, the same vectors expressed in the reference
-    frame are ``R @ omega_b`` and ``R @ alpha_b``.
+    frame are ``R @ omega_b`` and ``R @ alpha_b``. Computed by a compiled loop over the
+    samples (:func:`euler_step` per sample); ``tests/vectorised.py`` keeps the former
+    numpy implementation as the reference.
 
     Parameters
     ----------
@@ -67,46 +108,25 @@ def euler_kinematics(
     -------
     R : ndarray, shape (..., 3, 3)
     omega_b, alpha_b : ndarray, shape (..., 3), or None without rates
-        rad/s and rad/s^2, in the body frame.
+        rad/s and rad/s^2, in the body frame. Views of time-last buffers (R[..., i, j] is
+        contiguous).
     """
     angles = np.asarray(angles, dtype=float)
-    cph, sph = cos_sin(angles[..., 0])
-    cth, sth = cos_sin(angles[..., 1])
-    cps, sps = cos_sin(angles[..., 2])
-    # time-last buffers: R[..., i, j] is then a contiguous array
-    R = np.empty((3, 3) + angles.shape[:-1])
-    R[0, 0] = cps * cth
-    R[0, 1] = cps * sth * sph - sps * cph
-    R[0, 2] = cps * sth * cph + sps * sph
-    R[1, 0] = sps * cth
-    R[1, 1] = sps * sth * sph + cps * cph
-    R[1, 2] = sps * sth * cph - cps * sph
-    R[2, 0] = -sth
-    R[2, 1] = cth * sph
-    R[2, 2] = cth * cph
-    R = np.moveaxis(R, (0, 1), (-2, -1))
-    if rates is None:
-        return R, None, None
-    rates = np.asarray(rates, dtype=float)
+    with_rates = rates is not None
+    rates = np.zeros_like(angles) if rates is None else np.asarray(rates, dtype=float)
     accels = np.zeros_like(rates) if accels is None else np.asarray(accels, dtype=float)
-    dph, dth, dps = rates[..., 0], rates[..., 1], rates[..., 2]
-    ddph, ddth, ddps = accels[..., 0], accels[..., 1], accels[..., 2]
     shape = np.broadcast_shapes(angles.shape, rates.shape, accels.shape)[:-1]
-    omega = np.empty((3,) + shape)
-    omega[0] = dph - sth * dps
-    omega[1] = cph * dth + sph * cth * dps
-    omega[2] = -sph * dth + cph * cth * dps
-    alpha = np.empty((3,) + shape)
-    alpha[0] = ddph - sth * ddps - cth * dth * dps
-    alpha[1] = (
-        cph * ddth - sph * dph * dth + sph * cth * ddps
-        + cph * cth * dph * dps - sph * sth * dth * dps
-    )
-    alpha[2] = (
-        -sph * ddth - cph * dph * dth + cph * cth * ddps
-        - sph * cth * dph * dps - cph * sth * dth * dps
-    )
-    return R, np.moveaxis(omega, 0, -1), np.moveaxis(alpha, 0, -1)
+
+    def rows(a: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(np.broadcast_to(a, shape + (3,)).reshape(-1, 3))
+
+    n = int(np.prod(shape, dtype=np.int64))
+    Rt, wt, at = np.empty((3, 3, n)), np.empty((3, n)), np.empty((3, n))
+    _euler_series(rows(angles), rows(rates), rows(accels), Rt, wt, at)
+    R = np.moveaxis(Rt.reshape((3, 3) + shape), (0, 1), (-2, -1))
+    if not with_rates:
+        return R, None, None
+    return R, np.moveaxis(wt.reshape((3,) + shape), 0, -1), np.moveaxis(at.reshape((3,) + shape), 0, -1)
 
 
 def matrix_from_euler(angles: np.ndarray) -> np.ndarray:

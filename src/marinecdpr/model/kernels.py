@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.geometry.kinematics import cables_step
+from marinecdpr.geometry.rotations import euler_step
 
 __all__ = [
     "METHOD_CODES",
@@ -62,36 +63,6 @@ __all__ = [
 METHOD_CODES = {"pseudo_inverse": 0, "closed_form": 1, "minimum_variance": 2, "minimum_norm": 3,
                 "improved_closed_form": 4}
 _cache = True
-
-
-@njit(cache=_cache)
-def euler_step(ang, rate, acc, R, omega, alpha):
-    """R = Rz Ry Rx and body-frame rates from Euler angles (see rotations.euler_kinematics).
-
-    ang, rate, acc: (3,) rad, rad/s, rad/s^2. Writes R (3, 3), omega (3,), alpha (3,).
-    """
-    cph, sph = np.cos(ang[0]), np.sin(ang[0])
-    cth, sth = np.cos(ang[1]), np.sin(ang[1])
-    cps, sps = np.cos(ang[2]), np.sin(ang[2])
-    R[0, 0] = cps * cth
-    R[0, 1] = cps * sth * sph - sps * cph
-    R[0, 2] = cps * sth * cph + sps * sph
-    R[1, 0] = sps * cth
-    R[1, 1] = sps * sth * sph + cps * cph
-    R[1, 2] = sps * sth * cph - cps * sph
-    R[2, 0] = -sth
-    R[2, 1] = cth * sph
-    R[2, 2] = cth * cph
-    dph, dth, dps = rate[0], rate[1], rate[2]
-    ddph, ddth, ddps = acc[0], acc[1], acc[2]
-    omega[0] = dph - sth * dps
-    omega[1] = cph * dth + sph * cth * dps
-    omega[2] = -sph * dth + cph * cth * dps
-    alpha[0] = ddph - sth * ddps - cth * dth * dps
-    alpha[1] = (cph * ddth - sph * dph * dth + sph * cth * ddps
-                + cph * cth * dph * dps - sph * sth * dth * dps)
-    alpha[2] = (-sph * ddth - cph * dph * dth + cph * cth * ddps
-                - sph * cth * dph * dps - cph * sth * dth * dps)
 
 
 @njit(cache=_cache)

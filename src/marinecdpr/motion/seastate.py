@@ -255,11 +255,15 @@ def _irfft_rows(coeff: np.ndarray, k_index: np.ndarray, m: int, idx: np.ndarray 
     only the samples idx (int, taken modulo m): shape (rows, m) or (rows, idx.size)."""
     out = np.empty((coeff.shape[0], m if idx is None else idx.size))
     spec = np.zeros(m // 2 + 1, dtype=complex)
+    # irfft computes (1/m) sum over the full spectrum; Re sum_k C e^{i w t} = irfft(C m / 2)
+    coeff = coeff * (m / 2.0)
+    wrapped = None if idx is None else idx % m
     for r in range(coeff.shape[0]):
         spec[k_index] = coeff[r]
-        # irfft computes (1/m) sum over the full spectrum; Re sum_k C e^{i w t} = irfft(C m / 2)
-        row = np.fft.irfft(spec * (m / 2.0), n=m)
-        out[r] = row if idx is None else row[idx % m]
+        if wrapped is None:
+            out[r] = np.fft.irfft(spec, n=m)
+        else:
+            np.take(np.fft.irfft(spec, n=m), wrapped, out=out[r])
     return out
 
 
@@ -274,7 +278,7 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
     """The ship's coordinates eta and their exact derivatives at times t.
 
     Times on the record's uniform grid (t = n record_s / m for an integer m up to
-    :data:`FFT_MAX_SAMPLES`, or up to the number of times asked for) use an inverse FFT
+    :data:`FFT_MAX_SAMPLES`, or up to twice the number of times asked for) use an inverse FFT
     over one period (computed once per record if m is up to :data:`FFT_MAX_SAMPLES`);
     other times a direct sum. Both are exact.
 
@@ -298,9 +302,9 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
         m = int(round(rec.record_s / dt)) if dt > 0 else 0
         # one inverse FFT per record, cached and reused by every chunk of a plan while the
         # record's grid is small (2^18 samples: 38 MB); a larger grid is transformed row
-        # by row when the times asked for are as many (a long simulation: the result is
-        # that large anyway); direct sums otherwise
-        if (0 < m <= max(FFT_MAX_SAMPLES, t.size) and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s):
+        # by row when the times asked for are at least half as many (a long simulation:
+        # the result is about that large anyway); direct sums otherwise
+        if (0 < m <= max(FFT_MAX_SAMPLES, 2 * t.size) and abs(m * dt - rec.record_s) < 1e-9 * rec.record_s):
             idx = np.rint(t / dt)
             if np.allclose(idx * dt, t, rtol=0, atol=1e-9 * max(1.0, rec.record_s)):
                 k_index = np.rint(w / (2.0 * np.pi / rec.record_s)).astype(np.int64)

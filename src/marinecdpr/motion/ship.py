@@ -52,6 +52,12 @@ class ShipMotion:
         """Acceleration of S's origin in O, shape (n_steps, 3), m/s^2."""
         return self.eta_ddot[:, :3]
 
+    def take(self, rows) -> "ShipMotion":
+        """The motion at some of the samples: ``rows`` indexes the time axis (a slice, an
+        integer array or a mask)."""
+        return ShipMotion(self.eta[rows], self.eta_dot[rows], self.eta_ddot[rows], self.R_SO[rows],
+                          self.omega_SO_S[rows], self.alpha_SO_S[rows])
+
     @property
     def is_still(self) -> bool:
         return not (np.any(self.eta) or np.any(self.eta_dot) or np.any(self.eta_ddot))

@@ -224,7 +224,23 @@ def _uses_fft(record_s: float, dt: float, per_call: int) -> bool:
     if dt <= 0:
         return False
     m = round(record_s / dt)
-    return 0 < m <= max(FFT_MAX_SAMPLES, per_call) and abs(m * dt - record_s) < 1e-9 * record_s
+    return 0 < m <= max(FFT_MAX_SAMPLES, 2 * per_call) and abs(m * dt - record_s) < 1e-9 * record_s
+
+
+def ship_at_once(scenario: Scenario, n_steps: int, dt: float, chunk_steps: int) -> bool:
+    """Does a plan of ``n_steps`` spaced ``dt`` evaluate the ship's motion at every step at
+    once rather than chunk by chunk? For a sea state whose record grid at that spacing is
+    too large to cache (more than seastate.FFT_MAX_SAMPLES samples) but no more than twice
+    the run's steps: one inverse FFT then serves every step, where each chunk would sum the record's
+    components directly (the ship's motion, SHIP_ROW bytes a step, is held meanwhile)."""
+    sea = scenario.base_motion
+    if not isinstance(sea, SeaStateMotion) or n_steps <= chunk_steps or dt <= 0:
+        return False
+    return FFT_MAX_SAMPLES < round(sea.record_s / dt) <= 2 * n_steps
+
+
+SHIP_ROW = F8 * (3 * 6 + 9 + 3 + 3)
+"""A ShipMotion's bytes per step: eta and two derivatives, R_SO, omega and alpha."""
 
 
 def _sea(scenario: Scenario, per_call: int, total: int, dt: float) -> tuple[int, int, int]:
@@ -294,7 +310,11 @@ def estimate_run(
     pose_bytes = 0
     if command == "plan":
         series = n * (_plan_row(m, k) + F8)
-        sea = _sea(scenario, chunk, n, h)
+        if ship_at_once(scenario, n, h, chunk_steps):
+            series += n * SHIP_ROW
+            sea = _sea(scenario, n, n, h)
+        else:
+            sea = _sea(scenario, chunk, n, h)
     elif command == "plan_stream":
         series = 0
         working += chunk * _csv_row(2 + 6 + 3 * m)  # the chunk's CSV text

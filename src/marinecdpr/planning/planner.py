@@ -21,9 +21,10 @@ from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
 from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.motion.ship import still_ship
+from marinecdpr.motion.ship import ShipMotion, still_ship
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 from marinecdpr.scenario.robot import Robot
+from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
@@ -205,12 +206,14 @@ def _columns(J: np.ndarray, dofs: list[int]) -> np.ndarray:
     return J.transpose(2, 1, 0)[dofs].transpose(2, 1, 0)
 
 
-def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str) -> dict:
+def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
+                ship: ShipMotion | None = None) -> dict:
     robot = scenario.robot
     platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
-    ship = (
-        still_ship(t.size) if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, t)
-    )
+    if base_model == "fixed":
+        ship = still_ship(t.size)
+    elif ship is None:
+        ship = evaluate_base_motion(scenario.base_motion, t)
     twist = platform.twist
     kin = cable_kinematics(
         platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
@@ -385,10 +388,13 @@ class PlanSummary:
         return self._first_bad._infeasibility_at(0, self.n_steps - self.n_feasible, self.n_steps)
 
 
-def _chunks(scenario: Scenario, t: np.ndarray, method: str, base_model: str, chunk_steps: int):
-    """The plan's arrays for consecutive pieces of ``t``."""
+def _chunks(scenario: Scenario, t: np.ndarray, method: str, base_model: str, chunk_steps: int,
+            ship: ShipMotion | None = None):
+    """The plan's arrays for consecutive pieces of ``t`` (and of ``ship``, the ship's motion
+    at t, if given)."""
     for i0 in range(0, t.size, chunk_steps):
-        yield _plan_chunk(scenario, t[i0 : i0 + chunk_steps], method, base_model)
+        rows = slice(i0, i0 + chunk_steps)
+        yield _plan_chunk(scenario, t[rows], method, base_model, None if ship is None else ship.take(rows))
 
 
 def plan(
@@ -437,6 +443,7 @@ def plan_at(
     method: str | None = None,
     base_model: str | None = None,
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    ship: ShipMotion | None = None,
 ) -> Plan:
     """The plan at any times, e.g. mid-steps for a zero-order hold (see :func:`plan`).
 
@@ -444,15 +451,21 @@ def plan_at(
     ----------
     t : ndarray, shape (n_steps,)
         Times, s.
+    ship : ShipMotion, optional
+        The ship's motion at t, if already known (a simulation's finer grid holds it);
+        else evaluated from the scenario's base motion.
     """
     method, base_model = _options(scenario, method, base_model)
     t = np.asarray(t, dtype=float)
     n = t.size
+    if (ship is None and base_model == "moving" and n > 1
+            and ship_at_once(scenario, n, float(t[1] - t[0]), chunk_steps)):
+        ship = evaluate_base_motion(scenario.base_motion, t)
     if n <= chunk_steps:
-        return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+        return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model, ship), method, base_model)
     out: dict[str, np.ndarray] = {}
     i0 = 0
-    for piece in _chunks(scenario, t, method, base_model, chunk_steps):
+    for piece in _chunks(scenario, t, method, base_model, chunk_steps, ship):
         for name in _ARRAY_FIELDS:
             arr = piece[name]
             if name not in out:

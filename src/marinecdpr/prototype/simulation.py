@@ -159,10 +159,10 @@ def simulate(
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
     check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
     t = np.arange(n) * h
-    ref, ff = _plans(scenario, run, t, reference)
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
-    brush_h = _planned_brush_loads(scenario, ship_h)
+    ref, ff = _plans(scenario, run, t, reference, ship_h)
+    brush_h = _planned_brush_loads(scenario, ref, ff, n)
     f_h, m_h, in_P = _loads(scenario, ship_h, brush_h)
     m = scenario.robot.n_cables
     x0, R0, v0, w0 = _initial_state(scenario, ref)
@@ -191,13 +191,15 @@ def simulate(
 
 
 # ------------------------------------------------------- the parts, from the scenario
-def _plans(scenario: Scenario, run: str, t: np.ndarray, reference: Plan | None) -> tuple[Plan, Plan]:
-    """The plan at t_k (what the run is judged against) and the plan to fly at mid-step."""
+def _plans(scenario: Scenario, run: str, t: np.ndarray, reference: Plan | None, ship_h) -> tuple[Plan, Plan]:
+    """The plan at t_k (what the run is judged against) and the plan to fly at mid-step, with
+    the ship's motion from its half-step grid ``ship_h`` (rows 2k: t_k; 2k + 1: t_k + h/2)."""
     method = scenario.planning.method
     h, n = scenario.time.step_s, len(t)
-    ref = reference if reference is not None else plan_at(scenario, t, method=method)
+    ref = (reference if reference is not None else
+           plan_at(scenario, t, method=method, ship=ship_h.take(slice(0, 2 * n, 2))))
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
-    ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model)
+    ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model, ship=ship_h.take(slice(1, 2 * n, 2)))
     for p in (ref, ff):
         if not p.feasible[:n].all():
             raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: "
@@ -223,16 +225,20 @@ def _robot_model(scenario: Scenario) -> P.RobotModel:
         robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method])
 
 
-def _planned_brush_loads(scenario: Scenario, ship_h):
+def _planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):
     """The cleaning brush's loads along the planned path at the preload, on the half-step
-    grid of ``ship_h``: f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None
-    without ``[cleaning]``."""
+    grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
+    t_n): f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None without
+    ``[cleaning]``."""
     if scenario.cleaning is None:
         return None
-    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
-    platform = evaluate_trajectory(scenario.trajectory, t_h, scenario.cleaning)
-    f_b, m_b = cleaning_loads(scenario.cleaning, platform.twist, platform.R_PC, scenario.cleaning.preload)
-    return f_b, m_b, platform.R_PC
+    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
+    pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
+    pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
+    twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
+    R_PC = matrix_from_euler(pose[:, 3:])
+    f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
+    return f_b, m_b, R_PC
 
 
 def _loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.ndarray, bool]:
