@@ -178,3 +178,38 @@ def test_a_ship_side_is_placements_of_the_frame_by_hand():
     res = runner.invoke(app, ["clean", "paper_clean", "--duration", "1", "--hull-area", "100", "--move-time",
                               "-1", "--out", "unused"])
     assert res.exit_code == 2 and "--move-time -1: expected a non-negative number" in res.stderr
+
+
+def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, tmp_path):
+    """Issue 11: what the sea and the brush's load do, side by side: each variant is the
+    same job flown by cleaning_job in that condition; in calm water the normal force is the
+    preload exactly; without the drag the tensions and the winches' energy change."""
+    from marinecdpr.report.cleaning import cleaning_findings
+    from marinecdpr.studies.cleaning import COMPARED, compare_conditions, job_variants
+
+    n = 3000
+    job = cleaning_job(clean, n_steps=n)
+    cmp = compare_conditions(job, n_steps=n)
+    assert list(cmp) == ["as asked", "calm water", "no brush drag"]
+    variants = job_variants(clean)
+    for name in ("calm water", "no brush drag"):
+        direct = cleaning_job(variants[name], n_steps=n).summary
+        assert cmp[name] == {k: direct[k] for k in COMPARED}
+    calm = cmp["calm water"]
+    assert calm["normal_force_min_N"] == pytest.approx(clean.cleaning.preload, rel=1e-9)
+    assert calm["normal_force_max_N"] == pytest.approx(clean.cleaning.preload, rel=1e-9)
+    here, free = cmp["as asked"], cmp["no brush drag"]
+    assert here["normal_force_max_N"] - here["normal_force_min_N"] > 0.5  # the sea moves it
+    assert free["winch_energy_kJ"] != here["winch_energy_kJ"] and free["tension_max_N"] != here["tension_max_N"]
+    assert "calm water" not in job_variants(variants["calm water"])  # a still ship has no calm variant
+    # the command writes them into summary.json and the report
+    out = tmp_path / "cmp"
+    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "1", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    summary = json.loads((out / "summary.json").read_text())
+    assert set(summary["comparison"]) == {"as asked", "calm water", "no brush drag"}
+    page = (out / "report.html").read_text()
+    assert "What the sea and the brush do" in page and "The sea: in calm water" in page
+    assert any(line.startswith("The sea: in calm water") for line in cleaning_findings(summary))
+    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "1", "--no-compare", "--out", str(out)])
+    assert res.exit_code == 0 and "comparison" not in json.loads((out / "summary.json").read_text())

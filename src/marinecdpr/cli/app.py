@@ -202,12 +202,15 @@ def clean(
     serial: bool = typer.Option(False, "--serial", help="With --seas: run the sea states in this process."),
     workers: Optional[int] = typer.Option(None, min=1, help="With --seas: a local Dask cluster of this many workers."),
     scheduler: Optional[str] = typer.Option(None, help="With --seas: a running Dask scheduler at this address."),
+    compare: bool = typer.Option(True, "--compare/--no-compare", help="Also fly the job in calm water and without "
+                                 "the brush's drag, and set the figures side by side."),
 ) -> None:
     """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
-    scenario's sea, and measure the cleaned area from the simulated brush. With --seas,
-    in every sea state of a scatter diagram: where the job works, and its expected hours."""
+    scenario's sea, and measure the cleaned area from the simulated brush; beside it the
+    same job in calm water and without the brush's drag. With --seas, in every sea state
+    of a scatter diagram: where the job works, and its expected hours."""
     from marinecdpr.report.cleaning import cleaning_findings, write_cleaning
-    from marinecdpr.studies.cleaning import cleaning_job, guaranteed_job, ship_side
+    from marinecdpr.studies.cleaning import cleaning_job, compare_conditions, guaranteed_job, job_variants, ship_side
 
     if plant is not None and plant not in ("mujoco", "own"):
         _fail(f"--plant {plant}: expected mujoco or own")
@@ -228,9 +231,19 @@ def clean(
     t0 = time.perf_counter()
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
-        with _progress("clean", sc.time.n_steps, "steps") as update:
+        runs = (2 if guarantee else 1) + (len(job_variants(sc)) - 1 if compare else 0)
+        with _progress("clean", runs * sc.time.n_steps, "steps") as update:
+            done = [0]
+
+            def step(k: int, n: int) -> None:  # runs one after the other on one bar
+                update(done[0] + k, runs * sc.time.n_steps)
+                if k == n:
+                    done[0] += n
+
             with _run_errors(scenario):
-                job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=update)
+                job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=step)
+                if compare:
+                    job.summary["comparison"] = compare_conditions(job, plant=plant, progress=step)
         if hull_area is not None:
             try:
                 job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)

@@ -109,10 +109,41 @@ def cleaning_findings(summary: dict) -> list[str]:
         hull = s["hull"]
         out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
                    f"{hull['hours']:.1f} h with {hull['move_time_s']:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h).")
+    cmp = s.get("comparison", {})
+    here = cmp.get("as asked")
+    if here and "calm water" in cmp:
+        calm = cmp["calm water"]
+        out.append(f"The sea: in calm water the brush would clean {calm['coverage_pct']:.2f} % of the panel (here "
+                   f"{here['coverage_pct']:.2f} %), with the normal force {_span(calm, 'normal_force')} (here "
+                   f"{_span(here, 'normal_force')}) and the tensions {_span(calm, 'tension')} (here "
+                   f"{_span(here, 'tension')}); cross-track error at most {calm['max_cross_track_error_m'] * 1e3:.3g} "
+                   f"mm (here {here['max_cross_track_error_m'] * 1e3:.3g} mm).")
+    if here and "no brush drag" in cmp:
+        free = cmp["no brush drag"]
+        out.append(f"The brush: without its drag (friction and jet 0, the same preload) the tensions would span "
+                   f"{_span(free, 'tension')} (with it {_span(here, 'tension')}), the cross-track error at most "
+                   f"{free['max_cross_track_error_m'] * 1e3:.3g} mm (with it {here['max_cross_track_error_m'] * 1e3:.3g} "
+                   f"mm) and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
     out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
                "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
                "from the plan (the guide holds the platform along the normal).")
     return out
+
+
+def _span(figures: dict, what: str) -> str:
+    return f"{figures[what + '_min_N']:.1f} .. {figures[what + '_max_N']:.1f} N"
+
+
+def _comparison_table(comparison: dict, esc) -> str:
+    """The job beside calm water and without the brush's drag: one column per variant."""
+    if not comparison:
+        return ""
+    names = list(comparison)
+    head = "".join(f"<th>{esc(n)}</th>" for n in names)
+    rows = "".join(f"<tr><th>{esc(k)}</th>" + "".join(f"<td>{comparison[n][k]:.6g}</td>" for n in names) + "</tr>"
+                   for k in comparison[names[0]])
+    return (f"<h2>What the sea and the brush do</h2><p>The same job flown in calm water and without the brush's "
+            f"drag (friction and jet 0, the same preload):</p><table><tr><th></th>{head}</tr>{rows}</table>")
 
 
 def write_cleaning_html(job, figures: dict, path: Path) -> Path:
@@ -129,7 +160,8 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
                       f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s")]
     rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     keys = ("coverage_pct", "reachable_coverage_pct", "missed_area_m2", "overlap_pct", "area_rate_m2_h",
-            "normal_force_in_band_pct", "contact_lost_s", "tension_min_N", "tension_max_N",
+            "normal_force_in_band_pct", "normal_force_min_N", "normal_force_max_N", "contact_lost_s",
+            "tension_min_N", "tension_max_N",
             "max_cross_track_error_m", "p95_cross_track_error_m", "winch_energy_kJ")
     numbers = "".join(f"<tr><th>{esc(k)}</th><td>{s[k]:.6g}</td></tr>" for k in keys)
     notes = "".join(f"<li>{esc(x)}</li>" for x in cleaning_findings(s))
@@ -143,6 +175,7 @@ table {{ border-collapse: collapse; margin: 1em 0; }} th, td {{ border: 1px soli
 text-align: left; }} img {{ max-width: 100%; }} figcaption {{ color: #555; font-size: 0.9em; }}</style>
 </head><body><h1>Cleaning job, scenario: {esc(sc.name)}</h1><p>{esc(sc.description)}</p>
 <h2>Scenario</h2><table>{rows}</table><h2>The job</h2><table>{numbers}</table><ul>{notes}</ul>
+{_comparison_table(s.get("comparison", {}), esc)}
 <h2>Figures</h2>{imgs}</body></html>
 """
     path = Path(path)

@@ -42,7 +42,8 @@ from marinecdpr.studies.operability import (
 
 __all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
-           "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT"]
+           "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT", "COMPARED", "job_variants",
+           "compare_conditions"]
 
 
 @dataclass(frozen=True)
@@ -155,12 +156,12 @@ def cleaning_job(
     cross = cross_track_error(brush[:, [0, 2]], planned[:, [0, 2]], v_planned[:, [0, 2]])
     cov = coverage_map(np.asarray(cleaning.panel_m), [np.asarray(h) for h in cleaning.holes_m],
                        brush[:, [0, 2]], in_band, width_m=cleaning.brush_diameter_m)
-    summary = _summary(scenario, p, res, in_band, cross, cov)
+    summary = _summary(scenario, p, res, F_n, in_band, cross, cov)
     return CleaningJob(scenario, p, res, brush, planned, F_n, in_band, cross, cov, summary)
 
 
-def _summary(scenario: Scenario, p: Plan, res: SimResult, in_band: np.ndarray, cross: np.ndarray,
-             cov: CoverageMap) -> dict:
+def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.ndarray, in_band: np.ndarray,
+             cross: np.ndarray, cov: CoverageMap) -> dict:
     cleaning = scenario.cleaning
     path = cleaning_path(cleaning)
     reach = reachable_cells(cov, 0.5 * cleaning.brush_diameter_m)
@@ -189,6 +190,8 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, in_band: np.ndarray, c
         "area_rate_m2_h": float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
         "normal_force_band_N": [float(v) for v in cleaning.band_N],
         "normal_force_in_band_pct": float(100.0 * in_band.mean()) if n else 0.0,
+        "normal_force_min_N": float(normal_force_N.min()) if n else 0.0,
+        "normal_force_max_N": float(normal_force_N.max()) if n else 0.0,
         "contact_lost_s": float(np.count_nonzero(~in_band) * h),
         "tension_min_N": float(res.tensions.min()),
         "tension_max_N": float(res.tensions.max()),
@@ -267,6 +270,38 @@ def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict
     seconds = placements * summary["job_time_s"] + max(placements - 1, 0) * move_time_s
     return {"hull_area_m2": float(hull_area_m2), "move_time_s": float(move_time_s), "placements": placements,
             "hours": seconds / 3600.0, "area_rate_m2_h": float(hull_area_m2 / seconds * 3600.0) if seconds else 0.0}
+
+
+# ------------------------------------------------------------ beside calm water
+COMPARED = ("coverage_pct", "reachable_coverage_pct", "normal_force_in_band_pct", "normal_force_min_N",
+            "normal_force_max_N", "tension_min_N", "tension_max_N", "max_cross_track_error_m",
+            "p95_cross_track_error_m", "winch_energy_kJ")
+"""The figures :func:`compare_conditions` sets side by side."""
+
+
+def job_variants(scenario: Scenario) -> dict[str, Scenario]:
+    """The job as asked, and what it would be in calm water (a still ship: what the sea does)
+    and without the brush's drag (friction and jet 0, the pusher's preload kept: what the
+    brush's loads do); the calm variant only for a moving ship."""
+    variants = {"as asked": scenario}
+    if scenario.base_motion.type != "still":
+        variants["calm water"] = scenario.with_changes(base_motion={"type": "still"})
+    variants["no brush drag"] = scenario.with_changes(
+        cleaning=scenario.cleaning.model_dump(exclude_none=True) | {"friction": 0.0, "jet_N": 0.0})
+    return variants
+
+
+def compare_conditions(job: CleaningJob, *, plant: str | None = None, n_steps: int | None = None,
+                       progress: Callable[[int, int], None] | None = None) -> dict[str, dict]:
+    """The job's figures (:data:`COMPARED`) beside those of the same job in calm water and
+    without the brush's drag (:func:`job_variants`), each flown as :func:`cleaning_job` does.
+    Returns {variant: {figure: value}}, the job itself first ("as asked")."""
+    out = {}
+    for name, sc in job_variants(job.scenario).items():
+        s = job.summary if name == "as asked" else cleaning_job(sc, plant=plant, n_steps=n_steps,
+                                                               progress=progress).summary
+        out[name] = {k: s[k] for k in COMPARED}
+    return out
 
 
 # ------------------------------------------------------------ over a scatter diagram
