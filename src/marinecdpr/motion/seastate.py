@@ -78,11 +78,29 @@ def pierson_moskowitz(omega: np.ndarray, hs: float, tp: float) -> np.ndarray:
     return S
 
 
-def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float | None = None) -> np.ndarray:
-    """JONSWAP spectrum in the form of DNV-RP-C205 (3.5.5.2).
+@lru_cache(maxsize=128)
+def _jonswap_area(gamma: float) -> float:
+    """The JONSWAP shape's zeroth moment over the Pierson-Moskowitz one's (1 at gamma = 1):
+    in x = omega / omega_p, int 5 x^-5 exp(-1.25 x^-4) gamma^exp(-(x - 1)^2 / (2 sigma^2)) dx."""
+    from scipy.integrate import quad
 
-    S_J = (1 - 0.287 ln gamma) S_PM gamma^exp(-(omega - omega_p)^2 / (2 sigma^2 omega_p^2)),
-    sigma = 0.07 below the peak and 0.09 above it.
+    def shape(x: float) -> float:
+        sigma = 0.07 if x <= 1.0 else 0.09
+        return 5.0 * x**-5 * math.exp(-1.25 * x**-4) * gamma ** math.exp(-0.5 * ((x - 1.0) / sigma) ** 2)
+
+    low = quad(shape, 0.05, 1.0, limit=200, epsabs=0.0, epsrel=1e-12)[0]
+    high = quad(shape, 1.0, np.inf, limit=200, epsabs=0.0, epsrel=1e-12)[0]
+    return low + high
+
+
+def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float | None = None) -> np.ndarray:
+    """JONSWAP spectrum in the form of DNV-RP-C205 (3.5.5.2), normalised on its exact
+    zeroth moment (4 sqrt(m0) = Hs for every gamma).
+
+    S_J = A S_PM gamma^exp(-(omega - omega_p)^2 / (2 sigma^2 omega_p^2)), sigma = 0.07 below
+    the peak and 0.09 above it, with A the exact normalisation; DNV's approximation
+    A = 1 - 0.287 ln gamma is within 1 % of it for gamma up to 7 and 3.5 % low at 10 (and
+    breaks down, A <= 0, from gamma = 32.6).
 
     Parameters
     ----------
@@ -98,7 +116,7 @@ def jonswap(omega: np.ndarray, hs: float, tp: float, gamma: float | None = None)
     wp = 2.0 * np.pi / tp
     sigma = np.where(omega <= wp, 0.07, 0.09)
     peak = gamma ** np.exp(-0.5 * ((omega - wp) / (sigma * wp)) ** 2)
-    return (1.0 - 0.287 * np.log(gamma)) * pierson_moskowitz(omega, hs, tp) * peak
+    return pierson_moskowitz(omega, hs, tp) * peak / _jonswap_area(float(gamma))
 
 
 def spreading(theta: np.ndarray, kind: str, exponent: float) -> np.ndarray:
