@@ -144,7 +144,7 @@ def test_a_full_disk_is_one_line_and_leaves_the_folder_as_it_was(args, small_dis
 def test_sigint_to_operability_on_dask_leaves_no_worker_behind(tmp_path):
     psutil = pytest.importorskip("psutil")
     out = tmp_path / "out"
-    proc = _start(["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005",
+    proc = _start(["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005", "--realisations", "1",
                    "--headings", "180,150,90", "--out", str(out)])
     children = []
     deadline = time.monotonic() + 60

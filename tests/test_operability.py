@@ -139,3 +139,58 @@ def test_operability_over_a_workspace_grid():
     strict = operability(sea_robot(5.0), diagram, min_area=0.5 * (calm.fraction_feasible + rough.fraction_feasible),
                          **kw)
     assert [r.operable for r in strict.results] == [True, False]
+
+
+def test_wilson_interval_by_hand():
+    from marinecdpr.studies.operability import wilson_interval
+
+    lo, hi = wilson_interval(7, 10)  # p = 0.7, z = 1.96: (0.7 + 0.19207) / 1.38415 -+ ...
+    assert (lo, hi) == pytest.approx((0.39678, 0.89221), abs=1e-5)
+    assert wilson_interval(10, 10) == (pytest.approx(0.72247, abs=1e-5), 1.0)
+    assert wilson_interval(0, 10) == (0.0, pytest.approx(0.27753, abs=1e-5))
+
+
+def test_realisations_give_a_probability_with_its_interval():
+    """Each sea state flies several independent records; its probability of success is the
+    share that hold, the operability their probability-weighted mean, with intervals that
+    hold the estimate; another template seed gives an estimate within the interval."""
+    from marinecdpr.studies.operability import Cell, evaluate_cell
+
+    diagram = ScatterDiagram(np.array([1.5, 2.5]), np.array([7.0, 11.0]), np.array([[0.3, 0.2], [0.3, 0.2]]))
+    kw = dict(headings_deg=(90.0,), realisations=8, **SHORT)
+    op = operability(sea_robot(), diagram, **kw)
+    rs = op.results
+    assert all(r.realisations == 8 for r in rs)
+    assert 0 < sum(r.successes for r in rs) < 8 * len(rs)  # neither all nor none: a real spread
+    for r in rs:
+        assert r.operable == (r.successes == 8)
+        lo, hi = r.interval
+        assert lo <= r.success_probability <= hi
+    assert op.operability == pytest.approx(sum(r.cell.probability * r.successes / 8 for r in rs), rel=1e-12)
+    assert op.interval[0] <= op.operability <= op.interval[1]
+    # the same records again, cell by cell: the study and a lone cell agree
+    cell = rs[-1].cell
+    alone = evaluate_cell(sea_robot(), cell, margin_N=0.0, realisations=8, **SHORT)
+    assert (alone.successes, alone.min_margin_N) == (rs[-1].successes, rs[-1].min_margin_N)
+    # a second template seed: another set of records, an estimate within the first's interval
+    other = sea_robot()
+    other = other.with_changes(base_motion=other.base_motion.model_dump(exclude_none=True) | {"seed": 7})
+    op2 = operability(other, diagram, **kw)
+    assert [r.successes for r in op2.results] != [r.successes for r in rs]
+    assert abs(op2.operability - op.operability) <= max(op.operability - op.interval[0],
+                                                        op.interval[1] - op.operability)
+
+
+def test_paper_sea_with_two_template_seeds_agrees_within_its_interval():
+    """Issue 12's check, on short records: the default number of realisations, each heading."""
+    from marinecdpr.studies.operability import REALISATIONS
+
+    diagram = read_scatter_csv(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv")
+    paper_sea = __import__("marinecdpr").load_scenario("paper_sea")
+    other = paper_sea.with_changes(base_motion=paper_sea.base_motion.model_dump(exclude_none=True) | {"seed": 11})
+    kw = dict(headings_deg=(180.0, 90.0), duration_s=60.0, step_s=0.05)
+    a, b = operability(paper_sea, diagram, **kw), operability(other, diagram, **kw)
+    assert a.results[0].realisations == REALISATIONS
+    for h in (180.0, 90.0):
+        lo, hi = a.per_heading_interval[h]
+        assert lo <= b.per_heading[h] <= hi and lo <= a.per_heading[h] <= hi

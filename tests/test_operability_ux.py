@@ -90,7 +90,7 @@ def test_every_executor_gives_the_same_files(tmp_path):
 # --- limiting Hs and percentages ------------------------------------------------------------
 
 def _result(index, hs, tp, ok, p):
-    return CellResult(Cell(index, hs, tp, 180.0, p), ok, float(ok), 0.0, 10)
+    return CellResult(Cell(index, hs, tp, 180.0, p), ok, float(ok), 0.0, 10, successes=int(ok))
 
 
 def test_limiting_hs_none_within_the_diagram_is_not_the_top_row():

@@ -555,8 +555,10 @@ def operability(
                                                       "default: the package's illustrative one."),
     headings: str = typer.Option("180", help="Wave headings, deg, comma-separated."),
     margin: float = typer.Option(0.0, help="Tension margin to the limits a workable sea keeps, N."),
-    duration: float = typer.Option(1200.0, help="Record length per sea state, s."),
+    duration: float = typer.Option(1200.0, help="The operation's duration: the length of each record, s."),
     step: float = typer.Option(0.02, help="Time step, s."),
+    realisations: int = typer.Option(10, min=1, help="Independent records per sea state: the probability of "
+                                     "success is the share that hold."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for operability.csv/.json/.png."),
     serial: bool = typer.Option(False, "--serial", help="Run the cells in this process, not on Dask "
                                 "(the default for small studies, and without Dask)."),
@@ -599,12 +601,12 @@ def operability(
     try:  # the largest cell's run: the highest sea and the shortest period that occur
         tp_min = float(diagram.tp[(diagram.probability > 0).any(axis=0)].min())
         probe = cell_scenario(sc, Cell(0, float(diagram.hs.max()), tp_min, heads[0], 1.0), duration, step)
-        check_run_size(probe, "operability", cells=n_cells, grid=grid, closed_loop=max_error is not None,
-                       workers=1 if serial else (workers or 2))
+        check_run_size(probe, "operability", cells=n_cells * realisations, grid=grid,
+                       closed_loop=max_error is not None, workers=1 if serial else (workers or 2))
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
-    executor = _sea_executor(serial, workers, scheduler, study_steps(n_cells, duration_s=duration, step_s=step,
-                                                                     workspace=grid, max_error_m=max_error))
+    executor = _sea_executor(serial, workers, scheduler, study_steps(n_cells * realisations, duration_s=duration,
+                                                                     step_s=step, workspace=grid, max_error_m=max_error))
     n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:
@@ -613,7 +615,7 @@ def operability(
             try:
                 op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
                          executor=executor, scheduler=scheduler, workers=n_workers,
-                         max_error_m=max_error, workspace=grid, min_area=min_area,
+                         max_error_m=max_error, workspace=grid, min_area=min_area, realisations=realisations,
                          progress=lambda d, tot: bar.update(task, completed=d, total=tot))
             except ScenarioError as exc:
                 _fail_scenario(exc, scenario)
@@ -621,8 +623,21 @@ def operability(
         paths = [out / p.name for p in write_operability(op, sc, folder)]
 
     _print_sea_table(op, f"operability: {_plain(sc.name)}", scheduler, n_workers, elapsed)
-    console.print(f"overall {_percent(op.operability)}; written: " + ", ".join(_plain(p) for p in paths),
-                  highlight=False)
+    console.print(f"overall {_percent(op.operability)}{_interval(op.interval, realisations)}, the probability that "
+                  f"a {duration:g} s operation succeeds ({realisations} record{'s' if realisations != 1 else ''} "
+                  "per sea state); written: " + ", ".join(_plain(p) for p in paths), highlight=False,
+                  soft_wrap=True)
+
+
+def _interval(interval: tuple[float, float], realisations: int) -> str:
+    """' (95 %: lo-hi %)' for a study with several realisations, else ''."""
+    if realisations <= 1:
+        return ""
+
+    def bound(x: float) -> str:  # the exact ends as 0 and 100, like _percent
+        return "100" if x >= 1.0 else "0" if x <= 0.0 else f"{100 * x:.1f}"
+
+    return f" (95 %: {bound(interval[0])}-{bound(interval[1])} %)"
 
 
 def _percent(x: float) -> str:
@@ -646,12 +661,13 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
         for tp, v in zip(op.scatter.tp, op.limiting_hs[h]):
             if v != v:   # no sea state of this Tp
                 continue
-            table.add_row(f"{h:g}" if first else "", _percent(op.per_heading[h]) if first else "", f"{tp:g}",
-                          "none within the diagram" if math.isinf(v) else f"{v:g}")
+            band = _interval((op.per_heading_interval or {}).get(h, (0.0, 1.0)), op.results[0].realisations)
+            table.add_row(f"{h:g}" if first else "", _percent(op.per_heading[h]) + band if first else "",
+                          f"{tp:g}", "none within the diagram" if math.isinf(v) else f"{v:g}")
             first = False
     console.print(table)
-    console.print("limiting Hs: the largest Hs up to which every sea state of that Tp is workable (0: not "
-                  "even the smallest; none within the diagram: all are)", highlight=False)
+    console.print("limiting Hs: the largest Hs up to which every sea state of that Tp is workable in every "
+                  "record (0: not even the smallest; none within the diagram: all are)", highlight=False)
 
 
 def _sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:

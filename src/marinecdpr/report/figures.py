@@ -462,11 +462,12 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
     fig, axes = plt.subplots(1, k, figsize=(6.5 * k, 5.2), squeeze=False, constrained_layout=True)
     from matplotlib.colors import ListedColormap
 
-    cmap = ListedColormap(["#d73027", "#1a9850"])
+    cmap = ListedColormap(["#d73027", "#f46d43", "#fdae61", "#fee08b", "#d9ef8b", "#a6d96a", "#66bd63",
+                           "#1a9850"])
     for ax, h in zip(axes[0], op.headings_deg):
-        grid = op.operable_grid(h)
-        ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=1, aspect="auto",
-                  extent=(-0.5, op.scatter.tp.size - 0.5, -0.5, op.scatter.hs.size - 0.5))
+        grid = op.probability_grid(h)
+        image = ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=1, aspect="auto",
+                          extent=(-0.5, op.scatter.tp.size - 0.5, -0.5, op.scatter.hs.size - 0.5))
         for i in range(op.scatter.hs.size):
             for j in range(op.scatter.tp.size):
                 p = op.scatter.probability[i, j]
@@ -476,7 +477,12 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
         ax.set_yticks(range(op.scatter.hs.size), [f"{v:g}" for v in op.scatter.hs])
         ax.set_xlabel("Tp (s)")
         ax.set_ylabel("Hs (m)")
-        ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %", fontsize=10)
+        lo, hi = (op.per_heading_interval or {}).get(h, (np.nan, np.nan))
+        band = f" ({100 * lo:.1f}-{100 * hi:.1f} %)" if op.results and op.results[0].realisations > 1 else ""
+        ax.set_title(f"heading {h:g} deg: operable {100 * op.per_heading[h]:.1f} %{band}", fontsize=10)
+    realisations = op.results[0].realisations if op.results else 1
+    if realisations > 1:
+        fig.colorbar(image, ax=list(axes[0]), shrink=0.8, label=f"probability of success ({realisations} records)")
     workable = workable or f"workable with {op.margin_N:g} N margin"
     fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: probability %)", fontsize=10)
     return _save(fig, path)

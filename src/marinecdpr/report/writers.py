@@ -224,15 +224,23 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
-             "max_error_m"]
+             "max_error_m", "realisations", "successes", "success_probability", "success_low", "success_high"]
     values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
-                        r.fraction_feasible, r.min_margin_N, r.max_error_m] for r in op.results])
-    paths = [_write_csv(names, values, folder / "operability.csv", int_last=False)]
+                        r.fraction_feasible, r.min_margin_N, r.max_error_m, r.realisations, r.successes,
+                        r.success_probability, *r.interval] for r in op.results])
+    paths = [_write_csv(names, values, folder / "operability.csv", int_last=False,
+                        int_columns=(names.index("realisations"), names.index("successes")))]
     summary = {
         "scenario": scenario.name,
         "operability": op.operability,
+        "operability_interval_95": list(op.interval),
+        "operability_meaning": ("probability that the operation succeeds (tensions within the limits less the "
+                                "margin for the whole record) in a sea state drawn from the diagram, headings "
+                                "equally likely; each sea state's from the share of its realisations that succeed"),
+        "realisations": op.results[0].realisations if op.results else 0,
         "margin_N": op.margin_N,
         "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
+        "per_heading_interval_95": {f"{h:g}": list(v) for h, v in (op.per_heading_interval or {}).items()},
         "limiting_hs_m": op.limiting_hs_json(),
         "limiting_hs_meaning": LIMITING_HS_MEANING,
         "cells": len(op.results),

@@ -333,6 +333,16 @@ class CleaningCellResult:
     hours: float
     """Hours of the job (the hull with ``hull_area_m2``, else the panel); NaN if it failed."""
 
+    realisations = 1  # one record per sea state
+
+    @property
+    def successes(self) -> int:
+        return int(self.operable)
+
+    @property
+    def success_probability(self) -> float:
+        return float(self.operable)
+
 
 def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pct: float = COVERAGE_TARGET_PCT,
                            in_band_target_pct: float = IN_BAND_TARGET_PCT, plant: str | None = None,

@@ -32,7 +32,7 @@ from marinecdpr.studies.workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
-           "scatter_cells", "run_cells", "summarise",
+           "scatter_cells", "run_cells", "summarise", "wilson_interval", "REALISATIONS",
            "study_steps", "AUTO_DASK_MIN_STEPS", "HS_RANGE_M", "TP_RANGE_S"]
 
 HS_RANGE_M = (0.0, 30.0)
@@ -141,19 +141,52 @@ class Cell:
 
 @dataclass(frozen=True)
 class CellResult:
-    """The verdict on one sea state."""
+    """The verdict on one sea state, over its independent realisations (records)."""
 
     cell: Cell
     operable: bool
+    """Workable in every realisation."""
     fraction_feasible: float
-    """Share of the record's steps with feasible tensions (with a workspace grid: share of
-    the frame's poses feasible throughout)."""
+    """Share of the records' steps with feasible tensions (with a workspace grid: share of
+    the frame's poses feasible throughout), averaged over the realisations."""
     min_margin_N: float
-    """Smallest distance of a planned tension to the untightened limits over the record
+    """Smallest distance of a planned tension to the untightened limits over the records
     (at least the margin asked for; -inf if some step is infeasible)."""
     n_steps: int
+    """Steps of one record."""
     max_error_m: float = float("nan")
     """Largest closed-loop position error (own plant) when asked for, m."""
+    realisations: int = 1
+    successes: int = 0
+    """Realisations in which the operation succeeded."""
+
+    @property
+    def success_probability(self) -> float:
+        """The share of realisations that succeeded: the estimate of the probability."""
+        return self.successes / self.realisations
+
+    @property
+    def interval(self) -> tuple[float, float]:
+        """95 % confidence interval of the probability of success (Wilson)."""
+        return wilson_interval(self.successes, self.realisations)
+
+
+CONFIDENCE_Z = 1.959964
+"""The normal quantile of the 95 % confidence intervals."""
+REALISATIONS = 10
+"""Independent records per sea state by default."""
+
+
+def wilson_interval(successes: int, n: int, z: float = CONFIDENCE_Z) -> tuple[float, float]:
+    """Wilson's score interval for a binomial probability from ``successes`` of ``n``."""
+    if n <= 0:
+        return 0.0, 1.0
+    p = successes / n
+    denom = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    # all or none: the bound at 0 or 1 is exact (not 0.9999999999999999)
+    return (0.0 if successes == 0 else max(0.0, centre - half)), (1.0 if successes == n else min(1.0, centre + half))
 
 
 def check_sea_state(template: Scenario) -> None:
@@ -163,23 +196,25 @@ def check_sea_state(template: Scenario) -> None:
                             "and spreading are used in every cell)", key="base_motion.type")
 
 
-def sea_state_seed(seed: int, hs: float, tp: float, heading_deg: float) -> int:
-    """The seed of a sea state's record: a function of the template's ``seed`` and of the
-    sea state itself (Hs, Tp and heading, to 1e-6), never of its place in a study, so a
-    sea state gets the same record whichever other sea states are asked for and in
-    whatever order."""
-    key = [int(seed), round(hs * 1e6), round(tp * 1e6), round((heading_deg % 360.0) * 1e6)]
+def sea_state_seed(seed: int, hs: float, tp: float, heading_deg: float, realisation: int = 0) -> int:
+    """The seed of a sea state's record: a function of the template's ``seed``, of the sea
+    state itself (Hs, Tp and heading, to 1e-6) and of the realisation's number, never of
+    its place in a study, so a sea state gets the same records whichever other sea states
+    are asked for and in whatever order."""
+    key = [int(seed), round(hs * 1e6), round(tp * 1e6), round((heading_deg % 360.0) * 1e6), int(realisation)]
     return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
 
 
-def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float) -> Scenario:
-    """The template in one cell's sea state, over ``duration_s`` at ``step_s``."""
+def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float,
+                  realisation: int = 0) -> Scenario:
+    """The template in one cell's sea state (its ``realisation``-th record), over
+    ``duration_s`` at ``step_s``."""
     check_sea_state(template)
     sea = template.base_motion
     return template.with_changes(
         base_motion=sea.model_copy(update={
             "hs_m": cell.hs, "tp_s": cell.tp, "heading_deg": cell.heading_deg,
-            "seed": sea_state_seed(sea.seed, cell.hs, cell.tp, cell.heading_deg),
+            "seed": sea_state_seed(sea.seed, cell.hs, cell.tp, cell.heading_deg, realisation),
             "record_s": max(sea.record_s, duration_s)}),
         time={"step_s": step_s, "duration_s": duration_s},
     )
@@ -203,18 +238,36 @@ def with_margin(scenario: Scenario, margin_N: float) -> Scenario:
 
 def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s: float,
                   step_s: float, max_error_m: float | None = None,
-                  workspace: tuple[int, int] | None = None, min_area: float = 1.0) -> CellResult:
-    """Plan the template's trajectory (or hold a workspace grid) over one sea state and judge it.
+                  workspace: tuple[int, int] | None = None, min_area: float = 1.0,
+                  realisations: int = 1) -> CellResult:
+    """Plan the template's trajectory (or hold a workspace grid) over ``realisations``
+    independent records of one sea state and judge each.
 
-    The cell is workable if tensions exist within the limits tightened by ``margin_N``
+    A record is workable if tensions exist within the limits tightened by ``margin_N``
     at every step (the plan is made with those tightened limits) and, if
     ``max_error_m`` is given, the closed loop flown on the own plant keeps the platform
     within that distance of its plan. With ``workspace = (n_u, n_v)`` the trajectory is
     replaced by a grid of held poses over the frame (:func:`~marinecdpr.studies.workspace.workspace_map`),
-    and the cell is workable if at least ``min_area`` of the poses inside the frame stay
-    feasible throughout; ``fraction_feasible`` is then that share of poses.
+    and a record is workable if at least ``min_area`` of the poses inside the frame stay
+    feasible throughout; ``fraction_feasible`` is then that share of poses. The records
+    last ``duration_s``, the operation's duration: the longer, the likelier a limit is met.
     """
-    sc = cell_scenario(template, cell, duration_s, step_s)
+    if realisations < 1:
+        raise ValueError(f"realisations must be at least 1, got {realisations}")
+    runs = [_evaluate_record(cell_scenario(template, cell, duration_s, step_s, r), margin_N=margin_N,
+                             max_error_m=max_error_m, workspace=workspace, min_area=min_area)
+            for r in range(realisations)]
+    ok = [run[0] for run in runs]
+    errors = np.array([run[4] for run in runs])
+    error = float(np.nanmax(errors)) if np.isfinite(errors).any() or np.isinf(errors).any() else float("nan")
+    return CellResult(cell, all(ok), float(np.mean([run[1] for run in runs])), min(run[2] for run in runs),
+                      runs[0][3], error, realisations, int(sum(ok)))
+
+
+def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None,
+                     workspace: tuple[int, int] | None, min_area: float) -> tuple[bool, float, float, int, float]:
+    """One record of :func:`evaluate_cell`: (workable, fraction feasible, smallest margin,
+    steps, largest closed-loop error)."""
     lo, hi = sc.robot.tension_min, sc.robot.tension_max
     tight = with_margin(sc, margin_N)
     if workspace is not None:
@@ -223,7 +276,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
         ws = workspace_map(tight, n=workspace)
         inside = np.isfinite(ws.fraction_feasible)
         area = float((ws.fraction_feasible[inside] == 1.0).mean()) if inside.any() else 0.0
-        return CellResult(cell, area >= min_area, area, float("nan"), ws.n_steps)
+        return area >= min_area, area, float("nan"), ws.n_steps, float("nan")
     ok, worst, n = 0, np.inf, 0
     for piece in iter_plan(tight):
         ok += int(piece.feasible.sum())
@@ -244,7 +297,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
         except ArithmeticError:  # diverged
             error = float("inf")
         operable = error <= max_error_m
-    return CellResult(cell, bool(operable), ok / n, worst, n, error)
+    return bool(operable), ok / n, worst, n, error
 
 
 @dataclass(frozen=True)
@@ -258,17 +311,25 @@ class Operability:
     results : list of CellResult
         One per cell with a positive probability and heading.
     operability : float
-        Probability of a workable sea state, in [0, 1], headings equally likely.
+        Probability that the operation succeeds in a sea state drawn from the diagram, in
+        [0, 1], headings equally likely: the cells' probabilities of success (the share of
+        their realisations that succeeded) weighted by the cells' probabilities.
     per_heading : dict
         Heading (deg) -> operability in that heading.
     limiting_hs : dict
         Heading -> array (n_tp,) of the largest Hs up to which every cell of that Tp is
-        workable: 0 if even the smallest fails; ``inf`` if every cell of that Tp is
-        workable ("none within the diagram": the limit, if any, lies above the diagram's
-        largest Hs); NaN where the Tp column has no sea state.
+        workable in every realisation: 0 if even the smallest fails; ``inf`` if every cell
+        of that Tp is workable ("none within the diagram": the limit, if any, lies above
+        the diagram's largest Hs); NaN where the Tp column has no sea state.
     margin_N : float
     executor : str
         What ran the cells: "serial" or "dask".
+    interval : tuple of float
+        95 % confidence interval of ``operability`` (normal approximation over the cells,
+        each cell's variance from its Agresti-Coull estimate, so a cell whose realisations
+        all agree still counts).
+    per_heading_interval : dict
+        Heading -> the interval of its operability.
     """
 
     scatter: ScatterDiagram
@@ -279,15 +340,24 @@ class Operability:
     limiting_hs: dict
     margin_N: float
     executor: str = "serial"
+    interval: tuple = (0.0, 1.0)
+    per_heading_interval: dict | None = None
 
     def operable_grid(self, heading_deg: float) -> np.ndarray:
-        """(n_hs, n_tp): 1 workable, 0 not, NaN no such sea state."""
+        """(n_hs, n_tp): 1 workable in every realisation, 0 not, NaN no such sea state."""
+        return self._grid(heading_deg, lambda r: float(r.operable))
+
+    def probability_grid(self, heading_deg: float) -> np.ndarray:
+        """(n_hs, n_tp): each sea state's probability of success, NaN no such sea state."""
+        return self._grid(heading_deg, lambda r: r.success_probability)
+
+    def _grid(self, heading_deg: float, value) -> np.ndarray:
         grid = np.full(self.scatter.probability.shape, np.nan)
         for r in self.results:
             if r.cell.heading_deg == heading_deg:
                 i = np.searchsorted(self.scatter.hs, r.cell.hs)
                 j = np.searchsorted(self.scatter.tp, r.cell.tp)
-                grid[i, j] = float(r.operable)
+                grid[i, j] = value(r)
         return grid
 
     def limiting_hs_json(self) -> dict:
@@ -408,9 +478,10 @@ def operability(
     max_error_m: float | None = None,
     workspace: tuple[int, int] | None = None,
     min_area: float = 1.0,
+    realisations: int = REALISATIONS,
     progress: Callable[[int, int], None] | None = None,
 ) -> Operability:
-    """Decide, cell by cell, whether the robot can work, and sum up.
+    """Decide, cell by cell, how likely the robot can work, and sum up.
 
     Parameters
     ----------
@@ -423,7 +494,8 @@ def operability(
     margin_N : float
         Tension margin to the limits a workable sea state keeps at every step, N.
     duration_s, step_s : float
-        Length and sampling of each cell's record (default 20 min at 50 Hz).
+        The operation's duration, the length of each record (default 20 min), and its
+        sampling (50 Hz).
     executor : {"serial", "auto", "dask"}
         ``dask``: on a local cluster of ``workers`` processes, or on ``scheduler``.
         ``auto`` (what the ``marinecdpr operability`` command uses): serial when Dask is
@@ -442,15 +514,18 @@ def operability(
         the robot's first two axes) instead of the trajectory.
     min_area : float
         With ``workspace``: the share of the frame's poses that must stay feasible, 0..1.
+    realisations : int
+        Independent records per sea state (each seeded from the sea state and its number,
+        :func:`sea_state_seed`); the probability of success is the share that succeed.
     progress : callable(done, total), optional
     """
     check_sea_state(template)
     headings = tuple(float(h) for h in headings_deg)
     cells = scatter_cells(scatter, headings)
     kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m,
-                  workspace=workspace, min_area=min_area)
-    executor, _ = choose_executor(executor, study_steps(len(cells), duration_s=duration_s, step_s=step_s,
-                                                        workspace=workspace, max_error_m=max_error_m),
+                  workspace=workspace, min_area=min_area, realisations=realisations)
+    executor, _ = choose_executor(executor, study_steps(len(cells) * realisations, duration_s=duration_s,
+                                                        step_s=step_s, workspace=workspace, max_error_m=max_error_m),
                                   scheduler=scheduler)
     results = run_cells(evaluate_cell, template, cells, kwargs, executor=executor, scheduler=scheduler,
                         workers=workers, progress=progress)
@@ -547,15 +622,20 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
 
 def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: list, margin_N: float,
               executor: str = "serial") -> Operability:
-    """The study's :class:`Operability` from per-cell results (anything with ``cell`` and
-    ``operable``): the workable share per heading and overall, and the limiting Hs."""
-    per_heading, limiting = {}, {}
+    """The study's :class:`Operability` from per-cell results (anything with ``cell``,
+    ``operable``, ``successes`` and ``realisations``): the probability of success per
+    heading and overall with their intervals, and the limiting Hs."""
+    per_heading, limiting, intervals, variances = {}, {}, {}, {}
     for h in headings:
         rs = [r for r in results if r.cell.heading_deg == h]
-        # workable share of the heading's probability, summed exactly: 1 when every cell
-        # is workable, 0 when none is (not 0.9999999999999999)
+        # the share of the heading's probability, summed exactly: 1 when every realisation of
+        # every cell succeeds, 0 when none does (not 0.9999999999999999)
         total = math.fsum(r.cell.probability for r in rs)
-        per_heading[h] = math.fsum(r.cell.probability for r in rs if r.operable) / total if total > 0 else 0.0
+        per_heading[h] = (math.fsum(r.cell.probability * r.successes / r.realisations for r in rs) / total
+                          if total > 0 else 0.0)
+        variances[h] = (math.fsum((r.cell.probability / total) ** 2 * _cell_variance(r) for r in rs)
+                        if total > 0 else 0.0)
+        intervals[h] = _normal_interval(per_heading[h], variances[h])
         lim = np.full(scatter.tp.size, np.nan)
         for j, tp in enumerate(scatter.tp):
             col = sorted((r for r in rs if r.cell.tp == tp), key=lambda r: r.cell.hs)
@@ -569,5 +649,21 @@ def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: lis
             else:
                 lim[j] = np.inf   # every cell of the column workable: none within the diagram
         limiting[h] = lim
-    total = math.fsum(per_heading[h] for h in headings) / len(headings)
-    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N), executor)
+    k = len(headings)
+    total = math.fsum(per_heading[h] for h in headings) / k
+    interval = _normal_interval(total, math.fsum(variances[h] for h in headings) / (k * k))
+    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N), executor,
+                       interval, intervals)
+
+
+def _cell_variance(r) -> float:
+    """The variance of a cell's estimated probability of success, from the Agresti-Coull
+    estimate (successes + 2) / (realisations + 4): not zero when every realisation agrees."""
+    n = r.realisations
+    p = (r.successes + 2.0) / (n + 4.0)
+    return p * (1.0 - p) / n
+
+
+def _normal_interval(p: float, variance: float) -> tuple[float, float]:
+    half = CONFIDENCE_Z * math.sqrt(variance)
+    return max(0.0, p - half), min(1.0, p + half)
