@@ -250,6 +250,25 @@ def test_capytaine_rao_variable_is_conjugated_and_headings_in_degrees(tmp_path):
 
 
 @needs_bem
+def test_a_classic_netcdf3_file_reads_as_the_hdf5_one(tmp_path):
+    """Capytaine's export_dataset in an environment without netCDF4 or h5netcdf writes a
+    classic NETCDF3 file (through SciPy): it reads exactly as the HDF5 one."""
+    omega = [0.4, 0.8, 1.2]
+    X = np.zeros((3, 2, 6), dtype=complex)
+    X[:, 0, 2] = [0.9, 0.6 + 0.2j, 0.1j]
+    X[:, 1, 3] = [0.01, 0.05 - 0.02j, 0.003]
+    ds = xr.Dataset(coords=capytaine_coords(omega, [np.pi, np.pi / 2], CAPY_DOFS))
+    ds["RAO"] = (("omega", "wave_direction", "radiating_dof"), X)
+    hdf5 = read_capytaine(save(ds, tmp_path / "rao.nc"))
+    separate_complex(ds).to_netcdf(tmp_path / "rao3.nc", engine="scipy")
+    assert (tmp_path / "rao3.nc").read_bytes()[:3] == b"CDF"
+    classic = read_capytaine(tmp_path / "rao3.nc")
+    np.testing.assert_array_equal(classic.omega, hdf5.omega)
+    np.testing.assert_array_equal(classic.heading_deg, hdf5.heading_deg)
+    np.testing.assert_array_equal(classic.values, hdf5.values)
+
+
+@needs_bem
 def test_capytaine_rao_of_one_selected_direction(tmp_path):
     # capytaine.post_pro.rao(ds, wave_direction=...) keeps the direction as a scalar coordinate
     ds = xr.Dataset(coords=capytaine_coords([0.5, 1.0], [3 * np.pi / 2], ["Roll"]))

@@ -549,11 +549,13 @@ _CAPYTAINE_DOFS = {name: i for i, name in enumerate(DOFS)}  # "Surge" etc., case
 def read_capytaine(path: str | PathLike) -> RAO:
     """Read RAOs from a NetCDF file exported by the BEM code Capytaine.
 
-    The file is Capytaine's xarray Dataset saved with
-    ``capytaine.io.xarray.separate_complex_values(ds).to_netcdf(path)`` (or
-    ``capytaine.io.xarray.export_dataset``): complex variables are split along a
-    leading ``complex`` dimension with coordinates ``"re"``, ``"im"`` (variables
-    stored natively complex are also accepted). Two kinds of file are read:
+    The file is Capytaine's xarray Dataset saved with ``capytaine.export_dataset(path,
+    ds)`` (checked with Capytaine 3.0; its older recipe
+    ``separate_complex_values(ds).to_netcdf(path)`` fails there on the DOFs' categorical
+    coordinates): complex variables are split along a leading ``complex`` dimension with
+    coordinates ``"re"``, ``"im"`` (variables stored natively complex are also accepted).
+    Both NETCDF4 (HDF5) files and classic NETCDF3 ones (what xarray writes where netCDF4
+    and h5netcdf are not installed) are read. Two kinds of file are read:
 
     * with an ``RAO`` variable (e.g. ``ds["RAO"] = capytaine.post_pro.rao(ds)``),
       dimensions frequency, ``wave_direction`` and ``radiating_dof``;
@@ -685,10 +687,18 @@ def _import_xarray(fail: _Fail) -> Any:
     return xr
 
 
+NETCDF3_MAGIC = b"CDF"
+"""The first bytes of a classic (NETCDF3) file: what xarray writes through SciPy where
+netCDF4 and h5netcdf are not installed (Capytaine's ``export_dataset`` then does)."""
+
+
 def _load_dataset(xr: Any, path: str | PathLike, fail: _Fail) -> Any:
-    """The file's xarray Dataset, loaded into memory; refuses a file that is not NetCDF."""
+    """The file's xarray Dataset, loaded into memory: NETCDF4 (HDF5) through h5netcdf, a
+    classic NETCDF3 file through SciPy; refuses a file that is neither."""
+    with open(path, "rb") as fh:
+        classic = fh.read(3) == NETCDF3_MAGIC
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as opened:
+        with xr.open_dataset(path, engine="scipy" if classic else "h5netcdf") as opened:
             ds = opened.load()
     except Exception as exc:  # h5py/h5netcdf/xarray raise many kinds for a bad file
         first_line = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
