@@ -486,3 +486,25 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
     workable = workable or f"workable with {op.margin_N:g} N margin"
     fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: probability %)", fontsize=10)
     return _save(fig, path)
+
+
+def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "") -> Path:
+    """|RAO| of heave (m/m), roll and pitch (deg/m) over omega, one line per heading; a
+    second RAO (``beside``, e.g. the box approximation) dashed in the same colours."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
+    rows = ((2, "heave (m/m)", 1.0), (3, "roll (deg/m)", 180.0 / np.pi), (4, "pitch (deg/m)", 180.0 / np.pi))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, (dof, label, scale) in zip(axes, rows):
+        for j, h in enumerate(rao.heading_deg):
+            colour = colours[j % len(colours)]
+            ax.plot(rao.omega, scale * np.abs(rao.values[dof, j]), color=colour, lw=1.4, label=f"{h:g} deg")
+            if beside is not None and h in beside.heading_deg:
+                jb = list(beside.heading_deg).index(h)
+                ax.plot(beside.omega, scale * np.abs(beside.values[dof, jb]), color=colour, lw=1.0, ls="--")
+        ax.set_xlabel("omega (rad/s)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(title="heading" + (f" (dashed: {beside_label})" if beside is not None else ""), fontsize=8)
+    fig.suptitle(_plain(title), fontsize=10)
+    return _save(fig, path)
