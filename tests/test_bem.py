@@ -104,3 +104,60 @@ def test_the_command_writes_what_the_scenario_reads(tmp_path):
         bad = runner.invoke(app, ["rao", "--length", "100", "--beam", "20", "--draught", "6", "--gm", "2", *args,
                                   "--out", str(tmp_path / "bad")])
         assert bad.exit_code == 2 and words in bad.stderr and bad.stderr.count("\n") == 1, bad.output
+
+
+def _shipped():
+    from importlib import resources
+
+    from marinecdpr.motion.rao import read_rao_csv
+
+    return read_rao_csv(resources.files("marinecdpr.scenario") / "builtin" / "paper_sea_rao.csv")
+
+
+def test_the_shipped_paper_sea_table_is_the_bem_solution_it_says_it_is():
+    """paper_sea_rao.csv against a fresh solve with the command line its first lines give:
+    heave, roll and pitch to 1e-6 of the largest (the CSV keeps 10 digits; BEM's linear
+    algebra may differ in the last bits between machines)."""
+    shipped = _shipped()
+    line = (resources_text := _shipped_header())[1]
+    assert "--headings 0,30,60,90,120,150,180,210,240,270,300,330 --omega 0.1:2.0:39 --panel 2.5" in line
+    fresh = read_capytaine_ds(box_hull_bem(**HULL, roll_damping_ratio=0.05, omega=np.linspace(0.1, 2.0, 39),
+                                           heading_deg=np.arange(0.0, 360.0, 30.0), panel_m=2.5))
+    np.testing.assert_allclose(shipped.omega, fresh.omega, rtol=1e-9)
+    np.testing.assert_array_equal(shipped.heading_deg, fresh.heading_deg)
+    for dof in (2, 3, 4):
+        scale = np.abs(fresh.values[dof]).max()
+        np.testing.assert_allclose(shipped.values[dof], fresh.values[dof], rtol=0, atol=1e-6 * scale)
+    assert resources_text[0].startswith("# RAOs from BEM: box 100 x 20 x 6 m, GM 2 m")
+
+
+def _shipped_header() -> list[str]:
+    from importlib import resources
+
+    return (resources.files("marinecdpr.scenario") / "builtin" / "paper_sea_rao.csv").read_text().splitlines()[:3]
+
+
+def test_paper_seas_significant_roll_in_beam_seas_is_bems():
+    """Issue 12: in beam seas at Hs 2 m, Tp 8 s (long-crested), paper_sea's significant roll
+    4 sqrt(m0) is within 30 % of BEM's; the box approximation's is several times more."""
+    import marinecdpr
+    from marinecdpr.motion.basemotion import evaluate_base_motion
+    from marinecdpr.motion.seastate import jonswap
+
+    w = np.linspace(0.1, 2.0, 2000)
+    S = jonswap(w, 2.0, 8.0)
+
+    def significant_deg(rao):
+        r = np.abs(rao.at(w, 90.0)[3])
+        return float(np.degrees(4.0 * np.sqrt(np.trapezoid(r * r * S, w))))
+
+    bem = significant_deg(_shipped())
+    box = significant_deg(box_hull_rao(**HULL, roll_damping_ratio=0.05, omega=w, heading_deg=[90.0]))
+    sea = marinecdpr.load_scenario("paper_sea")
+    sea = sea.with_changes(base_motion=sea.base_motion.model_dump(exclude_none=True)
+                           | {"heading_deg": 90.0, "spreading": "none", "record_s": 1800.0},
+                           time={"step_s": 0.1, "duration_s": 1799.9})
+    roll = evaluate_base_motion(sea.base_motion, np.arange(18000) * 0.1).eta[:, 3]
+    simulated = float(np.degrees(4.0 * roll.std()))
+    assert simulated == pytest.approx(bem, rel=0.3)
+    assert 1.2 < bem < 3.0 and box > 2.0 * bem

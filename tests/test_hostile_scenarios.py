@@ -29,9 +29,12 @@ def cube_dict() -> dict:
 
 
 def sea_dict() -> dict:
-    """The built-in paper_sea scenario (JONSWAP on a box hull) as nested dicts."""
-    return copy.deepcopy(tomllib.loads(
-        (resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text()))
+    """The built-in paper_sea scenario (JONSWAP, its BEM RAO table) as nested dicts, the
+    table's path made absolute."""
+    builtin = resources.files("marinecdpr.scenario") / "builtin"
+    d = copy.deepcopy(tomllib.loads((builtin / "paper_sea.toml").read_text()))
+    d["base_motion"]["rao"]["file"] = str(builtin / d["base_motion"]["rao"]["file"])
+    return d
 
 
 def recorded_dict() -> dict:

@@ -2,6 +2,7 @@
 
 import copy
 import tomllib
+from pathlib import Path
 from importlib import resources
 
 import numpy as np
@@ -20,7 +21,7 @@ def sea_robot(mass_kg=7.6):
     data = tomllib.loads((resources.files("marinecdpr.scenario") / "builtin" / "paper_sea.toml").read_text())
     data = copy.deepcopy(data)
     data["robot"]["mass_kg"] = mass_kg
-    return scenario_from_dict(data)
+    return scenario_from_dict(data, base_dir=Path(str(resources.files("marinecdpr.scenario") / "builtin")))
 
 
 def test_calm_seas_are_always_workable():

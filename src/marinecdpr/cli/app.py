@@ -791,12 +791,14 @@ def rao(
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for rao.nc and rao.png."),
 ) -> None:
     """A box hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'):
-    writes rao.nc, which [base_motion.rao] source = "capytaine" reads, and rao.png,
-    beside the built-in box approximation."""
+    writes rao.nc ([base_motion.rao] source = "capytaine"), the same table as rao.csv
+    (source = "csv", read without the extra) and rao.png, beside the built-in box
+    approximation."""
     import numpy as np
 
     from marinecdpr.motion.bem import box_hull_bem
-    from marinecdpr.motion.rao import box_hull_rao, read_capytaine
+    from marinecdpr import __version__
+    from marinecdpr.motion.rao import box_hull_rao, read_capytaine, write_rao_csv
     from marinecdpr.report.figures import plot_raos
 
     for name, value in (("--length", length), ("--beam", beam), ("--draught", draught), ("--gm", gm),
@@ -825,13 +827,22 @@ def rao(
         nc = folder / "rao.nc"
         cpt.export_dataset(str(nc), ds)
         bem = read_capytaine(nc)
+        # the same table as CSV, which every install reads (no bem extra), saying how it was made
+        table = folder / "rao.csv"
+        write_rao_csv(bem, table)
+        made = (f"# RAOs from BEM: {ds.attrs['hull']}\n"
+                f"# made by: marinecdpr rao --length {length:g} --beam {beam:g} --draught {draught:g} --gm {gm:g} "
+                f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
+                f"--panel {panel:g} (marinecdpr {__version__})\n"
+                "# below the first omega the first row's values hold; above the last, zero\n")
+        table.write_text(made + table.read_text(encoding="utf-8"), encoding="utf-8")
         box = box_hull_rao(length_m=length, beam_m=beam, draught_m=draught, gm_m=gm,
                            roll_damping_ratio=max(roll_damping, 1e-3), omega=bem.omega, heading_deg=bem.heading_deg)
         plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=box,
                   beside_label="box approximation")
     peak = float(np.degrees(np.abs(bem.values[3])).max())
     console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m (box approximation "
-                         f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: rao.nc, rao.png "
+                         f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: rao.nc, rao.csv, rao.png "
                          f"({time.perf_counter() - t0:.1f} s)"), highlight=False, soft_wrap=True)
 
 

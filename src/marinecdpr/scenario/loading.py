@@ -39,9 +39,9 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
         text = _scenario_text(path, source)
     elif str(path_or_name) in builtin_scenarios():
         source = f"built-in scenario '{path_or_name}'"
-        text = (resources.files("marinecdpr.scenario") / "builtin" / f"{path_or_name}.toml").read_text(
-            encoding="utf-8"
-        )
+        builtin = resources.files("marinecdpr.scenario") / "builtin"
+        text = (builtin / f"{path_or_name}.toml").read_text(encoding="utf-8")
+        path = Path(str(builtin / f"{path_or_name}.toml"))  # its files (an RAO table) lie beside it
     else:
         raise ScenarioError(
             f"no such file, and no built-in scenario of that name "
@@ -55,7 +55,7 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
     except RecursionError:  # tomllib recurses into nested arrays and inline tables
         raise ScenarioError("not valid TOML: arrays or inline tables too deeply nested "
                             "(a scenario nests a few levels)", source=source) from None
-    base_dir = path.parent if path.is_file() else Path.cwd()
+    base_dir = path.parent if path.is_file() else Path.cwd()  # a built-in's own folder, too
     return scenario_from_dict(data, source=source, base_dir=base_dir)
 
 
