@@ -28,6 +28,8 @@ def _scenario(tmp_path: Path, name: str, replace: dict[str, str], base: str = "p
     for old, new in replace.items():
         assert text.count(old) == 1, old
         text = text.replace(old, new)
+    # the built-in's own files (an RAO table) stay where they are
+    text = text.replace('file = "paper_sea_rao.csv"', f'file = "{SCENARIOS / "paper_sea_rao.csv"}"')
     path = tmp_path / f"{name}.toml"
     path.write_text(text)
     return path
