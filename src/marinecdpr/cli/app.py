@@ -847,6 +847,82 @@ def rao(
 
 
 @app.command()
+def windows(
+    series: Optional[Path] = typer.Argument(None, help="Sea-state series CSV (time_h,hs_m,tp_s); default: the "
+                                            "package's illustrative, synthetic one."),
+    duration_h: float = typer.Option(..., "--duration-h", help="The operation's duration, h."),
+    hs_limit: Optional[float] = typer.Option(None, help="A constant design Hs limit, m."),
+    operability_json: Optional[Path] = typer.Option(None, "--operability", help="An operability.json: its "
+                                                    "limiting Hs per Tp is the design limit."),
+    heading: float = typer.Option(180.0, help="With --operability: the heading whose limits apply, deg."),
+    alpha: float = typer.Option(1.0, help="DNV-ST-N001's alpha factor for the operation's duration and forecast "
+                                "(operational limit = alpha x design limit)."),
+    days: str = typer.Option("1,3,7", help="Report the probability of finishing within these many days."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for windows.csv, summary.json, windows.png."),
+) -> None:
+    """Weather windows in a series of sea states: when an operation of --duration-h fits,
+    the expected wait before it can start, and the probability it is done within days."""
+    import json as _json
+    from importlib import resources
+
+    import numpy as np
+
+    from marinecdpr.report.files import _write_csv, write_json
+    from marinecdpr.report.figures import plot_windows
+    from marinecdpr.studies.weather import limit_from_operability, read_sea_state_series, weather_windows
+
+    _number("--duration-h", duration_h)
+    if (hs_limit is None) == (operability_json is None):
+        _fail("give one design limit: --hs-limit H or --operability FILE.json")
+    _number("--hs-limit", hs_limit)
+    if not (math.isfinite(alpha) and 0.0 < alpha <= 1.0):
+        _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
+    try:
+        day_list = [float(d) for d in days.split(",")]
+        assert all(math.isfinite(d) and d > 0 for d in day_list)
+    except (ValueError, AssertionError):
+        _fail(f"--days {days}: expected positive numbers separated by commas, e.g. 1,3,7")
+    try:
+        path = series or Path(str(resources.files("marinecdpr") / "data" / "sea_states_illustrative.csv"))
+        sea = read_sea_state_series(path)
+        table = None
+        if operability_json is not None:
+            try:
+                table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
+            except (OSError, ValueError) as exc:
+                raise ScenarioError(f"cannot read it as operability.json ({type(exc).__name__})",
+                                    source=str(operability_json)) from None
+    except ScenarioError as exc:
+        _fail(str(exc))
+    w = weather_windows(sea, duration_h=duration_h, alpha=alpha, hs_limit_m=hs_limit, limit_table=table)
+    finish = {f"{d:g}": w.finish_probability(d) for d in day_list}
+    with _output(out) as folder:
+        rows = np.array([[a, b, b - a, float(b - a >= duration_h - 1e-12)] for a, b in w.windows]).reshape(-1, 4)
+        paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], rows, folder / "windows.csv")]
+        summary = {"series": str(path), "series_hours": float(sea.t_h[-1] + sea.step_h[-1]),
+                   "duration_h": duration_h, "alpha": alpha,
+                   "design_limit": (f"Hs {hs_limit:g} m" if hs_limit is not None else
+                                    f"limiting Hs per Tp of {operability_json} at {heading:g} deg"),
+                   "workable_share": float(np.sum(sea.step_h * w.workable) / np.sum(sea.step_h)),
+                   "windows": len(w.windows),
+                   "windows_long_enough": int(rows[:, 3].sum()) if rows.size else 0,
+                   "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
+                   "can_start_share": w.can_start,
+                   "finish_within_days_probability": finish,
+                   "meaning": "over start times at each sample, equally likely; the operation needs one window "
+                              "of its whole duration"}
+        paths.append(write_json(summary, folder / "summary.json"))
+        paths.append(plot_windows(sea, w, folder / "windows.png", title=f"Weather windows for a {duration_h:g} h "
+                                  f"operation (alpha {alpha:g})"))
+    wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
+    console.print(_plain(f"{len(w.windows)} windows, {summary['windows_long_enough']} of them {duration_h:g} h or "
+                         f"longer; wait before the operation can start: {wait} (it can start from "
+                         f"{100 * w.can_start:.1f} % of the start times); done within "
+                         + ", ".join(f"{d} days: {100 * p:.1f} %" for d, p in finish.items())
+                         + f"; written: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+
+
+@app.command()
 def scenarios() -> None:
     """List the built-in scenarios, each with its description."""
     names = builtin_scenarios()

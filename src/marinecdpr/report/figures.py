@@ -508,3 +508,22 @@ def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "
     axes[0].legend(title="heading" + (f" (dashed: {beside_label})" if beside is not None else ""), fontsize=8)
     fig.suptitle(_plain(title), fontsize=10)
     return _save(fig, path)
+
+
+def plot_windows(series, windows, path: Path, *, title: str) -> Path:
+    """Hs over the series, the operational limit, and the weather windows shaded (those
+    long enough for the operation darker)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(12, 4.2), constrained_layout=True)
+    for a, b in windows.windows:
+        long_enough = b - a >= windows.duration_h - 1e-12
+        ax.axvspan(a, b, color="#1a9850", alpha=0.35 if long_enough else 0.12, lw=0)
+    ax.step(series.t_h, series.hs_m, where="post", color="k", lw=1.0, label="Hs")
+    ax.step(series.t_h, windows.limit_m, where="post", color="#d73027", lw=1.0,
+            label=f"operational limit (alpha {windows.alpha:g} x design)")
+    ax.set_xlabel("t (h)")
+    ax.set_ylabel("Hs (m)")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(_plain(title), fontsize=10)
+    return _save(fig, path)

@@ -1,0 +1,189 @@
+"""Weather windows: when, in a series of sea states, an operation of a given duration fits.
+
+A sea-state series (hindcast or forecast: time, Hs, Tp) is workable at a sample when its
+Hs is at most the operational limit: alpha times the design limit (DNV-ST-N001's alpha
+factor for the forecast's uncertainty, which the user takes from the standard for the
+operation's duration and forecast level: the standard's tables are not shipped). The
+design limit is a constant Hs or, per Tp, the limiting Hs of an operability study.
+
+Each sample holds until the next one (the last one for the series' median step). A
+window is a run of workable time; an operation of ``duration_h`` can start at t if
+[t, t + duration_h] is all workable. From every start time of the series (each sample's
+time, equally likely) the study finds the wait until the operation can start, its mean
+(over the start times from which it can start at all before the series ends) and the
+probability that the operation is finished within a number of days.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+
+__all__ = ["SeaStateSeries", "read_sea_state_series", "Windows", "weather_windows", "limit_from_operability"]
+
+
+@dataclass(frozen=True)
+class SeaStateSeries:
+    """Sea states over time: t_h (n,) hours from the series' start, increasing; hs_m,
+    tp_s (n,)."""
+
+    t_h: np.ndarray
+    hs_m: np.ndarray
+    tp_s: np.ndarray
+
+    @property
+    def step_h(self) -> np.ndarray:
+        """(n,) how long each sample holds: until the next, the last for the median step."""
+        d = np.diff(self.t_h)
+        return np.append(d, np.median(d) if d.size else 1.0)
+
+
+def read_sea_state_series(path: str | Path) -> SeaStateSeries:
+    """A CSV with columns ``time_h, hs_m, tp_s`` (header row; further columns ignored;
+    ``#`` comment lines skipped). One-line errors name the file, line and column."""
+    src = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"cannot read the sea-state series ({exc})", source=src) from None
+    rows = [(i, r) for i, r in enumerate(csv.reader(text.splitlines()), start=1)
+            if r and r[0].strip() and not r[0].lstrip().startswith("#")]
+    if not rows:
+        raise ScenarioError("empty: expected a header time_h,hs_m,tp_s and rows", source=src)
+    header = [h.strip() for h in rows[0][1]]
+    missing = [c for c in ("time_h", "hs_m", "tp_s") if c not in header]
+    if missing:
+        raise ScenarioError(f"line {rows[0][0]}: missing column(s) {', '.join(missing)} (expected time_h,hs_m,tp_s)",
+                            source=src)
+    cols = [header.index(c) for c in ("time_h", "hs_m", "tp_s")]
+    values = np.empty((len(rows) - 1, 3))
+    for k, (line, r) in enumerate(rows[1:]):
+        for j, (c, name) in enumerate(zip(cols, ("time_h", "hs_m", "tp_s"))):
+            try:
+                v = float(r[c])
+            except (IndexError, ValueError):
+                raise ScenarioError(f"line {line}, {name}: expected a number, got {r[c] if c < len(r) else ''!r}",
+                                    source=src) from None
+            if not math.isfinite(v) or (name != "time_h" and v <= 0):
+                raise ScenarioError(f"line {line}, {name}: expected a finite{' positive' if name != 'time_h' else ''} "
+                                    f"number, got {v:g}", source=src)
+            values[k, j] = v
+    if values.shape[0] < 2:
+        raise ScenarioError("fewer than two sea states: no series", source=src)
+    if np.any(np.diff(values[:, 0]) <= 0):
+        bad = int(np.flatnonzero(np.diff(values[:, 0]) <= 0)[0]) + 2
+        raise ScenarioError(f"line {rows[bad][0]}, time_h: times must increase", source=src)
+    return SeaStateSeries(values[:, 0] - values[0, 0], values[:, 1], values[:, 2])
+
+
+def limit_from_operability(summary: dict, heading_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """The design Hs limit per Tp (tp (k,), hs (k,)) from an ``operability.json``'s
+    ``limiting_hs_m`` at one heading; ``None`` (no limit within the diagram) becomes inf."""
+    table = summary.get("limiting_hs_m", {}).get(f"{heading_deg:g}")
+    if not table:
+        raise ScenarioError(f"the operability summary has no heading {heading_deg:g} deg "
+                            f"(it has {', '.join(summary.get('limiting_hs_m', {})) or 'none'})")
+    tp = np.array(sorted(float(k) for k in table))
+    hs = np.array([np.inf if table[f"{t:g}"] is None else float(table[f"{t:g}"]) for t in tp])
+    return tp, hs
+
+
+@dataclass(frozen=True)
+class Windows:
+    """A weather-window study (:func:`weather_windows`).
+
+    Attributes
+    ----------
+    workable : ndarray of bool, shape (n,)
+        Each sample's sea state within the operational limit.
+    limit_m : ndarray, shape (n,)
+        The operational Hs limit at each sample (alpha x the design limit), m.
+    windows : list of (start_h, end_h)
+        The runs of workable time.
+    wait_h : ndarray, shape (n,)
+        From each sample's time, the wait until the operation can start, h; NaN if it
+        cannot start before the series ends.
+    duration_h, alpha : float
+    mean_wait_h : float
+        Mean of ``wait_h`` over the start times from which the operation can start.
+    can_start : float
+        Share of start times from which it can start before the series ends.
+    """
+
+    workable: np.ndarray
+    limit_m: np.ndarray
+    windows: list
+    wait_h: np.ndarray
+    duration_h: float
+    alpha: float
+    mean_wait_h: float
+    can_start: float
+
+    def finish_probability(self, days: float) -> float:
+        """The probability (over start times) that the operation is finished within
+        ``days``: it can start, and wait + duration <= days x 24 h."""
+        done = np.nan_to_num(self.wait_h, nan=np.inf) + self.duration_h <= days * 24.0 + 1e-9
+        return float(done.mean())
+
+
+def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float = 1.0,
+                    hs_limit_m: float | None = None, limit_table: tuple[np.ndarray, np.ndarray] | None = None) -> Windows:
+    """The weather windows of ``series`` for an operation of ``duration_h``.
+
+    Parameters
+    ----------
+    series : SeaStateSeries
+    duration_h : float
+        The operation's duration, h (> 0).
+    alpha : float
+        DNV-ST-N001's alpha factor in (0, 1]: the operational limit is alpha x the design limit.
+    hs_limit_m : float, optional
+        A constant design Hs limit, m.
+    limit_table : (tp (k,), hs (k,)), optional
+        The design Hs limit per Tp (e.g. :func:`limit_from_operability`): a sample takes the
+        limit of the nearest tabulated Tp.
+    """
+    if not (math.isfinite(duration_h) and duration_h > 0):
+        raise ValueError(f"duration_h must be a positive number of hours, got {duration_h}")
+    if not (math.isfinite(alpha) and 0 < alpha <= 1):
+        raise ValueError(f"alpha must be in (0, 1], got {alpha}")
+    if (hs_limit_m is None) == (limit_table is None):
+        raise ValueError("give exactly one of hs_limit_m and limit_table")
+    if hs_limit_m is not None:
+        design = np.full(series.t_h.size, float(hs_limit_m))
+    else:
+        tp, hs = limit_table
+        nearest = np.abs(series.tp_s[:, None] - np.asarray(tp)[None, :]).argmin(axis=1)
+        design = np.asarray(hs, dtype=float)[nearest]
+    limit = alpha * design
+    ok = series.hs_m <= limit
+    t0, step = series.t_h, series.step_h
+    t1 = t0 + step
+    windows, i, n = [], 0, ok.size
+    while i < n:
+        if ok[i]:
+            j = i
+            while j + 1 < n and ok[j + 1]:
+                j += 1
+            windows.append((float(t0[i]), float(t1[j])))
+            i = j + 1
+        else:
+            i += 1
+    # from each sample's time: the first time s >= t with [s, s + duration] workable. Within a
+    # window (a, b) an operation can start at any s in [a, b - duration]
+    wait = np.full(n, np.nan)
+    starts = [(a, b - duration_h) for a, b in windows if b - a >= duration_h - 1e-12]
+    for k, t in enumerate(t0):
+        for a, last in starts:
+            if last >= t - 1e-12:
+                wait[k] = max(a, t) - t
+                break
+    can = np.isfinite(wait)
+    mean = float(wait[can].mean()) if can.any() else float("nan")
+    return Windows(ok, limit, windows, wait, float(duration_h), float(alpha), mean, float(can.mean()))
