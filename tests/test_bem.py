@@ -42,7 +42,7 @@ def test_hydrostatics_and_long_waves_by_hand(bem):
     assert 0.7 * k0 < abs(rao.values[3, rao.heading_deg.tolist().index(90.0), 0]) < 1.3 * k0
 
 
-def read_capytaine_ds(ds, tmp=None):
+def read_capytaine_ds(ds):
     import tempfile
     from pathlib import Path
 
@@ -119,8 +119,8 @@ def test_the_shipped_paper_sea_table_is_the_bem_solution_it_says_it_is():
     heave, roll and pitch to 1e-6 of the largest (the CSV keeps 10 digits; BEM's linear
     algebra may differ in the last bits between machines)."""
     shipped = _shipped()
-    line = (resources_text := _shipped_header())[1]
-    assert "--headings 0,30,60,90,120,150,180,210,240,270,300,330 --omega 0.1:2.0:39 --panel 2.5" in line
+    header = _shipped_header()
+    assert "--headings 0,30,60,90,120,150,180,210,240,270,300,330 --omega 0.1:2.0:39 --panel 2.5" in header[1]
     fresh = read_capytaine_ds(box_hull_bem(**HULL, roll_damping_ratio=0.05, omega=np.linspace(0.1, 2.0, 39),
                                            heading_deg=np.arange(0.0, 360.0, 30.0), panel_m=2.5))
     np.testing.assert_allclose(shipped.omega, fresh.omega, rtol=1e-9)
@@ -128,7 +128,7 @@ def test_the_shipped_paper_sea_table_is_the_bem_solution_it_says_it_is():
     for dof in (2, 3, 4):
         scale = np.abs(fresh.values[dof]).max()
         np.testing.assert_allclose(shipped.values[dof], fresh.values[dof], rtol=0, atol=1e-6 * scale)
-    assert resources_text[0].startswith("# RAOs from BEM: box 100 x 20 x 6 m, GM 2 m")
+    assert header[0].startswith("# RAOs from BEM: box 100 x 20 x 6 m, GM 2 m")
 
 
 def _shipped_header() -> list[str]:

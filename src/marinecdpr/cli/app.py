@@ -796,10 +796,9 @@ def rao(
     approximation."""
     import numpy as np
 
-    from marinecdpr.motion.bem import box_hull_bem
     from marinecdpr import __version__
-    from marinecdpr.motion.rao import box_hull_rao, read_capytaine, write_rao_csv
-    from marinecdpr.report.figures import plot_raos
+    from marinecdpr.motion.bem import box_hull_bem
+    from marinecdpr.report.writers import write_rao
 
     for name, value in (("--length", length), ("--beam", beam), ("--draught", draught), ("--gm", gm),
                         ("--panel", panel)):
@@ -818,32 +817,19 @@ def rao(
         try:
             ds = box_hull_bem(length_m=length, beam_m=beam, draught_m=draught, gm_m=gm,
                               roll_damping_ratio=roll_damping, omega=w, heading_deg=heads, panel_m=panel)
-        except ScenarioError as exc:
+        except (ScenarioError, ValueError) as exc:
             _fail(str(exc))
-        except ValueError as exc:
-            _fail(str(exc))
-        import capytaine as cpt
-
-        nc = folder / "rao.nc"
-        cpt.export_dataset(str(nc), ds)
-        bem = read_capytaine(nc)
-        # the same table as CSV, which every install reads (no bem extra), saying how it was made
-        table = folder / "rao.csv"
-        write_rao_csv(bem, table)
-        made = (f"# RAOs from BEM: {ds.attrs['hull']}\n"
-                f"# made by: marinecdpr rao --length {length:g} --beam {beam:g} --draught {draught:g} --gm {gm:g} "
+        made = (f"marinecdpr rao --length {length:g} --beam {beam:g} --draught {draught:g} --gm {gm:g} "
                 f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
-                f"--panel {panel:g} (marinecdpr {__version__})\n"
-                "# below the first omega the first row's values hold; above the last, zero\n")
-        table.write_text(made + table.read_text(encoding="utf-8"), encoding="utf-8")
-        box = box_hull_rao(length_m=length, beam_m=beam, draught_m=draught, gm_m=gm,
-                           roll_damping_ratio=max(roll_damping, 1e-3), omega=bem.omega, heading_deg=bem.heading_deg)
-        plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=box,
-                  beside_label="box approximation")
+                f"--panel {panel:g} (marinecdpr {__version__})")
+        bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
+                                                                        draught_m=draught, gm_m=gm,
+                                                                        roll_damping_ratio=roll_damping))
     peak = float(np.degrees(np.abs(bem.values[3])).max())
     console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m (box approximation "
-                         f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: rao.nc, rao.csv, rao.png "
-                         f"({time.perf_counter() - t0:.1f} s)"), highlight=False, soft_wrap=True)
+                         f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: "
+                         f"{', '.join(p.name for p in paths)} ({time.perf_counter() - t0:.1f} s)"),
+                  highlight=False, soft_wrap=True)
 
 
 @app.command()
@@ -865,10 +851,7 @@ def windows(
     import json as _json
     from importlib import resources
 
-    import numpy as np
-
-    from marinecdpr.report.files import _write_csv, write_json
-    from marinecdpr.report.figures import plot_windows
+    from marinecdpr.report.writers import write_windows
     from marinecdpr.studies.weather import limit_from_operability, read_sea_state_series, weather_windows
 
     _number("--duration-h", duration_h)
@@ -895,26 +878,13 @@ def windows(
     except ScenarioError as exc:
         _fail(str(exc))
     w = weather_windows(sea, duration_h=duration_h, alpha=alpha, hs_limit_m=hs_limit, limit_table=table)
-    finish = {f"{d:g}": w.finish_probability(d) for d in day_list}
+    limit = (f"Hs {hs_limit:g} m" if hs_limit is not None else
+             f"limiting Hs per Tp of {operability_json} at {heading:g} deg")
     with _output(out) as folder:
-        rows = np.array([[a, b, b - a, float(b - a >= duration_h - 1e-12)] for a, b in w.windows]).reshape(-1, 4)
-        paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], rows, folder / "windows.csv")]
-        summary = {"series": str(path), "series_hours": float(sea.t_h[-1] + sea.step_h[-1]),
-                   "duration_h": duration_h, "alpha": alpha,
-                   "design_limit": (f"Hs {hs_limit:g} m" if hs_limit is not None else
-                                    f"limiting Hs per Tp of {operability_json} at {heading:g} deg"),
-                   "workable_share": float(np.sum(sea.step_h * w.workable) / np.sum(sea.step_h)),
-                   "windows": len(w.windows),
-                   "windows_long_enough": int(rows[:, 3].sum()) if rows.size else 0,
-                   "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
-                   "can_start_share": w.can_start,
-                   "finish_within_days_probability": finish,
-                   "meaning": "over start times at each sample, equally likely; the operation needs one window "
-                              "of its whole duration"}
-        paths.append(write_json(summary, folder / "summary.json"))
-        paths.append(plot_windows(sea, w, folder / "windows.png", title=f"Weather windows for a {duration_h:g} h "
-                                  f"operation (alpha {alpha:g})"))
+        summary, paths = write_windows(sea, w, folder, series_name=str(path), design_limit=limit,
+                                       days=day_list)
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
+    finish = summary["finish_within_days_probability"]
     console.print(_plain(f"{len(w.windows)} windows, {summary['windows_long_enough']} of them {duration_h:g} h or "
                          f"longer; wait before the operation can start: {wait} (it can start from "
                          f"{100 * w.can_start:.1f} % of the start times); done within "

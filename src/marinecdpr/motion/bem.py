@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.rao import check_positive
 
 __all__ = ["box_hull_bem", "ROLL_GYRADIUS_DRY_OVER_BEAM", "PITCH_GYRADIUS_OVER_LENGTH"]
 
@@ -37,11 +38,11 @@ PITCH_GYRADIUS_OVER_LENGTH = 0.25
 def _capytaine():
     try:
         import capytaine as cpt
-        import xarray  # noqa: F401
+        import xarray as xr
     except ImportError:
         raise ScenarioError("computing RAOs with BEM needs Capytaine: pip install 'marinecdpr[bem]'") from None
     logging.getLogger("capytaine").setLevel(logging.ERROR)  # its progress and irregular-frequency notes
-    return cpt
+    return cpt, xr
 
 
 def box_hull_bem(
@@ -83,11 +84,9 @@ def box_hull_bem(
         viscous ``roll_damping`` (N m s/rad) and ``RAO`` (its convention: exp(-i omega
         t), rotations in rad/m), attributes naming the hull.
     """
-    cpt = _capytaine()
+    cpt, xr = _capytaine()
     L, B, T, GM = float(length_m), float(beam_m), float(draught_m), float(gm_m)
-    for name, value in (("length_m", L), ("beam_m", B), ("draught_m", T), ("gm_m", GM), ("panel_m", panel_m)):
-        if not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} must be finite and > 0, got {value}")
+    check_positive(length_m=L, beam_m=B, draught_m=T, gm_m=GM, panel_m=panel_m, rho=rho, g=g)
     if not (math.isfinite(roll_damping_ratio) and roll_damping_ratio >= 0):
         raise ValueError(f"roll_damping_ratio must be finite and >= 0, got {roll_damping_ratio}")
     KB, BM = T / 2.0, B * B / (12.0 * T)
@@ -122,8 +121,8 @@ def box_hull_bem(
     stiffness[4, 4] = rho * g * volume * gml
     body.hydrostatic_stiffness = body.add_dofs_labels_to_matrix(stiffness)
     problems = cpt.BEMSolver().fill_dataset(
-        __import__("xarray").Dataset(coords={"omega": omega, "wave_direction": directions, "radiating_dof": dofs,
-                                             "water_depth": [np.inf], "rho": [rho], "g": [g]}),
+        xr.Dataset(coords={"omega": omega, "wave_direction": directions, "radiating_dof": dofs,
+                           "water_depth": [np.inf], "rho": [rho], "g": [g]}),
         body, progress_bar=False)
     C44 = float(problems["hydrostatic_stiffness"].sel(influenced_dof="Roll", radiating_dof="Roll"))
     I44 = inertia[3, 3]

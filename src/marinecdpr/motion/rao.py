@@ -954,6 +954,13 @@ def _slope_factor(u: np.ndarray) -> np.ndarray:
     return np.where(small, series, exact)
 
 
+def check_positive(**params: float) -> None:
+    """Refuse a parameter that is not a finite number > 0 (ValueError naming it)."""
+    for key, value in params.items():
+        if not (np.isfinite(value) and value > 0.0):
+            raise ValueError(f"{key} must be finite and > 0; got {value}")
+
+
 def box_hull_rao(
     *,
     length_m: float,
@@ -1053,9 +1060,7 @@ def box_hull_rao(
               "roll_damping_ratio": roll_damping_ratio, "rho": rho, "g": g}
     if gml_m is not None:
         params["gml_m"] = gml_m
-    for key, value in params.items():
-        if not (np.isfinite(value) and value > 0.0):
-            raise ValueError(f"{key} must be finite and > 0; got {value}")
+    check_positive(**params)
     zeta = float(roll_damping_ratio)
     w = np.asarray(omega, dtype=float)
     beta = np.asarray(heading_deg, dtype=float)

@@ -37,6 +37,8 @@ __all__ = [
     "write_virtual_prototype",
     "write_workspace",
     "write_operability",
+    "write_rao",
+    "write_windows",
 ]
 
 
@@ -249,3 +251,57 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     paths.append(write_json(summary, folder / "operability.json"))
     paths.append(plot_operability(op, scenario, folder / "operability.png"))
     return paths
+
+
+# ------------------------------------------------------------------------ RAOs, windows
+def write_rao(ds, folder: Path, *, made_by: str, box: dict):
+    """A BEM solution's files (:func:`~marinecdpr.motion.bem.box_hull_bem`): ``rao.nc``
+    (Capytaine's dataset, ``source = "capytaine"``), the same table as ``rao.csv``
+    (``source = "csv"``, read without the bem extra; its first lines say how it was made)
+    and ``rao.png`` beside the box approximation of ``box`` (box_hull_rao's arguments).
+    Returns (the RAOs read back from rao.nc, the box approximation, the paths)."""
+    import capytaine as cpt
+
+    from marinecdpr.motion.rao import box_hull_rao, read_capytaine, write_rao_csv
+    from marinecdpr.report.figures import plot_raos
+
+    folder = Path(folder)
+    nc = folder / "rao.nc"
+    cpt.export_dataset(str(nc), ds)
+    bem = read_capytaine(nc)
+    table = folder / "rao.csv"
+    write_rao_csv(bem, table)
+    header = (f"# RAOs from BEM: {ds.attrs['hull']}\n# made by: {made_by}\n"
+              "# below the first omega the first row's values hold; above the last, zero\n")
+    table.write_text(header + table.read_text(encoding="utf-8"), encoding="utf-8")
+    approx = box_hull_rao(**(box | {"roll_damping_ratio": max(box["roll_damping_ratio"], 1e-3)}),
+                          omega=bem.omega, heading_deg=bem.heading_deg)
+    figure = plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=approx,
+                       beside_label="box approximation")
+    return bem, approx, [nc, table, figure]
+
+
+def write_windows(series, windows, folder: Path, *, series_name: str, design_limit: str,
+                  days: list[float]) -> tuple[dict, list[Path]]:
+    """A weather-window study's files (:func:`~marinecdpr.studies.weather.weather_windows`):
+    ``windows.csv`` (each window, its length, whether the operation fits), ``summary.json``
+    and ``windows.png``. Returns (the summary, the paths)."""
+    from marinecdpr.report.figures import plot_windows
+
+    folder = Path(folder)
+    w, d = windows, windows.duration_h
+    rows = np.array([[a, b, b - a, float(b - a >= d - 1e-12)] for a, b in w.windows]).reshape(-1, 4)
+    paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], rows, folder / "windows.csv")]
+    summary = {"series": series_name, "series_hours": float(series.t_h[-1] + series.step_h[-1]),
+               "duration_h": d, "alpha": w.alpha, "design_limit": design_limit,
+               "workable_share": float(np.sum(series.step_h * w.workable) / np.sum(series.step_h)),
+               "windows": len(w.windows), "windows_long_enough": int(rows[:, 3].sum()),
+               "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
+               "can_start_share": w.can_start,
+               "finish_within_days_probability": {f"{x:g}": w.finish_probability(x) for x in days},
+               "meaning": "over start times at each sample, equally likely; the operation needs one window "
+                          "of its whole duration"}
+    paths.append(write_json(summary, folder / "summary.json"))
+    paths.append(plot_windows(series, w, folder / "windows.png",
+                              title=f"Weather windows for a {d:g} h operation (alpha {w.alpha:g})"))
+    return summary, paths

@@ -259,7 +259,7 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
             for r in range(realisations)]
     ok = [run[0] for run in runs]
     errors = np.array([run[4] for run in runs])
-    error = float(np.nanmax(errors)) if np.isfinite(errors).any() or np.isinf(errors).any() else float("nan")
+    error = float("nan") if np.isnan(errors).all() else float(np.nanmax(errors))
     return CellResult(cell, all(ok), float(np.mean([run[1] for run in runs])), min(run[2] for run in runs),
                       runs[0][3], error, realisations, int(sum(ok)))
 

@@ -177,13 +177,15 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
             i += 1
     # from each sample's time: the first time s >= t with [s, s + duration] workable. Within a
     # window (a, b) an operation can start at any s in [a, b - duration]
+    # (the windows are in time order, so are their last start times: the first window whose
+    # last start is not before t is found by bisection)
+    fits = [(a, b - duration_h) for a, b in windows if b - a >= duration_h - 1e-12]
+    first = np.array([a for a, _ in fits])
+    last = np.array([e for _, e in fits])
+    k = np.searchsorted(last, t0 - 1e-12, side="left")
+    found = k < last.size
     wait = np.full(n, np.nan)
-    starts = [(a, b - duration_h) for a, b in windows if b - a >= duration_h - 1e-12]
-    for k, t in enumerate(t0):
-        for a, last in starts:
-            if last >= t - 1e-12:
-                wait[k] = max(a, t) - t
-                break
+    wait[found] = np.maximum(first[k[found]], t0[found]) - t0[found]
     can = np.isfinite(wait)
     mean = float(wait[can].mean()) if can.any() else float("nan")
     return Windows(ok, limit, windows, wait, float(duration_h), float(alpha), mean, float(can.mean()))
