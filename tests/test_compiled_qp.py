@@ -316,10 +316,12 @@ def test_spatial_cube8_closed_loop_compiled(cube8):
 
 
 def test_no_python_in_the_per_step_path():
-    """No objmode in the loop and no quadprog in the library (it stays a test reference)."""
+    """No objmode in the loop and no quadprog in the library (it stays a test reference, and
+    the comparison `marinecdpr latency` times beside the step, behind the bench extra)."""
     src = Path(marinecdpr.__file__).parent
     files = list(src.rglob("*.py"))
     assert len(files) > 20
     for f in files:
         assert "objmode" not in f.read_text(), f.name
-        assert "import quadprog" not in f.read_text(), f.name
+        if f != src / "studies" / "latency.py":
+            assert "import quadprog" not in f.read_text(), f.name

@@ -100,6 +100,13 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
     else:
         assert res.exit_code == 2 and "needs a [base_motion] of type sea_state" in res.stderr
         assert "Traceback" not in res.output
+    res = runner.invoke(app, ["latency", src, "--calls", "20", "--json"])
+    assert res.exit_code == 0, res.output
+    assert json.loads(res.stdout)["cables"] == sc.robot.n_cables
+    res = runner.invoke(app, ["control-study", src, "--latencies", "0,20", "--duration", "0.4", "--settle", "0.1",
+                              "--out", str(tmp_path / "cs")])
+    assert res.exit_code == 0, res.output
+    assert len(json.loads((tmp_path / "cs" / "summary.json").read_text())["runs"]) == 12
     res = runner.invoke(app, ["clean", src, "--duration", "0.5", "--out", str(tmp_path / "clean")])
     if sc.cleaning is not None:
         assert res.exit_code == 0, res.output

@@ -788,18 +788,21 @@ def rao(
     headings: str = typer.Option("90,120,150,180", help="Wave headings, deg, comma-separated."),
     omega: str = typer.Option("0.2:1.8:33", help="Wave frequencies first:last:count, rad/s."),
     panel: float = typer.Option(2.5, help="About the panels' size, m."),
+    hull: str = typer.Option("box", help="The hull's form: box, or wigley (the analytic ship form, fine ends)."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for rao.nc and rao.png."),
 ) -> None:
-    """A box hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'):
+    """A box or Wigley hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'):
     writes rao.nc ([base_motion.rao] source = "capytaine"), the same table as rao.csv
     (source = "csv", read without the extra) and rao.png, beside the built-in box
-    approximation."""
+    approximation (of the same main dimensions, for the Wigley hull)."""
     import numpy as np
 
     from marinecdpr import __version__
-    from marinecdpr.motion.bem import box_hull_bem
+    from marinecdpr.motion.bem import HULL_SHAPES, hull_bem
     from marinecdpr.report.writers import write_rao
 
+    if hull not in HULL_SHAPES:
+        _fail(f"--hull {hull}: expected one of {', '.join(HULL_SHAPES)}")
     for name, value in (("--length", length), ("--beam", beam), ("--draught", draught), ("--gm", gm),
                         ("--panel", panel)):
         _number(name, value)
@@ -815,18 +818,21 @@ def rao(
     t0 = time.perf_counter()
     with _output(out) as folder:
         try:
-            ds = box_hull_bem(length_m=length, beam_m=beam, draught_m=draught, gm_m=gm,
-                              roll_damping_ratio=roll_damping, omega=w, heading_deg=heads, panel_m=panel)
+            ds = hull_bem(shape=hull, length_m=length, beam_m=beam, draught_m=draught, gm_m=gm,
+                          roll_damping_ratio=roll_damping, omega=w, heading_deg=heads, panel_m=panel)
         except (ScenarioError, ValueError) as exc:
             _fail(str(exc))
-        made = (f"marinecdpr rao --length {length:g} --beam {beam:g} --draught {draught:g} --gm {gm:g} "
+        made = (f"marinecdpr rao {'' if hull == 'box' else f'--hull {hull} '}--length {length:g} --beam {beam:g} "
+                f"--draught {draught:g} --gm {gm:g} "
                 f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
                 f"--panel {panel:g} (marinecdpr {__version__})")
+        box_label = "box approximation" + ("" if hull == "box" else " of the same main dimensions")
         bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
                                                                         draught_m=draught, gm_m=gm,
-                                                                        roll_damping_ratio=roll_damping))
+                                                                        roll_damping_ratio=roll_damping),
+                                    box_label=box_label)
     peak = float(np.degrees(np.abs(bem.values[3])).max())
-    console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m (box approximation "
+    console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m ({box_label} "
                          f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: "
                          f"{', '.join(p.name for p in paths)} ({time.perf_counter() - t0:.1f} s)"),
                   highlight=False, soft_wrap=True)
@@ -890,6 +896,106 @@ def windows(
                          f"{100 * w.can_start:.1f} % of the start times); done within "
                          + ", ".join(f"{d} days: {100 * p:.1f} %" for d, p in finish.items())
                          + f"; written: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+
+
+@app.command("control-study")
+def control_study(
+    scenario: str = typer.Argument("paper_sea", help="A scenario file, or a built-in name."),
+    latencies: str = typer.Option("0,10,20,50,100", "--latencies", help="Motion sensor latencies, ms, comma-separated."),
+    predictions: str = typer.Option("none,kinematic,ar", "--predictions",
+                                    help="How the controller brings the ship's samples to the present: none, "
+                                         "kinematic, ar."),
+    pose_from: str = typer.Option("sensor,encoders", "--pose-from", help="Pose sources: sensor, encoders."),
+    rate: float = typer.Option(100.0, "--rate", help="The motion sensor's samples per second, Hz."),
+    encoder_resolution: Optional[float] = typer.Option(None, "--encoder-resolution",
+                                                       help="The encoders' length step, m (default: the scenario's)."),
+    duration: float = typer.Option(60.0, "--duration", help="Each run's length, s."),
+    settle: Optional[float] = typer.Option(None, "--settle", help="Errors count from this time on, s (default: "
+                                                                   "the predictor's warm-up and a second)."),
+    plant: str = typer.Option("own", "--plant", help="own or mujoco."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for control_study.csv/.png, prediction.csv, "
+                                                              "summary.json."),
+) -> None:
+    """What the ship-motion sensor's latency costs in tracking and tension margin, with the
+    ship's motion predicted or not, and the pose from a pose sensor or the winches' encoders;
+    and the ship-motion predictor's error against the horizon."""
+    from marinecdpr.report.writers import write_control_study
+    from marinecdpr.studies.control import PREDICTIONS, ship_prediction_error
+    from marinecdpr.studies.control import control_study as study
+
+    _number("--rate", rate)
+    _number("--duration", duration)
+    try:
+        lat_s = [float(x) / 1e3 for x in latencies.split(",")]
+    except ValueError:
+        _fail(f"--latencies {latencies}: expected numbers of ms separated by commas")
+    if any(not (x >= 0.0 and x == x) for x in lat_s):
+        _fail(f"--latencies {latencies}: latencies must be >= 0 ms")
+    preds = [x.strip() for x in predictions.split(",")]
+    sources = [x.strip() for x in pose_from.split(",")]
+    for flag, given, allowed in (("--predictions", preds, PREDICTIONS), ("--pose-from", sources, ("sensor", "encoders")),
+                                 ("--plant", [plant], ("own", "mujoco"))):
+        bad = [x for x in given if x not in allowed]
+        if bad:
+            _fail(f"{flag} {bad[0]}: expected one of {', '.join(allowed)}")
+    _number("--settle", settle, zero_ok=True)
+    sc = _load(scenario, None, None)
+    if encoder_resolution is not None:
+        try:
+            sensors = {**sc.simulation.sensors.model_dump(), "encoder_resolution_m": encoder_resolution}
+            sc = sc.with_changes(simulation={**sc.simulation.model_dump(exclude_none=True), "sensors": sensors})
+        except ScenarioError as exc:
+            _fail(f"--encoder-resolution {encoder_resolution:g}: {exc}")
+    if settle is None:
+        settle = sc.simulation.mru.ar_warmup_s + 1.0
+    if duration <= settle:
+        _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
+              "warm-up and a second)")
+    with _output(out) as folder:
+        with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
+                                              "runs") as bar:
+            result = study(sc, latencies_s=lat_s, predictions=preds, pose_from=sources, rate_hz=rate,
+                           duration_s=duration, settle_s=settle, plant=plant, progress=bar)
+            prediction = ship_prediction_error(sc, rate_hz=rate, duration_s=duration, settle_s=settle)
+        _, paths = write_control_study(result, prediction, folder)
+    console.print(f"{_plain(sc.name)}: MRU {rate:g} Hz, judged from {settle:g} s of {duration:g} s runs",
+                  highlight=False)
+    for r in result.runs:
+        console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
+                      f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
+                      f"slack margin {r.slack_margin_N:.4g} N", highlight=False, soft_wrap=True)
+    console.print(f"written: {', '.join(p.name for p in paths)}", highlight=False)
+
+
+@app.command()
+def latency(
+    scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
+    calls: int = typer.Option(20000, "--calls", min=1, help="Steps timed from Python and in a compiled loop."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of a table."),
+) -> None:
+    """How long the controller's step takes on this machine: called from Python and inside a
+    compiled loop along the scenario's plan, beside one quadprog solve of the same tension
+    problem (the bench extra)."""
+    import dataclasses
+    import json as _json
+
+    from marinecdpr.studies.latency import controller_latency
+
+    sc = _load(scenario, None, None)
+    with _run_errors(scenario):
+        lat = controller_latency(sc, calls=calls)
+    if as_json:
+        print(_json.dumps(dataclasses.asdict(lat)))
+        return
+    qp = "quadprog not installed (pip install 'marinecdpr[bench]')" if lat.quadprog_p50_us is None else \
+        f"{lat.quadprog_p50_us:.2f} us per solve (p50)"
+    console.print(f"{_plain(lat.scenario)}: {lat.cables} cables, redundancy {lat.redundancy}, {lat.method}; "
+                  f"{lat.calls} calls", highlight=False, soft_wrap=True)
+    for where in ("python", "compiled"):
+        p50, p99, top = (getattr(lat, f"{where}_{q}_us") for q in ("p50", "p99", "max"))
+        console.print(f"  step from {'Python' if where == 'python' else 'a compiled loop'}: p50 {p50:.2f} us, "
+                      f"p99 {p99:.2f} us, max {top:.1f} us", highlight=False)
+    console.print(f"  quadprog: {qp}", highlight=False)
 
 
 @app.command()

@@ -5,17 +5,20 @@ One exchange (every ``time.step_s``, 1 ms; the paper's figure 4) passes through 
 in this order::
 
     plant state (x, R, v, w)
-      -> sensors      :func:`measure`        what the controller sees, predicted to mid-step
-      -> controller   :func:`command`        computed torque + the tension method -> T_cmd, L0_cmd
+      -> sensors      :func:`sense`          pose sensor, MRU, encoders, load cells: ``ctl.meas``
+      -> controller   :func:`~marinecdpr.control.step.control_step`
+                                             the deployable controller -> T_cmd, L0_cmd
       -> winch        :func:`winch_step`     lag on the length or tension command
       -> cables       :func:`cable_step`     ideal (T = T_cmd) or elastic (T from stretch)
       -> brush        :func:`brush_step`     a cleaning brush's loads at the actual velocity
       -> plant        (:mod:`~marinecdpr.prototype.plants`) advances one step with the tensions
     and :func:`log_step` records what happened.
 
-Every record is a ``NamedTuple`` of numpy arrays and numbers, so the compiled functions
-take it as one typed argument; time series have ``n_steps`` rows (index ``k``), the
-cables ``m`` columns. Vectors are in the frame C of the robot's frame unless named
+The controller is :mod:`marinecdpr.control`'s, the same compiled step a user calls from
+their own loop (:class:`~marinecdpr.control.Controller`): what is verified here is what is
+deployed. Every record is a ``NamedTuple`` of numpy arrays and numbers, so the compiled
+functions take it as one typed argument; time series have ``n_steps`` rows (index ``k``),
+the cables ``m`` columns. Vectors are in the frame C of the robot's frame unless named
 otherwise; units are SI (m, rad, N, s).
 
 A new part (a sensor delay, a pulley, a brush contact) is a new record and step function
@@ -30,11 +33,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from marinecdpr.control.records import ControllerParts, Loads
+from marinecdpr.control.step import control_step, mm3
+from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 
-__all__ = ["Reference", "RobotModel", "Sensors", "Controller", "Loads", "Winch", "Cables", "Bus", "Log",
-           "BrushContact", "Work", "Parts", "exchange", "measure", "command", "winch_step", "cable_step", "log_step"]
+__all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Cables", "Bus", "Log", "BrushContact", "Parts", "exchange", "sense",
+           "winch_step", "cable_step", "log_step"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -42,82 +48,50 @@ DIVERGENCE_M = 10.0
 
 
 # --------------------------------------------------------------------------- records
-class Reference(NamedTuple):
-    """The plan at mid-step, t_k + h/2: what the controller tracks and feeds forward.
-
-    x, v, a : (n_steps, 3) position, velocity, acceleration of P relative to C, in C.
-    R : (n_steps, 3, 3) R_PC. w, al : (n_steps, 3) angular velocity and acceleration in C.
-    T, L, Ldot : (n_steps, m) planned tensions (N), cable lengths (m) and their rates (m/s).
-    """
-
-    x: np.ndarray
-    R: np.ndarray
-    v: np.ndarray
-    w: np.ndarray
-    a: np.ndarray
-    al: np.ndarray
-    T: np.ndarray
-    L: np.ndarray
-    Ldot: np.ndarray
-
-
-class RobotModel(NamedTuple):
-    """The controller's model of the robot (the scenario's robot and ship layout).
-
-    c_C : (m, 3) frame anchors in C. p_P : (m, 3) platform anchors in P. mass : kg.
-    I_PP : (3, 3) inertia about the centre of mass in P. g : gravity, m/s^2 (> 0).
-    origin : (3,) C's origin in S. controlled : (k,) int indices of the controlled DOFs.
-    lo, hi : (m,) tension limits, N. method : a ``kernels.METHOD_CODES`` value.
-    """
-
-    c_C: np.ndarray
-    p_P: np.ndarray
-    mass: float
-    I_PP: np.ndarray
-    g: float
-    origin: np.ndarray
-    controlled: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
-    method: int
-
-
 class Sensors(NamedTuple):
-    """What the sensors add to the truth, drawn in advance (zeros when not measured).
+    """The pose sensor: what it adds to the truth, drawn in advance (zeros when not measured).
 
     pose : (n_steps, 6) position (m) and small rotation (rad) errors of the platform.
     twist : (n_steps, 6) velocity (m/s) and angular velocity (rad/s) errors.
-    tension : (n_steps, m) tension sensor errors of tension-controlled winches, N.
-    eta : (3, n_steps, 6) the measured ship motion at t_k: eta, eta', eta'' (m, rad).
+    zero : (3,) zeros; scratch : (2, 3, 3) the sensor's working memory.
     """
 
     pose: np.ndarray
     twist: np.ndarray
-    tension: np.ndarray
-    eta: np.ndarray
+    zero: np.ndarray
+    scratch: np.ndarray
 
 
-class Controller(NamedTuple):
-    """Computed torque on the measured pose error, then the tension method.
+class Mru(NamedTuple):
+    """The motion reference unit: its samples of the ship's motion, drawn in advance (the
+    ship's motion does not depend on the robot), with their errors.
 
-    closed : False feeds the plan's tensions forward (open loop).
-    kp, kd : gains, 1/s^2 and 1/s. lead_s : the winches' time constant the controller leads
-    its commands by (0: none), s.
+    eta : (3, n_samples, 6) eta, eta', eta'' as sampled (m, rad). t : (n_samples,) the
+    samples' times, s. latest : (n_steps,) int, the latest sample that has reached the
+    controller at t_k (its latency past).
     """
 
-    closed: bool
-    kp: float
-    kd: float
-    lead_s: float
+    eta: np.ndarray
+    t: np.ndarray
+    latest: np.ndarray
 
 
-class Loads(NamedTuple):
-    """The disturbance on the platform at t_k: f, m (n_steps, 3), N and N m; in C, or in P
-    (turned with the platform's orientation) if ``in_P``."""
+class Encoders(NamedTuple):
+    """The winches' encoders: the unstretched length each winch has paid out (the
+    geometric length of an inextensible cable), to ``resolution`` (m; 0: exact)."""
 
-    f: np.ndarray
-    m: np.ndarray
-    in_P: bool
+    resolution: float
+
+
+class LoadCells(NamedTuple):
+    """The load cells: noise (n_steps, m) on the tension each cable applied over the last
+    step, N, then a first-order low-pass (alpha: the fraction of the difference closed per
+    step; 1: none). State: T (m,) the filtered reading, N. The tension-controlled winches'
+    loops read the same noisy cells, unfiltered."""
+
+    noise: np.ndarray
+    alpha: float
+    T: np.ndarray
 
 
 class Winch(NamedTuple):
@@ -182,55 +156,28 @@ class Log(NamedTuple):
     T_app: np.ndarray
 
 
-class Work(NamedTuple):
-    """The exchange's working memory, allocated once per run (:func:`empty_work`) so that
-    no step allocates: the measured state (x, v, w (3,), R (3, 3)), the ship's (R_SO (3, 3),
-    w_s, al_s (3,)), the commanded accelerations, the wrench and its parts, the cables at
-    the measured pose (L (m,), J (m, 6)) and the tension solver's memory."""
-
-    x: np.ndarray
-    R: np.ndarray
-    v: np.ndarray
-    w: np.ndarray
-    R_SO: np.ndarray
-    w_s: np.ndarray
-    al_s: np.ndarray
-    eta: np.ndarray  # (2, 6) the ship's eta and eta' predicted to mid-step
-    a_cmd: np.ndarray  # (2, 3) commanded a and alpha
-    m3: np.ndarray  # (3, 3, 3) scratch matrices
-    v3: np.ndarray  # (4, 3) scratch vectors: zeros, angles, loads f and m
-    wrench: np.ndarray  # (6,)
-    wrench_parts: np.ndarray  # (5, 6)
-    L: np.ndarray
-    J: np.ndarray
-    tension: K.TensionWork
-
-
 class Parts(NamedTuple):
-    """The prototype: every part's record, composed by :func:`exchange`."""
+    """The prototype: every part's record, composed by :func:`exchange`. ``loads`` are the
+    loads the plant applies (the same record as the controller's model of them)."""
 
-    ref: Reference
-    model: RobotModel
+    ctl: ControllerParts
     sensors: Sensors
-    controller: Controller
+    mru: Mru
+    encoders: Encoders
+    load_cells: LoadCells
     loads: Loads
     winch: Winch
     cables: Cables
     bus: Bus
     log: Log
     brush: BrushContact
-    work: Work
 
 
-def empty_bus(m: int) -> Bus:
-    return Bus(np.empty(m), np.empty(m), np.empty((m, 6)), np.empty(m), np.empty(m), np.empty(m))
-
-
-def empty_work(m: int, k: int) -> Work:
-    """The working memory of an exchange with m cables and k controlled DOFs."""
-    return Work(np.empty(3), np.empty((3, 3)), np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(3),
-                np.empty(3), np.empty((2, 6)), np.empty((2, 3)), np.empty((3, 3, 3)), np.zeros((4, 3)),
-                np.empty(6), np.empty((5, 6)), np.empty(m), np.empty((m, 6)), K.tension_work(m, k))
+def empty_bus(ctl: ControllerParts) -> Bus:
+    """The bus of an exchange; its commands are the controller's (the same arrays), the
+    applied tensions start at the plan's first."""
+    m = ctl.cmd.T_cmd.shape[0]
+    return Bus(np.empty(m), np.empty(m), np.empty((m, 6)), ctl.cmd.T_cmd, ctl.cmd.L0_cmd, np.array(ctl.ref.T[0]))
 
 
 def empty_log(n_steps: int, m: int) -> Log:
@@ -238,17 +185,6 @@ def empty_log(n_steps: int, m: int) -> Log:
 
 
 # ------------------------------------------------------------------ small compiled maths
-@njit(cache=_cache)
-def mm3(A, B, out, transpose_B=False):
-    """out = A @ B (or A @ B^T) for 3x3 matrices, without BLAS's per-call cost."""
-    for i in range(3):
-        for j in range(3):
-            acc = 0.0
-            for k in range(3):
-                acc += A[i, k] * (B[j, k] if transpose_B else B[k, j])
-            out[i, j] = acc
-
-
 @njit(cache=_cache)
 def euler_from_R(R, out):
     """(rx, ry, rz) with R = Rz Ry Rx, written to out (3,)."""
@@ -281,19 +217,6 @@ def length_rates(J, v, w, out):
 
 
 @njit(cache=_cache)
-def disturbance_C(f, m, in_P, R, f_C, m_C):
-    """The disturbance in C, written to f_C, m_C (3,): (f, m) as given if in C, R (f, m) if
-    given in P."""
-    for i in range(3):
-        if in_P:
-            f_C[i] = R[i, 0] * f[0] + R[i, 1] * f[1] + R[i, 2] * f[2]
-            m_C[i] = R[i, 0] * m[0] + R[i, 1] * m[1] + R[i, 2] * m[2]
-        else:
-            f_C[i] = f[i]
-            m_C[i] = m[i]
-
-
-@njit(cache=_cache)
 def diverged(x, ref_x):
     """True if the position is not finite or more than DIVERGENCE_M from the reference."""
     d = 0.0
@@ -306,116 +229,48 @@ def diverged(x, ref_x):
 
 # ---------------------------------------------------------------------------- steps
 @njit(cache=_cache, inline="always")
-def measure(k, h, x, R, v, w, sensors, ref, work):
-    """What the sensors report at t_k, predicted to mid-step, where the held command acts.
-
-    Writes the measured x, R, v, w of the platform in C and the ship's R_SO, omega and alpha
-    in S, all at t_k + h/2, to ``work``; returns the acceleration of S's origin in O (3,).
-    """
-    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
-    Rn, WR = work.m3[0], work.m3[1]
-    zero, tmp = work.v3[0], work.v3[1]
-    K.euler_step(sensors.pose[k, 3:], zero, zero, Rn, tmp, tmp)
-    mm3(Rn, R, R_m)
-    hh = 0.5 * h
-    a, al = ref.a[k], ref.al[k]
+def sense(k, h, x, R, v, w, parts, meas):
+    """The sensors at t_k, written to the controller's measurement ``meas``: the pose sensor's
+    pose and twist with their errors, the encoders' lengths and rates, the load cells'
+    tensions (time-stamped t_k) and the motion reference unit's latest sample (stamped with
+    its own time)."""
+    sensors, bus, cells = parts.sensors, parts.bus, parts.load_cells
+    Rn, tmp = sensors.scratch[0], sensors.scratch[1, 0]  # the pose error's rotation
+    euler_step(sensors.pose[k, 3:], sensors.zero, sensors.zero, Rn, tmp, tmp)
+    mm3(Rn, R, meas.R)  # the measured R = Rn R
     for i in range(3):
-        v_m[i] = v[i] + sensors.twist[k, i]
-        w_m[i] = w[i] + sensors.twist[k, 3 + i]
-        x_m[i] = (x[i] + sensors.pose[k, i]) + hh * v_m[i]
-    for i in range(3):
-        v_m[i] = v_m[i] + hh * a[i]
-    # R' = [w]x R over half a step
-    for j in range(3):
-        WR[0, j] = -w_m[2] * R_m[1, j] + w_m[1] * R_m[2, j]
-        WR[1, j] = w_m[2] * R_m[0, j] - w_m[0] * R_m[2, j]
-        WR[2, j] = -w_m[1] * R_m[0, j] + w_m[0] * R_m[1, j]
-    for i in range(3):
-        w_m[i] = w_m[i] + hh * al[i]
-        for j in range(3):
-            R_m[i, j] = R_m[i, j] + hh * WR[i, j]
-    eta, eta_p = sensors.eta, work.eta
-    for i in range(6):
-        eta_p[0, i] = eta[0, k, i] + hh * eta[1, k, i]
-        eta_p[1, i] = eta[1, k, i] + hh * eta[2, k, i]
-    K.euler_step(eta_p[0, 3:], eta_p[1, 3:], eta[2, k, 3:], work.R_SO, work.w_s, work.al_s)
-    return eta[2, k, :3]
-
-
-@njit(cache=_cache, inline="always")
-def _feedback_tensions(k, h, x, R, v, w, parts):
-    """Computed torque on the mid-step reference (a = a_ref + Kd e_v + Kp e, rotation error
-    in C), the wrench it needs (eq. 15) and the tension method: T_cmd. Returns 1 where the
-    method has no solution within limits (then the feed-forward tensions are commanded)."""
-    ref, model, ctl, bus, work = parts.ref, parts.model, parts.controller, parts.bus, parts.work
-    a_SO = measure(k, h, x, R, v, w, parts.sensors, ref, work)
-    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
-    E = work.m3[2]
-    mm3(ref.R[k], R_m, E, True)
-    e0, e1, e2 = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
-    a_cmd, al_cmd = work.a_cmd[0], work.a_cmd[1]
-    for i in range(3):
-        a_cmd[i] = ref.a[k, i] + ctl.kd * (ref.v[k, i] - v_m[i]) + ctl.kp * (ref.x[k, i] - x_m[i])
-        al_cmd[i] = ref.al[k, i] + ctl.kd * (ref.w[k, i] - w_m[i]) + ctl.kp * (e0 if i == 0 else (e1 if i == 1 else e2))
-    f_k, m_k = work.v3[2], work.v3[3]
-    disturbance_C(parts.loads.f[k], parts.loads.m[k], parts.loads.in_P, R_m, f_k, m_k)
-    K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
-                        model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
-    K.sum_wrench_parts(work.wrench_parts, work.wrench)
-    K.cables_step(x_m, R_m, model.c_C, model.p_P, work.L, work.J)
-    # every method, exact for any redundancy, compiled (the planning layer's solvers)
-    if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, bus.T_cmd,
-                       work.tension):
-        return 0
-    bus.T_cmd[:] = ref.T[k]
-    return 1
-
-
-@njit(cache=_cache, inline="always")
-def _unstretched(ref, k, cables, i):
-    """The winch length of cable i that holds the plan's length at the plan's tension, m."""
-    return ref.L[k, i] / (1.0 + (ref.T[k, i] - cables.damping * ref.Ldot[k, i]) / cables.EA)
-
-
-@njit(cache=_cache, inline="always")
-def command(k, h, x, R, v, w, parts):
-    """The controller: T_cmd (tension-controlled winches, ideal cables) and L0_cmd
-    (length-controlled winches) into the bus. Returns 1 on a fallback to feed-forward."""
-    ref, ctl, cables, bus = parts.ref, parts.controller, parts.cables, parts.bus
-    fallback = 0
-    if ctl.closed:
-        fallback = _feedback_tensions(k, h, x, R, v, w, parts)
-    else:
-        bus.T_cmd[:] = ref.T[k]
-    # a length-controlled winch pays out the reference length less the stretch the
-    # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
-    # (the cable's damping adds c L' of the plan: the stretch makes the rest)
-    for i in range(bus.L0_cmd.shape[0]):
-        bus.L0_cmd[i] = ref.L[k, i] / (1.0 + (bus.T_cmd[i] - cables.damping * ref.Ldot[k, i]) / cables.EA)
-    if ctl.closed and ctl.lead_s > 0.0:
-        # the controller knows its winches' lag: it leads the planned part of the command
-        # by tau times the plan's (smooth) rate, u = r + tau r'
-        kf, kb = min(k + 1, ref.T.shape[0] - 1), max(k - 1, 0)
-        dt = (kf - kb) * h
-        if parts.winch.tension_controlled:
-            lo, hi = parts.model.lo, parts.model.hi
-            for i in range(bus.T_cmd.shape[0]):  # a command stays within the cable's limits
-                T_i = bus.T_cmd[i] + ctl.lead_s * (ref.T[kf, i] - ref.T[kb, i]) / dt
-                bus.T_cmd[i] = min(max(T_i, lo[i]), hi[i])
+        meas.x[i] = x[i] + sensors.pose[k, i]
+        meas.v[i] = v[i] + sensors.twist[k, i]
+        meas.w[i] = w[i] + sensors.twist[k, 3 + i]
+    cables, winch, res = parts.cables, parts.winch, parts.encoders.resolution
+    for i in range(bus.L.shape[0]):
+        cells.T[i] += cells.alpha * (bus.T_app[i] + cells.noise[k, i] - cells.T[i])
+        meas.T[i] = cells.T[i]
+        # a winch pays out the unstretched length: the stretch of an elastic cable is the
+        # tension it carries (the winch's own L0 where it holds a length)
+        if cables.elastic and not winch.tension_controlled:
+            L0 = winch.L0[i]
         else:
-            for i in range(bus.L0_cmd.shape[0]):
-                bus.L0_cmd[i] += ctl.lead_s * (_unstretched(ref, kf, cables, i)
-                                               - _unstretched(ref, kb, cables, i)) / dt
-    return fallback
-
+            L0 = bus.L[i] / (1.0 + bus.T_app[i] / cables.EA)
+        meas.L[i] = L0 if res == 0.0 else res * np.floor(L0 / res + 0.5)
+        meas.Ldot[i] = bus.Ldot[i]
+    mru = parts.mru
+    j = mru.latest[k]
+    for d in range(3):
+        for i in range(6):
+            meas.eta[d, i] = mru.eta[d, j, i]
+    t = k * h
+    meas.clock[0] = t
+    meas.clock[1] = t
+    meas.clock[2] = mru.t[j]
 
 @njit(cache=_cache, inline="always")
-def winch_step(k, winch, bus, sensors):
+def winch_step(k, winch, bus, cells):
     """Advance the winches one step: L0 towards L0_cmd, or the tension loop (on its noisy
-    sensor) towards T_cmd, each with the first-order lag."""
+    load cell) towards T_cmd, each with the first-order lag."""
     for i in range(bus.T_cmd.shape[0]):
         if winch.tension_controlled:
-            winch.T[i] += winch.lag * (bus.T_cmd[i] - sensors.tension[k, i] - winch.T[i])
+            winch.T[i] += winch.lag * (bus.T_cmd[i] - cells.noise[k, i] - winch.T[i])
         else:
             winch.L0[i] += winch.lag * (bus.L0_cmd[i] - winch.L0[i])
 
@@ -468,12 +323,13 @@ def exchange(k, h, x, R, v, w, parts):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: sensors, controller,
     winches, cables, log. Leaves the applied tensions in ``parts.bus.T_app``; returns 1 on a
     controller fallback, else 0."""
-    model, bus = parts.model, parts.bus
-    K.cables_step(x, R, model.c_C, model.p_P, bus.L, bus.J)
+    ctl, bus = parts.ctl, parts.bus
+    K.cables_step(x, R, ctl.model.c_C, ctl.model.p_P, bus.L, bus.J)
     length_rates(bus.J, v, w, bus.Ldot)
-    fallback = command(k, h, x, R, v, w, parts)
+    sense(k, h, x, R, v, w, parts, ctl.meas)
+    fallback = control_step(k, h, ctl)
     if parts.cables.elastic:  # ideal cables apply the command: no winch dynamics
-        winch_step(k, parts.winch, bus, parts.sensors)
+        winch_step(k, parts.winch, bus, parts.load_cells)
     cable_step(parts.cables, parts.winch, bus)
     if parts.brush.active:
         brush_step(k, R, v, w, parts.brush)

@@ -20,10 +20,9 @@ import numpy as np
 from numba import njit, types
 
 from marinecdpr.borrowed import borrowed
+from marinecdpr.control.step import disturbance_C, mm3
 from marinecdpr.model import kernels as K
-from marinecdpr.prototype.parts import (
-    diverged, disturbance_C, elastic_tension, exchange, length_rates, mm3, quat_to_R,
-)
+from marinecdpr.prototype.parts import diverged, elastic_tension, exchange, length_rates, quat_to_R
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
            "mujoco_library"]
@@ -57,7 +56,7 @@ def _own_rhs(y, j, plant, parts, dy):
     Tensions are held over the step (``parts.bus.T_app``), except elastic cables on
     length-controlled winches: their tension follows the state, with the winch's L0 held.
     """
-    model, cables, winch = parts.model, parts.cables, parts.winch
+    model, cables, winch = parts.ctl.model, parts.cables, parts.winch
     x, q, v, w = y[0:3], y[3:7], y[7:10], y[10:13]
     q = q / np.sqrt(np.sum(q * q))
     R = np.empty((3, 3))
@@ -105,7 +104,7 @@ def own_loop(k0, k1, h, plant, parts):
     for k in range(k0, k1):
         quat_to_R(y[3:7], R)
         x, v, w = y[0:3], y[7:10], y[10:13]
-        if diverged(x, parts.ref.x[k]):
+        if diverged(x, parts.ctl.ref.x[k]):
             return fallbacks, k
         fallbacks += exchange(k, h, x.copy(), R, v.copy(), w.copy(), parts)
         j = 2 * k
@@ -240,7 +239,7 @@ def mujoco_exchange(k, h, mj, drive, parts):
     """Read MuJoCo's state, exchange, write MuJoCo's inputs. Returns -1 if diverged, else
     the exchange's fallback count (0 or 1)."""
     x, R, v, w = _mujoco_state(mj)
-    if diverged(x, parts.ref.x[k]):
+    if diverged(x, parts.ctl.ref.x[k]):
         return -1
     fallback = exchange(k, h, x, R, v, w, parts)
     _mujoco_inputs(k, R, mj, drive, parts)
@@ -275,7 +274,7 @@ def mujoco_loop(k0, k1, addresses, h, mj, drive, parts):
     fallbacks = 0
     for k in range(k0, k1):  # mujoco_exchange, written out: one compiled call level less
         x, R, v, w = _mujoco_state(mj)
-        if diverged(x, parts.ref.x[k]):
+        if diverged(x, parts.ctl.ref.x[k]):
             return fallbacks, k
         fallbacks += exchange(k, h, x, R, v, w, parts)
         _mujoco_inputs(k, R, mj, drive, parts)

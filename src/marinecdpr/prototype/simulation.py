@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans
 from marinecdpr.model import kernels as K
-from marinecdpr.model.dynamics import disturbance_in_C
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import parts as P
 from marinecdpr.prototype.plants import (
@@ -39,10 +39,8 @@ from marinecdpr.prototype.plants import (
 )
 from marinecdpr.errors import InfeasibleError, SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model.brush import cleaning_loads
-from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
-from marinecdpr.planning.planner import Plan, plan_at
-from marinecdpr.scenario.schema import Scenario
+from marinecdpr.planning.planner import Plan
+from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
 __all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
 
@@ -161,17 +159,20 @@ def simulate(
     t = np.arange(n) * h
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
-    ref, ff = _plans(scenario, run, t, reference, ship_h)
-    brush_h = _planned_brush_loads(scenario, ref, ff, n)
-    f_h, m_h, in_P = _loads(scenario, ship_h, brush_h)
+    base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
+    ref, ff, _ = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
+    brush_h = planned_brush_loads(scenario, ref, ff, n)
+    f_h, m_h, in_P = known_loads(scenario, ship_h, brush_h)
     m = scenario.robot.n_cables
     x0, R0, v0, w0 = _initial_state(scenario, ref)
+    loads = P.Loads(np.ascontiguousarray(f_h[::2][:n]), np.ascontiguousarray(m_h[::2][:n]), in_P)
+    ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
+    sensors, mru, encoders, load_cells = _sensors(scenario, run, ship_h, n)
+    load_cells.T[:] = ctl.ref.T[0]
     parts = P.Parts(
-        ref=_reference(ff), model=_robot_model(scenario), sensors=_sensors(scenario, run, ship_h, n),
-        controller=_controller(scenario, run), loads=P.Loads(np.ascontiguousarray(f_h[::2][:n]),
-                                                             np.ascontiguousarray(m_h[::2][:n]), in_P),
-        winch=_winch(scenario, ff, x0, R0), cables=_cables(scenario), bus=P.empty_bus(m), log=P.empty_log(n, m),
-        brush=_brush(scenario, ref, n, brush_h), work=P.empty_work(m, len(scenario.robot.controlled)))
+        ctl=ctl, sensors=sensors, mru=mru, encoders=encoders, load_cells=load_cells, loads=loads,
+        winch=_winch(scenario, ff, x0, R0),
+        cables=_cables(scenario), bus=P.empty_bus(ctl), log=P.empty_log(n, m), brush=_brush(scenario, ref, n, brush_h))
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
@@ -191,78 +192,6 @@ def simulate(
 
 
 # ------------------------------------------------------- the parts, from the scenario
-def _plans(scenario: Scenario, run: str, t: np.ndarray, reference: Plan | None, ship_h) -> tuple[Plan, Plan]:
-    """The plan at t_k (what the run is judged against) and the plan to fly at mid-step, with
-    the ship's motion from its half-step grid ``ship_h`` (rows 2k: t_k; 2k + 1: t_k + h/2)."""
-    method = scenario.planning.method
-    h, n = scenario.time.step_s, len(t)
-    ref = (reference if reference is not None else
-           plan_at(scenario, t, method=method, ship=ship_h.take(slice(0, 2 * n, 2))))
-    base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
-    ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model, ship=ship_h.take(slice(1, 2 * n, 2)))
-    for p in (ref, ff):
-        if not p.feasible[:n].all():
-            raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: "
-                                  f"{p.infeasibility()}")
-    return ref, ff
-
-
-def _reference(ff: Plan) -> P.Reference:
-    """The controller's reference: the plan at mid-step, t_k + h/2 (holding its tensions over
-    the step is second-order accurate)."""
-    c = np.ascontiguousarray
-    pose, twist, acc = c(ff.pose), c(ff.twist), c(ff.twist_dot)
-    return P.Reference(pose[:, :3], c(matrix_from_euler(pose[:, 3:])), twist[:, :3], twist[:, 3:],
-                       acc[:, :3], acc[:, 3:], c(ff.tensions), c(ff.lengths), c(ff.length_rates))
-
-
-def _robot_model(scenario: Scenario) -> P.RobotModel:
-    robot = scenario.robot
-    return P.RobotModel(
-        np.ascontiguousarray(robot.frame_anchors), np.ascontiguousarray(robot.platform_anchors),
-        robot.mass_kg, np.ascontiguousarray(robot.inertia), scenario.environment.gravity_m_s2,
-        np.asarray(scenario.ship.frame_origin_m, dtype=float), np.asarray(robot.controlled, dtype=np.int64),
-        robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method])
-
-
-def _planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):
-    """The cleaning brush's loads along the planned path at the preload, on the half-step
-    grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
-    t_n): f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None without
-    ``[cleaning]``."""
-    if scenario.cleaning is None:
-        return None
-    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
-    pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
-    pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
-    twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
-    R_PC = matrix_from_euler(pose[:, 3:])
-    f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
-    return f_b, m_b, R_PC
-
-
-def _loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The disturbance on the half-step grid, in C, or in P (then ``in_P``), with the brush's
-    planned loads ``brush_h`` (:func:`_planned_brush_loads`) if any: the controller's load
-    model (the plant replaces the brush's by those at the actual velocity: BrushContact).
-
-    Loads given in O turn into C with the ship's motion; loads given in P stay in P, and the
-    plant and the controller turn them with the platform's actual (measured) orientation.
-    """
-    dist = scenario.disturbance
-    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
-    f, m = evaluate_disturbance(dist, t_h)
-    in_P = dist.frame == "P"
-    if not in_P:
-        f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
-    if brush_h is not None:
-        f_b, m_b, R_PC = brush_h
-        if in_P:  # into P with the planned orientation
-            f_b, m_b = (np.einsum("nji,nj->ni", R_PC, x) for x in (f_b, m_b))
-        f, m = f + f_b, m + m_b
-    return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
-
-
 def _brush(scenario: Scenario, ref: Plan, n: int, brush_h) -> P.BrushContact:
     """The cleaning brush's contact part: its planned loads at t_k (``brush_h``'s every other
     row, what the controller's load model holds) and the normal force (:func:`normal_force`);
@@ -292,14 +221,28 @@ def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
     return p.reaction[:, p.reaction_dofs.index("y")] * n[1] + 2.0 * P_n
 
 
-def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> P.Sensors:
-    """The sensors' errors, drawn from ``[simulation.noise]`` (seeded): the closed loop
-    measures the platform and the ship; the tension loops of the winches measure tensions."""
-    nz = scenario.simulation.noise
+def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> tuple[P.Sensors, P.Mru, P.Encoders, P.LoadCells]:
+    """The sensors' parts, their errors drawn from ``[simulation.noise]`` (seeded): the closed
+    loop measures the platform (pose sensor or encoders) and the ship (the motion reference
+    unit, ``[simulation.mru]``); the load cells measure the tensions (open and closed loop)."""
+    nz, mru, sens = scenario.simulation.noise, scenario.simulation.mru, scenario.simulation.sensors
+    h = scenario.time.step_s
     rng = np.random.default_rng(nz.seed)
     deg = np.pi / 180.0
     pose, twist = np.zeros((n, 6)), np.zeros((n, 6))
-    eta = np.stack([ship_h.eta[::2], ship_h.eta_dot[::2], ship_h.eta_ddot[::2]])[:, :n].copy()
+    unit_rate, unit_angle_deg, unit_heave_m = MRU_UNITS[mru.unit]
+    rate = mru.rate_hz if mru.rate_hz is not None else unit_rate
+    if rate is None and mru.latency_s == 0.0:  # a sample at every exchange, as it happens
+        t_s, latest = np.arange(n) * h, np.arange(n)
+        eta = np.stack([ship_h.eta[::2], ship_h.eta_dot[::2], ship_h.eta_ddot[::2]])[:, :n].copy()
+    else:
+        period = h if rate is None else 1.0 / rate
+        # the latest sample j with j period + latency <= t_k (the first, until one has arrived)
+        latest = np.maximum(np.floor((np.arange(n) * h - mru.latency_s) / period + 1e-9), 0).astype(np.int64)
+        t_s = np.arange(latest[-1] + 1) * period
+        ship_s = evaluate_base_motion(scenario.base_motion, t_s)
+        eta = np.stack([ship_s.eta, ship_s.eta_dot, ship_s.eta_ddot])
+    n_s = eta.shape[1]
     if run == "closed_loop":
         pose[:, :3] = rng.normal(0.0, nz.pose_m, (n, 3))
         pose[:, 3:] = rng.normal(0.0, nz.pose_deg * deg, (n, 3))
@@ -309,17 +252,19 @@ def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> P.Sensors:
                                             (nz.ship_velocity_m_s, nz.ship_rate_deg_s * deg),
                                             (nz.ship_acceleration_m_s2,
                                              nz.ship_angular_acceleration_deg_s2 * deg))):
-            eta[i, :, :3] += rng.normal(0.0, s_lin, (n, 3))
-            eta[i, :, 3:] += rng.normal(0.0, s_ang, (n, 3))
-    tension = rng.normal(0.0, nz.tension_N, (n, scenario.robot.n_cables))
-    return P.Sensors(pose, twist, tension, eta)
-
-
-def _controller(scenario: Scenario, run: str) -> P.Controller:
-    control = scenario.simulation.control
-    wn = 2.0 * np.pi * control.bandwidth_hz
-    return P.Controller(run == "closed_loop", wn * wn, 2.0 * control.damping_ratio * wn,
-                        float(scenario.simulation.cables.winch_time_constant_s))
+            eta[i, :, :3] += rng.normal(0.0, s_lin, (n_s, 3))
+            eta[i, :, 3:] += rng.normal(0.0, s_ang, (n_s, 3))
+    noise = rng.normal(0.0, nz.tension_N, (n, scenario.robot.n_cables))
+    if run == "closed_loop" and mru.unit != "ideal":  # the unit's own noise, after the rest
+        eta[0, :, 3:5] += rng.normal(0.0, unit_angle_deg * deg, (n_s, 2))
+        eta[0, :, 2] += rng.normal(0.0, unit_heave_m, n_s)
+    eta[0, :, :3] += np.asarray(mru.bias_m)
+    eta[0, :, 3:] += np.radians(mru.bias_deg)
+    fc = sens.load_cell_filter_hz
+    alpha = 1.0 if fc == 0.0 else float(-np.expm1(-2.0 * np.pi * fc * h))
+    return (P.Sensors(pose, twist, np.zeros(3), np.zeros((2, 3, 3))),
+            P.Mru(np.ascontiguousarray(eta), np.ascontiguousarray(t_s, dtype=float), np.ascontiguousarray(latest)),
+            P.Encoders(float(sens.encoder_resolution_m)), P.LoadCells(noise, alpha, np.zeros(scenario.robot.n_cables)))
 
 
 def _cables(scenario: Scenario) -> P.Cables:

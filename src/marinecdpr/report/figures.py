@@ -26,6 +26,7 @@ __all__ = [
     "plot_path",
     "plot_workspace",
     "plot_operability",
+    "plot_control_study",
     "length_unit",
 ]
 
@@ -526,4 +527,56 @@ def plot_windows(series, windows, path: Path, *, title: str) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(_plain(title), fontsize=10)
+    return _save(fig, path)
+
+
+def plot_control_study(study, prediction, path: Path) -> Path:
+    """Closed-loop tracking error and tension margin against the motion sensor's latency,
+    a line per prediction and pose source; beside them the ship-motion predictor's error
+    against the horizon (:mod:`marinecdpr.studies.control`)."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
+    styles = {"none": ("#d73027", "o"), "kinematic": ("#fc8d59", "s"), "ar": ("#1a9850", "^")}
+    keys = sorted({(r.prediction, r.pose_from) for r in study.runs}, key=lambda k: (k[1], list(styles).index(k[0])))
+    for pred, source in keys:
+        runs = sorted((r for r in study.runs if r.prediction == pred and r.pose_from == source),
+                      key=lambda r: r.latency_s)
+        ms = [1e3 * r.latency_s for r in runs]
+        color, marker = styles[pred]
+        ls = "-" if source == "sensor" else "--"
+        label = f"{pred}, pose from {source}"
+        axes[0].plot(ms, [r.rms_error_m for r in runs], ls, color=color, marker=marker, label=label)
+        axes[1].plot(ms, [r.headroom_N for r in runs], ls, color=color, marker=marker, label=label)
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("RMS position error (m)")
+    axes[1].set_ylabel("smallest headroom below the tension limit (N)")
+    for ax in axes[:2]:
+        ax.set_xlabel("motion sensor latency (ms)")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    axes[0].set_title(_plain(f"{study.scenario}: tracking after {study.settle_s:g} s "
+                             f"(MRU {study.rate_hz:g} Hz)"), fontsize=10)
+    axes[1].set_title("tension headroom", fontsize=10)
+    ax = axes[2]
+    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
+    drawn = False
+    for name, err, color in (("predictor", prediction.predictor, "#1a9850"),
+                             ("kinematic", prediction.taylor, "#fc8d59"), ("hold", prediction.hold, "#d73027")):
+        rows = np.where(moving & np.isfinite(err[:, 0, :]), err[:, 0, :], -np.inf).max(axis=1)
+        ok = np.isfinite(rows) & (rows > 0)
+        if ok.any():
+            ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name)
+            drawn = True
+    if drawn:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+    else:
+        ax.text(0.5, 0.5, "the ship does not move, or the record is too short", ha="center", va="center",
+                transform=ax.transAxes, fontsize=9)
+    ax.set_xlabel("prediction horizon (s)")
+    ax.set_ylabel("RMS error / RMS motion (worst DOF)")
+    ax.grid(alpha=0.3)
+    if drawn:
+        ax.legend(fontsize=8)
+    ax.set_title("ship motion prediction", fontsize=10)
     return _save(fig, path)

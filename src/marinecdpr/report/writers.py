@@ -254,11 +254,12 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
 
 
 # ------------------------------------------------------------------------ RAOs, windows
-def write_rao(ds, folder: Path, *, made_by: str, box: dict):
-    """A BEM solution's files (:func:`~marinecdpr.motion.bem.box_hull_bem`): ``rao.nc``
+def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "box approximation"):
+    """A BEM solution's files (:func:`~marinecdpr.motion.bem.hull_bem`): ``rao.nc``
     (Capytaine's dataset, ``source = "capytaine"``), the same table as ``rao.csv``
     (``source = "csv"``, read without the bem extra; its first lines say how it was made)
-    and ``rao.png`` beside the box approximation of ``box`` (box_hull_rao's arguments).
+    and ``rao.png`` beside the box approximation of ``box`` (box_hull_rao's arguments),
+    dashed and named ``box_label`` in the legend.
     Returns (the RAOs read back from rao.nc, the box approximation, the paths)."""
     import capytaine as cpt
 
@@ -277,7 +278,7 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict):
     approx = box_hull_rao(**(box | {"roll_damping_ratio": max(box["roll_damping_ratio"], 1e-3)}),
                           omega=bem.omega, heading_deg=bem.heading_deg)
     figure = plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=approx,
-                       beside_label="box approximation")
+                       beside_label=box_label)
     return bem, approx, [nc, table, figure]
 
 
@@ -304,4 +305,61 @@ def write_windows(series, windows, folder: Path, *, series_name: str, design_lim
     paths.append(write_json(summary, folder / "summary.json"))
     paths.append(plot_windows(series, w, folder / "windows.png",
                               title=f"Weather windows for a {d:g} h operation (alpha {w.alpha:g})"))
+    return summary, paths
+
+
+def _write_table(names: list[str], rows: list[list], path: Path) -> Path:
+    """A CSV of mixed text and number columns (numbers to 10 significant digits)."""
+    import csv
+
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            out = csv.writer(fh, lineterminator="\n")
+            out.writerow(names)
+            out.writerows([f"{v:.10g}" if isinstance(v, float) else v for v in row] for row in rows)
+    return path
+
+
+def _worst_dof(prediction, err) -> list:
+    """The worst moving DOF's normalised error of eta per horizon (None where not evaluated
+    or the ship does not move)."""
+    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
+    out = []
+    for row in err[:, 0, :]:
+        values = row[moving & np.isfinite(row)]
+        out.append(float(values.max()) if values.size else None)
+    return out
+
+
+def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Path]]:
+    """A control study's files (:mod:`marinecdpr.studies.control`): ``control_study.csv`` (a
+    row per run), ``prediction.csv`` (the ship-motion predictor's error per horizon and DOF,
+    beside the kinematic extrapolation's and the held sample's), ``summary.json`` and
+    ``control_study.png``. Returns (the summary, the paths)."""
+    from dataclasses import asdict
+
+    from marinecdpr.report.figures import plot_control_study
+
+    folder = Path(folder)
+    runs = [asdict(r) for r in study.runs]
+    header = list(runs[0])
+    paths = [_write_table(header, [[r[h] for h in header] for r in runs], folder / "control_study.csv")]
+    dofs = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
+    rows = [[float(h), dofs[d], *(float(e[i, 0, d]) if np.isfinite(e[i, 0, d]) else "" for e in
+                                  (prediction.predictor, prediction.taylor, prediction.hold))]
+            for i, h in enumerate(prediction.horizons_s) for d in range(len(dofs)) if moving[d]]
+    paths.append(_write_table(["horizon_s", "dof", "predictor", "kinematic", "hold"], rows,
+                              folder / "prediction.csv"))
+    summary = {"scenario": study.scenario, "mru_rate_hz": study.rate_hz, "duration_s": study.duration_s,
+               "judged_from_s": study.settle_s, "runs": runs,
+               "prediction_error": {"meaning": "RMS error of the predicted eta over the RMS of eta, worst moving "
+                                               "DOF, MRU without latency",
+                                    "horizons_s": prediction.horizons_s.tolist(),
+                                    "model_share": prediction.model_share.tolist(),
+                                    **{name: _worst_dof(prediction, err) for name, err in (
+                                        ("predictor", prediction.predictor), ("kinematic", prediction.taylor),
+                                        ("hold", prediction.hold))}}}
+    paths.append(write_json(summary, folder / "summary.json"))
+    paths.append(plot_control_study(study, prediction, folder / "control_study.png"))
     return summary, paths

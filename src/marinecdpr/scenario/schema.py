@@ -359,6 +359,56 @@ class Noise(_Model):
     ship_angular_acceleration_deg_s2: _noise(3600.0, "deg/s^2") = 0.0
 
 
+MRU_UNITS = {
+    # data sheets (shared/cleaning/FACTS.md): samples per second, roll/pitch and heave noise
+    # (one standard deviation); the heading and the horizontal positions are not a unit's
+    "ideal": (None, 0.0, 0.0),
+    "kongsberg_mru5": (200.0, 0.02, 0.05),  # roll/pitch 0.01-0.02 deg, heave 5 cm, up to 200 Hz
+    "xsens_mti300": (100.0, 0.2, 0.0),  # roll/pitch 0.2 deg RMS; rate: an MRU's usual 100 Hz
+}
+"""Motion reference units with their data sheet's figures: (rate_hz or None for one sample
+every exchange, roll and pitch noise in deg, heave noise in m)."""
+
+
+class Mru(_Model):
+    """The motion reference unit that tells the controller the ship's motion (eta, eta',
+    eta'') in samples that arrive late; and how the controller brings them to the present."""
+
+    unit: Literal[tuple(MRU_UNITS)] = "ideal"
+    """A unit whose data-sheet rate and noise apply (added to ``[simulation.noise]``'s ship
+    noise); ideal: a noiseless sample every exchange."""
+    rate_hz: _ranged(0.1, 1e5, "Hz", "from a sample every 10 s to far beyond any exchange", above=True) | None = None
+    """Samples per second (default: the unit's)."""
+    latency_s: _ranged(0.0, 5.0, "s", "a ship's motion older than seconds is another motion") = 0.0
+    """How long a sample takes to reach the controller, s."""
+    bias_m: _ranged_vec3(10.0, "m", "a bias, not a position", ("surge", "sway", "heave")) = (0.0, 0.0, 0.0)
+    bias_deg: _ranged_vec3(30.0, "deg", "a bias, not an attitude", ("roll", "pitch", "yaw")) = (0.0, 0.0, 0.0)
+    prediction: Literal["kinematic", "none", "ar"] = "kinematic"
+    """How the controller brings the last sample to mid-step: kinematic, eta + dt eta'
+    (and eta' + dt eta''); none, the sample as if it were now; ar, an autoregressive model
+    of the sea fitted online (:mod:`marinecdpr.motion.prediction`)."""
+    ar_step_s: _ranged(0.01, 5.0, "s", "ship motion has periods of seconds", above=True) = 0.25
+    """The autoregressive model's time step, s (order x step: the history it spans)."""
+    ar_order: Annotated[int, Field(ge=2, le=64, strict=True)] = 20
+    """Its order: at least twice the spectral lines it follows."""
+    ar_forgetting: _ranged(0.9, 1.0, "", "the fit's memory, 1 / (1 - lambda) AR steps", above=True) = 0.998
+    ar_warmup_s: _ranged(0.0, 3600.0, "s", "an hour of sea is plenty") = 10.0
+    """How long the model fits before it predicts (the kinematic extrapolation until then), s."""
+
+
+class Sensors(_Model):
+    """Where the controller's pose comes from, and the winches' encoders and load cells."""
+
+    pose_from: Literal["sensor", "encoders"] = "sensor"
+    """sensor: a pose sensor (with ``[simulation.noise]``'s pose noise); encoders: forward
+    kinematics from the winches' encoder lengths, stretched by the measured tensions, and
+    the twist from their rates."""
+    encoder_resolution_m: _ranged(0.0, 0.1, "m", "an encoder's step, not a cable length") = 0.0
+    """The encoders' length step (0: exact)."""
+    load_cell_filter_hz: _ranged(0.0, 1e4, "Hz", "beyond any exchange") = 0.0
+    """A first-order low-pass on the load cells' tensions (0: none)."""
+
+
 class Control(_Model):
     """Closed-loop computed-torque gains: a critically damped second-order error by default."""
 
@@ -376,6 +426,8 @@ class Simulation(_Model):
     cables: CableModel = CableModel()
     noise: Noise = Noise()
     control: Control = Control()
+    sensors: Sensors = Sensors()
+    mru: Mru = Mru()
     initial_error_m: _ranged_vec3(100.0, "m", "an error, not another pose") = (0.0, 0.0, 0.0)
     """Platform position error at t = 0 (actual minus planned), in C, m."""
     initial_error_deg: _ranged_vec3(90.0, "deg", "an error, not another pose",

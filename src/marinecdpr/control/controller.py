@@ -1,0 +1,311 @@
+"""A controller a user calls from their own loop, built from a scenario.
+
+:class:`Controller` holds the controller's records (:mod:`~marinecdpr.control.records`):
+the scenario's plan at mid-step, its model of the robot and of the known loads, its gains
+and its memory; :meth:`Controller.step` takes one exchange's measurements and returns the
+commands, through the compiled :func:`~marinecdpr.control.step.control_step`. The virtual
+prototype builds its controller with the same functions and runs the same step, so what
+is verified is what is deployed.
+
+Example (a plain Python loop; ``read_*`` and ``send`` are the robot's own)::
+
+    ctl = Controller(scenario)
+    for k in range(ctl.n_steps):
+        cmd = ctl.step(k * ctl.step_s, x=read_position(), R=read_attitude(), v=..., w=...,
+                       eta=read_mru())  # eta (3, 6): the ship's eta, eta', eta''
+        send(cmd.T_cmd)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from marinecdpr.control.records import (
+    ENCODERS, POSE_SENSOR, PREDICTIONS, ControllerParts, Gains, Loads, Reference, RobotModel, empty_command,
+    empty_measurement, empty_work, unused_predictor,
+)
+from marinecdpr.control.step import control_step
+from marinecdpr.errors import InfeasibleError
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.model import kernels as K
+from marinecdpr.model.brush import cleaning_loads
+from marinecdpr.model.dynamics import disturbance_in_C
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.prediction import make_predictor
+from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
+from marinecdpr.planning.planner import Plan, plan_at
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["Controller", "controller_parts", "plans", "planned_brush_loads", "known_loads", "reference"]
+
+
+def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_model: str = "moving", ship_h=None):
+    """The plan at t_k (what a run is judged against) and the plan to fly at mid-step,
+    t_k + h/2, for the first n steps, with the ship's motion from its half-step grid
+    ``ship_h`` (rows 2k: t_k; 2k + 1: t_k + h/2; computed if not given). Returns
+    (ref, ff, ship_h).
+
+    Raises
+    ------
+    InfeasibleError
+        If either plan has a step without tensions within limits.
+    """
+    method = scenario.planning.method
+    h = scenario.time.step_s
+    t = np.arange(n) * h
+    if ship_h is None:
+        ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+    ref = (reference if reference is not None else
+           plan_at(scenario, t, method=method, ship=ship_h.take(slice(0, 2 * n, 2))))
+    ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model, ship=ship_h.take(slice(1, 2 * n, 2)))
+    for p in (ref, ff):
+        if not p.feasible[:n].all():
+            raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: {p.infeasibility()}")
+    return ref, ff, ship_h
+
+
+def reference(ff: Plan) -> Reference:
+    """The controller's reference: the plan at mid-step, t_k + h/2 (holding its tensions over
+    the step is second-order accurate)."""
+    c = np.ascontiguousarray
+    pose, twist, acc = c(ff.pose), c(ff.twist), c(ff.twist_dot)
+    return Reference(pose[:, :3], c(matrix_from_euler(pose[:, 3:])), twist[:, :3], twist[:, 3:],
+                     acc[:, :3], acc[:, 3:], c(ff.tensions), c(ff.lengths), c(ff.length_rates))
+
+
+def robot_model(scenario: Scenario) -> RobotModel:
+    """The controller's model of the scenario's robot, ship layout and cables."""
+    robot, cables = scenario.robot, scenario.simulation.cables
+    return RobotModel(
+        np.ascontiguousarray(robot.frame_anchors), np.ascontiguousarray(robot.platform_anchors),
+        robot.mass_kg, np.ascontiguousarray(robot.inertia), scenario.environment.gravity_m_s2,
+        np.asarray(scenario.ship.frame_origin_m, dtype=float), np.asarray(robot.controlled, dtype=np.int64),
+        robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method],
+        float(cables.stiffness_EA_N or np.inf), cables.damping_N_s_m)
+
+
+FK_TOL_M = 1e-10
+"""The forward kinematics' step tolerance, m (and rad)."""
+FK_ITER = 20
+"""The forward kinematics' largest number of steps in one exchange (warm-started, it takes 2-4)."""
+
+
+def gains(scenario: Scenario, *, closed: bool) -> Gains:
+    """The scenario's ``[simulation.control]`` gains (a second-order error response of the
+    given bandwidth and damping ratio), its winches, where its pose comes from
+    (``[simulation.sensors]``) and how it brings the ship's samples to the present
+    (``[simulation.mru]``)."""
+    sim = scenario.simulation
+    control, cables = sim.control, sim.cables
+    wn = 2.0 * np.pi * control.bandwidth_hz
+    return Gains(bool(closed), wn * wn, 2.0 * control.damping_ratio * wn, float(cables.winch_time_constant_s),
+                 cables.winch == "tension", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,
+                 PREDICTIONS[sim.mru.prediction], FK_TOL_M, FK_ITER)
+
+
+def predictor(scenario: Scenario):
+    """The ship-motion predictor ``[simulation.mru]`` asks for (a minimal unused one if none)."""
+    mru = scenario.simulation.mru
+    if mru.prediction != "ar":
+        return unused_predictor()
+    return make_predictor(step_s=mru.ar_step_s, order=mru.ar_order, forgetting=mru.ar_forgetting,
+                          max_horizon_s=max(1.0, 2.0 * mru.latency_s + scenario.time.step_s),
+                          warmup_fits=max(1, math.ceil(mru.ar_warmup_s / mru.ar_step_s - 1e-9)))
+
+
+def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):
+    """The cleaning brush's loads along the planned path at the preload, on the half-step
+    grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
+    t_n): f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None without
+    ``[cleaning]``."""
+    if scenario.cleaning is None:
+        return None
+    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
+    pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
+    pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
+    twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
+    R_PC = matrix_from_euler(pose[:, 3:])
+    f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
+    return f_b, m_b, R_PC
+
+
+def known_loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The disturbance on the half-step grid, in C, or in P (then ``in_P``), with the brush's
+    planned loads ``brush_h`` (:func:`planned_brush_loads`) if any: the controller's load
+    model (the prototype's plant replaces the brush's by those at the actual velocity).
+
+    Loads given in O turn into C with the ship's motion; loads given in P stay in P, and the
+    plant and the controller turn them with the platform's actual (measured) orientation.
+    """
+    dist = scenario.disturbance
+    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
+    f, m = evaluate_disturbance(dist, t_h)
+    in_P = dist.frame == "P"
+    if not in_P:
+        f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
+    if brush_h is not None:
+        f_b, m_b, R_PC = brush_h
+        if in_P:  # into P with the planned orientation
+            f_b, m_b = (np.einsum("nji,nj->ni", R_PC, x) for x in (f_b, m_b))
+        f, m = f + f_b, m + m_b
+    return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
+
+
+def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool) -> ControllerParts:
+    """The controller's records for the scenario flying the mid-step plan ``ff`` with the
+    known ``loads`` at t_k."""
+    m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
+    res = scenario.simulation.sensors.encoder_resolution_m
+    work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res)
+    work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
+    return ControllerParts(reference(ff), robot_model(scenario), gains(scenario, closed=closed), loads,
+                           empty_measurement(m), empty_command(m), work, predictor(scenario))
+
+
+@njit(cache=True)
+def _step(k, h, ctl, x, R, v, w, eta, clock, L, Ldot, T):
+    """:func:`control_step` on a measurement given as arrays (copied into ``ctl.meas``)."""
+    meas = ctl.meas
+    for i in range(L.shape[0]):
+        meas.L[i] = L[i]
+        meas.Ldot[i] = Ldot[i]
+        meas.T[i] = T[i]
+    for i in range(3):
+        meas.x[i] = x[i]
+        meas.v[i] = v[i]
+        meas.w[i] = w[i]
+        meas.clock[i] = clock[i]
+        for j in range(3):
+            meas.R[i, j] = R[i, j]
+    for j in range(3):
+        for i in range(6):
+            meas.eta[j, i] = eta[j, i]
+    return control_step(k, h, ctl)
+
+
+def _array(a, name: str, shape: tuple) -> np.ndarray:
+    """``a`` as a C-contiguous float64 array of the given shape (a copy only if needed)."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, not {a.shape}")
+    return a
+
+
+def _entry_point(parts: ControllerParts):
+    """:func:`_step` compiled for these records, called without numba's dispatch.
+
+    numba's dispatcher finds the types of a call's arguments each time: for the records'
+    ~60 arrays that is ~13 us of the step's ~20 us from Python. The compiled entry point
+    for the types (compiled here, without running a step) skips it; a measurement of
+    another dtype or layout would not be converted, so :meth:`Controller.step` converts
+    its arguments first.
+    """
+    z3, eye, zm = np.zeros(3), np.eye(3), np.zeros_like(parts.cmd.T_cmd)
+    args = (0, 1.0, parts, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm)
+    try:
+        signature = tuple(_step.typeof_pyval(a) for a in args)
+        _step.compile(signature)
+        return _step.overloads[signature].entry_point
+    except (AttributeError, KeyError, TypeError):  # numba's internals changed: dispatch each call
+        return _step
+
+
+class Controller:
+    """The scenario's closed-loop controller, to call once per exchange.
+
+    It tracks the scenario's plan (flown at mid-step, t_k + h/2) by computed torque on the
+    measured pose error, with the scenario's tension method (any redundancy), gains
+    (``[simulation.control]``) and winches (``[simulation.cables]``).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    n_steps : int, optional
+        Plan only the first steps (default: the scenario's whole run).
+    closed : bool
+        False feeds the plan's tensions forward (open loop).
+    plan : Plan, optional
+        The plan at t_k if already computed (``marinecdpr.plan_at``).
+
+    Attributes
+    ----------
+    parts : ControllerParts
+        The records the compiled step reads and writes.
+    step_s : float
+        The exchange's period h, s. n_steps : int.
+    """
+
+    def __init__(self, scenario: Scenario, *, n_steps: int | None = None, closed: bool = True,
+                 plan: Plan | None = None) -> None:
+        self.step_s = scenario.time.step_s
+        self.n_steps = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
+        ref, ff, ship_h = plans(scenario, self.n_steps, reference=plan)
+        f, m, in_P = known_loads(scenario, ship_h, planned_brush_loads(scenario, ref, ff, self.n_steps))
+        loads = Loads(np.ascontiguousarray(f[::2][:self.n_steps]), np.ascontiguousarray(m[::2][:self.n_steps]), in_P)
+        self.parts = controller_parts(scenario, ff, loads, closed=closed)
+        self._clock = np.zeros(3)
+        self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(scenario.robot.n_cables)
+        self._call = _entry_point(self.parts)
+
+    @property
+    def command(self):
+        """The last step's :class:`~marinecdpr.control.records.Command` (overwritten by the next)."""
+        return self.parts.cmd
+
+    def step(self, t: float, *, eta: np.ndarray, x: np.ndarray | None = None, R: np.ndarray | None = None,
+             v: np.ndarray | None = None, w: np.ndarray | None = None, lengths: np.ndarray | None = None,
+             length_rates: np.ndarray | None = None, tensions: np.ndarray | None = None,
+             t_pose: float | None = None, t_ship: float | None = None):
+        """The commands for the exchange at time t (s from the plan's start).
+
+        Parameters
+        ----------
+        t : float
+            The exchange's time t_k, s; the step index is round(t / h).
+        eta : ndarray, shape (3, 6)
+            The motion reference unit's last sample: the ship's eta, eta', eta'' (m, rad).
+        x, v, w : ndarray, shape (3,)
+            From a pose sensor (``[simulation.sensors] pose_from = "sensor"``): the platform's
+            position (m), velocity (m/s) and angular velocity (rad/s) in C.
+        R : ndarray, shape (3, 3)
+            R_PC, the platform's orientation in C (with a pose sensor).
+        lengths, length_rates, tensions : ndarray, shape (m,)
+            From the winches (``pose_from = "encoders"``): the unstretched lengths paid out
+            (m), their rates (m/s) and the cables' measured tensions (N).
+        t_pose, t_ship : float, optional
+            The pose's and the ship sample's time stamps, s (default t: measured now; the
+            encoders are read now).
+
+        Returns
+        -------
+        Command
+            T_cmd, L0_cmd (m,), at_limit (m,), flags (3,): the controller's own arrays,
+            overwritten by the next step.
+        """
+        m = self.parts.cmd.T_cmd.shape[0]
+        if self.parts.gains.pose_from == ENCODERS:
+            if lengths is None or length_rates is None or tensions is None:
+                raise ValueError("a controller with its pose from the encoders needs lengths, length_rates and "
+                                 "tensions")
+            x, R, v, w = self._z3, self._eye, self._z3, self._z3
+        elif x is None or R is None or v is None or w is None:
+            raise ValueError("a controller with a pose sensor needs x, R, v and w")
+        else:
+            lengths = length_rates = tensions = self._zm
+        x, R, v, w, eta, lengths, length_rates, tensions = (
+            _array(a, name, shape) for a, name, shape in
+            ((x, "x", (3,)), (R, "R", (3, 3)), (v, "v", (3,)), (w, "w", (3,)), (eta, "eta", (3, 6)),
+             (lengths, "lengths", (m,)), (length_rates, "length_rates", (m,)), (tensions, "tensions", (m,))))
+        k = int(round(t / self.step_s))
+        if not 0 <= k < self.n_steps:
+            raise ValueError(f"t = {t:g} s is outside the controller's plan (0 to "
+                             f"{(self.n_steps - 1) * self.step_s:g} s)")
+        clock = self._clock
+        clock[0] = t
+        clock[1] = t if t_pose is None else t_pose
+        clock[2] = t if t_ship is None else t_ship
+        self._call(k, self.step_s, self.parts, x, R, v, w, eta, clock, lengths, length_rates, tensions)
+        return self.parts.cmd

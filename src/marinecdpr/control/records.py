@@ -1,0 +1,213 @@
+"""The controller's records: what it knows (its model of the robot, the plan it tracks, its
+gains), what it is told each exchange (:class:`Measurement`) and what it answers
+(:class:`Command`), and its working memory.
+
+Every record is a ``NamedTuple`` of numpy arrays and numbers, so a compiled step takes it
+as one typed argument and writes into it without allocating; a record's scalars that
+change at run time live in small arrays. Vectors are in the robot frame C unless named
+otherwise; units are SI (m, rad, N, s); ``m`` is the number of cables, ``k`` the number of
+controlled DOFs, ``n_steps`` the plan's length.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from marinecdpr.geometry.forward import ForwardWork, forward_work
+from marinecdpr.model import kernels as K
+from marinecdpr.motion.prediction import Predictor, make_predictor
+
+__all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "ControllerParts",
+           "empty_measurement", "empty_command", "empty_work", "unused_predictor", "POSE_SENSOR", "ENCODERS", "PREDICTIONS"]
+
+POSE_SENSOR = 0
+"""``Gains.pose_from``: the platform's pose and twist come from a pose sensor."""
+ENCODERS = 1
+"""``Gains.pose_from``: the pose comes from the winches' encoder lengths (forward kinematics,
+with the stretch the measured tensions cause) and the twist from their rates."""
+PREDICTIONS = {"none": 0, "kinematic": 1, "ar": 2}
+"""``Gains.prediction``: how the ship's last sample is brought to mid-step: as it is, by
+eta + dt eta', or by the autoregressive predictor (:mod:`marinecdpr.motion.prediction`)."""
+
+
+class Reference(NamedTuple):
+    """The plan at mid-step, t_k + h/2: what the controller tracks and feeds forward.
+
+    x, v, a : (n_steps, 3) position, velocity, acceleration of P relative to C, in C.
+    R : (n_steps, 3, 3) R_PC. w, al : (n_steps, 3) angular velocity and acceleration in C.
+    T, L, Ldot : (n_steps, m) planned tensions (N), cable lengths (m) and their rates (m/s).
+    """
+
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    a: np.ndarray
+    al: np.ndarray
+    T: np.ndarray
+    L: np.ndarray
+    Ldot: np.ndarray
+
+
+class RobotModel(NamedTuple):
+    """The controller's model of the robot (the scenario's robot, ship layout and cables).
+
+    c_C : (m, 3) frame anchors in C. p_P : (m, 3) platform anchors in P. mass : kg.
+    I_PP : (3, 3) inertia about the centre of mass in P. g : gravity, m/s^2 (> 0).
+    origin : (3,) C's origin in S. controlled : (k,) int indices of the controlled DOFs.
+    lo, hi : (m,) tension limits, N. method : a ``kernels.METHOD_CODES`` value.
+    EA : the cables' axial stiffness, N (inf: inextensible). damping : N s/m.
+    """
+
+    c_C: np.ndarray
+    p_P: np.ndarray
+    mass: float
+    I_PP: np.ndarray
+    g: float
+    origin: np.ndarray
+    controlled: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    method: int
+    EA: float
+    damping: float
+
+
+class Gains(NamedTuple):
+    """Computed torque on the measured pose error, then the tension method.
+
+    closed : False feeds the plan's tensions forward (open loop).
+    kp, kd : gains, 1/s^2 and 1/s. lead_s : the winches' time constant the controller leads
+    its commands by (0: none), s. tension_winches : the winches hold tensions (else lengths).
+    pose_from : :data:`POSE_SENSOR` or :data:`ENCODERS`. prediction : a :data:`PREDICTIONS`
+    value. fk_tol_m, fk_iter : the forward kinematics' step tolerance (m) and iterations.
+    """
+
+    closed: bool
+    kp: float
+    kd: float
+    lead_s: float
+    tension_winches: bool
+    pose_from: int
+    prediction: int
+    fk_tol_m: float
+    fk_iter: int
+
+
+class Loads(NamedTuple):
+    """The known disturbance on the platform at t_k: f, m (n_steps, 3), N and N m; in C, or
+    in P (turned with the platform's orientation) if ``in_P``."""
+
+    f: np.ndarray
+    m: np.ndarray
+    in_P: bool
+
+
+class Measurement(NamedTuple):
+    """One exchange's measurements, written by the caller (or the prototype's sensors).
+
+    x, v, w : (3,) the platform's position (m), velocity (m/s) and angular velocity (rad/s),
+    in C; R : (3, 3) R_PC (with a pose sensor). L, Ldot : (m,) cable lengths (m) and their
+    rates (m/s) from the winches' encoders; T : (m,) measured tensions, N. eta : (3, 6) the
+    motion reference unit's latest sample: the ship's eta, eta' and eta'' (m, rad).
+    clock : (3,) the exchange's time t_k, the pose's time stamp and the ship sample's, s.
+    """
+
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    L: np.ndarray
+    Ldot: np.ndarray
+    T: np.ndarray
+    eta: np.ndarray
+    clock: np.ndarray
+
+
+class Command(NamedTuple):
+    """What the controller answers.
+
+    T_cmd : (m,) tensions for tension-controlled winches, N. L0_cmd : (m,) unstretched lengths
+    for length-controlled winches, m. at_limit : (m,) int, -1 at the lower tension limit,
+    +1 at the upper, 0 within. flags : (3,) int: 1 if the tension problem had no solution
+    within limits (the plan's tensions were commanded), the number of cables at a limit,
+    1 if the pose from the encoders did not converge.
+    """
+
+    T_cmd: np.ndarray
+    L0_cmd: np.ndarray
+    at_limit: np.ndarray
+    flags: np.ndarray
+
+
+class Work(NamedTuple):
+    """The step's working memory, allocated once (:func:`empty_work`) so that no step
+    allocates: the estimated state (x, v, w (3,), R (3, 3)), the ship's (R_SO (3, 3), w_s,
+    al_s (3,)), the commanded accelerations, the wrench and its parts, the cables at the
+    estimated pose (L (m,), J (m, 6)) and the tension solver's memory."""
+
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    R_SO: np.ndarray
+    w_s: np.ndarray
+    al_s: np.ndarray
+    eta: np.ndarray  # (2, 6) the ship's eta and eta' predicted to mid-step
+    a_cmd: np.ndarray  # (2, 3) commanded a and alpha
+    m3: np.ndarray  # (3, 3, 3) scratch matrices
+    v3: np.ndarray  # (4, 3) scratch vectors: zeros, angles, loads f and m
+    wrench: np.ndarray  # (6,)
+    wrench_parts: np.ndarray  # (5, 6)
+    L: np.ndarray
+    J: np.ndarray
+    tension: K.TensionWork
+    forecast: np.ndarray  # (3, 6) the ship's motion at mid-step, predicted
+    q: np.ndarray  # (6,) the pose from the encoders (x, y, z, rx, ry, rz), the next warm start
+    qdot: np.ndarray  # (6,) its rate
+    Lg: np.ndarray  # (m,) the encoders' lengths stretched by the measured tensions
+    E: np.ndarray  # (3, 3) angle rates to angular velocity
+    Gk: np.ndarray  # (k, k) normal equations of the rates
+    bk: np.ndarray  # (k,)
+    fk: ForwardWork
+
+
+class ControllerParts(NamedTuple):
+    """Everything a controller step reads and writes: the plan, the model, the gains, the
+    known loads, this exchange's measurement and command, and the working memory."""
+
+    ref: Reference
+    model: RobotModel
+    gains: Gains
+    loads: Loads
+    meas: Measurement
+    cmd: Command
+    work: Work
+    predictor: Predictor
+
+
+def empty_measurement(m: int) -> Measurement:
+    """A zeroed measurement for m cables (R the identity)."""
+    return Measurement(np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3), np.zeros(m), np.zeros(m), np.zeros(m),
+                       np.zeros((3, 6)), np.zeros(3))
+
+
+def empty_command(m: int) -> Command:
+    return Command(np.zeros(m), np.zeros(m), np.zeros(m, dtype=np.int64), np.zeros(3, dtype=np.int64))
+
+
+def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4) -> Work:
+    """The working memory of a step with m cables and k controlled DOFs; lengths from the
+    encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m)."""
+    return Work(np.empty(3), np.empty((3, 3)), np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(3),
+                np.empty(3), np.empty((2, 6)), np.empty((2, 3)), np.empty((3, 3, 3)), np.zeros((4, 3)),
+                np.empty(6), np.empty((5, 6)), np.empty(m), np.empty((m, 6)), K.tension_work(m, k),
+                np.zeros((3, 6)), np.zeros(6), np.zeros(6), np.empty(m), np.empty((3, 3)), np.empty((k, k)),
+                np.empty(k), forward_work(m, k, fk_atol_m, fk_rtol))
+
+
+def unused_predictor() -> Predictor:
+    """A minimal predictor for a controller that does not predict (the record's slot)."""
+    return make_predictor(step_s=1.0, order=1, forgetting=1.0, max_horizon_s=1.0)

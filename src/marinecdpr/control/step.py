@@ -1,0 +1,245 @@
+"""The controller's step, compiled: from one exchange's measurements to the commands.
+
+:func:`control_step` is the one implementation: the virtual prototype's closed loop calls
+it every exchange, and :class:`~marinecdpr.control.controller.Controller` calls it for a
+user's own loop. In order:
+
+1. the state at mid-step, t_k + h/2, where the held command acts: the measured pose and
+   twist (from a pose sensor, or from the encoders: :func:`pose_from_encoders`) predicted
+   over their age plus half a step (:func:`estimate_state`), the ship's motion from the
+   motion reference unit's last sample (as it is, kinematically, or by the online
+   autoregressive predictor);
+2. computed torque on the error to the plan at mid-step, a = a_ref + Kd e_v + Kp e (the
+   rotation error in C), and the wrench it needs (eq. 15, with the known loads);
+3. the tension method (every method, exact for any redundancy: ``kernels.tensions_step``),
+   or the plan's tensions where it has no solution within limits;
+4. the unstretched length a length-controlled winch pays out for that tension, and the
+   lead on the winches' lag.
+
+No step allocates; every record is :mod:`marinecdpr.control.records`'.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step
+from marinecdpr.geometry.rotations import euler_step
+from marinecdpr.model import kernels as K
+from marinecdpr.motion.prediction import predictor_forecast, predictor_update
+
+__all__ = ["control_step", "estimate_state", "pose_from_encoders", "mm3", "disturbance_C"]
+
+_cache = True
+
+
+@njit(cache=_cache)
+def mm3(A, B, out, transpose_B=False):
+    """out = A @ B (or A @ B^T) for 3x3 matrices, without BLAS's per-call cost."""
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                acc += A[i, k] * (B[j, k] if transpose_B else B[k, j])
+            out[i, j] = acc
+
+
+@njit(cache=_cache)
+def disturbance_C(f, m, in_P, R, f_C, m_C):
+    """The disturbance in C, written to f_C, m_C (3,): (f, m) as given if in C, R (f, m) if
+    given in P."""
+    for i in range(3):
+        if in_P:
+            f_C[i] = R[i, 0] * f[0] + R[i, 1] * f[1] + R[i, 2] * f[2]
+            m_C[i] = R[i, 0] * m[0] + R[i, 1] * m[1] + R[i, 2] * m[2]
+        else:
+            f_C[i] = f[i]
+            m_C[i] = m[i]
+
+
+@njit(cache=_cache, inline="always")
+def estimate_state(k, h, ctl):
+    """The platform's and the ship's state at mid-step, t_k + h/2, from the measurement.
+
+    Writes x, R, v, w of the platform in C and the ship's R_SO, omega and alpha in S to
+    ``ctl.work``; returns the acceleration of S's origin in O (3,). Each is predicted from
+    its measurement's time stamp to mid-step, first order in the plan's accelerations.
+    """
+    meas, ref, work = ctl.meas, ctl.ref, ctl.work
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    WR = work.m3[1]
+    hh = (meas.clock[0] - meas.clock[1]) + 0.5 * h  # the pose's age plus half a step
+    a, al = ref.a[k], ref.al[k]
+    for i in range(3):
+        v_m[i] = meas.v[i]
+        w_m[i] = meas.w[i]
+        x_m[i] = meas.x[i] + hh * v_m[i]
+        for j in range(3):
+            R_m[i, j] = meas.R[i, j]
+    for i in range(3):
+        v_m[i] = v_m[i] + hh * a[i]
+    # R' = [w]x R over the horizon
+    for j in range(3):
+        WR[0, j] = -w_m[2] * R_m[1, j] + w_m[1] * R_m[2, j]
+        WR[1, j] = w_m[2] * R_m[0, j] - w_m[0] * R_m[2, j]
+        WR[2, j] = -w_m[1] * R_m[0, j] + w_m[0] * R_m[1, j]
+    for i in range(3):
+        w_m[i] = w_m[i] + hh * al[i]
+        for j in range(3):
+            R_m[i, j] = R_m[i, j] + hh * WR[i, j]
+    eta, eta_p = meas.eta, work.eta
+    how = ctl.gains.prediction
+    if how == 2:  # the autoregressive model (the kinematic extrapolation while it warms up)
+        fc = work.forecast
+        predictor_update(ctl.predictor, meas.clock[2], eta[0], eta[1], eta[2])
+        if predictor_forecast(ctl.predictor, meas.clock[0] + 0.5 * h, fc) >= 0:
+            for i in range(6):
+                eta_p[0, i] = fc[0, i]
+                eta_p[1, i] = fc[1, i]
+            K.euler_step(eta_p[0, 3:], eta_p[1, 3:], fc[2, 3:], work.R_SO, work.w_s, work.al_s)
+            return fc[2, :3]
+    # kinematic: over the sample's age plus half a step; none: the sample as if it were now
+    hs = (meas.clock[0] - meas.clock[2]) + 0.5 * h if how != 0 else 0.0
+    for i in range(6):
+        eta_p[0, i] = eta[0, i] + hs * eta[1, i]
+        eta_p[1, i] = eta[1, i] + hs * eta[2, i]
+    K.euler_step(eta_p[0, 3:], eta_p[1, 3:], eta[2, 3:], work.R_SO, work.w_s, work.al_s)
+    return eta[2, :3]
+
+
+@njit(cache=_cache, inline="always")
+def pose_from_encoders(ctl):
+    """The platform's pose and twist from the encoders, written to the measurement.
+
+    The encoders' unstretched lengths are stretched by the measured tensions (L = L0 (1 +
+    T / EA)); forward kinematics (Levenberg-Marquardt, warm-started from the last pose)
+    gives the pose, and the lengths' rates the twist in the controlled DOFs, by least
+    squares on l' = (dl/dq) q'. Returns the forward kinematics' status (0: converged; see
+    :func:`~marinecdpr.geometry.forward.pose_from_lengths_step`).
+    """
+    meas, model, work, gains = ctl.meas, ctl.model, ctl.work, ctl.gains
+    for i in range(meas.L.shape[0]):
+        work.Lg[i] = meas.L[i] * (1.0 + meas.T[i] / model.EA)
+    q = work.q
+    status = pose_from_lengths_step(work.Lg, model.c_C, model.p_P, model.controlled, q, gains.fk_tol_m,
+                                    gains.fk_iter, work.fk)
+    # the rates: dl/dq (work.fk.J, at q) q'_c = l', least squares
+    J, G, b = work.fk.J, work.Gk, work.bk
+    k = model.controlled.shape[0]
+    for a in range(k):
+        s = 0.0
+        for i in range(J.shape[0]):
+            s += J[i, a] * meas.Ldot[i]
+        b[a] = s
+        for c in range(k):
+            s = 0.0
+            for i in range(J.shape[0]):
+                s += J[i, a] * J[i, c]
+            G[a, c] = s
+    K._lu_det_solve(G, b)
+    work.qdot[:] = 0.0
+    for a in range(k):
+        work.qdot[model.controlled[a]] = b[a]
+    zero = work.v3[0]
+    euler_step(q[3:], zero, zero, meas.R, work.v3[1], work.v3[1])  # R_PC (its rates unused)
+    angle_rate_matrix(q[3:], work.E)
+    for i in range(3):
+        meas.x[i] = q[i]
+        meas.v[i] = work.qdot[i]
+        meas.w[i] = work.E[i, 0] * work.qdot[3] + work.E[i, 1] * work.qdot[4] + work.E[i, 2] * work.qdot[5]
+    meas.clock[1] = meas.clock[0]  # read now
+    return status
+
+
+@njit(cache=_cache, inline="always")
+def _feedback_tensions(k, h, ctl):
+    """Computed torque on the mid-step reference, the wrench it needs (eq. 15) and the
+    tension method: T_cmd. Returns 1 where the method has no solution within limits (then
+    the plan's tensions are commanded)."""
+    ref, model, gains, cmd, work = ctl.ref, ctl.model, ctl.gains, ctl.cmd, ctl.work
+    a_SO = estimate_state(k, h, ctl)
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    E = work.m3[2]
+    mm3(ref.R[k], R_m, E, True)
+    e0, e1, e2 = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
+    a_cmd, al_cmd = work.a_cmd[0], work.a_cmd[1]
+    for i in range(3):
+        a_cmd[i] = ref.a[k, i] + gains.kd * (ref.v[k, i] - v_m[i]) + gains.kp * (ref.x[k, i] - x_m[i])
+        al_cmd[i] = (ref.al[k, i] + gains.kd * (ref.w[k, i] - w_m[i])
+                     + gains.kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
+    f_k, m_k = work.v3[2], work.v3[3]
+    disturbance_C(ctl.loads.f[k], ctl.loads.m[k], ctl.loads.in_P, R_m, f_k, m_k)
+    K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
+                        model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
+    K.sum_wrench_parts(work.wrench_parts, work.wrench)
+    K.cables_step(x_m, R_m, model.c_C, model.p_P, work.L, work.J)
+    # every method, exact for any redundancy, compiled (the planning layer's solvers)
+    if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
+                       work.tension):
+        return 0
+    cmd.T_cmd[:] = ref.T[k]
+    return 1
+
+
+@njit(cache=_cache, inline="always")
+def _unstretched(ref, k, model, i):
+    """The winch length of cable i that holds the plan's length at the plan's tension, m."""
+    return ref.L[k, i] / (1.0 + (ref.T[k, i] - model.damping * ref.Ldot[k, i]) / model.EA)
+
+
+@njit(cache=_cache, inline="always")
+def _limits(ctl):
+    """Which commanded tensions are at a limit (``cmd.at_limit``); their number."""
+    model, cmd = ctl.model, ctl.cmd
+    at = 0
+    for i in range(cmd.T_cmd.shape[0]):
+        tol = 1e-9 * max(1.0, abs(model.hi[i]))
+        if cmd.T_cmd[i] <= model.lo[i] + tol:
+            cmd.at_limit[i] = -1
+        elif cmd.T_cmd[i] >= model.hi[i] - tol:
+            cmd.at_limit[i] = 1
+        else:
+            cmd.at_limit[i] = 0
+        at += cmd.at_limit[i] != 0
+    return at
+
+
+@njit(cache=_cache, inline="always")
+def control_step(k, h, ctl):
+    """One controller step at t_k = k h: the measurement ``ctl.meas`` in, ``ctl.cmd`` out.
+
+    T_cmd (tension-controlled winches, ideal cables) and L0_cmd (length-controlled winches)
+    for the step [t_k, t_k + h), and the flags (:class:`~marinecdpr.control.records.Command`).
+    Returns 1 on a fallback to the plan's tensions, else 0.
+    """
+    ref, gains, model, cmd = ctl.ref, ctl.gains, ctl.model, ctl.cmd
+    fallback = 0
+    cmd.flags[2] = 0
+    if gains.closed:
+        if gains.pose_from == 1:
+            cmd.flags[2] = pose_from_encoders(ctl) != 0
+        fallback = _feedback_tensions(k, h, ctl)
+    else:
+        cmd.T_cmd[:] = ref.T[k]
+    # a length-controlled winch pays out the reference length less the stretch the
+    # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
+    # (the cable's damping adds c L' of the plan: the stretch makes the rest)
+    for i in range(cmd.L0_cmd.shape[0]):
+        cmd.L0_cmd[i] = ref.L[k, i] / (1.0 + (cmd.T_cmd[i] - model.damping * ref.Ldot[k, i]) / model.EA)
+    if gains.closed and gains.lead_s > 0.0:
+        # the controller knows its winches' lag: it leads the planned part of the command
+        # by tau times the plan's (smooth) rate, u = r + tau r'
+        kf, kb = min(k + 1, ref.T.shape[0] - 1), max(k - 1, 0)
+        dt = (kf - kb) * h
+        if gains.tension_winches:
+            lo, hi = model.lo, model.hi
+            for i in range(cmd.T_cmd.shape[0]):  # a command stays within the cable's limits
+                T_i = cmd.T_cmd[i] + gains.lead_s * (ref.T[kf, i] - ref.T[kb, i]) / dt
+                cmd.T_cmd[i] = min(max(T_i, lo[i]), hi[i])
+        else:
+            for i in range(cmd.L0_cmd.shape[0]):
+                cmd.L0_cmd[i] += gains.lead_s * (_unstretched(ref, kf, model, i) - _unstretched(ref, kb, model, i)) / dt
+    cmd.flags[0] = fallback
+    cmd.flags[1] = _limits(ctl)
+    return fallback
