@@ -60,6 +60,12 @@ def test_a_units_data_sheet_noise_reaches_the_samples():
     assert np.degrees(err[:, 3:5].std(axis=0)) == pytest.approx([0.02, 0.02], rel=0.1)
     assert err[:, 2].std() == pytest.approx(0.05, rel=0.1)
     assert np.abs(err[:, [0, 1, 5]]).max() == 0.0
+    # per axis, in place of the unit's
+    sc = with_simulation(sc, mru={"noise_m": [0.0, 0.1, 0.0], "noise_deg": [0.0, 0.0, 0.5]})
+    _, mru, _, _ = _sensors(sc, "closed_loop", ship_h, n)
+    err = mru.eta[0] - evaluate_base_motion(sc.base_motion, mru.t).eta
+    assert err[:, 1].std() == pytest.approx(0.1, rel=0.1) and np.degrees(err[:, 5].std()) == pytest.approx(0.5, rel=0.1)
+    assert np.abs(err[:, [0, 2, 3, 4]]).max() == 0.0
 
 
 @pytest.mark.parametrize("source", ["paper", "cube8"])
@@ -152,6 +158,7 @@ def test_scenario_keys_of_the_sensors_are_checked():
 
     for section, bad, message in (("mru", {"latency_s": -0.01}, "latency_s"), ("mru", {"unit": "mru9"}, "unit"),
                                   ("sensors", {"pose_from": "gps"}, "pose_from"),
-                                  ("mru", {"ar_forgetting": 1.5}, "ar_forgetting")):
+                                  ("mru", {"ar_forgetting": 1.5}, "ar_forgetting"),
+                                  ("mru", {"noise_deg": [0.1, -0.1, 0.0]}, "noise_deg: each entry must be >= 0")):
         with pytest.raises(ScenarioError, match=message):
             make_scenario(lambda d: d.setdefault("simulation", {}).update({section: bad}))

@@ -390,7 +390,11 @@ PROGRESS_LINE_MIN_S = 1.0
 
 
 def _seconds(s: float) -> str:
-    return f"{s:.1f} s" if s < 60 else f"{int(s // 60)} min {s % 60:02.0f} s"
+    """``12.3 s`` below a minute, else ``2 min 05 s`` (whole seconds, rounded once)."""
+    if s < 59.95:
+        return f"{s:.1f} s"
+    whole = int(round(s))
+    return f"{whole // 60} min {whole % 60:02d} s"
 
 
 class _PlainProgress:

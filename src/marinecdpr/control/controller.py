@@ -22,7 +22,9 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.typed import List
 
+from marinecdpr.borrowed import borrowed
 from marinecdpr.control.records import (
     ENCODERS, POSE_SENSOR, PREDICTIONS, ControllerParts, Gains, Loads, Reference, RobotModel, empty_command,
     empty_measurement, empty_work, unused_predictor,
@@ -166,8 +168,19 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
 
 
 @njit(cache=True)
-def _step(k, h, ctl, x, R, v, w, eta, clock, L, Ldot, T):
-    """:func:`control_step` on a measurement given as arrays (copied into ``ctl.meas``)."""
+def _held(parts):
+    """The records in a one-item typed list: passed to a compiled function, the list is
+    one pointer, where the records are ~90 arrays to convert at every call (~7 us)."""
+    held = List()
+    held.append(parts)
+    return held
+
+
+@njit(cache=True)
+def _step(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
+    """:func:`control_step` on a measurement given as arrays (copied into the measurement
+    record); ``held``: :func:`_held`'s list of the controller's records."""
+    ctl = borrowed(held[0])  # the list holds the records: no reference counting of their arrays
     meas = ctl.meas
     for i in range(L.shape[0]):
         meas.L[i] = L[i]
@@ -188,23 +201,24 @@ def _step(k, h, ctl, x, R, v, w, eta, clock, L, Ldot, T):
 
 def _array(a, name: str, shape: tuple) -> np.ndarray:
     """``a`` as a C-contiguous float64 array of the given shape (a copy only if needed)."""
-    a = np.ascontiguousarray(a, dtype=np.float64)
+    if type(a) is not np.ndarray or a.dtype != _FLOAT or not a.flags.c_contiguous:
+        a = np.ascontiguousarray(a, dtype=np.float64)
     if a.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, not {a.shape}")
     return a
 
 
-def _entry_point(parts: ControllerParts):
-    """:func:`_step` compiled for these records, called without numba's dispatch.
+_FLOAT = np.dtype(np.float64)
 
-    numba's dispatcher finds the types of a call's arguments each time: for the records'
-    ~60 arrays that is ~13 us of the step's ~20 us from Python. The compiled entry point
-    for the types (compiled here, without running a step) skips it; a measurement of
-    another dtype or layout would not be converted, so :meth:`Controller.step` converts
-    its arguments first.
-    """
-    z3, eye, zm = np.zeros(3), np.eye(3), np.zeros_like(parts.cmd.T_cmd)
-    args = (0, 1.0, parts, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm)
+
+def _entry_point(held):
+    """:func:`_step` compiled for these records, called without numba's dispatch (which
+    would find the types of the call's arguments at every call). The entry point is
+    compiled here, without running a step; a measurement of another dtype or layout would
+    not be converted, so :meth:`Controller.step` converts its arguments first."""
+    m = held[0].cmd.T_cmd.shape[0]
+    z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
+    args = (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm)
     try:
         signature = tuple(_step.typeof_pyval(a) for a in args)
         _step.compile(signature)
@@ -247,8 +261,11 @@ class Controller:
         loads = Loads(np.ascontiguousarray(f[::2][:self.n_steps]), np.ascontiguousarray(m[::2][:self.n_steps]), in_P)
         self.parts = controller_parts(scenario, ff, loads, closed=closed)
         self._clock = np.zeros(3)
-        self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(scenario.robot.n_cables)
-        self._call = _entry_point(self.parts)
+        self._m = scenario.robot.n_cables
+        self._encoders = self.parts.gains.pose_from == ENCODERS
+        self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(self._m)
+        self._held = _held(self.parts)
+        self._call = _entry_point(self._held)
 
     @property
     def command(self):
@@ -285,20 +302,21 @@ class Controller:
             T_cmd, L0_cmd (m,), at_limit (m,), flags (3,): the controller's own arrays,
             overwritten by the next step.
         """
-        m = self.parts.cmd.T_cmd.shape[0]
-        if self.parts.gains.pose_from == ENCODERS:
+        m = self._m
+        if self._encoders:
             if lengths is None or length_rates is None or tensions is None:
                 raise ValueError("a controller with its pose from the encoders needs lengths, length_rates and "
                                  "tensions")
             x, R, v, w = self._z3, self._eye, self._z3, self._z3
+            lengths = _array(lengths, "lengths", (m,))
+            length_rates = _array(length_rates, "length_rates", (m,))
+            tensions = _array(tensions, "tensions", (m,))
         elif x is None or R is None or v is None or w is None:
             raise ValueError("a controller with a pose sensor needs x, R, v and w")
         else:
             lengths = length_rates = tensions = self._zm
-        x, R, v, w, eta, lengths, length_rates, tensions = (
-            _array(a, name, shape) for a, name, shape in
-            ((x, "x", (3,)), (R, "R", (3, 3)), (v, "v", (3,)), (w, "w", (3,)), (eta, "eta", (3, 6)),
-             (lengths, "lengths", (m,)), (length_rates, "length_rates", (m,)), (tensions, "tensions", (m,))))
+            x, R, v, w = _array(x, "x", (3,)), _array(R, "R", (3, 3)), _array(v, "v", (3,)), _array(w, "w", (3,))
+        eta = _array(eta, "eta", (3, 6))
         k = int(round(t / self.step_s))
         if not 0 <= k < self.n_steps:
             raise ValueError(f"t = {t:g} s is outside the controller's plan (0 to "
@@ -307,5 +325,5 @@ class Controller:
         clock[0] = t
         clock[1] = t if t_pose is None else t_pose
         clock[2] = t if t_ship is None else t_ship
-        self._call(k, self.step_s, self.parts, x, R, v, w, eta, clock, lengths, length_rates, tensions)
+        self._call(k, self.step_s, self._held, x, R, v, w, eta, clock, lengths, length_rates, tensions)
         return self.parts.cmd

@@ -255,9 +255,11 @@ def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> tuple[P.Sensors, P
             eta[i, :, :3] += rng.normal(0.0, s_lin, (n_s, 3))
             eta[i, :, 3:] += rng.normal(0.0, s_ang, (n_s, 3))
     noise = rng.normal(0.0, nz.tension_N, (n, scenario.robot.n_cables))
-    if run == "closed_loop" and mru.unit != "ideal":  # the unit's own noise, after the rest
-        eta[0, :, 3:5] += rng.normal(0.0, unit_angle_deg * deg, (n_s, 2))
-        eta[0, :, 2] += rng.normal(0.0, unit_heave_m, n_s)
+    noise_m = np.array(mru.noise_m if mru.noise_m is not None else (0.0, 0.0, unit_heave_m))
+    noise_rad = np.radians(mru.noise_deg if mru.noise_deg is not None else (unit_angle_deg, unit_angle_deg, 0.0))
+    if run == "closed_loop" and (noise_m.any() or noise_rad.any()):  # the unit's own noise, after the rest
+        eta[0, :, :3] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_m
+        eta[0, :, 3:] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_rad
     eta[0, :, :3] += np.asarray(mru.bias_m)
     eta[0, :, 3:] += np.radians(mru.bias_deg)
     fc = sens.load_cell_filter_hz

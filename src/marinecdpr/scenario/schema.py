@@ -381,6 +381,11 @@ class Mru(_Model):
     """Samples per second (default: the unit's)."""
     latency_s: _ranged(0.0, 5.0, "s", "a ship's motion older than seconds is another motion") = 0.0
     """How long a sample takes to reach the controller, s."""
+    noise_m: _ranged_vec3(30.0, "m", "a sensor's standard deviation", ("surge", "sway", "heave")) | None = None
+    """White noise on each sampled translation, one standard deviation (default: the unit's
+    heave noise; added to ``[simulation.noise] ship_position_m``), m."""
+    noise_deg: _ranged_vec3(30.0, "deg", "a sensor's standard deviation", ("roll", "pitch", "yaw")) | None = None
+    """The same for each angle (default: the unit's roll and pitch noise), deg."""
     bias_m: _ranged_vec3(10.0, "m", "a bias, not a position", ("surge", "sway", "heave")) = (0.0, 0.0, 0.0)
     bias_deg: _ranged_vec3(30.0, "deg", "a bias, not an attitude", ("roll", "pitch", "yaw")) = (0.0, 0.0, 0.0)
     prediction: Literal["kinematic", "none", "ar"] = "kinematic"
@@ -394,6 +399,14 @@ class Mru(_Model):
     ar_forgetting: _ranged(0.9, 1.0, "", "the fit's memory, 1 / (1 - lambda) AR steps", above=True) = 0.998
     ar_warmup_s: _ranged(0.0, 3600.0, "s", "an hour of sea is plenty") = 10.0
     """How long the model fits before it predicts (the kinematic extrapolation until then), s."""
+
+    @model_validator(mode="after")
+    def _check_noise(self) -> "Mru":
+        for key, names in (("noise_m", ("surge", "sway", "heave")), ("noise_deg", ("roll", "pitch", "yaw"))):
+            for name, value in zip(names, getattr(self, key) or ()):
+                if value < 0:
+                    raise _KeyedError(key, f"each entry must be >= 0 (a standard deviation), got {name} = {value:g}")
+        return self
 
 
 class Sensors(_Model):
