@@ -139,6 +139,20 @@ def test_an_open_loop_that_tumbles_is_flagged_everywhere(cube8_runs):
     html = (out / "report.html").read_text()
     assert "exact but for" not in html and "follows the plan but for" not in html
     assert "Open loop leaves its plan" in html and "<b>NO: x, y, z, rx, ry, rz, cables 1-8</b>" in html
+    # why: held tensions make yaw an inverted pendulum (issue 14); the rate is the one the
+    # prototype's tumbling shows (tests/test_stiffness.py), the report says so
+    st = s["stability"]
+    assert s["open_loop_growth_rate_1_s"] == st["open_loop_growth_rate_1_s"] > 20.0
+    assert st["verdict"] == "unstable" and st["mode"][0] == "rz" and st["winches"] == "tension"
+    assert "The open loop is unstable" in html and "a mode in rz" in html
+
+
+def test_the_papers_open_loop_is_neutral(tmp_path):
+    res = runner.invoke(app, ["simulate", "--duration", "1", "--out", str(tmp_path)])
+    assert res.exit_code == 0, res.output
+    st = json.loads((tmp_path / "summary.json").read_text())["stability"]
+    assert st["verdict"] == "neutral" and abs(st["open_loop_growth_rate_1_s"]) < 1e-3
+    assert st["e_folding_time_s"] is None
 
 
 def test_the_error_bound_comes_from_the_frame_the_scenario_or_the_option(paper, tmp_path):

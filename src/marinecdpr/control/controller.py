@@ -30,7 +30,7 @@ from marinecdpr.control.records import (
     empty_measurement, empty_work, unused_predictor,
 )
 from marinecdpr.control.step import control_step
-from marinecdpr.errors import InfeasibleError
+from marinecdpr.errors import InfeasibleError, ScenarioError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import cleaning_loads
@@ -86,7 +86,9 @@ def robot_model(scenario: Scenario) -> RobotModel:
         robot.mass_kg, np.ascontiguousarray(robot.inertia), scenario.environment.gravity_m_s2,
         np.asarray(scenario.ship.frame_origin_m, dtype=float), np.asarray(robot.controlled, dtype=np.int64),
         robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method],
-        float(cables.stiffness_EA_N or np.inf), cables.damping_N_s_m)
+        float(cables.stiffness_EA_N or np.inf), cables.damping_N_s_m, robot.has_pulleys,
+        np.ascontiguousarray(robot.pulley_axes), np.ascontiguousarray(robot.pulley_radii),
+        np.zeros((robot.n_cables, 3)), np.zeros(robot.n_cables))
 
 
 FK_TOL_M = 1e-10
@@ -102,6 +104,9 @@ def gains(scenario: Scenario, *, closed: bool) -> Gains:
     (``[simulation.mru]``)."""
     sim = scenario.simulation
     control, cables = sim.control, sim.cables
+    if sim.sensors.pose_from == "encoders" and scenario.robot.has_pulleys:
+        raise ScenarioError("simulation.sensors.pose_from: encoders with pulleys are not supported yet (the "
+                            "forward kinematics knows point anchors only)", source=scenario.name)
     wn = 2.0 * np.pi * control.bandwidth_hz
     return Gains(bool(closed), wn * wn, 2.0 * control.damping_ratio * wn, float(cables.winch_time_constant_s),
                  cables.winch == "tension", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,

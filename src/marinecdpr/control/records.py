@@ -59,6 +59,9 @@ class RobotModel(NamedTuple):
     origin : (3,) C's origin in S. controlled : (k,) int indices of the controlled DOFs.
     lo, hi : (m,) tension limits, N. method : a ``kernels.METHOD_CODES`` value.
     EA : the cables' axial stiffness, N (inf: inextensible). damping : N s/m.
+    pulleys : any cable leaves over a pulley; z_C (m, 3) their swivel axes in C and radius
+    (m,) their radii, m (0: a point); exits (m, 3) and wraps (m,): scratch for the exit
+    points and wrap angles.
     """
 
     c_C: np.ndarray
@@ -73,6 +76,11 @@ class RobotModel(NamedTuple):
     method: int
     EA: float
     damping: float
+    pulleys: bool
+    z_C: np.ndarray
+    radius: np.ndarray
+    exits: np.ndarray
+    wraps: np.ndarray
 
 
 class Gains(NamedTuple):

@@ -25,11 +25,12 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step
+from marinecdpr.geometry.pulley import pulleys_step
 from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.model import kernels as K
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
 
-__all__ = ["control_step", "estimate_state", "pose_from_encoders", "mm3", "disturbance_C"]
+__all__ = ["control_step", "estimate_state", "pose_from_encoders", "cables_at", "mm3", "disturbance_C"]
 
 _cache = True
 
@@ -56,6 +57,17 @@ def disturbance_C(f, m, in_P, R, f_C, m_C):
         else:
             f_C[i] = f[i]
             m_C[i] = m[i]
+
+
+@njit(cache=_cache, inline="always")
+def cables_at(x, R, model, L, J):
+    """The cables' lengths L (m,) and J~ (m, 6) at the pose (x, R_PC), over their pulleys
+    where the robot has them (:func:`~marinecdpr.geometry.pulley.pulleys_step`), else from
+    point anchors (eqs. 2, 6)."""
+    if model.pulleys:
+        pulleys_step(x, R, model.c_C, model.z_C, model.radius, model.p_P, L, J, model.exits, model.wraps)
+    else:
+        K.cables_step(x, R, model.c_C, model.p_P, L, J)
 
 
 @njit(cache=_cache, inline="always")
@@ -173,7 +185,7 @@ def _feedback_tensions(k, h, ctl):
     K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
                         model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
     K.sum_wrench_parts(work.wrench_parts, work.wrench)
-    K.cables_step(x_m, R_m, model.c_C, model.p_P, work.L, work.J)
+    cables_at(x_m, R_m, model, work.L, work.J)
     # every method, exact for any redundancy, compiled (the planning layer's solvers)
     if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
                        work.tension):

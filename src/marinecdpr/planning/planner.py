@@ -15,6 +15,7 @@ from typing import Iterator
 
 import numpy as np
 
+from marinecdpr.errors import ScenarioError
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
@@ -206,6 +207,22 @@ def _columns(J: np.ndarray, dofs: list[int]) -> np.ndarray:
     return J.transpose(2, 1, 0)[dofs].transpose(2, 1, 0)
 
 
+def _over_pulleys(robot, platform, twist: np.ndarray, t: np.ndarray):
+    """The cables' lengths, rates and J~ over the robot's pulleys
+    (:func:`~marinecdpr.geometry.pulley.pulley_kinematics`); a pose where a platform anchor
+    is on a pulley's swivel axis or inside it is refused, naming the cable and the time."""
+    from marinecdpr.geometry.pulley import pulley_kinematics
+
+    pk = pulley_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.pulley_axes,
+                           robot.pulley_radii, robot.platform_anchors, twist)
+    bad = np.argwhere(pk.status != 0)
+    if bad.size:
+        k, i = bad[0]
+        why = {1: "on its pulley's swivel axis", 2: "inside its pulley"}.get(int(pk.status[k, i]), "not finite")
+        raise ScenarioError(f"cable {i + 1}'s platform anchor is {why} at t = {t[k]:.6g} s")
+    return pk
+
+
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                 ship: ShipMotion | None = None) -> dict:
     robot = scenario.robot
@@ -219,6 +236,8 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
         platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
     )
     check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
+    if robot.has_pulleys:  # the cables leave their pulleys where their directions say
+        kin = _over_pulleys(robot, platform, twist, t)
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
     if scenario.cleaning is not None:

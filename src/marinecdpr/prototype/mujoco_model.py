@@ -19,7 +19,11 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
     C for a planar robot; slide x, y, z and a ball joint for a spatial one.
 
 Each cable is a spatial tendon from its frame anchor to its platform anchor, pulled by
-a motor with gear -1, so ``ctrl = tension`` (N) shortens the cable.
+a motor with gear -1, so ``ctrl = tension`` (N) shortens the cable. A cable over a pulley
+(planar robots: the pulley's plane is the robot's) runs from a site :data:`PULLEY_INLET_M`
+back along its arrival direction, round a cylinder of the pulley's radius (MuJoCo finds
+the wrap and the exit point itself), to the platform anchor: its tendon is that much
+longer than the planner's length (``MujocoModel.tendon_offset``).
 """
 
 from __future__ import annotations
@@ -28,10 +32,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2"]
 
+PULLEY_INLET_M = 0.05
+"""How far back along its arrival direction a pulley cable's tendon starts, m."""
 SHIP_MASS_KG = 1.0e7
 SHIP_INERTIA_KG_M2 = 1.0e8
 INTEGRATORS = {"RK4": "RK4", "Euler": "Euler", "implicitfast": "implicitfast"}
@@ -52,6 +59,8 @@ class MujocoModel:
         qpos and DOF addresses of the platform's joints (planar: x, z, theta_y;
         spatial: x, y, z then the ball's quaternion w, x, y, z / angular velocity).
     platform_body : int
+    tendon_offset : ndarray, shape (n_cables,)
+        The tendons' length beyond the cables' (a pulley cable's inlet), m.
     """
 
     model: object
@@ -60,15 +69,25 @@ class MujocoModel:
     platform_qpos: np.ndarray
     platform_dofs: np.ndarray
     platform_body: int
+    tendon_offset: np.ndarray
 
 
 def _v(x) -> str:
     return " ".join(f"{float(a):.17g}" for a in np.ravel(x))
 
 
+def _pulley_side(a: np.ndarray, z: np.ndarray, towards: np.ndarray) -> np.ndarray:
+    """The unit vector across the arrival direction z, in the x-z plane, towards a point."""
+    k = np.array([-z[2], 0.0, z[0]])
+    return k if k @ (towards - a) >= 0 else -k
+
+
 def build_xml(scenario: Scenario) -> str:
     """The MJCF text of the scenario's virtual prototype (see the module docstring)."""
     r = scenario.robot
+    if r.has_pulleys and r.dofs != "planar":
+        raise ScenarioError(f"{scenario.name}: the MuJoCo plant models pulleys of planar robots only (a spatial "
+                            "robot's pulleys swivel): use simulation.plant = \"own\"")
     I = r.inertia
     full = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
     step = scenario.time.step_s
@@ -87,9 +106,23 @@ def build_xml(scenario: Scenario) -> str:
                   '<joint name="py" type="slide" axis="0 1 0"/>'
                   '<joint name="pz" type="slide" axis="0 0 1"/>'
                   '<joint name="pball" type="ball"/>')
-    tendons = "\n".join(
-        f'    <spatial name="cable{i}" width="0.003"><site site="c{i}"/><site site="p{i}"/></spatial>'
-        for i in range(1, r.n_cables + 1))
+    pulleys, tendons = [], []
+    for i, (c, z, rad) in enumerate(zip(r.frame_anchors, r.pulley_axes, r.pulley_radii), 1):
+        if rad == 0.0:
+            tendons.append(f'    <spatial name="cable{i}" width="0.003"><site site="c{i}"/><site site="p{i}"/></spatial>')
+            continue
+        # the pulley's centre: r from the anchor, across the arrival direction towards the
+        # platform (planar: in the x-z plane, on the side of the frame's centre)
+        k = _pulley_side(c, z, r.frame_anchors.mean(axis=0))
+        M = c + rad * k
+        pulleys.append(f'        <site name="in{i}" pos="{_v(c - PULLEY_INLET_M * z)}" size="0.005"/>\n'
+                       f'        <site name="side{i}" pos="{_v(c - rad * k)}" size="0.002"/>\n'
+                       f'        <geom name="pulley{i}" type="cylinder" size="{rad:.17g} 0.005" pos="{_v(M)}" '
+                       f'zaxis="0 1 0" contype="0" conaffinity="0"/>')
+        tendons.append(f'    <spatial name="cable{i}" width="0.003"><site site="in{i}"/>'
+                       f'<geom geom="pulley{i}" sidesite="side{i}"/><site site="p{i}"/></spatial>')
+    tendons = "\n".join(tendons)
+    frame_sites += "".join("\n" + x for x in pulleys)
     motors = "\n".join(f'    <motor name="T{i}" tendon="cable{i}" gear="-1"/>'
                        for i in range(1, r.n_cables + 1))
     Ms, Is = SHIP_MASS_KG, SHIP_INERTIA_KG_M2
@@ -141,4 +174,5 @@ def build_model(scenario: Scenario) -> MujocoModel:
     dofs = np.concatenate([np.arange(model.jnt_dofadr[jid(n)],
                                      model.jnt_dofadr[jid(n)] + (3 if n == "pball" else 1)) for n in names])
     body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "platform")
-    return MujocoModel(model, xml, ship, qpos, dofs, body)
+    offset = np.where(scenario.robot.pulley_radii > 0, PULLEY_INLET_M, 0.0)
+    return MujocoModel(model, xml, ship, qpos, dofs, body, offset)

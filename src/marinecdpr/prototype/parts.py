@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.control.records import ControllerParts, Loads
-from marinecdpr.control.step import control_step, mm3
+from marinecdpr.control.step import cables_at, control_step, mm3
 from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
@@ -324,7 +324,7 @@ def exchange(k, h, x, R, v, w, parts):
     winches, cables, log. Leaves the applied tensions in ``parts.bus.T_app``; returns 1 on a
     controller fallback, else 0."""
     ctl, bus = parts.ctl, parts.bus
-    K.cables_step(x, R, ctl.model.c_C, ctl.model.p_P, bus.L, bus.J)
+    cables_at(x, R, ctl.model, bus.L, bus.J)
     length_rates(bus.J, v, w, bus.Ldot)
     sense(k, h, x, R, v, w, parts, ctl.meas)
     fallback = control_step(k, h, ctl)

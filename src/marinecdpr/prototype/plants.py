@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit, types
 
 from marinecdpr.borrowed import borrowed
-from marinecdpr.control.step import disturbance_C, mm3
+from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.model import kernels as K
 from marinecdpr.prototype.parts import diverged, elastic_tension, exchange, length_rates, quat_to_R
 
@@ -64,7 +64,7 @@ def _own_rhs(y, j, plant, parts, dy):
     n = model.c_C.shape[0]
     L = np.empty(n)
     J = np.empty((n, 6))
-    K.cables_step(x, R, model.c_C, model.p_P, L, J)
+    cables_at(x, R, model, L, J)
     T = parts.bus.T_app
     if cables.elastic and not winch.tension_controlled:
         T = np.zeros(n)
@@ -128,6 +128,7 @@ class MujocoPlant(NamedTuple):
     dof indices; body: its body id; ship_dofs: the ship's six dof indices.
     ship_err (1,): the largest deviation of the ship from its motion so far (m or rad).
     x, v, w (3,), R (3, 3): the platform's state in C, read each step; R_PO (3, 3) scratch.
+    offset (m,): each tendon's length beyond its cable's (a pulley's inlet), m.
     """
 
     qpos: np.ndarray
@@ -149,6 +150,7 @@ class MujocoPlant(NamedTuple):
     v: np.ndarray
     w: np.ndarray
     R_PO: np.ndarray
+    offset: np.ndarray
 
 
 class ShipDrive(NamedTuple):
@@ -206,7 +208,7 @@ def _mujoco_inputs(k, R, mj, drive, parts):
         for i in range(n):
             mj.ten_k[i] = cables.EA / winch.L0[i]
             mj.ten_spring[i, 0] = 0.0
-            mj.ten_spring[i, 1] = winch.L0[i]
+            mj.ten_spring[i, 1] = winch.L0[i] + mj.offset[i]  # a pulley cable's tendon starts behind it
             mj.ten_c[i] = cables.damping if bus.L[i] > winch.L0[i] else 0.0
     else:
         mj.ctrl[:] = bus.T_app

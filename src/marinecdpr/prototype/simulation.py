@@ -30,7 +30,8 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans
+from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans, robot_model
+from marinecdpr.control.step import cables_at
 from marinecdpr.model import kernels as K
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import parts as P
@@ -282,8 +283,7 @@ def _winch(scenario: Scenario, ff: Plan, x0: np.ndarray, R0: np.ndarray) -> P.Wi
     lag = 1.0 if cab.winch_time_constant_s == 0 else float(-np.expm1(-h / cab.winch_time_constant_s))
     EA = float(cab.stiffness_EA_N or np.inf)
     L_init = np.empty(robot.n_cables)
-    K.cables_step(x0, R0, np.ascontiguousarray(robot.frame_anchors), np.ascontiguousarray(robot.platform_anchors),
-                  L_init, np.empty((robot.n_cables, 6)))
+    cables_at(x0, R0, robot_model(scenario), L_init, np.empty((robot.n_cables, 6)))
     L0 = L_init / (1.0 + (ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0]) / EA)
     return P.Winch(cab.winch == "tension", lag, L0, np.array(ff.tensions[0], dtype=float))
 
@@ -383,7 +383,7 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
     return MujocoPlant(data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied,
                        model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping, planar,
                        pq, pd, mm.platform_body, ship_dofs, np.zeros(1), np.empty(3), np.empty((3, 3)), np.empty(3),
-                       np.empty(3), np.empty((3, 3)))
+                       np.empty(3), np.empty((3, 3)), np.ascontiguousarray(mm.tendon_offset))
 
 
 def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, parts: P.Parts, progress):

@@ -118,6 +118,17 @@ def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> lis
         elif ideal and pos < 1e-3 * summary["error_bound_m"]:
             out.append("With ideal cables the plan and the plant share one model: open loop follows the plan "
                        "but for the hold of the tensions over each step.")
+    st = summary.get("stability")
+    if st is not None:
+        mode = ", ".join(st["mode"])
+        if st["verdict"] == "unstable":
+            out.append(f"The open loop is unstable: linearised along the plan ({st['winches']}-controlled winches) "
+                       f"it has a mode in {mode} that grows at {st['open_loop_growth_rate_1_s']:.3g} 1/s (an error "
+                       f"e-folds every {st['e_folding_time_s'] * 1e3:.3g} ms; worst at t = {st['t_s']:.3g} s): "
+                       "only feedback holds this robot.")
+        else:
+            out.append(f"The open loop is {st['verdict']} ({st['winches']}-controlled winches): linearised along the "
+                       f"plan, its largest growth rate is {st['open_loop_growth_rate_1_s']:.2g} 1/s (mode in {mode}).")
     if "closed_loop" in summary:
         c = summary["closed_loop"]
         if not c["within_error_bound"]:

@@ -22,6 +22,28 @@ class Cable(_Model):
     """Smallest allowed tension, N (default: ``robot.tension_min_N``)."""
     tension_max_N: TensionMax | None = None
     """Largest allowed tension, N (default: ``robot.tension_max_N``)."""
+    pulley_radius_m: _ranged(0.0, 1.0, "m", "a pulley, not a drum the size of a ship") = 0.0
+    """A swivelling pulley at the frame anchor (0: the cable leaves a point)."""
+    pulley_axis: Any = None
+    """The pulley's swivel axis in C, a unit vector along which the cable arrives at the frame
+    anchor from its winch (required with a pulley; in the x-z plane for a planar robot)."""
+
+    @model_validator(mode="after")
+    def _check_pulley(self) -> "Cable":
+        if self.pulley_radius_m == 0.0:
+            if self.pulley_axis is not None:
+                raise _KeyedError("pulley_axis", "given without pulley_radius_m")
+            return self
+        z = self.pulley_axis
+        if z is None:
+            raise _KeyedError("pulley_axis", "missing: a pulley needs the direction its cable arrives along")
+        ok = isinstance(z, (list, tuple)) and len(z) == 3 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in z)
+        if not ok:
+            raise _KeyedError("pulley_axis", f"must be three finite numbers, got {z!r}")
+        if abs(math.sqrt(sum(v * v for v in z)) - 1.0) > 1e-6:
+            raise _KeyedError("pulley_axis", f"must be a unit vector, got length {_num(math.sqrt(sum(v * v for v in z)))}")
+        return self
 
 
 class Robot(_Model):
@@ -119,6 +141,15 @@ class Robot(_Model):
         return self
 
     @model_validator(mode="after")
+    def _check_planar_pulleys(self) -> "Robot":
+        if self.dofs == "planar":
+            for i, c in enumerate(self.cables, 1):
+                if c.pulley_axis is not None and abs(c.pulley_axis[1]) > 1e-9:
+                    raise _KeyedError(f"cables[{i}].pulley_axis",
+                                      "must lie in the x-z plane (y = 0) on a planar robot")
+        return self
+
+    @model_validator(mode="after")
     def _check_geometry(self) -> "Robot":
         reason = _degenerate_geometry(self)
         if reason:
@@ -144,6 +175,21 @@ class Robot(_Model):
     def platform_anchors(self) -> np.ndarray:
         """p_i^P, shape (n_cables, 3), m."""
         return np.array([c.platform_anchor_m for c in self.cables], dtype=float)
+
+    @property
+    def pulley_radii(self) -> np.ndarray:
+        """Each cable's pulley radius, shape (n_cables,), m (0: none)."""
+        return np.array([c.pulley_radius_m for c in self.cables], dtype=float)
+
+    @property
+    def pulley_axes(self) -> np.ndarray:
+        """Each cable's pulley swivel axis in C, shape (n_cables, 3) (zeros without a pulley)."""
+        return np.array([c.pulley_axis if c.pulley_axis is not None else (0.0, 0.0, 0.0) for c in self.cables],
+                        dtype=float)
+
+    @property
+    def has_pulleys(self) -> bool:
+        return bool((self.pulley_radii > 0).any())
 
     @property
     def inertia(self) -> np.ndarray:

@@ -11,6 +11,7 @@ from marinecdpr import forked
 from marinecdpr.planning.planner import Plan, plan
 from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
 from marinecdpr.scenario.schema import Scenario
+from marinecdpr.studies.stability import plan_stability, stability_summary
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
            "is_paper_scenario", "error_bounds", "run_warnings"]
@@ -123,8 +124,10 @@ def _tension_tolerance(hi: np.ndarray) -> float:
 
 def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
             max_error_m: float | None = None) -> dict:
-    """``summary.json``: each run's figures, the plan's tension range, the error bounds,
-    and (for the paper's experiment only, see :func:`is_paper_scenario`) the paper's errors."""
+    """``summary.json``: each run's figures, the plan's tension range, the error bounds, the
+    open loop's stability along the plan (``open_loop_growth_rate_1_s`` and ``stability``:
+    :mod:`~marinecdpr.studies.stability`), and (for the paper's experiment only, see
+    :func:`is_paper_scenario`) the paper's errors."""
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     out: dict = {
         "scenario": scenario.name,
@@ -137,6 +140,9 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
         "error_bound_m": bound_m,
         "error_bound_deg": bound_deg,
     }
+    g = plan_stability(plan, scenario)
+    out["open_loop_growth_rate_1_s"] = g.rate
+    out["stability"] = stability_summary(g)
     if is_paper_scenario(scenario):
         out["paper_reported"] = PAPER_REPORTED
     for name, res in results.items():
