@@ -155,6 +155,10 @@ def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> lis
     return out
 
 
+def _budget_cell(value: float | None, scale: float, unit: str) -> str:
+    return "–" if value is None else f"{value * scale:.3g} {unit}"
+
+
 def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path) -> Path:
     """One self-contained page: the scenario, the error table (beside the paper's for the
     paper's experiment), what the numbers say, and every figure."""
@@ -201,6 +205,10 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     ]
     fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     notes = "".join(f"<li>{esc(sentence)}</li>" for sentence in findings(summary, scenario))
+    budget_rows = "".join(
+        f"<tr><th>{esc(name)}</th><td>{_budget_cell(e['length_change_m'], 1e3, 'mm')}</td>"
+        f"<td>{_budget_cell(e['tension_change_N'], 1.0, 'N')}</td><td>{esc(e['note'])}</td></tr>"
+        for name, e in summary.get("error_budget", {}).items())
     imgs = []
     for caption, fig_path in figures.items():
         data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
@@ -226,6 +234,12 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <tbody>{''.join(body)}</tbody></table>
 <p>Errors are the largest of |actual − planned| over the run, each row in one unit.</p>
 <ul>{notes}</ul>
+<h2>Cables as built: what each effect changes against point anchors</h2>
+<table><thead><tr><th>effect</th><th>largest length change</th><th>largest tension change</th>
+<th></th></tr></thead><tbody>{budget_rows}</tbody></table>
+<p>Over the plan's steps and cables; "–": the scenario does not describe the effect (the
+note names the key). The reachable workspace's change: <code>marinecdpr workspace</code>
+with and without the effect.</p>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>

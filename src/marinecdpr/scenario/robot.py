@@ -46,6 +46,21 @@ class Cable(_Model):
         return self
 
 
+class Winch(_Model):
+    """The winches behind the cables, all alike (``marinecdpr.model.winch``)."""
+
+    drum_radius_m: _ranged(1e-3, 5.0, "m", "from a bobbin to a mooring drum", above=True)
+    gear_ratio: _ranged(1e-3, 1e4, "", "motor turns per drum turn", above=True)
+    torque_max_Nm: _ranged(0.0, 1e6, "N m", "a motor's torque", above=True)
+    speed_max_rad_s: _ranged(0.0, 1e5, "rad/s", "a motor's speed", above=True)
+    power_max_W: _ranged(0.0, 1e8, "W", "a motor's power", above=True)
+    rotor_inertia_kg_m2: _ranged(0.0, 1e4, "kg m^2", "a rotor's inertia") = 0.0
+    drum_inertia_kg_m2: _ranged(0.0, 1e6, "kg m^2", "a drum's inertia") = 0.0
+    gear_efficiency: _ranged(0.0, 1.0, "", "a gearbox's efficiency", above=True) = 1.0
+    coulomb_friction_Nm: _ranged(0.0, 1e6, "N m", "a friction torque") = 0.0
+    viscous_friction_Nm_s: _ranged(0.0, 1e6, "N m s/rad", "a viscous friction") = 0.0
+
+
 class Robot(_Model):
     """The cable robot: platform, cables and which degrees of freedom they control."""
 
@@ -56,6 +71,11 @@ class Robot(_Model):
     tension_min_N: Tension | None = None
     tension_max_N: TensionMax | None = None
     cables: list[Cable] = Field(min_length=1)
+    cable_weight_N_m: _ranged(0.0, 1e4, "N/m", "a rope's weight per metre") = 0.0
+    """The cables' weight per metre (their sag: ``marinecdpr.model.catenary``), N/m."""
+    winch: Winch | None = None
+    """The winches' design: the tension each can give at each step, and its torque, speed,
+    power and energy."""
 
     @field_validator("inertia_kg_m2", mode="before")
     @classmethod

@@ -11,6 +11,7 @@ from marinecdpr import forked
 from marinecdpr.planning.planner import Plan, plan
 from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
 from marinecdpr.scenario.schema import Scenario
+from marinecdpr.studies.error_budget import budget_summary, error_budget
 from marinecdpr.studies.stability import plan_stability, stability_summary
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
@@ -126,7 +127,8 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
             max_error_m: float | None = None) -> dict:
     """``summary.json``: each run's figures, the plan's tension range, the error bounds, the
     open loop's stability along the plan (``open_loop_growth_rate_1_s`` and ``stability``:
-    :mod:`~marinecdpr.studies.stability`), and (for the paper's experiment only, see
+    :mod:`~marinecdpr.studies.stability`), the cables-as-built error budget
+    (``error_budget``, ``winches``: :mod:`~marinecdpr.studies.error_budget`), and (for the paper's experiment only, see
     :func:`is_paper_scenario`) the paper's errors."""
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     out: dict = {
@@ -143,6 +145,7 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     g = plan_stability(plan, scenario)
     out["open_loop_growth_rate_1_s"] = g.rate
     out["stability"] = stability_summary(g)
+    out.update(budget_summary(*error_budget(scenario, plan)))
     if is_paper_scenario(scenario):
         out["paper_reported"] = PAPER_REPORTED
     for name, res in results.items():

@@ -1,0 +1,142 @@
+"""How much each effect of cables as built changes the plan against the ideal point model
+(issue 14's error budget): pulleys, the cables' stretch, their sag, and the winches' limits.
+
+Each effect is measured on the scenario's plan, as the scenario describes the robot: an
+effect the scenario does not describe (no pulleys, ideal cables, no cable weight, no
+winch) is reported as not evaluated, with the key that would describe it.
+
+- pulleys: the plan over the pulleys against the same plan from point anchors: the
+  largest change of a cable's length and of its tension;
+- stretch: the elastic cables' stretch T L / EA along the plan (a length-controlled winch
+  pays out that much less than the geometry);
+- sag: each cable an elastic catenary (``robot.cable_weight_N_m``) carrying the plan's
+  tension at the platform, in the true vertical (the ship's attitude): the extra
+  unstretched length the winch pays out against a straight cable, and the tension at the
+  winch against the platform's;
+- winch limits: the plan's tensions against the range the winch can give at each step
+  (torque, speed, power, inertia, friction: ``marinecdpr.model.winch``), the steps it
+  cannot follow, and each winch's peak torque, speed, power and energy.
+
+The reachable workspace's change is not computed here (a workspace map per effect:
+``marinecdpr workspace`` on the scenario with and without each).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.model.catenary import catenary_series
+from marinecdpr.model.winch import WinchParams, length_accelerations, winch_report, winch_tension_bounds
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.planning.planner import Plan, plan
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["Effect", "error_budget", "budget_summary"]
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One effect's change of the plan, largest over the steps and cables.
+
+    ``None`` figures: the scenario does not describe the effect (``note`` says how to).
+    """
+
+    name: str
+    length_change_m: float | None
+    tension_change_N: float | None
+    note: str
+
+
+def _pulleys(scenario: Scenario, p: Plan) -> Effect:
+    robot = scenario.robot
+    if not robot.has_pulleys:
+        return Effect("pulleys", None, None, "no pulleys (robot.cables[].pulley_radius_m)")
+    cables = [c.model_copy(update={"pulley_radius_m": 0.0, "pulley_axis": None}) for c in robot.cables]
+    point = plan(scenario.with_changes(robot={**robot.model_dump(exclude_none=True),
+                                             "cables": [c.model_dump(exclude_none=True) for c in cables]}))
+    dL = float(np.nanmax(np.abs(p.lengths - point.lengths)))
+    dT = float(np.nanmax(np.abs(p.tensions - point.tensions)))
+    return Effect("pulleys", dL, dT, f"largest radius {robot.pulley_radii.max() * 1e3:.3g} mm")
+
+
+def _stretch(scenario: Scenario, p: Plan) -> Effect:
+    cab = scenario.simulation.cables
+    if cab.model != "elastic":
+        return Effect("stretch", None, None, "ideal cables (simulation.cables.model = \"elastic\" with EA)")
+    stretch = p.tensions * p.lengths / (cab.stiffness_EA_N + p.tensions)  # L - L0 with T = EA (L - L0) / L0
+    return Effect("stretch", float(np.nanmax(stretch)), 0.0, f"EA {cab.stiffness_EA_N:.4g} N")
+
+
+def _sag(scenario: Scenario, p: Plan) -> Effect:
+    robot = scenario.robot
+    w = robot.cable_weight_N_m
+    if w == 0.0:
+        return Effect("sag", None, None, "weightless cables (robot.cable_weight_N_m)")
+    cab = scenario.simulation.cables
+    EA = float(cab.stiffness_EA_N) if cab.model == "elastic" else np.inf
+    ship = evaluate_base_motion(scenario.base_motion, p.t) if p.base_model == "moving" else None
+    up_C = np.broadcast_to([0.0, 0.0, 1.0], (p.n_steps, 3)) if ship is None else ship.R_SO[:, 2, :]  # O's z in C
+    b = p.pose[:, None, :3] + np.einsum("nij,mj->nmi", matrix_from_euler(p.pose[:, 3:]), robot.platform_anchors)
+    d = b - robot.frame_anchors[None]  # frame anchor A to platform anchor B
+    v = np.einsum("nmi,ni->nm", d, up_C)
+    h = np.sqrt(np.maximum(np.einsum("nmi,nmi->nm", d, d) - v * v, 0.0))
+    T = p.tensions
+    cat = catenary_series(h.ravel(), v.ravel(), w, EA, T_B=T.ravel())
+    chord = np.sqrt(h * h + v * v).ravel()
+    straight = chord / (1.0 + T.ravel() / EA)
+    ok = cat.status == 0
+    dL = float(np.max(np.abs(cat.L0[ok] - straight[ok]))) if ok.any() else float("nan")
+    dT = float(np.max(np.abs(cat.T_A[ok] - cat.T_B[ok]))) if ok.any() else float("nan")
+    note = f"{w:g} N/m; largest sag {np.nanmax(cat.sag[ok]) * 1e3:.3g} mm" if ok.any() else f"{w:g} N/m"
+    if not ok.all():
+        note += f"; {int((~ok).sum())} cable-steps slack or unsolved"
+    return Effect("sag", dL, dT, note)
+
+
+def _winches(scenario: Scenario, p: Plan):
+    robot = scenario.robot
+    if robot.winch is None:
+        return Effect("winch limits", None, None, "no winch described (robot.winch)"), None
+    params = WinchParams(**robot.winch.model_dump())
+    dt = scenario.time.step_s
+    L_ddot = length_accelerations(p.length_rates, dt)
+    bounds = winch_tension_bounds(p.length_rates, L_ddot, params, robot.tension_min, robot.tension_max)
+    T = p.tensions
+    excess = np.maximum(np.maximum(T - bounds.upper_N, bounds.lower_N - T), 0.0)
+    excess = np.where(np.isfinite(excess), excess, 0.0)
+    beyond = (excess > 1e-9) | bounds.flag
+    steps = int(beyond.any(axis=1).sum())
+    report = winch_report(T, p.length_rates, L_ddot, dt, params)
+    note = (f"{steps} of {p.n_steps} steps a winch cannot follow (overspeed or tension beyond its range)"
+            if steps else "every step within the winches' torque, speed and power")
+    return Effect("winch limits", None, float(excess.max()), note), report
+
+
+def error_budget(scenario: Scenario, p: Plan | None = None):
+    """The effects of pulleys, stretch, sag and winch limits on the scenario's plan.
+
+    Returns
+    -------
+    (effects, winch report)
+        A tuple of :class:`Effect` and the winches' :class:`~marinecdpr.model.winch.WinchReport`
+        (None without ``robot.winch``).
+    """
+    p = plan(scenario) if p is None else p
+    winch, report = _winches(scenario, p)
+    return (_pulleys(scenario, p), _stretch(scenario, p), _sag(scenario, p), winch), report
+
+
+def budget_summary(effects, report) -> dict:
+    """``summary.json``'s ``error_budget`` (and ``winches`` with a winch report)."""
+    out = {"error_budget": {e.name: {"length_change_m": e.length_change_m, "tension_change_N": e.tension_change_N,
+                                     "note": e.note} for e in effects}}
+    if report is not None:
+        out["winches"] = {"peak_torque_Nm": report.peak_torque_Nm.tolist(),
+                          "peak_speed_rad_s": report.peak_speed_rad_s.tolist(),
+                          "peak_power_W": report.peak_power_W.tolist(),
+                          "energy_positive_J": report.energy_positive_J.tolist(),
+                          "within_limits": report.within_limits.tolist()}
+    return out
