@@ -21,7 +21,6 @@ No step allocates; every record is :mod:`marinecdpr.control.records`'.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step

@@ -36,7 +36,6 @@ from numba import njit
 from marinecdpr.control.records import ControllerParts, Loads
 from marinecdpr.control.step import cables_at, control_step, mm3
 from marinecdpr.geometry.rotations import euler_step
-from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 
 __all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Cables", "Bus", "Log", "BrushContact", "Parts", "exchange", "sense",

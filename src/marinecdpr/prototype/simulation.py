@@ -32,13 +32,12 @@ from typing import Callable
 import numpy as np
 from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans, robot_model
 from marinecdpr.control.step import cables_at
-from marinecdpr.model import kernels as K
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import parts as P
 from marinecdpr.prototype.plants import (
     MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
 )
-from marinecdpr.errors import InfeasibleError, SimulationDivergedError
+from marinecdpr.errors import SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.planning.planner import Plan
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
