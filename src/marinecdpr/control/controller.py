@@ -41,7 +41,8 @@ from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajecto
 from marinecdpr.planning.planner import Plan, plan_at
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Controller", "controller_parts", "plans", "planned_brush_loads", "known_loads", "reference"]
+__all__ = ["Controller", "controller_parts", "plans", "planned_brush_loads", "known_loads", "reference",
+           "predictor_options"]
 
 
 def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_model: str = "moving", ship_h=None):
@@ -113,14 +114,20 @@ def gains(scenario: Scenario, *, closed: bool) -> Gains:
                  PREDICTIONS[sim.mru.prediction], FK_TOL_M, FK_ITER)
 
 
+def predictor_options(mru) -> dict:
+    """:func:`~marinecdpr.motion.prediction.make_predictor`'s options from ``[simulation.mru]``:
+    the AR model's step, order and forgetting, and its warm-up in AR steps."""
+    return dict(step_s=mru.ar_step_s, order=mru.ar_order, forgetting=mru.ar_forgetting,
+                warmup_fits=max(1, math.ceil(mru.ar_warmup_s / mru.ar_step_s - 1e-9)))
+
+
 def predictor(scenario: Scenario):
     """The ship-motion predictor ``[simulation.mru]`` asks for (a minimal unused one if none)."""
     mru = scenario.simulation.mru
     if mru.prediction != "ar":
         return unused_predictor()
-    return make_predictor(step_s=mru.ar_step_s, order=mru.ar_order, forgetting=mru.ar_forgetting,
-                          max_horizon_s=max(1.0, 2.0 * mru.latency_s + scenario.time.step_s),
-                          warmup_fits=max(1, math.ceil(mru.ar_warmup_s / mru.ar_step_s - 1e-9)))
+    return make_predictor(max_horizon_s=max(1.0, 2.0 * mru.latency_s + scenario.time.step_s),
+                          **predictor_options(mru))
 
 
 def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):

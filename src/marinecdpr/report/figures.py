@@ -534,6 +534,8 @@ def plot_control_study(study, prediction, path: Path) -> Path:
     """Closed-loop tracking error and tension margin against the motion sensor's latency,
     a line per prediction and pose source; beside them the ship-motion predictor's error
     against the horizon (:mod:`marinecdpr.studies.control`)."""
+    from marinecdpr.studies.control import worst_moving_dof
+
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
     styles = {"none": ("#d73027", "o"), "kinematic": ("#fc8d59", "s"), "ar": ("#1a9850", "^")}
@@ -558,11 +560,10 @@ def plot_control_study(study, prediction, path: Path) -> Path:
                              f"(MRU {study.rate_hz:g} Hz)"), fontsize=10)
     axes[1].set_title("tension headroom", fontsize=10)
     ax = axes[2]
-    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
     drawn = False
     for name, err, color in (("predictor", prediction.predictor, "#1a9850"),
                              ("kinematic", prediction.taylor, "#fc8d59"), ("hold", prediction.hold, "#d73027")):
-        rows = np.where(moving & np.isfinite(err[:, 0, :]), err[:, 0, :], -np.inf).max(axis=1)
+        rows = worst_moving_dof(prediction, err)
         ok = np.isfinite(rows) & (rows > 0)
         if ok.any():
             ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name)

@@ -320,17 +320,6 @@ def _write_table(names: list[str], rows: list[list], path: Path) -> Path:
     return path
 
 
-def _worst_dof(prediction, err) -> list:
-    """The worst moving DOF's normalised error of eta per horizon (None where not evaluated
-    or the ship does not move)."""
-    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
-    out = []
-    for row in err[:, 0, :]:
-        values = row[moving & np.isfinite(row)]
-        out.append(float(values.max()) if values.size else None)
-    return out
-
-
 def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Path]]:
     """A control study's files (:mod:`marinecdpr.studies.control`): ``control_study.csv`` (a
     row per run), ``prediction.csv`` (the ship-motion predictor's error per horizon and DOF,
@@ -339,13 +328,14 @@ def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Pat
     from dataclasses import asdict
 
     from marinecdpr.report.figures import plot_control_study
+    from marinecdpr.studies.control import moving_dofs, worst_moving_dof
 
     folder = Path(folder)
     runs = [asdict(r) for r in study.runs]
     header = list(runs[0])
     paths = [_write_table(header, [[r[h] for h in header] for r in runs], folder / "control_study.csv")]
     dofs = ("surge", "sway", "heave", "roll", "pitch", "yaw")
-    moving = prediction.record_rms[0] > 1e-6 * max(prediction.record_rms[0].max(), 1e-300)
+    moving = moving_dofs(prediction)
     rows = [[float(h), dofs[d], *(float(e[i, 0, d]) if np.isfinite(e[i, 0, d]) else "" for e in
                                   (prediction.predictor, prediction.taylor, prediction.hold))]
             for i, h in enumerate(prediction.horizons_s) for d in range(len(dofs)) if moving[d]]
@@ -357,9 +347,11 @@ def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Pat
                                                "DOF, MRU without latency",
                                     "horizons_s": prediction.horizons_s.tolist(),
                                     "model_share": prediction.model_share.tolist(),
-                                    **{name: _worst_dof(prediction, err) for name, err in (
-                                        ("predictor", prediction.predictor), ("kinematic", prediction.taylor),
-                                        ("hold", prediction.hold))}}}
+                                    **{name: [None if np.isnan(v) else float(v)
+                                              for v in worst_moving_dof(prediction, err)]
+                                       for name, err in (("predictor", prediction.predictor),
+                                                         ("kinematic", prediction.taylor),
+                                                         ("hold", prediction.hold))}}}
     paths.append(write_json(summary, folder / "summary.json"))
     paths.append(plot_control_study(study, prediction, folder / "control_study.png"))
     return summary, paths

@@ -17,12 +17,14 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from marinecdpr.control.controller import predictor_options
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.prediction import PredictionError, prediction_error
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["ControlRun", "ControlStudy", "control_study", "ship_prediction_error", "PREDICTIONS"]
+__all__ = ["ControlRun", "ControlStudy", "control_study", "ship_prediction_error", "worst_moving_dof",
+           "moving_dofs", "PREDICTIONS"]
 
 PREDICTIONS = ("none", "kinematic", "ar")
 
@@ -187,5 +189,24 @@ def ship_prediction_error(
     fits = [h for h in horizons_s if settle + latency_s + h < t[-1] - 0.02] or [0.0]
     return prediction_error(t, ship.eta, ship.eta_dot, ship.eta_ddot, sample_hz=rate_hz, latency_s=latency_s,
                             horizons_s=np.asarray(fits, dtype=float), discard_s=settle,
-                            step_s=mru.ar_step_s, order=mru.ar_order, forgetting=mru.ar_forgetting,
-                            warmup_fits=max(1, int(np.ceil(mru.ar_warmup_s / mru.ar_step_s - 1e-9))))
+                            **predictor_options(mru))
+
+
+def worst_moving_dof(prediction: PredictionError, err: np.ndarray) -> np.ndarray:
+    """The worst DOF's normalised error of eta per horizon, over the DOFs that move (RMS above
+    1e-6 of the largest), shape (n_h,); NaN where none was evaluated.
+
+    Parameters
+    ----------
+    prediction : PredictionError
+    err : ndarray, shape (n_h, 3, n_dof)
+        ``prediction.predictor``, ``.taylor`` or ``.hold``.
+    """
+    values = np.where(moving_dofs(prediction) & np.isfinite(err[:, 0, :]), err[:, 0, :], -np.inf).max(axis=1)
+    return np.where(np.isfinite(values), values, np.nan)
+
+
+def moving_dofs(prediction: PredictionError) -> np.ndarray:
+    """Which DOFs the record moves in (RMS of eta above 1e-6 of the largest), shape (n_dof,)."""
+    rms = prediction.record_rms[0]
+    return rms > 1e-6 * max(rms.max(), 1e-300)
