@@ -132,3 +132,53 @@ def test_unknown_method_is_a_value_error():
     J, w, _ = symmetric_hanging()
     with pytest.raises(ValueError, match="unknown tension method"):
         distribute_tensions(J, w, np.full(4, LO), np.full(4, HI), method="fastest")
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([(4, 3), (6, 3), (8, 6)]))
+def test_each_steps_own_bounds_against_a_general_qp_solver(seed, shape):
+    """Per-step bounds (a winch's range) tighten the limits step by step; the target stays the
+    middle of [t_min, t_max]. The exact methods against quadprog at every step, every method
+    against itself solved one step at a time with that step's limits (r = 1 closed forms in
+    numpy, r > 1 compiled)."""
+    m, k = shape
+    rng = np.random.default_rng(seed)
+    n = 30
+    J, w, lo, hi = random_problem(seed, n, m, k, 120.0)
+    lower = lo + rng.uniform(-50.0, 150.0, size=(n, m)) * (rng.random((n, m)) < 0.5)
+    upper = hi - rng.uniform(-50.0, 300.0, size=(n, m)) * (rng.random((n, m)) < 0.5)
+    eff_lo, eff_hi = np.maximum(lo, lower), np.minimum(hi, upper)
+    mid = 0.5 * (lo + hi)
+    for method, target in (("minimum_variance", mid), ("minimum_norm", np.zeros(m))):
+        sol = distribute_tensions(J, w, lo, hi, method=method, lower=lower, upper=upper)
+        for i in range(n):
+            ref = qp_reference(J[i], w[i], target, eff_lo[i], eff_hi[i]) if np.all(eff_lo[i] <= eff_hi[i]) else None
+            assert sol.feasible[i] == (ref is not None), (method, i)
+            if ref is not None:
+                np.testing.assert_allclose(sol.tensions[i], ref, atol=1e-6 * hi.max())
+    for method in TENSION_METHODS:
+        sol = distribute_tensions(J, w, lo, hi, method=method, lower=lower, upper=upper)
+        T = sol.tensions[sol.feasible]
+        tol = 1e-9 * hi.max()
+        assert np.all(T >= eff_lo[sol.feasible] - tol) and np.all(T <= eff_hi[sol.feasible] + tol), method
+        if method in ("closed_form", "pseudo_inverse"):  # the static solution, kept where it is in bounds
+            free = distribute_tensions(J, w, lo, hi, method=method)
+            inside = free.feasible & np.all((free.tensions >= eff_lo - tol) & (free.tensions <= eff_hi + tol), axis=1)
+            np.testing.assert_array_equal(sol.feasible, inside)
+            np.testing.assert_array_equal(sol.tensions[inside], free.tensions[inside])
+        if method == "improved_closed_form":
+            for i in range(n):  # one step at a time: the same as the series
+                one = distribute_tensions(J[i:i + 1], w[i:i + 1], lo, hi, method=method,
+                                          lower=lower[i:i + 1], upper=upper[i:i + 1])
+                assert one.feasible[0] == sol.feasible[i]
+                np.testing.assert_array_equal(one.tensions[0], sol.tensions[i])
+
+
+def test_bounds_that_never_bind_change_nothing():
+    J, w, lo, hi = random_problem(3, 50, 6, 3, 150.0)
+    for method in TENSION_METHODS:
+        free = distribute_tensions(J, w, lo, hi, method=method)
+        bound = distribute_tensions(J, w, lo, hi, method=method, lower=np.full((50, 6), -1e9),
+                                    upper=np.full((50, 6), 1e9))
+        np.testing.assert_array_equal(bound.tensions, free.tensions)
+        np.testing.assert_array_equal(bound.feasible, free.feasible)

@@ -967,7 +967,8 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
     """The exact methods (any redundancy) or the improved closed form over a time series.
 
     Jt (k, n, n_steps) and wt (k, n_steps): J~_c and w_c, time last; target (n,): the
-    exact methods' target (E or 0), E for the improved closed form (method 4); ok
+    exact methods' target (E or 0), E for the improved closed form (method 4); lo, hi
+    (n, 1) the tension limits of every step, or (n, n_steps) each step's own; ok
     (n_steps,): J~_c has full rank (steps without are infeasible); tol as in
     :func:`least_distance`. Writes Tt (n, n_steps), NaN where infeasible, and feasible
     (n_steps,). Both methods start from the same closed form on every cable (blocks of
@@ -987,6 +988,8 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
     v = np.empty((2, k))
     wn = np.empty((2, n))
     state = np.empty(n, dtype=np.int64)
+    lo_s, hi_s = np.empty(n), np.empty(n)  # this step's limits
+    per_step = lo.shape[1] > 1
     for s0 in range(0, n_steps, _BLOCK):
         nb = min(_BLOCK, n_steps - s0)
         _block_factor(Jt, s0, nb, G, Lb, det, piv, tr, dmax)
@@ -1015,17 +1018,21 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
         for j in range(nb):
             s = s0 + j
             status = 0  # 0 infeasible, 1 the closed form above, 2 a per-step solution in T
+            c = s if per_step else 0
+            for i in range(n):
+                lo_s[i] = lo[i, c]
+                hi_s[i] = hi[i, c]
             if ok[s]:
                 # the improved closed form's rank test on the full set is the per-step one
                 if piv[j] > 0.0 and (method != 4 or det[j] > 1e-12 * _pow(dmax[j], k)):
                     status = 1
                     for i in range(n):
-                        if not (Tb[i, j] >= lo[i] - tol and Tb[i, j] <= hi[i] + tol):
+                        if not (Tb[i, j] >= lo_s[i] - tol and Tb[i, j] <= hi_s[i] + tol):
                             status = 0
                             break
                 if status == 0 and method == 4:
                     _step_matrix(Jt, wt, s, A, b)
-                    if improved_closed_form(A, b, target, lo, hi, tol, 1e-12, T, M, v[0], state):
+                    if improved_closed_form(A, b, target, lo_s, hi_s, tol, 1e-12, T, M, v[0], state):
                         status = 2
                 elif status == 0 and piv[j] > 0.0:
                     # the active-set method from this unconstrained optimum and Gram matrix
@@ -1037,7 +1044,7 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
                     for i in range(n):
                         state[i] = 0
                         T[i] = Tb[i, j]
-                    if _active_set(A, b, target, lo, hi, tol, T, M, v, wn, state) == 1:
+                    if _active_set(A, b, target, lo_s, hi_s, tol, T, M, v, wn, state) == 1:
                         status = 2
             for i in range(n):
                 Tt[i, s] = Tb[i, j] if status == 1 else (T[i] if status == 2 else np.nan)

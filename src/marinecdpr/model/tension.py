@@ -235,9 +235,9 @@ def _tol(hi: np.ndarray) -> float:
     return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
 
 
-def _within(T: list, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Every tension (a list over cables) within its limits, per step."""
-    tol = _tol(hi)
+def _within(T: list, lo: np.ndarray, hi: np.ndarray, tol: float) -> np.ndarray:
+    """Every tension (a list over cables) within its limits, per step: lo[i], hi[i] a
+    cable's limit (a number) or its limit at each step (n_steps,)."""
     with np.errstate(invalid="ignore"):
         inside = [(Ti >= lo[i] - tol) & (Ti <= hi[i] + tol) for i, Ti in enumerate(T)]
     return np.logical_and.reduce(inside)
@@ -258,13 +258,15 @@ def _least_distance(
     hi: np.ndarray,
     T_s: np.ndarray,
     ok: np.ndarray,
+    tol: float,
 ) -> TensionSolution:
-    """Exactly minimise |T - target|^2 subject to J~^T T = w and lo <= T <= hi."""
+    """Exactly minimise |T - target|^2 subject to J~^T T = w and lo <= T <= hi (lo, hi
+    (m,), or (m, n_steps): each step's own)."""
     n, m, k = J.shape
     r = m - k
     Ts = [T_s[:, i] for i in range(m)]
     if r == 0:
-        return _finish(Ts, ok & _within(Ts, lo, hi), n)
+        return _finish(Ts, ok & _within(Ts, lo, hi, tol), n)
     if r == 1:
         N = _null_vector(_cols(Jt), n)
         # lambda* = N^T (target - T_s) / N^T N, with N^T N = 1
@@ -296,11 +298,11 @@ def _least_distance(
         feasible = ok & fixed_ok & (low <= high)
         return _finish(T, feasible, n)
     # r > 1: the unconstrained optimum, else the exact QP, compiled (kernels.least_distance)
-    return _compiled(J, w, target, lo, hi, ok, 2)
+    return _compiled(J, w, target, lo, hi, ok, 2, tol)
 
 
 def _compiled(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-              ok: np.ndarray, method: int) -> TensionSolution:
+              ok: np.ndarray, method: int, tol: float) -> TensionSolution:
     """The compiled per-step solvers over the steps (:func:`marinecdpr.model.kernels.tension_series`):
     ``method`` 2 the exact least-distance QP to ``target``, 4 the improved closed form."""
     from marinecdpr.model import kernels
@@ -310,9 +312,12 @@ def _compiled(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, 
     wt = w.T if w.T.flags.c_contiguous else np.ascontiguousarray(w.T)
     T = np.empty((m, n))
     feasible = np.empty(n, dtype=bool)
-    kernels.tension_series(Jt, wt, np.ascontiguousarray(target, dtype=float), np.ascontiguousarray(lo),
-                           np.ascontiguousarray(hi), np.ascontiguousarray(ok, dtype=bool), method,
-                           _tol(hi), T, feasible)
+
+    def columns(a: np.ndarray) -> np.ndarray:  # (m, 1) or (m, n_steps), as the kernel takes them
+        return np.ascontiguousarray(a.reshape(m, -1), dtype=float)
+
+    kernels.tension_series(Jt, wt, np.ascontiguousarray(target, dtype=float), columns(lo), columns(hi),
+                           np.ascontiguousarray(ok, dtype=bool), method, tol, T, feasible)
     return TensionSolution(T.T, feasible)
 
 
@@ -325,6 +330,8 @@ def distribute_tensions(
     method: str = "minimum_variance",
     T_s: np.ndarray | None = None,
     ok: np.ndarray | None = None,
+    lower: np.ndarray | None = None,
+    upper: np.ndarray | None = None,
 ) -> TensionSolution:
     """Cable tensions that produce the wrench ``w``, by ``method``.
 
@@ -341,6 +348,12 @@ def distribute_tensions(
         ``improved_closed_form``, ``minimum_norm`` (see the module docstring).
     T_s, ok : ndarray, optional
         :func:`pseudo_inverse_tensions` of ``(J, w)`` if already computed.
+    lower, upper : ndarray, shape (n_steps, n_cables), optional
+        Each step's own tension bounds, N, within which the tensions must also lie (e.g.
+        what the winches can give: :func:`~marinecdpr.model.winch.winch_tension_bounds`).
+        The methods' targets (the middle of the range) and the tolerance stay those of
+        ``t_min``, ``t_max``: where these bounds do not bind, the tensions are the same as
+        without them.
 
     Returns
     -------
@@ -358,20 +371,27 @@ def distribute_tensions(
     if T_s is None or ok is None:
         T_s, ok = _pinv_cols(cols, w, n, Jt)
     mid = 0.5 * (lo + hi)
+    tol = _tol(hi)
+    if lower is not None or upper is not None:  # each step's own bounds, (m, n_steps): lo[i] a row
+        lo = (lo[:, None] if lower is None else np.maximum(lo[:, None], np.asarray(lower, dtype=float).T))
+        hi = (hi[:, None] if upper is None else np.minimum(hi[:, None], np.asarray(upper, dtype=float).T))
+        lo, hi = np.broadcast_arrays(lo, np.broadcast_to(hi, (hi.shape[0], n)))
+        with np.errstate(invalid="ignore"):
+            ok = ok & np.all(lo <= hi, axis=0)  # an empty (or NaN) range holds nothing
     m = T_s.shape[1]
     if method == "pseudo_inverse":
         Ts = [T_s[:, i] for i in range(m)]
-        return _finish(Ts, ok & _within(Ts, lo, hi), n)
+        return _finish(Ts, ok & _within(Ts, lo, hi, tol), n)
     if method == "minimum_variance":
-        return _least_distance(J, Jt, w, mid, lo, hi, T_s, ok)
+        return _least_distance(J, Jt, w, mid, lo, hi, T_s, ok, tol)
     if method == "minimum_norm":
-        return _least_distance(J, Jt, w, np.zeros_like(mid), lo, hi, T_s, ok)
+        return _least_distance(J, Jt, w, np.zeros_like(mid), lo, hi, T_s, ok, tol)
     if method == "closed_form":
         x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n, Jt)
         T = [mid[i] + Jx for i, Jx in enumerate(_Jx(cols, x))]
-        return _finish(T, ok & _within(T, lo, hi), n)
+        return _finish(T, ok & _within(T, lo, hi, tol), n)
     if method == "improved_closed_form":
-        return _compiled(J, w, mid, lo, hi, ok, 4)
+        return _compiled(J, w, mid, lo, hi, ok, 4, tol)
     raise ValueError(
         f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
         "closed_form, improved_closed_form or minimum_norm)"

@@ -73,10 +73,12 @@ HARMONIC_CHUNK = 4096  # seastate._harmonic's block of times
 FFT_MAX_SAMPLES = 2**18  # seastate.FFT_MAX_SAMPLES
 
 
-def _plan_row(m: int, k: int) -> int:
+def _plan_row(m: int, k: int, winch: bool = False) -> int:
     """A Plan's arrays per step: t; pose, twist, twist_dot, wrench, C_s, F_s (6 each);
-    lengths, length_rates, tensions_pinv, tensions (m each); feasible (1 byte); reaction."""
-    return F8 * (1 + 6 * 6 + 4 * m + (6 - k)) + 1
+    lengths, length_rates, tensions_pinv, tensions (m each); feasible (1 byte); reaction;
+    with winches, length_accelerations, tension_lower, tension_upper (m each) and
+    winch_limit (m bytes)."""
+    return F8 * (1 + 6 * 6 + (7 if winch else 4) * m + (6 - k)) + 1 + (m if winch else 0)
 
 
 def _chunk_row(m: int) -> int:
@@ -84,13 +86,13 @@ def _chunk_row(m: int) -> int:
     return 1000 + 250 * m
 
 
-def _sim_row(m: int, k: int) -> int:
+def _sim_row(m: int, k: int, winch: bool = False) -> int:
     """One simulate() run per step: the plan at t and the mid-step plan (each with its t);
     the ship's motion (eta and derivatives, R, omega, alpha: 33 numbers) and the
     disturbance (raw and in C: 12) on the half-step grid; the mid-step rotation; sensor
     noise and the noisy ship (12 + 18 + m); loads at t (6); the logs (6 + 3 m); MuJoCo's
     ship drive (feed-forward, targets, axes, loads in O: about 50)."""
-    plans = 2 * (_plan_row(m, k) + F8)
+    plans = 2 * (_plan_row(m, k, winch) + F8)
     half_grid = 2 * F8 * (1 + 33 + 12)
     run = F8 * (9 + 12 + 18 + m + 6 + 6 + 3 * m + 50)
     return plans + half_grid + run
@@ -300,16 +302,16 @@ def estimate_run(
     if command not in COMMANDS:
         raise ValueError(f"command must be one of {', '.join(COMMANDS)}, not {command!r}")
     robot = scenario.robot
-    m, k = robot.n_cables, len(robot.controlled)
+    m, k, w = robot.n_cables, len(robot.controlled), robot.winch is not None
     n = scenario.time.n_steps if n_steps is None else int(n_steps)
     h = scenario.time.step_s
     poses = grid[0] * grid[1] if grid is not None else 1
     chunk = min(n, chunk_steps)
-    working = chunk * (_chunk_row(m) + _plan_row(m, k))  # one chunk planned, and its Plan
+    working = chunk * (_chunk_row(m) + _plan_row(m, k, w))  # one chunk planned, and its Plan
     runs = 1
     pose_bytes = 0
     if command == "plan":
-        series = n * (_plan_row(m, k) + F8)
+        series = n * (_plan_row(m, k, w) + F8)
         if ship_at_once(scenario, n, h, chunk_steps):
             series += n * SHIP_ROW
             sea = _sea(scenario, n, n, h)
@@ -320,12 +322,12 @@ def estimate_run(
         working += chunk * _csv_row(2 + 6 + 3 * m)  # the chunk's CSV text
         sea = _sea(scenario, chunk, n, h)
     elif command == "simulate":
-        series = n * _sim_row(m, k)
+        series = n * _sim_row(m, k, w)
         sea = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2)
     elif command == "virtual_prototype":
         runs = 3
         # the plan kept, three results kept, a run without its own reference, the largest CSV
-        series = n * (3 * _result_row(m) + _sim_row(m, k) + _csv_row(1 + 12 + 4 * m))
+        series = n * (3 * _result_row(m) + _sim_row(m, k, w) + _csv_row(1 + 12 + 4 * m))
         sea = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2)
     elif command == "workspace":
         series = 0
@@ -335,7 +337,7 @@ def estimate_run(
         poses *= max(int(cells), 1)
         runs = 2 if closed_loop else 1
         per_cell = _sea(scenario, chunk, n, h)
-        flight = n * _sim_row(m, k) if closed_loop else 0
+        flight = n * _sim_row(m, k, w) if closed_loop else 0
         series = max(int(workers), 1) * flight
         pose_bytes = poses * POSE_BYTES
         fly = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2) if closed_loop else (0, 0, 0)

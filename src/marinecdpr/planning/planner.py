@@ -20,7 +20,7 @@ from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
-from marinecdpr.model.tension import distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.model.tension import TENSION_TOLERANCE, distribute_tensions, pseudo_inverse_tensions
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.ship import ShipMotion, still_ship
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
@@ -29,7 +29,7 @@ from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
-           "TWIST_NAMES"]
+           "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
 TWIST_NAMES = ("x", "y", "z", "rx", "ry", "rz")
@@ -75,6 +75,15 @@ class Plan:
     robot : Robot, optional
         The robot planned for; with it, :meth:`infeasibility` names the cables at their
         limits.
+    length_accelerations, tension_lower, tension_upper : ndarray, shape (n_steps, n_cables), optional
+        With winches (``robot.winch``): the cables' L'' (m/s^2), and the tensions each winch
+        can give at that step within the cable's limits, N (the tension method's bounds:
+        :func:`~marinecdpr.model.winch.winch_tension_bounds`). None without.
+    winch_limit : ndarray of int8, shape (n_steps, n_cables), optional
+        With winches: 0 the winch can give the planned tension; :data:`WINCH_OVERSPEED` the
+        cable moves faster than the motor can turn; :data:`WINCH_NO_TENSION` no tension
+        within the cable's limits is within the motor's torque and power at that motion.
+        A step with either is infeasible.
     """
 
     t: np.ndarray
@@ -94,6 +103,10 @@ class Plan:
     method: str
     base_model: str
     robot: Robot | None = None
+    length_accelerations: np.ndarray | None = None
+    tension_lower: np.ndarray | None = None
+    tension_upper: np.ndarray | None = None
+    winch_limit: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -134,8 +147,22 @@ class Plan:
             f"the cables cannot hold the platform within their tension limits at "
             f"{n_bad} of {n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
         )
-        cause = self.limiting_cables(i)
+        cause = self._winch_cause(i) or self.limiting_cables(i)
         return message if cause is None else f"{message}: {cause}"
+
+    def _winch_cause(self, i: int) -> str | None:
+        """Which winches cannot follow at step ``i`` (None if all can)."""
+        if self.winch_limit is None or not self.winch_limit[i].any():
+            return None
+        parts = []
+        for code, why in ((WINCH_OVERSPEED, "the cable moves faster than its motor can turn "
+                                             "(robot.winch.speed_max_rad_s)"),
+                          (WINCH_NO_TENSION, "its torque and power give no tension within the cable's "
+                                              "limits at that motion (robot.winch)")):
+            cables = [str(c + 1) for c in np.flatnonzero(self.winch_limit[i] == code)]
+            if cables:
+                parts.append(f"winch{'es' if len(cables) > 1 else ''} {', '.join(cables)}: {why}")
+        return "; ".join(parts)
 
     def limiting_cables(self, i: int) -> str | None:
         """Why step ``i`` is infeasible: the cables at their limits in the best attainable tensions.
@@ -159,12 +186,16 @@ class Plan:
         if not (np.isfinite(A).all() and np.isfinite(w).all()):
             return None
         lo, hi = robot.tension_min, robot.tension_max
+        if self.tension_lower is not None:  # what the winches can give at that step
+            lo, hi = self.tension_lower[i], self.tension_upper[i]
         is_moment = np.array(c) >= 3
         radius = max(float(np.linalg.norm(robot.platform_anchors, axis=1).max()), 1e-3)
         weight = np.where(is_moment, 1.0 / radius, 1.0)
         T = np.clip(lsq_linear(A * weight[:, None], w * weight, bounds=(lo, hi), method="bvls").x, lo, hi)
         missing = w - A @ T
-        tol = 1e-6 * (float(hi.sum()) + float(np.abs(w * weight).max()))
+        # what the tension solver's own tolerance on the limits can make up (J~'s force rows
+        # are unit vectors, its moment rows weighted to forces), with lsq_linear's rounding
+        tol = len(lo) * TENSION_TOLERANCE * max(1.0, float(hi.max())) + 1e-12 * float(np.abs(w * weight).max())
         force, moment = missing[~is_moment], missing[is_moment]
         f, m = float(np.linalg.norm(force)), float(np.linalg.norm(moment))
         singular = np.linalg.matrix_rank(A) < len(c)
@@ -186,7 +217,8 @@ class Plan:
                 short.append(f"{value:.4g} {unit} of {word}{along}")
         at, n_at = [], 0
         tol_T = 1e-6 * float(hi.max())
-        for label, on, limit in (("T_min", T <= lo + tol_T, lo), ("T_max", T >= hi - tol_T, hi)):
+        labels = ("T_min", "T_max") if self.tension_lower is None else ("its winch's least", "its winch's most")
+        for label, on, limit in ((labels[0], T <= lo + tol_T, lo), (labels[1], T >= hi - tol_T, hi)):
             for value in sorted(set(limit[on].tolist())):
                 cables = [str(k + 1) for k in np.flatnonzero(on & (limit == value))]
                 n_at += len(cables)
@@ -199,7 +231,12 @@ class Plan:
 _ARRAY_FIELDS = (
     "t", "pose", "twist", "twist_dot", "lengths", "length_rates", "wrench", "C_s", "F_s",
     "tensions_pinv", "tensions", "feasible", "reaction",
+    "length_accelerations", "tension_lower", "tension_upper", "winch_limit",  # with winches only
 )
+WINCH_OVERSPEED, WINCH_NO_TENSION = 1, 2
+"""Codes of :attr:`Plan.winch_limit`."""
+LENGTH_ACCELERATION_STEP_S = 1e-4
+"""The step of the central difference of the cables' L' that gives L'', s."""
 
 
 def _columns(J: np.ndarray, dofs: list[int]) -> np.ndarray:
@@ -221,6 +258,46 @@ def _over_pulleys(robot, platform, twist: np.ndarray, t: np.ndarray):
         why = {1: "on its pulley's swivel axis", 2: "inside its pulley"}.get(int(pk.status[k, i]), "not finite")
         raise ScenarioError(f"cable {i + 1}'s platform anchor is {why} at t = {t[k]:.6g} s")
     return pk
+
+
+def _cable_rates(scenario: Scenario, t: np.ndarray) -> np.ndarray:
+    """The cables' L' at times t (over the pulleys, if any), m/s, shape (n_steps, m)."""
+    robot = scenario.robot
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    if robot.has_pulleys:
+        return _over_pulleys(robot, platform, platform.twist, t).length_rates
+    return cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
+                            platform.twist).length_rates
+
+
+def _length_accelerations(scenario: Scenario, t: np.ndarray) -> np.ndarray:
+    """The cables' L'' at t, m/s^2, shape (n_steps, m): second-order differences of L' over
+    :data:`LENGTH_ACCELERATION_STEP_S`, central, and forward before it (the trajectory's
+    start): the same at any step whatever the chunk."""
+    h = LENGTH_ACCELERATION_STEP_S
+    ahead = _cable_rates(scenario, t + h)
+    first = t < h
+    back = _cable_rates(scenario, np.where(first, t + 2.0 * h, t - h))
+    central = (ahead - back) / (2.0 * h)
+    if not first.any():
+        return central
+    now = _cable_rates(scenario, t[first])
+    forward = (4.0 * ahead[first] - 3.0 * now - back[first]) / (2.0 * h)
+    central[first] = forward
+    return central
+
+
+def _winch_bounds(scenario: Scenario, t: np.ndarray, length_rates: np.ndarray) -> dict:
+    """With ``robot.winch``: the cables' L'', the tensions each winch can give at each step
+    (:func:`~marinecdpr.model.winch.winch_tension_bounds`) and :attr:`Plan.winch_limit`."""
+    from marinecdpr.model.winch import WinchParams, winch_tension_bounds
+
+    robot = scenario.robot
+    L_ddot = _length_accelerations(scenario, t)
+    b = winch_tension_bounds(length_rates, L_ddot, WinchParams(**robot.winch.model_dump()),
+                             robot.tension_min, robot.tension_max)
+    limit = np.where(b.overspeed, WINCH_OVERSPEED, np.where(b.empty, WINCH_NO_TENSION, 0)).astype(np.int8)
+    return dict(length_accelerations=L_ddot, tension_lower=b.lower_N, tension_upper=b.upper_N, winch_limit=limit)
 
 
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
@@ -254,8 +331,13 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     c = list(robot.controlled)
     J = _columns(kin.J_tilde, c)
     T_s, ok = pseudo_inverse_tensions(J, w[:, c])
+    winch = {} if robot.winch is None else _winch_bounds(scenario, t, kin.length_rates)
+    lower, upper = winch.get("tension_lower"), winch.get("tension_upper")
+    if winch:  # a winch that cannot turn as fast as its cable moves holds no tension
+        lower = np.where(winch["winch_limit"] == WINCH_OVERSPEED, np.nan, lower)
     sol = distribute_tensions(
-        J, w[:, c], robot.tension_min, robot.tension_max, method=method, T_s=T_s, ok=ok
+        J, w[:, c], robot.tension_min, robot.tension_max, method=method, T_s=T_s, ok=ok,
+        lower=lower, upper=upper,
     )
     u = list(uncontrolled(robot.controlled))
     # the guide supplies what the cables do not: w - J~^T T in the uncontrolled DOFs
@@ -265,7 +347,7 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
         t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
         lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,
         C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
-        feasible=sol.feasible, reaction=reaction,
+        feasible=sol.feasible, reaction=reaction, **winch,
     )
 
 
@@ -380,7 +462,8 @@ class PlanSummary:
         ok = int(piece.feasible.sum())
         if self._first_bad is None and ok < piece.n_steps:
             i = int(np.flatnonzero(~piece.feasible)[0])
-            self._first_bad = replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS})
+            self._first_bad = replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS
+                                                if getattr(piece, f) is not None})
         self.n_steps += piece.n_steps
         self.n_feasible += ok
 
@@ -486,7 +569,9 @@ def plan_at(
     i0 = 0
     for piece in _chunks(scenario, t, method, base_model, chunk_steps, ship):
         for name in _ARRAY_FIELDS:
-            arr = piece[name]
+            arr = piece.get(name)
+            if arr is None:
+                continue
             if name not in out:
                 out[name] = np.empty((n,) + arr.shape[1:], dtype=arr.dtype)
             out[name][i0 : i0 + arr.shape[0]] = arr

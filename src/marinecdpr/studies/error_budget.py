@@ -13,9 +13,11 @@ winch) is reported as not evaluated, with the key that would describe it.
   tension at the platform, in the true vertical (the ship's attitude): the extra
   unstretched length the winch pays out against a straight cable, and the tension at the
   winch against the platform's;
-- winch limits: the plan's tensions against the range the winch can give at each step
-  (torque, speed, power, inertia, friction: ``marinecdpr.model.winch``), the steps it
-  cannot follow, and each winch's peak torque, speed, power and energy.
+- winch limits: the plan keeps each tension within the range its winch can give at that
+  step (torque, speed, power, inertia, friction: ``marinecdpr.model.winch``); against the
+  same plan without the winches' limits, the largest change of a tension, the steps the
+  winches cannot follow, and each winch's peak torque, speed, power and energy over the
+  plan's feasible steps.
 
 The reachable workspace's change is not computed here (a workspace map per effect:
 ``marinecdpr workspace`` on the scenario with and without each).
@@ -29,7 +31,7 @@ import numpy as np
 
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.catenary import catenary_series
-from marinecdpr.model.winch import WinchParams, length_accelerations, winch_report, winch_tension_bounds
+from marinecdpr.model.winch import WinchParams, winch_report
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.planning.planner import Plan, plan
 from marinecdpr.scenario.schema import Scenario
@@ -98,21 +100,28 @@ def _sag(scenario: Scenario, p: Plan) -> Effect:
 
 def _winches(scenario: Scenario, p: Plan):
     robot = scenario.robot
-    if robot.winch is None:
+    if robot.winch is None or p.winch_limit is None:
         return Effect("winch limits", None, None, "no winch described (robot.winch)"), None
     params = WinchParams(**robot.winch.model_dump())
-    dt = scenario.time.step_s
-    L_ddot = length_accelerations(p.length_rates, dt)
-    bounds = winch_tension_bounds(p.length_rates, L_ddot, params, robot.tension_min, robot.tension_max)
-    T = p.tensions
-    excess = np.maximum(np.maximum(T - bounds.upper_N, bounds.lower_N - T), 0.0)
-    excess = np.where(np.isfinite(excess), excess, 0.0)
-    beyond = (excess > 1e-9) | bounds.flag
-    steps = int(beyond.any(axis=1).sum())
-    report = winch_report(T, p.length_rates, L_ddot, dt, params)
-    note = (f"{steps} of {p.n_steps} steps a winch cannot follow (overspeed or tension beyond its range)"
-            if steps else "every step within the winches' torque, speed and power")
-    return Effect("winch limits", None, float(excess.max()), note), report
+    free = plan(scenario.with_changes(robot={**robot.model_dump(exclude_none=True, exclude={"winch"})}),
+                method=p.method, base_model=p.base_model)
+    both = p.feasible & free.feasible
+    dT = float(np.max(np.abs(p.tensions[both] - free.tensions[both]), initial=0.0))
+    lost = int((free.feasible & ~p.feasible).sum())
+    ok = p.feasible
+    report = winch_report(p.tensions[ok], p.length_rates[ok], p.length_accelerations[ok], scenario.time.step_s, params)
+    asks = winch_report(free.tensions[free.feasible], free.length_rates[free.feasible],
+                        p.length_accelerations[free.feasible], scenario.time.step_s, params)
+    if lost:
+        note = (f"{lost} of {p.n_steps} steps lost to the winches' limits (no tensions within what "
+                f"each can give at that motion); without those limits the plan asks up to "
+                f"{asks.peak_torque_Nm.max():.3g} N m, {asks.peak_speed_rad_s.max():.3g} rad/s, "
+                f"{asks.peak_power_W.max():.3g} W")
+    elif dT > 0.0:
+        note = "the winches' limits bind: the plan keeps within what each can give"
+    else:
+        note = "every step within the winches' torque, speed and power"
+    return Effect("winch limits", None, dT, note), report
 
 
 def error_budget(scenario: Scenario, p: Plan | None = None):
