@@ -70,13 +70,16 @@ def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_mod
     return ref, ff, ship_h
 
 
-def reference(ff: Plan) -> Reference:
+def reference(ff: Plan, *, sag: bool = False) -> Reference:
     """The controller's reference: the plan at mid-step, t_k + h/2 (holding its tensions over
-    the step is second-order accurate)."""
-    c = np.ascontiguousarray
-    pose, twist, acc = c(ff.pose), c(ff.twist), c(ff.twist_dot)
-    return Reference(pose[:, :3], c(matrix_from_euler(pose[:, 3:])), twist[:, :3], twist[:, 3:],
-                     acc[:, :3], acc[:, 3:], c(ff.tensions), c(ff.lengths), c(ff.length_rates))
+    the step is second-order accurate); with ``sag`` (catenary cables) the extra length the
+    plan's heavy cables sag by, else zeros."""
+    c = np.ascontiguousarray  # every array C-ordered: one compiled loop for every plan length
+    sag = (np.nan_to_num(ff.sag_lengths, nan=0.0) if sag and ff.sag_lengths is not None
+           else np.zeros_like(ff.lengths))
+    return Reference(c(ff.pose[:, :3]), c(matrix_from_euler(ff.pose[:, 3:])), c(ff.twist[:, :3]), c(ff.twist[:, 3:]),
+                     c(ff.twist_dot[:, :3]), c(ff.twist_dot[:, 3:]), c(ff.tensions), c(ff.lengths), c(ff.length_rates),
+                     c(sag))
 
 
 def robot_model(scenario: Scenario) -> RobotModel:
@@ -110,7 +113,7 @@ def gains(scenario: Scenario, *, closed: bool) -> Gains:
                             "forward kinematics knows point anchors only)", source=scenario.name)
     wn = 2.0 * np.pi * control.bandwidth_hz
     return Gains(bool(closed), wn * wn, 2.0 * control.damping_ratio * wn, float(cables.winch_time_constant_s),
-                 cables.winch == "tension", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,
+                 cables.winch != "length", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,
                  PREDICTIONS[sim.mru.prediction], FK_TOL_M, FK_ITER)
 
 
@@ -175,7 +178,7 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     res = scenario.simulation.sensors.encoder_resolution_m
     work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res)
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
-    return ControllerParts(reference(ff), robot_model(scenario), gains(scenario, closed=closed), loads,
+    return ControllerParts(reference(ff, sag=scenario.simulation.cables.model == "catenary"), robot_model(scenario), gains(scenario, closed=closed), loads,
                            empty_measurement(m), empty_command(m), work, predictor(scenario))
 
 

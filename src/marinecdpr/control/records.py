@@ -38,6 +38,8 @@ class Reference(NamedTuple):
     x, v, a : (n_steps, 3) position, velocity, acceleration of P relative to C, in C.
     R : (n_steps, 3, 3) R_PC. w, al : (n_steps, 3) angular velocity and acceleration in C.
     T, L, Ldot : (n_steps, m) planned tensions (N), cable lengths (m) and their rates (m/s).
+    sag : (n_steps, m) the extra unstretched length a heavy cable's sag takes at the planned
+    tension (:attr:`~marinecdpr.planning.Plan.sag_lengths`; zeros for weightless cables), m.
     """
 
     x: np.ndarray
@@ -49,6 +51,7 @@ class Reference(NamedTuple):
     T: np.ndarray
     L: np.ndarray
     Ldot: np.ndarray
+    sag: np.ndarray
 
 
 class RobotModel(NamedTuple):

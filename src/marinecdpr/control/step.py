@@ -196,7 +196,7 @@ def _feedback_tensions(k, h, ctl):
 @njit(cache=_cache, inline="always")
 def _unstretched(ref, k, model, i):
     """The winch length of cable i that holds the plan's length at the plan's tension, m."""
-    return ref.L[k, i] / (1.0 + (ref.T[k, i] - model.damping * ref.Ldot[k, i]) / model.EA)
+    return ref.L[k, i] / (1.0 + (ref.T[k, i] - model.damping * ref.Ldot[k, i]) / model.EA) + ref.sag[k, i]
 
 
 @njit(cache=_cache, inline="always")
@@ -235,9 +235,11 @@ def control_step(k, h, ctl):
         cmd.T_cmd[:] = ref.T[k]
     # a length-controlled winch pays out the reference length less the stretch the
     # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
-    # (the cable's damping adds c L' of the plan: the stretch makes the rest)
+    # (the cable's damping adds c L' of the plan: the stretch makes the rest), plus what a
+    # heavy cable's sag takes at the planned tension
     for i in range(cmd.L0_cmd.shape[0]):
-        cmd.L0_cmd[i] = ref.L[k, i] / (1.0 + (cmd.T_cmd[i] - model.damping * ref.Ldot[k, i]) / model.EA)
+        cmd.L0_cmd[i] = (ref.L[k, i] / (1.0 + (cmd.T_cmd[i] - model.damping * ref.Ldot[k, i]) / model.EA)
+                         + ref.sag[k, i])
     if gains.closed and gains.lead_s > 0.0:
         # the controller knows its winches' lag: it leads the planned part of the command
         # by tau times the plan's (smooth) rate, u = r + tau r'

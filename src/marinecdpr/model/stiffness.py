@@ -441,7 +441,7 @@ def plan_stiffness(
         if EA is None:
             raise ValueError("length-controlled winches need the cables' EA: pass EA= or give "
                              "simulation.cables.stiffness_EA_N")
-        if damping is None and cables.model == "elastic":
+        if damping is None and cables.model != "ideal":
             damping = cables.damping_N_s_m
     else:
         EA, damping = None, None

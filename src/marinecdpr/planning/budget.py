@@ -73,12 +73,18 @@ HARMONIC_CHUNK = 4096  # seastate._harmonic's block of times
 FFT_MAX_SAMPLES = 2**18  # seastate.FFT_MAX_SAMPLES
 
 
-def _plan_row(m: int, k: int, winch: bool = False) -> int:
+def _plan_row(m: int, k: int, extra: int = 0) -> int:
     """A Plan's arrays per step: t; pose, twist, twist_dot, wrench, C_s, F_s (6 each);
     lengths, length_rates, tensions_pinv, tensions (m each); feasible (1 byte); reaction;
-    with winches, length_accelerations, tension_lower, tension_upper (m each) and
-    winch_limit (m bytes)."""
-    return F8 * (1 + 6 * 6 + (7 if winch else 4) * m + (6 - k)) + 1 + (m if winch else 0)
+    ``extra`` more arrays of m (:func:`_extra_columns`)."""
+    return F8 * (1 + 6 * 6 + (4 + extra) * m + (6 - k)) + 1
+
+
+def _extra_columns(robot) -> int:
+    """A Plan's optional arrays of m per step: with winches length_accelerations,
+    tension_lower, tension_upper and winch_limit (counted as 8 bytes); with heavy cables
+    sag_lengths and winch_tensions."""
+    return (4 if robot.winch is not None else 0) + (2 if robot.cable_weight_N_m > 0.0 else 0)
 
 
 def _chunk_row(m: int) -> int:
@@ -86,13 +92,13 @@ def _chunk_row(m: int) -> int:
     return 1000 + 250 * m
 
 
-def _sim_row(m: int, k: int, winch: bool = False) -> int:
+def _sim_row(m: int, k: int, extra: int = 0) -> int:
     """One simulate() run per step: the plan at t and the mid-step plan (each with its t);
     the ship's motion (eta and derivatives, R, omega, alpha: 33 numbers) and the
     disturbance (raw and in C: 12) on the half-step grid; the mid-step rotation; sensor
     noise and the noisy ship (12 + 18 + m); loads at t (6); the logs (6 + 3 m); MuJoCo's
     ship drive (feed-forward, targets, axes, loads in O: about 50)."""
-    plans = 2 * (_plan_row(m, k, winch) + F8)
+    plans = 2 * (_plan_row(m, k, extra) + F8)
     half_grid = 2 * F8 * (1 + 33 + 12)
     run = F8 * (9 + 12 + 18 + m + 6 + 6 + 3 * m + 50)
     return plans + half_grid + run
@@ -302,7 +308,7 @@ def estimate_run(
     if command not in COMMANDS:
         raise ValueError(f"command must be one of {', '.join(COMMANDS)}, not {command!r}")
     robot = scenario.robot
-    m, k, w = robot.n_cables, len(robot.controlled), robot.winch is not None
+    m, k, w = robot.n_cables, len(robot.controlled), _extra_columns(robot)
     n = scenario.time.n_steps if n_steps is None else int(n_steps)
     h = scenario.time.step_s
     poses = grid[0] * grid[1] if grid is not None else 1

@@ -84,6 +84,12 @@ class Plan:
         cable moves faster than the motor can turn; :data:`WINCH_NO_TENSION` no tension
         within the cable's limits is within the motor's torque and power at that motion.
         A step with either is infeasible.
+    sag_lengths, winch_tensions : ndarray, shape (n_steps, n_cables), optional
+        With heavy cables (``robot.cable_weight_N_m`` > 0): each cable's free span an elastic
+        catenary (:mod:`~marinecdpr.model.catenary`, EA of ``simulation.cables``, infinite
+        for ideal cables) in the true vertical, carrying the planned tension at the platform:
+        the extra unstretched length the winch pays out against a straight cable at that
+        tension (m), and the tension at the winch end (N). NaN where infeasible. None without.
     """
 
     t: np.ndarray
@@ -107,6 +113,8 @@ class Plan:
     tension_lower: np.ndarray | None = None
     tension_upper: np.ndarray | None = None
     winch_limit: np.ndarray | None = None
+    sag_lengths: np.ndarray | None = None
+    winch_tensions: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -232,6 +240,7 @@ _ARRAY_FIELDS = (
     "t", "pose", "twist", "twist_dot", "lengths", "length_rates", "wrench", "C_s", "F_s",
     "tensions_pinv", "tensions", "feasible", "reaction",
     "length_accelerations", "tension_lower", "tension_upper", "winch_limit",  # with winches only
+    "sag_lengths", "winch_tensions",  # with heavy cables only
 )
 WINCH_OVERSPEED, WINCH_NO_TENSION = 1, 2
 """Codes of :attr:`Plan.winch_limit`."""
@@ -300,6 +309,31 @@ def _winch_bounds(scenario: Scenario, t: np.ndarray, length_rates: np.ndarray) -
     return dict(length_accelerations=L_ddot, tension_lower=b.lower_N, tension_upper=b.upper_N, winch_limit=limit)
 
 
+def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: np.ndarray,
+         tensions: np.ndarray) -> dict:
+    """Heavy cables (``robot.cable_weight_N_m``): each free span from ``spans_from`` (n, m, 3)
+    to the platform anchors (n, m, 3), in C, an elastic catenary in the vertical ``up_C``
+    (n, 3) carrying ``tensions`` (n, m) at the platform: :attr:`Plan.sag_lengths` and
+    :attr:`Plan.winch_tensions` (NaN where the tension is, or where no catenary carries it)."""
+    from marinecdpr.model.catenary import catenary_series
+
+    cab = scenario.simulation.cables
+    EA = float(cab.stiffness_EA_N) if cab.model != "ideal" else np.inf
+    d = anchors - spans_from
+    v = np.einsum("nmi,ni->nm", d, up_C)
+    chord2 = np.einsum("nmi,nmi->nm", d, d)
+    h = np.sqrt(np.maximum(chord2 - v * v, 0.0))
+    ok = np.isfinite(tensions)
+    sag, T_A = np.full(tensions.shape, np.nan), np.full(tensions.shape, np.nan)
+    if ok.any():
+        T = tensions[ok]
+        cat = catenary_series(h[ok], v[ok], scenario.robot.cable_weight_N_m, EA, T_B=T)
+        good = cat.status == 0
+        sag[ok] = np.where(good, cat.L0 - np.sqrt(chord2[ok]) / (1.0 + T / EA), np.nan)
+        T_A[ok] = np.where(good, cat.T_A, np.nan)
+    return dict(sag_lengths=sag, winch_tensions=T_A)
+
+
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                 ship: ShipMotion | None = None) -> dict:
     robot = scenario.robot
@@ -313,8 +347,11 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
         platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
     )
     check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
+    anchors = platform.x_PC_C[:, None, :] + kin.anchors_C  # the platform anchors in C
+    spans_from = np.broadcast_to(robot.frame_anchors, anchors.shape)  # where the free spans start
     if robot.has_pulleys:  # the cables leave their pulleys where their directions say
         kin = _over_pulleys(robot, platform, twist, t)
+        spans_from = kin.exits_C
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
     if scenario.cleaning is not None:
@@ -343,11 +380,13 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     # the guide supplies what the cables do not: w - J~^T T in the uncontrolled DOFs
     J_u = _columns(kin.J_tilde, u)
     reaction = w[:, u] - sum(J_u[:, i] * sol.tensions[:, i, None] for i in range(J_u.shape[1]))
+    sag = {} if robot.cable_weight_N_m == 0.0 else _sag(scenario, spans_from, anchors, ship.R_SO[:, 2, :],
+                                                         sol.tensions)
     return dict(
         t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
         lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,
         C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
-        feasible=sol.feasible, reaction=reaction, **winch,
+        feasible=sol.feasible, reaction=reaction, **winch, **sag,
     )
 
 

@@ -8,8 +8,10 @@ in this order::
       -> sensors      :func:`sense`          pose sensor, MRU, encoders, load cells: ``ctl.meas``
       -> controller   :func:`~marinecdpr.control.step.control_step`
                                              the deployable controller -> T_cmd, L0_cmd
-      -> winch        :func:`winch_step`     lag on the length or tension command
-      -> cables       :func:`cable_step`     ideal (T = T_cmd) or elastic (T from stretch)
+      -> winch        :func:`winch_step`     lag on the length or tension command, or
+                      :func:`motor_step`     the motor's dynamics behind a tension loop
+      -> cables       :func:`cable_step`     ideal (T = T_cmd) or elastic (T from stretch);
+                      :func:`catenary_cables` heavy cables' sag
       -> brush        :func:`brush_step`     a cleaning brush's loads at the actual velocity
       -> plant        (:mod:`~marinecdpr.prototype.plants`) advances one step with the tensions
     and :func:`log_step` records what happened.
@@ -37,9 +39,13 @@ from marinecdpr.control.records import ControllerParts, Loads
 from marinecdpr.control.step import cables_at, control_step, mm3
 from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
+from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_VB, catenary_forces
+from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, winch_motor_step
 
-__all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Cables", "Bus", "Log", "BrushContact", "Parts", "exchange", "sense",
-           "winch_step", "cable_step", "log_step"]
+__all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Motor", "Cables", "Bus", "Log", "BrushContact",
+           "Catenary",
+           "Parts", "exchange", "sense", "winch_step", "motor_step", "cable_step", "catenary_cables", "log_step",
+           "no_motor", "no_catenary"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -102,6 +108,66 @@ class Winch(NamedTuple):
     lag: float
     L0: np.ndarray
     T: np.ndarray
+
+
+class Motor(NamedTuple):
+    """The winches' motors (``simulation.cables.winch = "motor"``): each drum driven through
+    its gearbox by a motor with torque, speed and power limits, inertia and friction
+    (:mod:`marinecdpr.model.winch`), its tension loop on the load cell with feed-forward of
+    the planned cable motion. The drum pays out ``drive.L0``, which the winch record's L0
+    follows; the elastic cable's stretch over it is the tension.
+
+    active : False for the other winches (the record is then empty). drive : WinchDrive
+    (state: motor speeds, L0, torques, limit codes). Ldot_ref, Lddot_ref (n_steps, m): the
+    plan's L' (m/s) and L'' (m/s^2). T_load, T_meas (m,): scratch, the cables' tensions and
+    their load-cell readings, N. limited (2,) int64: the steps with any motor limited, and
+    with any past its speed (OVERSPEED).
+    """
+
+    active: bool
+    drive: WinchDrive
+    Ldot_ref: np.ndarray
+    Lddot_ref: np.ndarray
+    T_load: np.ndarray
+    T_meas: np.ndarray
+    limited: np.ndarray
+
+
+def no_motor(m: int) -> Motor:
+    """An inactive :class:`Motor` record for m cables (of the same types as an active one)."""
+    z = np.zeros(m)
+    drive = WinchDrive(*(z.copy() for _ in range(14)), np.zeros(m, dtype=np.int64))
+    return Motor(False, drive, np.zeros((1, m)), np.zeros((1, m)), z.copy(), z.copy(), np.zeros(2, dtype=np.int64))
+
+
+class Catenary(NamedTuple):
+    """Heavy cables (``simulation.cables.model = "catenary"``, own plant): each an elastic
+    catenary (:mod:`marinecdpr.model.catenary`) of weight w (N/m) and stiffness EA (N) from
+    its frame anchor over the winch's L0, in the true vertical: the force on the platform is
+    along the cable's tangent there, not its chord.
+
+    active : False for straight cables (the record is then empty). up (2 n_steps + 1, 3):
+    the true vertical (against gravity) in C on the half-step grid (row j: t = j h / 2).
+    guess (m, 2): the last (H, V_B) of each cable, the next warm start, N. out (m, N_OUT):
+    scratch of :func:`~marinecdpr.model.catenary.catenary_forces`. f (3,), J (m, 6): scratch.
+    status (1,) int64: the number of solves that did not converge (none in a sound run).
+    """
+
+    active: bool
+    w: float
+    EA: float
+    up: np.ndarray
+    guess: np.ndarray
+    out: np.ndarray
+    f: np.ndarray
+    J: np.ndarray
+    status: np.ndarray
+
+
+def no_catenary(m: int) -> Catenary:
+    """An inactive :class:`Catenary` record for m cables (of the same types as an active one)."""
+    return Catenary(False, 0.0, np.inf, np.zeros((1, 3)), np.zeros((m, 2)), np.zeros((m, N_OUT)), np.zeros(3),
+                    np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
 
 
 class Cables(NamedTuple):
@@ -170,6 +236,8 @@ class Parts(NamedTuple):
     bus: Bus
     log: Log
     brush: BrushContact
+    motor: Motor
+    catenary: Catenary
 
 
 def empty_bus(ctl: ControllerParts) -> Bus:
@@ -275,6 +343,27 @@ def winch_step(k, winch, bus, cells):
 
 
 @njit(cache=_cache, inline="always")
+def motor_step(k, h, motor, winch, cables, bus, cells):
+    """Advance the motors one step: the tension loop on each cable's load cell (its tension
+    from the stretch over the drum's L0 now, plus the cell's noise), the motor under that
+    tension over the step; the winch's L0, which the plant holds over the step, becomes the
+    drum's mean over it (the trapezoid of its start and end: second-order in the step)."""
+    drive = motor.drive
+    for i in range(bus.T_cmd.shape[0]):
+        motor.T_load[i] = elastic_tension(bus.L[i], drive.L0[i], bus.Ldot[i], cables)
+        motor.T_meas[i] = motor.T_load[i] + cells.noise[k, i]
+    tension_control_step(drive, bus.T_cmd, motor.T_meas, motor.Ldot_ref[k], motor.Lddot_ref[k])
+    if winch_motor_step(drive, drive.tau, motor.T_load, h) > 0:
+        motor.limited[0] += 1
+        for i in range(bus.T_cmd.shape[0]):
+            if drive.limited[i] == OVERSPEED:
+                motor.limited[1] += 1
+                break
+    for i in range(bus.T_cmd.shape[0]):  # L0 moved by -(r_d / G) h omega over the step
+        winch.L0[i] = drive.L0[i] + 0.5 * drive.r[i] / drive.G[i] * h * drive.omega[i]
+
+
+@njit(cache=_cache, inline="always")
 def elastic_tension(L, L0, Ldot, cables):
     """An elastic cable's tension: EA strain plus damping when taut, 0 when slack, N."""
     if L > L0:
@@ -283,12 +372,53 @@ def elastic_tension(L, L0, Ldot, cables):
 
 
 @njit(cache=_cache, inline="always")
-def cable_step(cables, winch, bus):
+def catenary_cables(x, R, j, model, winch, cables, cat, Ldot, J, T):
+    """Heavy cables' forces on the platform at the pose (x, R_PC) at half-step row j: each
+    cable's catenary over the winch's L0 from its frame anchor to its platform anchor, in
+    the vertical ``cat.up[j]``. Writes J (m, 6) rows (u, (R p) x u) along each force and T
+    (m,) its magnitude, the tension at the platform plus the cable's damping on its chord's
+    rate Ldot (m,), N: J^T T is the cables' wrench (J's rows on entry: any unit vector per
+    cable, used where a cable pulls with no force)."""
+    up = cat.up[j]
+    f = cat.f
+    for i in range(J.shape[0]):
+        r0 = R[0, 0] * model.p_P[i, 0] + R[0, 1] * model.p_P[i, 1] + R[0, 2] * model.p_P[i, 2]
+        r1 = R[1, 0] * model.p_P[i, 0] + R[1, 1] * model.p_P[i, 1] + R[1, 2] * model.p_P[i, 2]
+        r2 = R[2, 0] * model.p_P[i, 0] + R[2, 1] * model.p_P[i, 1] + R[2, 2] * model.p_P[i, 2]
+        d0, d1, d2 = x[0] + r0 - model.c_C[i, 0], x[1] + r1 - model.c_C[i, 1], x[2] + r2 - model.c_C[i, 2]
+        v = d0 * up[0] + d1 * up[1] + d2 * up[2]
+        e0, e1, e2 = d0 - v * up[0], d1 - v * up[1], d2 - v * up[2]  # the horizontal span
+        h = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        out = cat.out[i]
+        if catenary_forces(h, v, winch.L0[i], cat.w, cat.EA, cat.guess[i], out, 100) == 1:
+            cat.status[0] += 1
+        cat.guess[i, 0] = out[OUT_H]
+        cat.guess[i, 1] = out[OUT_VB]
+        H, VB = out[OUT_H], out[OUT_VB]
+        if h > 0.0:
+            e0, e1, e2 = e0 / h, e1 / h, e2 / h
+        f[0] = -(H * e0 + VB * up[0])  # the cable's pull on the platform: -(H e_h + V_B up)
+        f[1] = -(H * e1 + VB * up[1])
+        f[2] = -(H * e2 + VB * up[2])
+        Tb = np.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])
+        if Tb > 0.0:
+            u0, u1, u2 = f[0] / Tb, f[1] / Tb, f[2] / Tb
+        else:  # no force: any direction (the chord's)
+            u0, u1, u2 = J[i, 0], J[i, 1], J[i, 2]
+        J[i, 0], J[i, 1], J[i, 2] = u0, u1, u2
+        J[i, 3], J[i, 4], J[i, 5] = r1 * u2 - r2 * u1, r2 * u0 - r0 * u2, r0 * u1 - r1 * u0
+        T[i] = max(0.0, Tb + cables.damping * Ldot[i]) if Tb > 0.0 else 0.0
+
+
+@njit(cache=_cache, inline="always")
+def cable_step(cables, winch, motor, bus):
     """The tensions the cables apply, T_app: the command (ideal cables), the stretch over the
-    winch's L0 (elastic, length-controlled), or the winch's tension loop (elastic,
-    tension-controlled)."""
+    drum's L0 now (motor winches), the stretch over the winch's L0 (elastic,
+    length-controlled), or the winch's tension loop (elastic, tension-controlled)."""
     for i in range(bus.T_app.shape[0]):
-        if not cables.elastic:
+        if motor.active:
+            bus.T_app[i] = motor.T_load[i]
+        elif not cables.elastic:
             bus.T_app[i] = bus.T_cmd[i]
         elif winch.tension_controlled:
             bus.T_app[i] = max(0.0, winch.T[i])
@@ -327,9 +457,15 @@ def exchange(k, h, x, R, v, w, parts):
     length_rates(bus.J, v, w, bus.Ldot)
     sense(k, h, x, R, v, w, parts, ctl.meas)
     fallback = control_step(k, h, ctl)
-    if parts.cables.elastic:  # ideal cables apply the command: no winch dynamics
+    if parts.motor.active:
+        motor_step(k, h, parts.motor, parts.winch, parts.cables, bus, parts.load_cells)
+    elif parts.cables.elastic:  # ideal cables apply the command: no winch dynamics
         winch_step(k, parts.winch, bus, parts.load_cells)
-    cable_step(parts.cables, parts.winch, bus)
+    cable_step(parts.cables, parts.winch, parts.motor, bus)
+    if parts.catenary.active:  # heavy cables: the tension at the platform, from the sag
+        cat = parts.catenary
+        cat.J[:] = bus.J
+        catenary_cables(x, R, 2 * k, ctl.model, parts.winch, parts.cables, cat, bus.Ldot, cat.J, bus.T_app)
     if parts.brush.active:
         brush_step(k, R, v, w, parts.brush)
     log_step(k, x, R, bus, parts.log)

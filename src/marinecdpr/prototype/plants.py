@@ -22,7 +22,7 @@ from numba import njit, types
 from marinecdpr.borrowed import borrowed
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.model import kernels as K
-from marinecdpr.prototype.parts import diverged, elastic_tension, exchange, length_rates, quat_to_R
+from marinecdpr.prototype.parts import catenary_cables, diverged, elastic_tension, exchange, length_rates, quat_to_R
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
            "mujoco_library"]
@@ -70,8 +70,11 @@ def _own_rhs(y, j, plant, parts, dy):
         T = np.zeros(n)
         Ldot = np.empty(n)
         length_rates(J, v, w, Ldot)
-        for i in range(n):
-            T[i] = elastic_tension(L[i], winch.L0[i], Ldot[i], cables)
+        if parts.catenary.active:  # heavy cables pull along their tangents
+            catenary_cables(x, R, j, model, winch, cables, parts.catenary, Ldot, J, T)
+        else:
+            for i in range(n):
+                T[i] = elastic_tension(L[i], winch.L0[i], Ldot[i], cables)
     bias = np.empty(6)
     zero = np.zeros(3)
     f_j, m_j = np.empty(3), np.empty(3)

@@ -65,7 +65,8 @@ class Rig:
             winch=P.Winch(False, 1.0, np.zeros(m), np.zeros(m)), cables=P.Cables(False, np.inf, 0.0),
             bus=P.Bus(np.zeros(m), np.zeros(m), np.zeros((m, 6)), np.zeros(m), np.zeros(m), np.zeros(m)),
             log=None, brush=P.BrushContact(False, brush_params(0.0, 0.0), np.zeros(3), np.zeros(1), np.zeros((1, 3)),
-                                           np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3)))
+                                           np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3)),
+            motor=P.no_motor(m), catenary=P.no_catenary(m))
         mm = build_model(sc)
         self._model = mm.model
         self._data = mujoco.MjData(mm.model)

@@ -37,7 +37,7 @@ from marinecdpr.prototype import parts as P
 from marinecdpr.prototype.plants import (
     MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
 )
-from marinecdpr.errors import SimulationDivergedError
+from marinecdpr.errors import ScenarioError, SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.planning.planner import Plan
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
@@ -69,6 +69,10 @@ class SimResult:
     ship_tracking_error : float
         Largest deviation of the plant's ship from its prescribed motion (m or rad;
         0 for the own plant, which moves the ship exactly).
+    winch_limited_steps, winch_overspeed_steps : int
+        Motor winches (``simulation.cables.winch = "motor"``): the steps where any motor's
+        torque was cut to its torque, power or speed limit, and where any turned past its
+        speed limit; 0 for other winches.
     """
 
     run: str
@@ -82,6 +86,8 @@ class SimResult:
     tensions: np.ndarray
     controller_fallbacks: int
     ship_tracking_error: float
+    winch_limited_steps: int = 0
+    winch_overspeed_steps: int = 0
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -153,6 +159,9 @@ def simulate(
     plant = plant or scenario.simulation.plant
     if plant not in ("mujoco", "own"):
         raise ValueError(f"plant must be 'mujoco' or 'own', not {plant!r}")
+    if plant == "mujoco" and scenario.simulation.cables.model == "catenary":
+        raise ScenarioError("simulation.cables.model: catenary cables need the own plant (--plant own): "
+                            "MuJoCo's tendons are straight", source=scenario.name)
     h = scenario.time.step_s
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
     check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
@@ -169,10 +178,12 @@ def simulate(
     ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
     sensors, mru, encoders, load_cells = _sensors(scenario, run, ship_h, n)
     load_cells.T[:] = ctl.ref.T[0]
+    winch = _winch(scenario, ff, x0, R0)
     parts = P.Parts(
         ctl=ctl, sensors=sensors, mru=mru, encoders=encoders, load_cells=load_cells, loads=loads,
-        winch=_winch(scenario, ff, x0, R0),
-        cables=_cables(scenario), bus=P.empty_bus(ctl), log=P.empty_log(n, m), brush=_brush(scenario, ref, n, brush_h))
+        winch=winch, cables=_cables(scenario), bus=P.empty_bus(ctl), log=P.empty_log(n, m),
+        brush=_brush(scenario, ref, n, brush_h), motor=_motor(scenario, ref, winch, n),
+        catenary=_catenary(scenario, ship_h, m))
     if plant == "own":
         y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
         own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
@@ -187,7 +198,8 @@ def simulate(
         run=run, plant=plant, t=t, pose_planned=np.ascontiguousarray(ref.pose[:n]), pose=log.pose,
         lengths_planned=np.ascontiguousarray(ref.lengths[:n]), lengths=log.lengths,
         tensions_commanded=log.T_cmd, tensions=log.T_app, controller_fallbacks=int(fallbacks),
-        ship_tracking_error=ship_error,
+        ship_tracking_error=ship_error, winch_limited_steps=int(parts.motor.limited[0]),
+        winch_overspeed_steps=int(parts.motor.limited[1]),
     )
 
 
@@ -271,7 +283,20 @@ def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> tuple[P.Sensors, P
 
 def _cables(scenario: Scenario) -> P.Cables:
     cab = scenario.simulation.cables
-    return P.Cables(cab.model == "elastic", float(cab.stiffness_EA_N or np.inf), cab.damping_N_s_m)
+    return P.Cables(cab.model != "ideal", float(cab.stiffness_EA_N or np.inf), cab.damping_N_s_m)
+
+
+def _catenary(scenario: Scenario, ship_h, m: int) -> P.Catenary:
+    """Heavy cables (``simulation.cables.model = "catenary"``; else inactive): the true
+    vertical in C on the half-step grid, O's z in S (row 2 of R_SO)."""
+    cab = scenario.simulation.cables
+    if cab.model != "catenary":
+        return P.no_catenary(m)
+    from marinecdpr.model.catenary import N_OUT
+
+    return P.Catenary(True, float(scenario.robot.cable_weight_N_m), float(cab.stiffness_EA_N),
+                      np.ascontiguousarray(ship_h.R_SO[:, 2, :]), np.full((m, 2), np.nan), np.zeros((m, N_OUT)),
+                      np.zeros(3), np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
 
 
 def _winch(scenario: Scenario, ff: Plan, x0: np.ndarray, R0: np.ndarray) -> P.Winch:
@@ -284,7 +309,31 @@ def _winch(scenario: Scenario, ff: Plan, x0: np.ndarray, R0: np.ndarray) -> P.Wi
     L_init = np.empty(robot.n_cables)
     cables_at(x0, R0, robot_model(scenario), L_init, np.empty((robot.n_cables, 6)))
     L0 = L_init / (1.0 + (ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0]) / EA)
+    if cab.model == "catenary":  # and what the sag takes
+        L0 += ff.sag_lengths[0]
     return P.Winch(cab.winch == "tension", lag, L0, np.array(ff.tensions[0], dtype=float))
+
+
+MOTOR_LOOP_DAMPING = 0.7
+"""The damping ratio of the motor winches' tension loops, on each cable's stiffness at t = 0
+(:func:`~marinecdpr.model.winch.tension_loop_damping`, tension gain k_T = 1)."""
+
+
+def _motor(scenario: Scenario, ref: Plan, winch: P.Winch, n: int) -> P.Motor:
+    """The motor winches at t = 0 (``simulation.cables.winch = "motor"``; else inactive): the
+    drums paid out as the winch record, the motors turning with the plan's first L'."""
+    from marinecdpr.model.winch import WinchParams, tension_loop_damping, winch_drive
+
+    cab, robot = scenario.simulation.cables, scenario.robot
+    m = robot.n_cables
+    if cab.winch != "motor":
+        return P.no_motor(m)
+    params = WinchParams(**robot.winch.model_dump())
+    k_w = tension_loop_damping(params, float(cab.stiffness_EA_N) / winch.L0, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
+    omega0 = -params.gear_ratio * ref.length_rates[0] / params.drum_radius_m
+    drive = winch_drive(params, m, winch.L0.copy(), omega0=omega0, k_T=1.0, k_w=k_w)
+    return P.Motor(True, drive, np.ascontiguousarray(ref.length_rates[:n]), np.ascontiguousarray(ref.length_accelerations[:n]),
+                   np.zeros(m), np.zeros(m), np.zeros(2, dtype=np.int64))
 
 
 def _initial_state(scenario: Scenario, ref: Plan):

@@ -199,7 +199,7 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
                      f"{summary['pinv_tension_min_N']:.1f} N)"),
         ("plant", f"{sim.plant} ({sim.integrator}), cables {sim.cables.model}"
                   + (f", EA {sim.cables.stiffness_EA_N:g} N, {sim.cables.winch} winch, lag "
-                     f"{sim.cables.winch_time_constant_s * 1e3:g} ms" if sim.cables.model == "elastic" else "")),
+                     f"{sim.cables.winch_time_constant_s * 1e3:g} ms" if sim.cables.model != "ideal" else "")),
         ("closed loop", f"computed torque, bandwidth {sim.control.bandwidth_hz:g} Hz, damping ratio "
                         f"{sim.control.damping_ratio:g}"),
     ]

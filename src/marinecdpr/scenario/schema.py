@@ -318,22 +318,31 @@ class Planning(_Model):
 class CableModel(_Model):
     """How a cable turns a command into tension (the virtual prototype's actuators)."""
 
-    model: Literal["ideal", "elastic"] = "ideal"
-    """ideal: the commanded tension acts (as in the paper). elastic: a cable on a winch."""
+    model: Literal["ideal", "elastic", "catenary"] = "ideal"
+    """ideal: the commanded tension acts (as in the paper). elastic: a straight cable on a
+    winch. catenary: an elastic cable that sags under its weight (``robot.cable_weight_N_m``;
+    Irvine's elastic catenary, pulling along its tangent), on a length-controlled winch
+    that pays out the sag the plan computes; own plant only."""
     stiffness_EA_N: _ranged(1.0, 1e10, "N", "from a rubber cord to a 25 cm steel rope") | None = None
     """Axial stiffness E A of an elastic cable, N: tension = E A (L - L0) / L0 + damping."""
     damping_N_s_m: _ranged(0.0, 1e9, "N s/m", "beyond critical for the stiffest cable") = 0.0
     """Axial damping of an elastic cable, N per (m/s) of stretch rate."""
-    winch: Literal["length", "tension"] = "length"
+    winch: Literal["length", "tension", "motor"] = "length"
     """length: the winch pays out a commanded unstretched length L0; tension: it tracks a
-    commanded tension (with its tension sensor)."""
+    commanded tension (with its tension sensor); motor: a tension loop through the motor's
+    dynamics, limits, inertia and friction (``[robot.winch]``; elastic cables), the drum
+    paying out what the motor turns."""
     winch_time_constant_s: _ranged(0.0, 60.0, "s", "a winch that lags a minute holds nothing") = 0.0
     """First-order lag of the winch on its command (0: none)."""
 
     @model_validator(mode="after")
     def _check_stiffness(self) -> "CableModel":
-        if self.model == "elastic" and self.stiffness_EA_N is None:
-            raise _KeyedError("stiffness_EA_N", "missing: an elastic cable needs its axial stiffness")
+        if self.model != "ideal" and self.stiffness_EA_N is None:
+            kind = "an elastic" if self.model == "elastic" else "a catenary"
+            raise _KeyedError("stiffness_EA_N", f"missing: {kind} cable needs its axial stiffness")
+        if self.model == "catenary" and self.winch != "length":
+            raise _KeyedError("winch", "must be \"length\" for catenary cables: the winch pays out the length "
+                                       "the sag takes")
         return self
 
 
@@ -489,6 +498,39 @@ class Scenario(_Model):
                                   f"[{_num(x)}, {_num(z)}] m is outside the frame: its anchors span x in "
                                   f"[{_num(float(lo[0]))}, {_num(float(hi[0]))}] and z in "
                                   f"[{_num(float(lo[1]))}, {_num(float(hi[1]))}] m")
+        return self
+
+    @model_validator(mode="after")
+    def _check_catenary(self) -> "Scenario":
+        sim = self.simulation
+        if sim.cables.model != "catenary":
+            return self
+        if self.robot.cable_weight_N_m == 0.0:
+            raise _KeyedError("robot.cable_weight_N_m", "missing: catenary cables (simulation.cables.model = "
+                                                        "\"catenary\") sag under their weight per metre")
+        if sim.plant != "own":
+            raise _KeyedError("simulation.plant", "must be \"own\" for catenary cables: MuJoCo's tendons are "
+                                                  "straight")
+        if self.robot.has_pulleys:
+            raise _KeyedError("simulation.cables.model", "catenary cables over pulleys are not supported yet: "
+                                                         "use \"elastic\" (the sag is then in the error budget)")
+        return self
+
+    @model_validator(mode="after")
+    def _check_motor(self) -> "Scenario":
+        cab = self.simulation.cables
+        if cab.winch != "motor":
+            return self
+        if self.robot.winch is None:
+            raise _KeyedError("robot.winch", "missing: motor winches (simulation.cables.winch = \"motor\") "
+                                             "need the winches' design")
+        if cab.model != "elastic":
+            raise _KeyedError("simulation.cables.model", "must be \"elastic\" for motor winches: the tension "
+                                                         "is the cable's stretch over what the drum pays out")
+        w = self.robot.winch
+        if w.rotor_inertia_kg_m2 + w.drum_inertia_kg_m2 <= 0.0:
+            raise _KeyedError("robot.winch.rotor_inertia_kg_m2", "must be > 0 (or drum_inertia_kg_m2) for motor "
+                                                                 "winches: a motor without inertia has no dynamics")
         return self
 
     @model_validator(mode="after")

@@ -10,9 +10,10 @@ winch) is reported as not evaluated, with the key that would describe it.
 - stretch: the elastic cables' stretch T L / EA along the plan (a length-controlled winch
   pays out that much less than the geometry);
 - sag: each cable an elastic catenary (``robot.cable_weight_N_m``) carrying the plan's
-  tension at the platform, in the true vertical (the ship's attitude): the extra
-  unstretched length the winch pays out against a straight cable, and the tension at the
-  winch against the platform's;
+  tension at the platform, in the true vertical (the ship's attitude), as the planner
+  computes it (:attr:`~marinecdpr.planning.Plan.sag_lengths`): the extra unstretched
+  length the winch pays out against a straight cable, and the tension at the winch
+  against the platform's;
 - winch limits: the plan keeps each tension within the range its winch can give at that
   step (torque, speed, power, inertia, friction: ``marinecdpr.model.winch``); against the
   same plan without the winches' limits, the largest change of a tension, the steps the
@@ -29,10 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model.catenary import catenary_series
 from marinecdpr.model.winch import WinchParams, winch_report
-from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.planning.planner import Plan, plan
 from marinecdpr.scenario.schema import Scenario
 
@@ -66,35 +64,25 @@ def _pulleys(scenario: Scenario, p: Plan) -> Effect:
 
 def _stretch(scenario: Scenario, p: Plan) -> Effect:
     cab = scenario.simulation.cables
-    if cab.model != "elastic":
+    if cab.model == "ideal":
         return Effect("stretch", None, None, "ideal cables (simulation.cables.model = \"elastic\" with EA)")
     stretch = p.tensions * p.lengths / (cab.stiffness_EA_N + p.tensions)  # L - L0 with T = EA (L - L0) / L0
     return Effect("stretch", float(np.nanmax(stretch)), 0.0, f"EA {cab.stiffness_EA_N:.4g} N")
 
 
 def _sag(scenario: Scenario, p: Plan) -> Effect:
-    robot = scenario.robot
-    w = robot.cable_weight_N_m
-    if w == 0.0:
+    w = scenario.robot.cable_weight_N_m
+    if w == 0.0 or p.sag_lengths is None:
         return Effect("sag", None, None, "weightless cables (robot.cable_weight_N_m)")
-    cab = scenario.simulation.cables
-    EA = float(cab.stiffness_EA_N) if cab.model == "elastic" else np.inf
-    ship = evaluate_base_motion(scenario.base_motion, p.t) if p.base_model == "moving" else None
-    up_C = np.broadcast_to([0.0, 0.0, 1.0], (p.n_steps, 3)) if ship is None else ship.R_SO[:, 2, :]  # O's z in C
-    b = p.pose[:, None, :3] + np.einsum("nij,mj->nmi", matrix_from_euler(p.pose[:, 3:]), robot.platform_anchors)
-    d = b - robot.frame_anchors[None]  # frame anchor A to platform anchor B
-    v = np.einsum("nmi,ni->nm", d, up_C)
-    h = np.sqrt(np.maximum(np.einsum("nmi,nmi->nm", d, d) - v * v, 0.0))
-    T = p.tensions
-    cat = catenary_series(h.ravel(), v.ravel(), w, EA, T_B=T.ravel())
-    chord = np.sqrt(h * h + v * v).ravel()
-    straight = chord / (1.0 + T.ravel() / EA)
-    ok = cat.status == 0
-    dL = float(np.max(np.abs(cat.L0[ok] - straight[ok]))) if ok.any() else float("nan")
-    dT = float(np.max(np.abs(cat.T_A[ok] - cat.T_B[ok]))) if ok.any() else float("nan")
-    note = f"{w:g} N/m; largest sag {np.nanmax(cat.sag[ok]) * 1e3:.3g} mm" if ok.any() else f"{w:g} N/m"
-    if not ok.all():
-        note += f"; {int((~ok).sum())} cable-steps slack or unsolved"
+    ok = np.isfinite(p.sag_lengths)
+    if not ok.any():
+        return Effect("sag", float("nan"), float("nan"), f"{w:g} N/m; no step solved")
+    dL = float(np.max(np.abs(p.sag_lengths[ok])))
+    dT = float(np.max(np.abs(p.winch_tensions[ok] - p.tensions[ok])))
+    note = f"{w:g} N/m"
+    unsolved = int((~ok & np.isfinite(p.tensions)).sum())
+    if unsolved:
+        note += f"; {unsolved} cable-steps slack or unsolved"
     return Effect("sag", dL, dT, note)
 
 

@@ -76,7 +76,8 @@ def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
     ``tension_max_N`` (applied), ``tension_limit_excess_N`` (how far applied tensions left
     their limits beyond the tension tolerance, 0 if never), ``rms_error_x_m``,
-    ``rms_error_z_m``, ``controller_fallbacks``, ``ship_tracking_error`` (m or rad),
+    ``rms_error_z_m``, ``controller_fallbacks``, with motor winches ``winch_limited_steps``
+    and ``winch_overspeed_steps``, ``ship_tracking_error`` (m or rad),
     ``plant``, ``within_error_bound`` (False if a position or cable-length error passed
     :func:`error_bounds`' first value or the angle error its second) and
     ``beyond_error_bound`` (the quantities that did, e.g. ``["x", "rz", "cable 3"]``).
@@ -103,6 +104,9 @@ def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
     out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
     out["controller_fallbacks"] = res.controller_fallbacks
+    if scenario.simulation.cables.winch == "motor":
+        out["winch_limited_steps"] = res.winch_limited_steps
+        out["winch_overspeed_steps"] = res.winch_overspeed_steps
     out["ship_tracking_error"] = res.ship_tracking_error
     out["plant"] = res.plant
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
@@ -180,6 +184,12 @@ def run_warnings(results: dict[str, SimResult], scenario: Scenario) -> list[str]
             out.append(f"{name}: at {res.controller_fallbacks} of {n} steps the feedback asked for tensions "
                        "outside the limits and the plan's were fed forward instead: the run shows the plan, "
                        "not the controller (gains too high for the step, or measurements too noisy)")
+        if res.winch_overspeed_steps:
+            out.append(f"{name}: at {res.winch_overspeed_steps} of {n} steps a winch's motor turned past its speed "
+                       "limit (robot.winch.speed_max_rad_s): the cable drove it")
+        elif res.winch_limited_steps:
+            out.append(f"{name}: at {res.winch_limited_steps} of {n} steps a winch's motor was held at its torque, "
+                       "power or speed limit (robot.winch)")
     return out
 
 

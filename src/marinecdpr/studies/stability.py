@@ -34,7 +34,7 @@ def plan_stability(plan: Plan, scenario: Scenario, *, points: int = STABILITY_PO
                            tensions=plan.tensions[::stride], t=plan.t[::stride], controlled=plan.controlled,
                            base_model=plan.base_model)
     cab = scenario.simulation.cables
-    if cab.model == "elastic" and cab.winch == "length":
+    if cab.model != "ideal" and cab.winch == "length":
         return open_loop_growth_rate(view, scenario, "length", EA=cab.stiffness_EA_N, damping=cab.damping_N_s_m)
     return open_loop_growth_rate(view, scenario, "tension")
 
