@@ -8,6 +8,7 @@ import pytest
 import marinecdpr
 from marinecdpr.studies.error_budget import error_budget
 
+import conftest
 from conftest import make_scenario
 from test_pulleys_model import with_pulleys
 
@@ -23,8 +24,8 @@ def as_built(data, *, winch=WINCH, weight=0.35, EA=1.0e5):
 
 
 def test_an_ideal_scenario_describes_no_effect():
-    effects, report = error_budget(marinecdpr.load_scenario("paper"))
-    assert report is None
+    effects, report, held = error_budget(marinecdpr.load_scenario("paper"))
+    assert report is None and held is None
     for e in effects:
         assert e.length_change_m is None and e.tension_change_N is None
     assert [e.note.split("(")[-1].rstrip(")") for e in effects] == [
@@ -35,7 +36,7 @@ def test_an_ideal_scenario_describes_no_effect():
 def test_the_paper_robot_as_built():
     sc = make_scenario(as_built)
     p = marinecdpr.plan(sc)
-    (pulley, stretch, sag, winch), report = error_budget(sc, p)
+    (pulley, stretch, sag, winch), report, held = error_budget(sc, p, workspace_grid=None)
     point = marinecdpr.plan(make_scenario(lambda d: as_built(d) or [c.update(pulley_radius_m=0.0, pulley_axis=None)
                                                                      for c in d["robot"]["cables"]]))
     assert pulley.length_change_m == pytest.approx(np.abs(p.lengths - point.lengths).max(), rel=1e-12)
@@ -56,9 +57,38 @@ def test_the_paper_robot_as_built():
 def test_a_weak_winch_is_flagged():
     weak = dict(WINCH, torque_max_Nm=1.0)  # holds 200 N at rest; the plan asks up to ~300
     sc = make_scenario(lambda d: as_built(d, winch=weak))
-    (_, _, _, winch), report = error_budget(sc)
+    (_, _, _, winch), report, _ = error_budget(sc, workspace_grid=None)
     assert winch.tension_change_N > 50.0 and "steps lost to the winches' limits" in winch.note
     # the plan keeps within them; the note says what the plan without them would ask
     assert report.within_limits.all() and np.all(report.peak_torque_Nm <= 1.0 + 1e-12)
     asks = float(winch.note.split("asks up to ")[1].split(" N m")[0])
     assert asks > 1.5
+
+
+def test_the_workspace_change_of_each_effect():
+    """The workspace column against workspace maps made by hand: the point model's held share,
+    and each effect's share less it (a weak winch loses much of the frame; stretch and sag
+    change no tension, so nothing)."""
+    from marinecdpr.studies.workspace import workspace_map
+
+    weak = dict(WINCH, torque_max_Nm=1.0)
+
+    def make_scenario(edit):  # 3 s of the ship's motion at each held pose
+        return conftest.make_scenario(lambda d: (edit(d), d["time"].update(duration_s=3.0)))
+
+    sc = make_scenario(lambda d: as_built(d, winch=weak))
+    grid = (8, 5)
+    (pulley, stretch, sag, winch), _, held = error_budget(sc, workspace_grid=grid)
+
+    def share(s):
+        f = workspace_map(s, n=grid).fraction_feasible
+        return np.mean(f[np.isfinite(f)] == 1.0)
+
+    point = make_scenario(lambda d: d["simulation"].update(cables={"model": "elastic", "stiffness_EA_N": 1e5}))
+    assert held == share(point)
+    assert pulley.workspace_change == share(make_scenario(lambda d: (with_pulleys(d), d["simulation"].update(
+        cables={"model": "elastic", "stiffness_EA_N": 1e5})))) - held
+    w = make_scenario(lambda d: (d["robot"].update(winch=weak),
+                                 d["simulation"].update(cables={"model": "elastic", "stiffness_EA_N": 1e5})))
+    assert winch.workspace_change == share(w) - held
+    assert winch.workspace_change < -0.02 and stretch.workspace_change == 0.0 and sag.workspace_change == 0.0

@@ -51,7 +51,7 @@ def _still_scenario(tmp_path: Path) -> Path:
     return path
 
 
-SCENARIOS = ["paper", "paper_elastic", "paper_sea", "paper_clean", "examples/spatial_cube8.toml", "recorded",
+SCENARIOS = ["paper", "paper_elastic", "paper_sea", "paper_clean", "paper_as_built", "examples/spatial_cube8.toml", "recorded",
              "still"]
 
 
@@ -106,7 +106,10 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
     res = runner.invoke(app, ["control-study", src, "--latencies", "20", "--predictions", "none,ar", "--duration",
                               "0.4", "--settle", "0.1", "--out", str(tmp_path / "cs")])
     assert res.exit_code == 0, res.output
-    assert len(json.loads((tmp_path / "cs" / "summary.json").read_text())["runs"]) == 4
+    # two pose sources, or the sensor alone for a robot with pulleys (said on stderr)
+    runs = json.loads((tmp_path / "cs" / "summary.json").read_text())["runs"]
+    assert len(runs) == (2 if sc.robot.has_pulleys else 4)
+    assert ("pose from the encoders is left out" in res.stderr) == sc.robot.has_pulleys
     res = runner.invoke(app, ["clean", src, "--duration", "0.5", "--out", str(tmp_path / "clean")])
     if sc.cleaning is not None:
         assert res.exit_code == 0, res.output

@@ -207,8 +207,10 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     notes = "".join(f"<li>{esc(sentence)}</li>" for sentence in findings(summary, scenario))
     budget_rows = "".join(
         f"<tr><th>{esc(name)}</th><td>{_budget_cell(e['length_change_m'], 1e3, 'mm')}</td>"
-        f"<td>{_budget_cell(e['tension_change_N'], 1.0, 'N')}</td><td>{esc(e['note'])}</td></tr>"
+        f"<td>{_budget_cell(e['tension_change_N'], 1.0, 'N')}</td>"
+        f"<td>{_budget_cell(e.get('workspace_change'), 100.0, '%')}</td><td>{esc(e['note'])}</td></tr>"
         for name, e in summary.get("error_budget", {}).items())
+    held = summary.get("error_budget_workspace_held_share_point")
     imgs = []
     for caption, fig_path in figures.items():
         data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
@@ -236,10 +238,12 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <ul>{notes}</ul>
 <h2>Cables as built: what each effect changes against point anchors</h2>
 <table><thead><tr><th>effect</th><th>largest length change</th><th>largest tension change</th>
-<th></th></tr></thead><tbody>{budget_rows}</tbody></table>
+<th>workspace held</th><th></th></tr></thead><tbody>{budget_rows}</tbody></table>
 <p>Over the plan's steps and cables; "–": the scenario does not describe the effect (the
-note names the key). The reachable workspace's change: <code>marinecdpr workspace</code>
-with and without the effect.</p>
+note names the key). Workspace held: the change, in points of the frame's map, of where the
+platform can be held at every step of the ship's motion{
+    f" (the point model holds {held * 100:.1f} % of it)" if held is not None else
+    " (mapped only for a robot with pulleys or winches)"}.</p>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>

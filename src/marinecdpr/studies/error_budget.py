@@ -20,13 +20,18 @@ winch) is reported as not evaluated, with the key that would describe it.
   winches cannot follow, and each winch's peak torque, speed, power and energy over the
   plan's feasible steps.
 
-The reachable workspace's change is not computed here (a workspace map per effect:
-``marinecdpr workspace`` on the scenario with and without each).
+The reachable workspace: a workspace map (:func:`~marinecdpr.studies.workspace.workspace_map`,
+held poses over the frame under the scenario's ship motion) of the point model, and one
+with each effect that changes which tensions hold a pose (pulleys: the cables' directions;
+the winches' limits: the tensions they can give). Each effect's change is the difference
+of the share of the map where the platform is held at every step. Stretch and sag do not
+change it (they change the lengths a winch pays out, not the tensions that hold a pose):
+0.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -48,15 +53,45 @@ class Effect:
     length_change_m: float | None
     tension_change_N: float | None
     note: str
+    workspace_change: float | None = None
+    """The change of the share of the workspace map held at every step (e.g. -0.03: 3 % of
+    the map lost); None if not evaluated."""
+
+
+WORKSPACE_GRID = (16, 10)
+"""The workspace maps' grid of held poses."""
+
+
+def _point_robot(scenario: Scenario, *, pulleys: bool = False, winch: bool = False) -> Scenario:
+    """The scenario's robot with point anchors and no winch, keeping the pulleys or the winch
+    if asked."""
+    robot = scenario.robot
+    data = robot.model_dump(exclude_none=True, exclude=set() if winch else {"winch"})
+    if not pulleys:
+        data["cables"] = [c.model_copy(update={"pulley_radius_m": 0.0, "pulley_axis": None}).model_dump(
+            exclude_none=True) for c in robot.cables]
+    changes = {"robot": data}
+    if not winch and scenario.simulation.cables.winch == "motor":  # without a motor: an ideal tension loop
+        sim = scenario.simulation.model_dump(exclude_none=True)
+        sim["cables"]["winch"] = "tension"
+        changes["simulation"] = sim
+    return scenario.with_changes(**changes)
+
+
+def _held_share(scenario: Scenario, grid: tuple[int, int]) -> float:
+    """The share of the workspace map (over the cells where the platform fits) where every
+    step of the ship's motion has tensions within limits."""
+    from marinecdpr.studies.workspace import workspace_map
+
+    f = workspace_map(scenario, n=grid).fraction_feasible
+    return float(np.mean(f[np.isfinite(f)] == 1.0))
 
 
 def _pulleys(scenario: Scenario, p: Plan) -> Effect:
     robot = scenario.robot
     if not robot.has_pulleys:
         return Effect("pulleys", None, None, "no pulleys (robot.cables[].pulley_radius_m)")
-    cables = [c.model_copy(update={"pulley_radius_m": 0.0, "pulley_axis": None}) for c in robot.cables]
-    point = plan(scenario.with_changes(robot={**robot.model_dump(exclude_none=True),
-                                             "cables": [c.model_dump(exclude_none=True) for c in cables]}))
+    point = plan(_point_robot(scenario, winch=True))
     dL = float(np.nanmax(np.abs(p.lengths - point.lengths)))
     dT = float(np.nanmax(np.abs(p.tensions - point.tensions)))
     return Effect("pulleys", dL, dT, f"largest radius {robot.pulley_radii.max() * 1e3:.3g} mm")
@@ -91,8 +126,7 @@ def _winches(scenario: Scenario, p: Plan):
     if robot.winch is None or p.winch_limit is None:
         return Effect("winch limits", None, None, "no winch described (robot.winch)"), None
     params = WinchParams(**robot.winch.model_dump())
-    free = plan(scenario.with_changes(robot={**robot.model_dump(exclude_none=True, exclude={"winch"})}),
-                method=p.method, base_model=p.base_model)
+    free = plan(_point_robot(scenario, pulleys=True), method=p.method, base_model=p.base_model)
     both = p.feasible & free.feasible
     dT = float(np.max(np.abs(p.tensions[both] - free.tensions[both]), initial=0.0))
     lost = int((free.feasible & ~p.feasible).sum())
@@ -112,24 +146,52 @@ def _winches(scenario: Scenario, p: Plan):
     return Effect("winch limits", None, dT, note), report
 
 
-def error_budget(scenario: Scenario, p: Plan | None = None):
+def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: tuple[int, int] | None = WORKSPACE_GRID):
     """The effects of pulleys, stretch, sag and winch limits on the scenario's plan.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    p : Plan, optional
+        ``plan(scenario)`` if already computed.
+    workspace_grid : (int, int) or None
+        The workspace maps' grid (None: no workspace change); maps are made only for a
+        scenario that describes pulleys or winches.
 
     Returns
     -------
-    (effects, winch report)
-        A tuple of :class:`Effect` and the winches' :class:`~marinecdpr.model.winch.WinchReport`
-        (None without ``robot.winch``).
+    (effects, winch report, held share)
+        A tuple of :class:`Effect`, the winches' :class:`~marinecdpr.model.winch.WinchReport`
+        (None without ``robot.winch``), and the share of the point model's workspace map held
+        at every step (None if no map was made).
     """
     p = plan(scenario) if p is None else p
     winch, report = _winches(scenario, p)
-    return (_pulleys(scenario, p), _stretch(scenario, p), _sag(scenario, p), winch), report
+    effects = [_pulleys(scenario, p), _stretch(scenario, p), _sag(scenario, p), winch]
+    robot = scenario.robot
+    base = None
+    if workspace_grid is not None and (robot.has_pulleys or robot.winch is not None):
+        base = _held_share(_point_robot(scenario), workspace_grid)
+        for i, e in enumerate(effects):
+            if e.tension_change_N is None:
+                continue
+            if e.name in ("stretch", "sag"):
+                change = 0.0
+            else:
+                kept = dict(pulleys=e.name == "pulleys", winch=e.name == "winch limits")
+                change = _held_share(_point_robot(scenario, **kept), workspace_grid) - base
+            effects[i] = replace(e, workspace_change=change)
+    return tuple(effects), report, base
 
 
-def budget_summary(effects, report) -> dict:
-    """``summary.json``'s ``error_budget`` (and ``winches`` with a winch report)."""
+def budget_summary(effects, report, held_share=None) -> dict:
+    """``summary.json``'s ``error_budget`` (and ``winches`` with a winch report), with
+    ``workspace_held_share_point`` (the point model's share of the workspace map held at
+    every step) where maps were made."""
     out = {"error_budget": {e.name: {"length_change_m": e.length_change_m, "tension_change_N": e.tension_change_N,
-                                     "note": e.note} for e in effects}}
+                                     "workspace_change": e.workspace_change, "note": e.note} for e in effects}}
+    if held_share is not None:
+        out["error_budget_workspace_held_share_point"] = held_share
     if report is not None:
         out["winches"] = {"peak_torque_Nm": report.peak_torque_Nm.tolist(),
                           "peak_speed_rad_s": report.peak_speed_rad_s.tolist(),

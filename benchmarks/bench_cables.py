@@ -1,0 +1,97 @@
+"""Cables as built in the virtual prototype (issue 14): the own plant's steps per second with
+ideal, straight elastic, motor-winch and catenary cables on the paper's robot, and one
+catenary solve (the plant makes 16 a step: 4 cables x 4 RK4 stages) beside scipy's root
+finder on Irvine's equations, what a user would otherwise call.
+
+Run:  .venv/bin/python benchmarks/bench_cables.py [--steps N] [--repeats R]
+
+Prints the machine line, then per cable model the best and worst of the repeats (the
+machine may be shared), after a first run that compiles.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from scipy.optimize import root
+
+import marinecdpr
+from marinecdpr.model.catenary import N_OUT, catenary_forces
+from marinecdpr.prototype.simulation import simulate
+
+from _common import machine
+
+WINCH = dict(drum_radius_m=0.05, gear_ratio=10.0, torque_max_Nm=2.0, speed_max_rad_s=300.0, power_max_W=200.0,
+             rotor_inertia_kg_m2=1e-4, drum_inertia_kg_m2=1e-3)
+MODELS = {
+    "ideal": ({}, {"model": "ideal"}),
+    "elastic, length winch": ({}, {"model": "elastic", "stiffness_EA_N": 1e5}),
+    "elastic, motor winch": ({"winch": WINCH}, {"model": "elastic", "stiffness_EA_N": 1e5, "winch": "motor"}),
+    "catenary, length winch": ({"cable_weight_N_m": 0.35}, {"model": "catenary", "stiffness_EA_N": 1e5}),
+}
+
+
+def _scenario(robot: dict, cables: dict):
+    base = marinecdpr.load_scenario("paper")
+    sim = base.simulation.model_dump(exclude_none=True)
+    sim.update(plant="own", cables=cables)
+    return base.with_changes(robot={**base.robot.model_dump(exclude_none=True), **robot}, simulation=sim)
+
+
+def _irvine(x, h, v, L0, w, EA):
+    """Irvine's (I-1, I-2) residual in (H, V_B), for scipy."""
+    H, VB = x
+    VA = VB - w * L0
+    return [H * L0 / EA + H / w * (np.arcsinh(VB / H) - np.arcsinh(VA / H)) - h,
+            (VB * L0 - w * L0 * L0 / 2) / EA + H / w * (np.hypot(1, VB / H) - np.hypot(1, VA / H)) - v]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=15001)
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+    print(machine())
+    print(f"own plant, closed loop, paper robot, {args.steps} steps of 1 ms (steps/s: best / worst of "
+          f"{args.repeats})")
+    for label, (robot, cables) in MODELS.items():
+        sc = _scenario(robot, cables)
+        ref = marinecdpr.plan(sc)
+        simulate(sc, run="closed_loop", reference=ref, n_steps=100)  # compiles
+        rates = []
+        for _ in range(args.repeats):
+            t0 = time.perf_counter()
+            simulate(sc, run="closed_loop", reference=ref, n_steps=args.steps)
+            rates.append(args.steps / (time.perf_counter() - t0))
+        print(f"  {label:24s} {max(rates):9,.0f} / {min(rates):9,.0f}")
+    # one catenary: a 1.2 m span of the paper's rope at ~50 N, warm-started as the plant does
+    h, v, w, EA = 1.0, -0.6, 0.35, 1e5
+    L0 = np.hypot(h, v) * (1 - 50 / EA) + 1e-4
+    out = np.empty(N_OUT)
+    catenary_forces(h, v, L0, w, EA, np.full(2, np.nan), out, 100)
+    guess = out[:2].copy()
+    n = 20000
+    best = np.inf
+    for _ in range(args.repeats):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            catenary_forces(h, v, L0, w, EA, guess, out, 100)
+        best = min(best, (time.perf_counter() - t0) / n)
+    ref = root(_irvine, guess * 1.01, args=(h, v, L0, w, EA))
+    assert ref.success and np.allclose(ref.x, out[:2], rtol=1e-8)
+    m = 500
+    best_scipy = np.inf
+    for _ in range(args.repeats):
+        t0 = time.perf_counter()
+        for _ in range(m):
+            root(_irvine, guess * 1.01, args=(h, v, L0, w, EA))
+        best_scipy = min(best_scipy, (time.perf_counter() - t0) / m)
+    print(f"one catenary (H, V_B) from (h, v, L0), warm-started: catenary_forces from Python "
+          f"{best * 1e6:.2f} us (inside the plant's loop it is also compiled); scipy.optimize.root on "
+          f"Irvine's equations {best_scipy * 1e6:.0f} us")
+
+
+if __name__ == "__main__":
+    main()
