@@ -1,7 +1,8 @@
 """Cables as built in the virtual prototype (issue 14): the own plant's steps per second with
-ideal, straight elastic, motor-winch and catenary cables on the paper's robot, and one
+ideal, straight elastic, motor-winch and catenary cables on the paper's robot; one
 catenary solve (the plant makes 16 a step: 4 cables x 4 RK4 stages) beside scipy's root
-finder on Irvine's equations, what a user would otherwise call.
+finder on Irvine's equations, what a user would otherwise call; and eight cables' lengths
+and J~ over swivelling pulleys in a compiled loop beside point anchors.
 
 Run:  .venv/bin/python benchmarks/bench_cables.py [--steps N] [--repeats R]
 
@@ -15,9 +16,13 @@ import argparse
 import time
 
 import numpy as np
+from numba import njit
 from scipy.optimize import root
 
 import marinecdpr
+from marinecdpr.geometry.kinematics import cables_step
+from marinecdpr.geometry.pulley import pulleys_step
+from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.catenary import N_OUT, catenary_forces
 from marinecdpr.prototype.simulation import simulate
 
@@ -46,6 +51,44 @@ def _irvine(x, h, v, L0, w, EA):
     VA = VB - w * L0
     return [H * L0 / EA + H / w * (np.arcsinh(VB / H) - np.arcsinh(VA / H)) - h,
             (VB * L0 - w * L0 * L0 / 2) / EA + H / w * (np.hypot(1, VB / H) - np.hypot(1, VA / H)) - v]
+
+
+@njit
+def _pulley_loop(n, x, R, a, z, r, p, L, J, C, B):
+    bad = 0
+    for k in range(n):
+        x[0] = 0.5 + 1e-7 * k
+        bad += pulleys_step(x, R, a, z, r, p, L, J, C, B) != 0
+    return bad
+
+
+@njit
+def _point_loop(n, x, R, a, p, L, J):
+    for k in range(n):
+        x[0] = 0.5 + 1e-7 * k
+        cables_step(x, R, a, p, L, J)
+
+
+def _cables_per_step(repeats: int) -> tuple[float, float]:
+    """ns per step of eight spatial cables over pulleys (radii 1-10 cm) and from points."""
+    rng = np.random.default_rng(5)
+    a = rng.uniform(-4.5, 4.5, size=(8, 3))
+    z = rng.normal(size=(8, 3))
+    z /= np.linalg.norm(z, axis=1, keepdims=True)
+    r, p = rng.uniform(0.01, 0.1, size=8), rng.uniform(-0.3, 0.3, size=(8, 3))
+    x, R = np.zeros(3), matrix_from_euler(np.array([[0.1, -0.2, 0.3]]))[0]
+    L, J, C, B = np.empty(8), np.empty((8, 6)), np.empty((8, 3)), np.empty(8)
+    _pulley_loop(10, x, R, a, z, r, p, L, J, C, B)
+    _point_loop(10, x, R, a, p, L, J)
+    n, best = 200_000, [np.inf, np.inf]
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        assert _pulley_loop(n, x, R, a, z, r, p, L, J, C, B) == 0
+        t1 = time.perf_counter()
+        _point_loop(n, x, R, a, p, L, J)
+        t2 = time.perf_counter()
+        best = [min(best[0], (t1 - t0) / n), min(best[1], (t2 - t1) / n)]
+    return best[0] * 1e9, best[1] * 1e9
 
 
 def main() -> None:
@@ -91,6 +134,9 @@ def main() -> None:
     print(f"one catenary (H, V_B) from (h, v, L0), warm-started: catenary_forces from Python "
           f"{best * 1e6:.2f} us (inside the plant's loop it is also compiled); scipy.optimize.root on "
           f"Irvine's equations {best_scipy * 1e6:.0f} us")
+    pulleys_ns, points_ns = _cables_per_step(args.repeats)
+    print(f"eight spatial cables' lengths and J~ in a compiled loop: over pulleys {pulleys_ns:.0f} ns a step, "
+          f"from points {points_ns:.0f} ns")
 
 
 if __name__ == "__main__":

@@ -71,7 +71,7 @@ def inside(p, poly):
     count = np.zeros(len(p), dtype=int)
     for a, b in edges(poly):
         straddle = (a[1] > p[:, 1]) != (b[1] > p[:, 1])
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a level edge straddles nothing
             x = a[0] + (p[:, 1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
         count += straddle & (p[:, 0] < x)
     return count % 2 == 1

@@ -2,7 +2,6 @@
 a 25 mm pulley makes, J~ against finite differences, the force's direction, degenerate
 anchors, and the per-step function's cost."""
 
-import time
 
 import numpy as np
 import pytest
@@ -331,33 +330,3 @@ def test_bad_arguments_are_refused():
         pulley_kinematics(x, R, one, one, [-R25], one)
     with pytest.raises(ValueError, match="n_cables"):
         pulley_kinematics(x, R, one, np.tile(one, (2, 1)), [R25], one)
-
-
-# ----------------------------------------------------------------------------- timing
-
-
-@njit
-def _loop(n, x, R, a, z, r, p, L, J, C, B):
-    bad = 0
-    for k in range(n):
-        x[0] = 0.5 + 1e-7 * k
-        bad += pulleys_step(x, R, a, z, r, p, L, J, C, B) != 0
-    return bad
-
-
-def test_eight_cables_per_step_cost(capsys):
-    rng = np.random.default_rng(5)
-    a, z, r, p = _regular_robot(rng, 8, planar=False)
-    a *= 3.0  # frame anchors well outside the platform
-    x, R = np.zeros(3), matrix_from_euler(np.array([[0.1, -0.2, 0.3]]))[0]
-    L, J, C, B = np.empty(8), np.empty((8, 6)), np.empty((8, 3)), np.empty(8)
-    _loop(10, x, R, a, z, r, p, L, J, C, B)
-    n, best = 200_000, np.inf
-    for _ in range(3):
-        t0 = time.perf_counter()
-        bad = _loop(n, x, R, a, z, r, p, L, J, C, B)
-        best = min(best, (time.perf_counter() - t0) / n)
-    assert bad == 0
-    with capsys.disabled():
-        print(f"\npulleys_step, 8 cables: {best * 1e9:.0f} ns per step")
-    assert best < 20e-6
