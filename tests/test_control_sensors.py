@@ -12,6 +12,7 @@ from marinecdpr.cli.app import app
 from marinecdpr.control import Controller
 from marinecdpr.control.controller import plans
 from marinecdpr.geometry.kinematics import cable_kinematics
+from marinecdpr.geometry.pulley import pulley_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype.simulation import _sensors, simulate
@@ -68,12 +69,12 @@ def test_a_units_data_sheet_noise_reaches_the_samples():
     assert np.abs(err[:, [0, 2, 3, 4]]).max() == 0.0
 
 
-@pytest.mark.parametrize("source", ["paper", "cube8"])
+@pytest.mark.parametrize("source", ["paper", "cube8", "paper_as_built"])
 def test_the_pose_from_the_encoders_commands_what_a_pose_sensor_would(source):
     """Stretched encoder lengths and their rates at a pose off the plan: forward kinematics and
     the rates' least squares give the controller the pose and twist a pose sensor gives it,
-    so the commands agree to 1e-9 N."""
-    sc = (marinecdpr.load_scenario("paper") if source == "paper"
+    so the commands agree to 1e-9 N; over pulleys too (paper_as_built's 25 mm)."""
+    sc = (marinecdpr.load_scenario(source) if source != "cube8"
           else marinecdpr.load_scenario(EXAMPLES / "spatial_cube8.toml"))
     EA = 2.0e5
     sc = with_simulation(sc, cables={"model": "elastic", "stiffness_EA_N": EA})
@@ -91,7 +92,11 @@ def test_the_pose_from_the_encoders_commands_what_a_pose_sensor_would(source):
         pose = ref.pose[k] + free * rng.normal(0.0, [2e-3] * 3 + [5e-3] * 3)
         twist = ref.twist[k] + free * rng.normal(0.0, 1e-2, 6)
         R = matrix_from_euler(pose[3:])
-        kin = cable_kinematics(pose[None, :3], R[None], robot.frame_anchors, robot.platform_anchors, twist[None])
+        if robot.has_pulleys:
+            kin = pulley_kinematics(pose[None, :3], R[None], robot.frame_anchors, robot.pulley_axes,
+                                    robot.pulley_radii, robot.platform_anchors, twist[None])
+        else:
+            kin = cable_kinematics(pose[None, :3], R[None], robot.frame_anchors, robot.platform_anchors, twist[None])
         T = rng.uniform(20.0, 400.0, robot.n_cables)
         T_s = by_sensor.step(k * h, x=pose[:3], R=R, v=twist[:3], w=twist[3:], eta=eta[k]).T_cmd.copy()
         cmd = by_encoders.step(k * h, eta=eta[k], lengths=kin.lengths[0] / (1.0 + T / EA),

@@ -191,3 +191,55 @@ def test_warm_started_series_takes_few_iterations_and_matches_scipy(robot):
     for s in range(1, 1000, 50):
         ref = reference_pose(L[s], c, p, ctrl, fk.poses[s - 1])
         np.testing.assert_allclose(fk.poses[s], ref, rtol=0, atol=1e-9)
+
+
+def _with_pulleys(name, c):
+    """25 mm pulleys: the paper's top cables come down, the bottom ones up; cube8's axes point
+    at the frame's centre."""
+    m = len(c)
+    if name == "paper":
+        z = np.array([[0, 0, -1], [0, 0, -1], [0, 0, 1], [0, 0, 1]], dtype=float)
+    else:
+        z = 0.5 * (c.min(axis=0) + c.max(axis=0)) - c
+        z /= np.linalg.norm(z, axis=1, keepdims=True)
+    return np.ascontiguousarray(z), np.full(m, 0.025)
+
+
+def test_poses_over_pulleys_recovered_and_the_jacobian_is_the_lengths_derivative(robot):
+    """Lengths over swivelling pulleys (pulley_kinematics, the planner's) back to the pose from
+    5 cm and 5 deg off, to 1e-9; the analytic Jacobian against central differences."""
+    from marinecdpr.geometry.forward import pulley_residuals_and_jacobian
+    from marinecdpr.geometry.pulley import pulley_kinematics
+
+    name, c, p, ctrl = robot
+    z, radius = _with_pulleys(name, c)
+    rng = np.random.default_rng(4)
+    truth = random_poses(name, ctrl, 120, rng)
+    pk = pulley_kinematics(truth[:, :3], matrix_from_euler(truth[:, 3:]), c, z, radius, p)
+    assert np.all(pk.status == 0)
+    L = np.ascontiguousarray(pk.lengths)
+    point = lengths_at(truth, c, p)
+    assert np.abs(L - point).max() > 1e-4  # the pulleys matter
+    work = forward_work(len(c), len(ctrl))
+    for s in range(len(truth)):
+        q = off_by(truth[s], ctrl, rng)
+        assert pose_from_lengths_step(L[s], c, p, ctrl, q, 1e-12, 50, work, z, radius) == 0
+        np.testing.assert_allclose(q, truth[s], rtol=0, atol=1e-9)
+    # the series API and its warm start
+    fk = pose_from_lengths(L[:20], c, p, ctrl, off_by(truth[0], ctrl, rng, 0.01, 1.0), pulley_axes=z,
+                           pulley_radii=radius)
+    assert np.all(fk.status == 0)
+    np.testing.assert_allclose(fk.poses, truth[:20], atol=1e-9)
+    q0 = truth[0].copy()
+    r, J = np.empty(len(c)), np.empty((len(c), len(ctrl)))
+    pulley_residuals_and_jacobian(L[1], c, z, radius, p, ctrl, q0, r, J, work)
+    r2, J2 = np.empty(len(c)), np.empty((len(c), len(ctrl)))
+    for a, d in enumerate(ctrl):
+        h = 1e-6
+        qp, qm = q0.copy(), q0.copy()
+        qp[d] += h
+        qm[d] -= h
+        pulley_residuals_and_jacobian(L[1], c, z, radius, p, ctrl, qp, r2, J2, work)
+        rp = r2.copy()
+        pulley_residuals_and_jacobian(L[1], c, z, radius, p, ctrl, qm, r2, J2, work)
+        np.testing.assert_allclose(J[:, a], (rp - r2) / (2 * h), atol=1e-7)

@@ -106,10 +106,7 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
     res = runner.invoke(app, ["control-study", src, "--latencies", "20", "--predictions", "none,ar", "--duration",
                               "0.4", "--settle", "0.1", "--out", str(tmp_path / "cs")])
     assert res.exit_code == 0, res.output
-    # two pose sources, or the sensor alone for a robot with pulleys (said on stderr)
-    runs = json.loads((tmp_path / "cs" / "summary.json").read_text())["runs"]
-    assert len(runs) == (2 if sc.robot.has_pulleys else 4)
-    assert ("pose from the encoders is left out" in res.stderr) == sc.robot.has_pulleys
+    assert len(json.loads((tmp_path / "cs" / "summary.json").read_text())["runs"]) == 4
     res = runner.invoke(app, ["clean", src, "--duration", "0.5", "--out", str(tmp_path / "clean")])
     if sc.cleaning is not None:
         assert res.exit_code == 0, res.output

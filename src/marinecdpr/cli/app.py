@@ -909,9 +909,7 @@ def control_study(
     predictions: str = typer.Option("none,kinematic,ar", "--predictions",
                                     help="How the controller brings the ship's samples to the present: none, "
                                          "kinematic, ar."),
-    pose_from: Optional[str] = typer.Option(None, "--pose-from", help="Pose sources: sensor, encoders (default "
-                                                                       "both; the sensor alone for a robot with "
-                                                                       "pulleys)."),
+    pose_from: str = typer.Option("sensor,encoders", "--pose-from", help="Pose sources: sensor, encoders."),
     rate: float = typer.Option(100.0, "--rate", help="The motion sensor's samples per second, Hz."),
     encoder_resolution: Optional[float] = typer.Option(None, "--encoder-resolution",
                                                        help="The encoders' length step, m (default: the scenario's)."),
@@ -938,7 +936,7 @@ def control_study(
     if any(not (x >= 0.0 and x == x) for x in lat_s):
         _fail(f"--latencies {latencies}: latencies must be >= 0 ms")
     preds = [x.strip() for x in predictions.split(",")]
-    sources = [x.strip() for x in (pose_from or "sensor,encoders").split(",")]
+    sources = [x.strip() for x in pose_from.split(",")]
     for flag, given, allowed in (("--predictions", preds, PREDICTIONS), ("--pose-from", sources, ("sensor", "encoders")),
                                  ("--plant", [plant], ("own", "mujoco"))):
         bad = [x for x in given if x not in allowed]
@@ -946,10 +944,6 @@ def control_study(
             _fail(f"{flag} {bad[0]}: expected one of {', '.join(allowed)}")
     _number("--settle", settle, zero_ok=True)
     sc = _load(scenario, None, None)
-    if pose_from is None and sc.robot.has_pulleys:  # the encoders' forward kinematics knows point anchors only
-        sources = ["sensor"]
-        err_console.print(f"{_plain(sc.name)}: the pose from the encoders is left out: the robot has pulleys, "
-                          "which the encoders' forward kinematics does not know yet", highlight=False)
     if encoder_resolution is not None:
         try:
             sensors = {**sc.simulation.sensors.model_dump(), "encoder_resolution_m": encoder_resolution}

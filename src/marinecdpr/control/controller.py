@@ -30,7 +30,7 @@ from marinecdpr.control.records import (
     empty_measurement, empty_work, unused_predictor,
 )
 from marinecdpr.control.step import control_step
-from marinecdpr.errors import InfeasibleError, ScenarioError
+from marinecdpr.errors import InfeasibleError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import cleaning_loads
@@ -108,9 +108,6 @@ def gains(scenario: Scenario, *, closed: bool) -> Gains:
     (``[simulation.mru]``)."""
     sim = scenario.simulation
     control, cables = sim.control, sim.cables
-    if sim.sensors.pose_from == "encoders" and scenario.robot.has_pulleys:
-        raise ScenarioError("simulation.sensors.pose_from: encoders with pulleys are not supported yet (the "
-                            "forward kinematics knows point anchors only)", source=scenario.name)
     wn = 2.0 * np.pi * control.bandwidth_hz
     return Gains(bool(closed), wn * wn, 2.0 * control.damping_ratio * wn, float(cables.winch_time_constant_s),
                  cables.winch != "length", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,

@@ -133,8 +133,12 @@ def pose_from_encoders(ctl):
     for i in range(meas.L.shape[0]):
         work.Lg[i] = meas.L[i] * (1.0 + meas.T[i] / model.EA)
     q = work.q
-    status = pose_from_lengths_step(work.Lg, model.c_C, model.p_P, model.controlled, q, gains.fk_tol_m,
-                                    gains.fk_iter, work.fk)
+    if model.pulleys:  # the lengths over the pulleys
+        status = pose_from_lengths_step(work.Lg, model.c_C, model.p_P, model.controlled, q, gains.fk_tol_m,
+                                        gains.fk_iter, work.fk, model.z_C, model.radius)
+    else:
+        status = pose_from_lengths_step(work.Lg, model.c_C, model.p_P, model.controlled, q, gains.fk_tol_m,
+                                        gains.fk_iter, work.fk)
     # the rates: dl/dq (work.fk.J, at q) q'_c = l', least squares
     J, G, b = work.fk.J, work.Gk, work.bk
     k = model.controlled.shape[0]

@@ -28,6 +28,12 @@ pose. Large residuals (status 2) converge only linearly: tens of iterations.
 :func:`forward_work`); :func:`pose_from_lengths` runs it over a series in a compiled loop,
 each step warm-started from the previous solution, optionally from the winches' unstretched
 lengths and the cables' tensions (:func:`stretched_lengths`).
+
+Cables over swivelling pulleys (axes z_i, radii r_i: :mod:`marinecdpr.geometry.pulley`)
+have lengths r_i beta_i + l_f (:func:`~marinecdpr.geometry.pulley.pulleys_step`) and the
+same Jacobian with u_i along the free span (J~'s rows over the pulleys):
+:func:`pulley_residuals_and_jacobian`, used by both solvers when given ``z_C`` and
+``radius``.
 """
 
 from __future__ import annotations
@@ -38,8 +44,10 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from marinecdpr.geometry.pulley import pulleys_step
+
 __all__ = ["ForwardKinematics", "ForwardWork", "forward_work", "pose_from_lengths", "pose_from_lengths_step",
-           "residuals_and_jacobian", "angle_rate_matrix", "stretched_lengths",
+           "residuals_and_jacobian", "pulley_residuals_and_jacobian", "angle_rate_matrix", "stretched_lengths",
            "CONVERGED", "NOT_CONVERGED", "INCONSISTENT"]
 
 CONVERGED, NOT_CONVERGED, INCONSISTENT = 0, 1, 2
@@ -65,6 +73,11 @@ class ForwardWork(NamedTuple):
     step: np.ndarray  # (k,) the step in the controlled DOFs (m, rad)
     consistency: np.ndarray  # (2,) lengths are a pose's when max |r_i| <= [0] + [1] L_i (m, -)
     info: np.ndarray  # (2,) written: RMS residual (m), iterations (trial steps)
+    R: np.ndarray  # (3, 3) scratch over pulleys: R_PC at the pose
+    Lq: np.ndarray  # (m,) the lengths at the pose
+    J6: np.ndarray  # (m, 6) J~ at the pose
+    exits: np.ndarray  # (m, 3) exit points
+    wraps: np.ndarray  # (m,) wrap angles
 
 
 def forward_work(m: int, k: int, atol_m: float = 1e-6, rtol: float = 1e-6) -> ForwardWork:
@@ -81,7 +94,8 @@ def forward_work(m: int, k: int, atol_m: float = 1e-6, rtol: float = 1e-6) -> Fo
     """
     return ForwardWork(np.empty(m), np.empty((m, k)), np.empty(m), np.empty((m, k)), np.empty(6),
                        np.empty((k, k)), np.empty((k, k)), np.empty(k), np.empty(k),
-                       np.array([atol_m, rtol], dtype=float), np.zeros(2))
+                       np.array([atol_m, rtol], dtype=float), np.zeros(2), np.empty((3, 3)), np.empty(m),
+                       np.empty((m, 6)), np.empty((m, 3)), np.empty(m))
 
 
 # ------------------------------------------------------------------- one step, compiled
@@ -176,6 +190,51 @@ def residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J):
     return cost
 
 
+@njit(cache=_cache)
+def pulley_residuals_and_jacobian(L, c_C, z_C, radius, p_P, controlled, q, r, J, work):
+    """:func:`residuals_and_jacobian` for cables over swivelling pulleys: r_i = L_i(q) - L_i
+    with L_i(q) = r_i beta_i + l_f (:func:`~marinecdpr.geometry.pulley.pulleys_step`), and
+    dr_i/dx = -u_i, dr_i/dangles = -((R p_i) x u_i)^T E with u_i along the free span.
+
+    z_C (m, 3) and radius (m,) are the pulleys' swivel axes and radii (0: a point); the
+    other arguments as for :func:`residuals_and_jacobian`; ``work`` (:class:`ForwardWork`)
+    gives the scratch. A pose with a platform anchor on a pulley's axis or inside it gives
+    NaN (the solver rejects it). Returns sum_i r_i^2 / 2, m^2.
+    """
+    c1, s1 = np.cos(q[3]), np.sin(q[3])
+    c2, s2 = np.cos(q[4]), np.sin(q[4])
+    c3, s3 = np.cos(q[5]), np.sin(q[5])
+    R = work.R  # R = Rz(rz) Ry(ry) Rx(rx), as in rotations._euler_values
+    R[0, 0], R[0, 1], R[0, 2] = c3 * c2, c3 * s2 * s1 - s3 * c1, c3 * s2 * c1 + s3 * s1
+    R[1, 0], R[1, 1], R[1, 2] = s3 * c2, s3 * s2 * s1 + c3 * c1, s3 * s2 * c1 - c3 * s1
+    R[2, 0], R[2, 1], R[2, 2] = -s2, c2 * s1, c2 * c1
+    E = _angle_rate_columns(c2, s2, c3, s3)
+    if pulleys_step(q[:3], R, c_C, z_C, radius, p_P, work.Lq, work.J6, work.exits, work.wraps) != 0:
+        return np.nan
+    cost = 0.0
+    J6 = work.J6
+    for i in range(c_C.shape[0]):
+        ri = work.Lq[i] - L[i]
+        r[i] = ri
+        cost += 0.5 * ri * ri
+        for j in range(controlled.shape[0]):
+            d = controlled[j]
+            if d < 3:
+                J[i, j] = -J6[i, d]
+            else:
+                e = E[d - 3]
+                J[i, j] = -(J6[i, 3] * e[0] + J6[i, 4] * e[1] + J6[i, 5] * e[2])
+    return cost
+
+
+@njit(cache=_cache, inline="always")
+def _residuals(L, c_C, p_P, controlled, q, r, J, work, z_C, radius):
+    """The point model's residuals, or over the pulleys when z_C is given."""
+    if z_C is None:
+        return residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J)
+    return pulley_residuals_and_jacobian(L, c_C, z_C, radius, p_P, controlled, q, r, J, work)
+
+
 @njit(cache=_cache, inline="always")
 def _damped_step(A, g, mu, M, step):
     """Solve (A + mu diag(A)) step = -g by Cholesky (k x k, in M); False if not positive
@@ -213,7 +272,7 @@ def _damped_step(A, g, mu, M, step):
 
 
 @njit(cache=_cache)
-def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work):
+def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work, z_C=None, radius=None):
     """The pose whose cable lengths are L, by Levenberg-Marquardt from the warm start q.
 
     No allocation: all scratch is in ``work`` (:func:`forward_work` (m, k)).
@@ -242,6 +301,9 @@ def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work):
     work : ForwardWork
         Overwritten; on return work.info[0] is the RMS residual at q (m) and work.info[1] the
         number of trial steps taken (accepted or rejected).
+    z_C, radius : ndarray, shape (m, 3) and (m,), optional
+        Swivelling pulleys' axes (unit, in C) and radii (m): L are then the lengths over them
+        (:func:`pulley_residuals_and_jacobian`); c_C are the frame anchors on their rims.
 
     Returns
     -------
@@ -254,7 +316,7 @@ def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work):
     """
     k = controlled.shape[0]
     r, J, rt, Jt, qt, A, g, step = work.r, work.J, work.rt, work.Jt, work.qt, work.A, work.g, work.step
-    cost = residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J)
+    cost = _residuals(L, c_C, p_P, controlled, q, r, J, work, z_C, radius)
     if not np.isfinite(cost):  # NaN lengths or warm start
         work.info[0], work.info[1] = np.nan, 0.0
         return NOT_CONVERGED
@@ -305,7 +367,7 @@ def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work):
         for a in range(k):
             qt[controlled[a]] += step[a]
             predicted += 0.5 * step[a] * (mu * max(A[a, a], 1e-12 * top) * step[a] - g[a])
-        trial = residuals_and_jacobian(L, c_C, p_P, controlled, qt, rt, Jt)
+        trial = _residuals(L, c_C, p_P, controlled, qt, rt, Jt, work, z_C, radius)
         if trial < cost:  # accept (a NaN trial is rejected); Nielsen's damping update
             rho = (cost - trial) / predicted
             cost = trial
@@ -332,7 +394,8 @@ def pose_from_lengths_step(L, c_C, p_P, controlled, q, tol_m, max_iter, work):
 
 
 @njit(cache=_cache)
-def _series(lengths, c_C, p_P, controlled, q0, tol_m, max_iter, work, poses, status, residual, iterations):
+def _series(lengths, c_C, p_P, controlled, q0, tol_m, max_iter, work, poses, status, residual, iterations,
+            z_C=None, radius=None):
     """:func:`pose_from_lengths_step` at every row of lengths (n, m), each step started from
     the previous solution (q0 for the first); writes poses (n, 6), status, residual,
     iterations (n,)."""
@@ -340,7 +403,8 @@ def _series(lengths, c_C, p_P, controlled, q0, tol_m, max_iter, work, poses, sta
         prev = q0 if s == 0 else poses[s - 1]
         for a in range(6):
             poses[s, a] = prev[a]
-        status[s] = pose_from_lengths_step(lengths[s], c_C, p_P, controlled, poses[s], tol_m, max_iter, work)
+        status[s] = pose_from_lengths_step(lengths[s], c_C, p_P, controlled, poses[s], tol_m, max_iter, work,
+                                           z_C, radius)
         residual[s] = work.info[0]
         iterations[s] = int(work.info[1])
 
@@ -392,7 +456,7 @@ class ForwardKinematics:
 
 
 def pose_from_lengths(lengths, c_C, p_P, controlled, q0, *, tensions=None, EA=None, tol_m=1e-12, max_iter=50,
-                      consistency=(1e-6, 1e-6)) -> ForwardKinematics:
+                      consistency=(1e-6, 1e-6), pulley_axes=None, pulley_radii=None) -> ForwardKinematics:
     """Platform poses from cable lengths, each step warm-started from the previous one.
 
     Parameters
@@ -420,6 +484,9 @@ def pose_from_lengths(lengths, c_C, p_P, controlled, q0, *, tensions=None, EA=No
     consistency : (float, float)
         (atol_m, rtol): lengths are a pose's when max_i |r_i| <= atol_m + rtol L_i; above,
         status 2.
+    pulley_axes, pulley_radii : ndarray, shape (m, 3) and (m,), optional
+        Swivelling pulleys (``robot.pulley_axes``, ``robot.pulley_radii``): the lengths are
+        over them. Both or neither.
 
     Returns
     -------
@@ -447,5 +514,15 @@ def pose_from_lengths(lengths, c_C, p_P, controlled, q0, *, tensions=None, EA=No
     poses, status = np.empty((n, 6)), np.empty(n, dtype=np.int64)
     residual, iterations = np.empty(n), np.empty(n, dtype=np.int64)
     work = forward_work(m, ctrl.size, *consistency)
-    _series(L, c_C, p_P, ctrl, q0, float(tol_m), int(max_iter), work, poses, status, residual, iterations)
+    if (pulley_axes is None) != (pulley_radii is None):
+        raise ValueError("give both pulley_axes and pulley_radii, or neither")
+    if pulley_axes is None:
+        _series(L, c_C, p_P, ctrl, q0, float(tol_m), int(max_iter), work, poses, status, residual, iterations)
+    else:
+        z_C = np.array(pulley_axes, dtype=float, order="C")
+        radius = np.array(pulley_radii, dtype=float, order="C")
+        if z_C.shape != (m, 3) or radius.shape != (m,):
+            raise ValueError(f"pulley_axes {z_C.shape} and pulley_radii {radius.shape}: expected ({m}, 3) and ({m},)")
+        _series(L, c_C, p_P, ctrl, q0, float(tol_m), int(max_iter), work, poses, status, residual, iterations,
+                z_C, radius)
     return ForwardKinematics(poses=poses, status=status, residual_m=residual, iterations=iterations)
