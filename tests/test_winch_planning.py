@@ -124,3 +124,23 @@ def test_the_cli_refuses_a_plan_a_winch_cannot_follow(tmp_path):
     assert r.returncode != 0
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "winch" in lines[0] and "speed_max_rad_s" in lines[0], r.stderr
+
+
+def test_plan_csv_has_the_winches_bounds_and_the_sag(tmp_path):
+    """plan.csv gains Tlo/Thi with winches and sag/Twinch with heavy cables, the plan's own
+    values; written in pieces it is the same file byte for byte."""
+    from marinecdpr.report.writers import plan_csv_writer, write_plan_csv
+
+    sc = marinecdpr.load_scenario("paper_as_built")
+    p = marinecdpr.plan(sc)
+    path = write_plan_csv(p, sc, tmp_path / "plan.csv")
+    rows = np.genfromtxt(path, delimiter=",", names=True)
+    for prefix, field in (("Tlo", "tension_lower"), ("Thi", "tension_upper"), ("sag", "sag_lengths"),
+                          ("Twinch", "winch_tensions")):
+        got = np.column_stack([rows[f"{prefix}{i}"] for i in range(1, 5)])
+        np.testing.assert_allclose(got, getattr(p, field), rtol=1e-9, atol=1e-12)
+    assert rows.dtype.names[-1] == "feasible"
+    with plan_csv_writer(sc, tmp_path / "pieces.csv") as write:
+        for piece in marinecdpr.iter_plan(sc, chunk_steps=4000):
+            write(piece)
+    assert (tmp_path / "pieces.csv").read_bytes() == path.read_bytes()

@@ -325,7 +325,7 @@ def estimate_run(
             sea = _sea(scenario, chunk, n, h)
     elif command == "plan_stream":
         series = 0
-        working += chunk * _csv_row(2 + 6 + 3 * m)  # the chunk's CSV text
+        working += chunk * _csv_row(2 + 6 + (3 + w) * m)  # the chunk's CSV text (at most w more columns of m)
         sea = _sea(scenario, chunk, n, h)
     elif command == "simulate":
         series = n * _sim_row(m, k, w)

@@ -48,7 +48,11 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     Columns: ``t`` (s); the controlled pose in C (``x``, ``z``, ``theta_y`` for a
     planar robot, ``x, y, z, rx, ry, rz`` for a spatial one; m and deg);
     ``L1..Ln`` (cable lengths, m); ``Tpinv1..Tpinvn`` (eq. 18 tensions, N);
-    ``T1..Tn`` (the method's tensions, N; empty where infeasible); ``feasible`` (1/0).
+    ``T1..Tn`` (the method's tensions, N; empty where infeasible); with winches
+    (``robot.winch``) ``Tlo1..Tlon``, ``Thi1..Thin`` (the tensions each winch can give at that
+    step, N); with heavy cables (``robot.cable_weight_N_m``) ``sag1..sagn`` (the extra length
+    paid out for the sag, m) and ``Twinch1..Twinchn`` (the tension at the winch, N);
+    ``feasible`` (1/0).
 
     Returns
     -------
@@ -61,12 +65,14 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     names = (
         ["t"] + pose_names + [f"L{i}" for i in range(1, n + 1)]
         + [f"Tpinv{i}" for i in range(1, n + 1)] + [f"T{i}" for i in range(1, n + 1)]
-        + ["feasible"]
     )
-    values = np.column_stack(
-        [plan.t, pose, plan.lengths, plan.tensions_pinv, plan.tensions, plan.feasible.astype(float)]
-    )
-    return names, values
+    columns = [plan.t, pose, plan.lengths, plan.tensions_pinv, plan.tensions]
+    for prefix, field in (("Tlo", "tension_lower"), ("Thi", "tension_upper"), ("sag", "sag_lengths"),
+                          ("Twinch", "winch_tensions")):
+        if getattr(plan, field) is not None:
+            names += [f"{prefix}{i}" for i in range(1, n + 1)]
+            columns.append(getattr(plan, field))
+    return names + ["feasible"], np.column_stack(columns + [plan.feasible.astype(float)])
 
 
 def _pose_columns(pose: np.ndarray, dofs: list[int]) -> np.ndarray:
