@@ -39,10 +39,8 @@ MODELS = {
 
 
 def _scenario(robot: dict, cables: dict):
-    base = marinecdpr.load_scenario("paper")
-    sim = base.simulation.model_dump(exclude_none=True)
-    sim.update(plant="own", cables=cables)
-    return base.with_changes(robot={**base.robot.model_dump(exclude_none=True), **robot}, simulation=sim)
+    return (marinecdpr.load_scenario("paper").with_updates("robot", **robot)
+            .with_updates("simulation", plant="own", cables=cables))
 
 
 def _irvine(x, h, v, L0, w, EA):

@@ -108,3 +108,18 @@ def test_the_example_file_is_the_builtin_paper_scenario():
 
     example = Path(__file__).resolve().parents[1] / "examples" / "paper.toml"
     assert example.read_text() == (resources.files("marinecdpr.scenario") / "builtin" / "paper.toml").read_text()
+
+
+def test_with_updates_changes_one_subsection_and_keeps_the_rest(paper):
+    sc = paper.with_updates("simulation.mru", latency_s=0.02, prediction="ar")
+    assert sc.simulation.mru.latency_s == 0.02 and sc.simulation.mru.prediction == "ar"
+    assert sc.simulation.mru.rate_hz == paper.simulation.mru.rate_hz
+    assert sc.simulation.control == paper.simulation.control and sc.robot == paper.robot
+    # None removes a key: its default applies
+    sc = paper.with_updates("robot", winch=dict(drum_radius_m=0.05, gear_ratio=10.0, torque_max_Nm=2.0,
+                                                speed_max_rad_s=300.0, power_max_W=200.0))
+    assert sc.robot.winch.gear_ratio == 10.0
+    assert sc.with_updates("robot", winch=None).robot.winch is None
+    # a bad value is one line naming the key, as from a file
+    with pytest.raises(ScenarioError, match=r"simulation\.mru\.latency_s"):
+        paper.with_updates("simulation.mru", latency_s=-1.0)

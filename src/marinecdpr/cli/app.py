@@ -946,8 +946,7 @@ def control_study(
     sc = _load(scenario, None, None)
     if encoder_resolution is not None:
         try:
-            sensors = {**sc.simulation.sensors.model_dump(), "encoder_resolution_m": encoder_resolution}
-            sc = sc.with_changes(simulation={**sc.simulation.model_dump(exclude_none=True), "sensors": sensors})
+            sc = sc.with_updates("simulation.sensors", encoder_resolution_m=encoder_resolution)
         except ScenarioError as exc:
             _fail(f"--encoder-resolution {encoder_resolution:g}: {exc}")
     if settle is None:

@@ -47,8 +47,7 @@ class Rig:
         from marinecdpr.prototype.mujoco_model import build_model
         from marinecdpr.prototype.simulation import _initial_state, _mujoco_plant, _ship_drive
 
-        self.scenario = scenario.with_changes(simulation={**scenario.simulation.model_dump(exclude_none=True),
-                                                          "cables": {"model": "ideal"}})
+        self.scenario = scenario.with_updates("simulation", cables={"model": "ideal"})
         sc = self.scenario
         h = self.step_s = sc.time.step_s
         n = self.n_steps = sc.time.n_steps if n_steps is None else min(n_steps, sc.time.n_steps)

@@ -585,9 +585,34 @@ class Scenario(_Model):
         data = self.model_dump(exclude_none=True)
         for key, value in sections.items():
             data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
-        try:
-            return Scenario.model_validate(data)
-        except ValidationError as exc:
-            raise scenario_error(exc, data, None, Scenario) from None
+        return _validated(data)
+
+    def with_updates(self, section: str, **values: Any) -> "Scenario":
+        """A validated copy with some keys of one section or sub-section changed, the others
+        kept, e.g. ``with_updates("simulation.mru", latency_s=0.02)``; a value of None removes
+        the key (its default applies). A missing optional section starts empty.
+
+        Raises
+        ------
+        ScenarioError
+            One line naming the key, as for a file.
+        """
+        data = self.model_dump(exclude_none=True)
+        node = data
+        for key in section.split("."):
+            node = node.setdefault(key, {})
+        for key, value in values.items():
+            if value is None:
+                node.pop(key, None)
+            else:
+                node[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
+        return _validated(data)
+
+
+def _validated(data: dict) -> Scenario:
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as exc:
+        raise scenario_error(exc, data, None, Scenario) from None
 
 

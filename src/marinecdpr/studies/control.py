@@ -132,10 +132,9 @@ def control_study(
     cases = list(itertools.product(pose_from, latencies_s, predictions))
     runs = []
     for i, (source, latency, prediction) in enumerate(cases):
-        sim = base.simulation.model_dump(exclude_none=True)
-        sim["mru"].update(rate_hz=float(rate_hz), latency_s=float(latency), prediction=prediction)
-        sim["sensors"].update(pose_from=source)
-        sc = base.with_changes(simulation=sim)
+        sc = (base.with_updates("simulation.mru", rate_hz=float(rate_hz), latency_s=float(latency),
+                                prediction=prediction)
+              .with_updates("simulation.sensors", pose_from=source))
         res = simulate(sc, run="closed_loop", plant=plant)
         judged = res.t >= settle - 1e-9
         err = res.pose_error[judged]

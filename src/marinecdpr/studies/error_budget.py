@@ -66,16 +66,15 @@ def _point_robot(scenario: Scenario, *, pulleys: bool = False, winch: bool = Fal
     """The scenario's robot with point anchors and no winch, keeping the pulleys or the winch
     if asked."""
     robot = scenario.robot
-    data = robot.model_dump(exclude_none=True, exclude=set() if winch else {"winch"})
-    if not pulleys:
-        data["cables"] = [c.model_copy(update={"pulley_radius_m": 0.0, "pulley_axis": None}).model_dump(
-            exclude_none=True) for c in robot.cables]
-    changes = {"robot": data}
     if not winch and scenario.simulation.cables.winch == "motor":  # without a motor: an ideal tension loop
-        sim = scenario.simulation.model_dump(exclude_none=True)
-        sim["cables"]["winch"] = "tension"
-        changes["simulation"] = sim
-    return scenario.with_changes(**changes)
+        scenario = scenario.with_updates("simulation.cables", winch="tension")
+    if not winch:
+        scenario = scenario.with_updates("robot", winch=None)
+    if not pulleys:
+        scenario = scenario.with_updates("robot", cables=[
+            c.model_copy(update={"pulley_radius_m": 0.0, "pulley_axis": None}).model_dump(exclude_none=True)
+            for c in robot.cables])
+    return scenario
 
 
 def _held_share(scenario: Scenario, grid: tuple[int, int]) -> float:
