@@ -124,6 +124,10 @@ def test_the_plans_sag_fed_forward_holds_the_heavy_cables(monkeypatch):
     (lambda d: (d["robot"].update(cable_weight_N_m=W),
                 d["simulation"].update(plant="own", cables={"model": "catenary"})),
      r"simulation\.cables\.stiffness_EA_N: missing: a catenary cable"),
+    (lambda d: (d["robot"].update(cable_weight_N_m=W),
+                d["simulation"].update(plant="own", cables={"model": "catenary", "stiffness_EA_N": EA},
+                                       sensors={"pose_from": "encoders"})),
+     r"simulation\.sensors\.pose_from: the encoders' pose with catenary cables is not supported yet"),
 ])
 def test_catenary_cables_need_their_weight_and_the_own_plant(edit, says):
     with pytest.raises(ScenarioError, match=says):

@@ -92,3 +92,13 @@ def test_a_motor_sized_at_the_plans_peak_is_limited_in_open_loop():
 def test_motor_winches_need_their_design(edit, says):
     with pytest.raises(ScenarioError, match=says):
         make_scenario(edit)
+
+
+def test_the_encoders_read_the_motors_drums():
+    """paper_as_built (motor winches over pulleys), closed loop: the pose from the encoders
+    (the drums' paid-out lengths, stretched by the load cells' tensions, over the pulleys)
+    holds the platform as the pose sensor does, to 2 um."""
+    base = marinecdpr.load_scenario("paper_as_built").with_updates("simulation", plant="own")
+    runs = [simulate(base.with_updates("simulation.sensors", pose_from=source), run="closed_loop", n_steps=2000)
+            for source in ("sensor", "encoders")]
+    np.testing.assert_allclose(runs[1].pose[:, :3], runs[0].pose[:, :3], rtol=0, atol=2e-6)

@@ -42,10 +42,9 @@ from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrenc
 from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_VB, catenary_forces
 from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, winch_motor_step
 
-__all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Motor", "Cables", "Bus", "Log", "BrushContact",
-           "Catenary",
-           "Parts", "exchange", "sense", "winch_step", "motor_step", "cable_step", "catenary_cables", "log_step",
-           "no_motor", "no_catenary"]
+__all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Motor", "Catenary", "Cables", "Bus", "Log",
+           "BrushContact", "Parts", "exchange", "sense", "winch_step", "motor_step", "cable_step", "catenary_cables",
+           "log_step", "no_motor", "no_catenary"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -314,8 +313,11 @@ def sense(k, h, x, R, v, w, parts, meas):
         cells.T[i] += cells.alpha * (bus.T_app[i] + cells.noise[k, i] - cells.T[i])
         meas.T[i] = cells.T[i]
         # a winch pays out the unstretched length: the stretch of an elastic cable is the
-        # tension it carries (the winch's own L0 where it holds a length)
-        if cables.elastic and not winch.tension_controlled:
+        # tension it carries (the winch's own L0 where it holds a length, the drum's now
+        # where a motor turns it)
+        if parts.motor.active:
+            L0 = parts.motor.drive.L0[i]
+        elif cables.elastic and not winch.tension_controlled:
             L0 = winch.L0[i]
         else:
             L0 = bus.L[i] / (1.0 + bus.T_app[i] / cables.EA)

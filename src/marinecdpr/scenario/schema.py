@@ -514,6 +514,10 @@ class Scenario(_Model):
         if self.robot.has_pulleys:
             raise _KeyedError("simulation.cables.model", "catenary cables over pulleys are not supported yet: "
                                                          "use \"elastic\" (the sag is then in the error budget)")
+        if sim.sensors.pose_from == "encoders":
+            raise _KeyedError("simulation.sensors.pose_from", "the encoders' pose with catenary cables is not "
+                                                              "supported yet (their forward kinematics knows "
+                                                              "straight cables): use \"sensor\"")
         return self
 
     @model_validator(mode="after")
