@@ -602,6 +602,7 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=logging.ERROR)
         client = Client(cluster)
+    stopped = False
     try:
         # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
         # page-fault its memory back in; the workers keep it instead (see marinecdpr.memory)
@@ -614,10 +615,22 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
             if progress is not None:
                 progress(k, len(cells))
         return results
+    except BaseException:
+        # stopped (Ctrl-C) or failed: our own cluster is torn down mid-work, and what its
+        # scheduler logs then (comms closed while it reports a result) is no news; the
+        # error raised says what happened
+        stopped = cluster is not None
+        raise
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        if stopped:
+            logging.disable(logging.CRITICAL)
+        try:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+        finally:
+            if stopped:
+                logging.disable(logging.NOTSET)
 
 
 def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: list, margin_N: float,
