@@ -18,6 +18,9 @@ from __future__ import annotations
 import csv
 import logging
 import math
+import signal
+import threading
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -588,6 +591,24 @@ def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> Non
         raise ScenarioError(f"--scheduler {shown}: no Dask scheduler reachable there ({reason})") from None
 
 
+@contextmanager
+def _sigint_deferred():
+    """Ctrl-C (SIGINT) held back until the block ends, then raised as KeyboardInterrupt: a
+    local cluster interrupted while it starts leaves Dask's own half-built state to fail
+    noisily at exit. Only in the main thread (elsewhere the block runs as it is)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
+
+
 def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
     try:
         from dask.distributed import Client, LocalCluster, as_completed
@@ -598,10 +619,16 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
         check_scheduler(scheduler)
         client = Client(scheduler, timeout="20s")
     else:
-        # warnings of workers stopped on purpose (Ctrl-C) are no news: errors still show
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
-        client = Client(cluster)
+        # what workers log when their scheduler goes away (Ctrl-C) is no news; a cell that
+        # fails raises its error here, through its future
+        with _sigint_deferred():
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, silence_logs=logging.CRITICAL)
+            try:
+                client = Client(cluster)
+            except BaseException:
+                cluster.close()
+                raise
     stopped = False
     try:
         # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
