@@ -267,8 +267,8 @@ def test_a_cold_kernel_cache_is_told_in_one_line_before_the_work(tmp_path, monke
         assert res.exit_code == 0, res.output
         lines = res.stderr.strip().splitlines()
         notices = [ln for ln in lines if ln.startswith("compiling the simulation kernels")]
-        assert notices == (["compiling the simulation kernels, once (about 30 s; cached for "
-                            "later runs)..."] if cold else [])
+        assert notices == ([f"compiling the simulation kernels, once (about {simulation.KERNEL_COMPILE_S:g} s; "
+                            "cached for later runs)..."] if cold else [])
         assert all(ln.startswith("simulate: ") for ln in lines[1 if cold else 0:])
 
 

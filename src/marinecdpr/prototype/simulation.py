@@ -359,7 +359,7 @@ def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, block: 
     return fallbacks
 
 
-KERNEL_COMPILE_S = 30.0
+KERNEL_COMPILE_S = 75.0
 """About how long the first simulation compiles its loop on a fresh install, s (README)."""
 
 
