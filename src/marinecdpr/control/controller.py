@@ -175,7 +175,8 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     res = scenario.simulation.sensors.encoder_resolution_m
     work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res)
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
-    return ControllerParts(reference(ff, sag=scenario.simulation.cables.model == "catenary"), robot_model(scenario), gains(scenario, closed=closed), loads,
+    ref = reference(ff, sag=scenario.simulation.cables.model == "catenary")
+    return ControllerParts(ref, robot_model(scenario), gains(scenario, closed=closed), loads,
                            empty_measurement(m), empty_command(m), work, predictor(scenario))
 
 

@@ -108,6 +108,19 @@ def _angle_rate_columns(cy, sy, cz, sz):
     return (cz * cy, sz * cy, -sy), (-sz, cz, 0.0), (0.0, 0.0, 1.0)
 
 
+@njit(cache=_cache, inline="always")
+def _rotation_and_rates(q):
+    """R = Rz(rz) Ry(ry) Rx(rx) of the pose q's angles (as in rotations._euler_values), by
+    rows, and E's columns (:func:`_angle_rate_columns`)."""
+    c1, s1 = np.cos(q[3]), np.sin(q[3])
+    c2, s2 = np.cos(q[4]), np.sin(q[4])
+    c3, s3 = np.cos(q[5]), np.sin(q[5])
+    R = ((c3 * c2, c3 * s2 * s1 - s3 * c1, c3 * s2 * c1 + s3 * s1),
+         (s3 * c2, s3 * s2 * s1 + c3 * c1, s3 * s2 * c1 - c3 * s1),
+         (-s2, c2 * s1, c2 * c1))
+    return R, _angle_rate_columns(c2, s2, c3, s3)
+
+
 @njit(cache=_cache)
 def angle_rate_matrix(angles, E):
     """E(angles) such that omega = E angles' for R = Rz(rz) Ry(ry) Rx(rx), written in place.
@@ -153,14 +166,8 @@ def residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J):
     float
         sum_i r_i^2 / 2, m^2.
     """
-    c1, s1 = np.cos(q[3]), np.sin(q[3])
-    c2, s2 = np.cos(q[4]), np.sin(q[4])
-    c3, s3 = np.cos(q[5]), np.sin(q[5])
-    # R = Rz(rz) Ry(ry) Rx(rx), as in rotations._euler_values
-    R00, R01, R02 = c3 * c2, c3 * s2 * s1 - s3 * c1, c3 * s2 * c1 + s3 * s1
-    R10, R11, R12 = s3 * c2, s3 * s2 * s1 + c3 * c1, s3 * s2 * c1 - c3 * s1
-    R20, R21, R22 = -s2, c2 * s1, c2 * c1
-    E = _angle_rate_columns(c2, s2, c3, s3)
+    rows, E = _rotation_and_rates(q)
+    (R00, R01, R02), (R10, R11, R12), (R20, R21, R22) = rows
     cost = 0.0
     for i in range(c_C.shape[0]):
         px, py, pz = p_P[i, 0], p_P[i, 1], p_P[i, 2]
@@ -201,14 +208,9 @@ def pulley_residuals_and_jacobian(L, c_C, z_C, radius, p_P, controlled, q, r, J,
     gives the scratch. A pose with a platform anchor on a pulley's axis or inside it gives
     NaN (the solver rejects it). Returns sum_i r_i^2 / 2, m^2.
     """
-    c1, s1 = np.cos(q[3]), np.sin(q[3])
-    c2, s2 = np.cos(q[4]), np.sin(q[4])
-    c3, s3 = np.cos(q[5]), np.sin(q[5])
-    R = work.R  # R = Rz(rz) Ry(ry) Rx(rx), as in rotations._euler_values
-    R[0, 0], R[0, 1], R[0, 2] = c3 * c2, c3 * s2 * s1 - s3 * c1, c3 * s2 * c1 + s3 * s1
-    R[1, 0], R[1, 1], R[1, 2] = s3 * c2, s3 * s2 * s1 + c3 * c1, s3 * s2 * c1 - c3 * s1
-    R[2, 0], R[2, 1], R[2, 2] = -s2, c2 * s1, c2 * c1
-    E = _angle_rate_columns(c2, s2, c3, s3)
+    rows, E = _rotation_and_rates(q)
+    R = work.R
+    (R[0, 0], R[0, 1], R[0, 2]), (R[1, 0], R[1, 1], R[1, 2]), (R[2, 0], R[2, 1], R[2, 2]) = rows
     if pulleys_step(q[:3], R, c_C, z_C, radius, p_P, work.Lq, work.J6, work.exits, work.wraps) != 0:
         return np.nan
     cost = 0.0

@@ -279,20 +279,18 @@ def _cable_rates(scenario: Scenario, t: np.ndarray) -> np.ndarray:
                             platform.twist).length_rates
 
 
-def _length_accelerations(scenario: Scenario, t: np.ndarray) -> np.ndarray:
-    """The cables' L'' at t, m/s^2, shape (n_steps, m): second-order differences of L' over
-    :data:`LENGTH_ACCELERATION_STEP_S`, central, and forward before it (the trajectory's
-    start): the same at any step whatever the chunk."""
+def _length_accelerations(scenario: Scenario, t: np.ndarray, length_rates: np.ndarray) -> np.ndarray:
+    """The cables' L'' at t, m/s^2, shape (n_steps, m), from their L' at t (``length_rates``)
+    and around it: second-order differences over :data:`LENGTH_ACCELERATION_STEP_S`,
+    central, and forward before it (the trajectory's start): the same at any step whatever
+    the chunk."""
     h = LENGTH_ACCELERATION_STEP_S
     ahead = _cable_rates(scenario, t + h)
     first = t < h
     back = _cable_rates(scenario, np.where(first, t + 2.0 * h, t - h))
     central = (ahead - back) / (2.0 * h)
-    if not first.any():
-        return central
-    now = _cable_rates(scenario, t[first])
-    forward = (4.0 * ahead[first] - 3.0 * now - back[first]) / (2.0 * h)
-    central[first] = forward
+    if first.any():
+        central[first] = (4.0 * ahead[first] - 3.0 * length_rates[first] - back[first]) / (2.0 * h)
     return central
 
 
@@ -302,7 +300,7 @@ def _winch_bounds(scenario: Scenario, t: np.ndarray, length_rates: np.ndarray) -
     from marinecdpr.model.winch import WinchParams, winch_tension_bounds
 
     robot = scenario.robot
-    L_ddot = _length_accelerations(scenario, t)
+    L_ddot = _length_accelerations(scenario, t, length_rates)
     b = winch_tension_bounds(length_rates, L_ddot, WinchParams(**robot.winch.model_dump()),
                              robot.tension_min, robot.tension_max)
     limit = np.where(b.overspeed, WINCH_OVERSPEED, np.where(b.empty, WINCH_NO_TENSION, 0)).astype(np.int8)

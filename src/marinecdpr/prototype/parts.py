@@ -44,7 +44,7 @@ from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, 
 
 __all__ = ["Sensors", "Mru", "Encoders", "LoadCells", "Loads", "Winch", "Motor", "Catenary", "Cables", "Bus", "Log",
            "BrushContact", "Parts", "exchange", "sense", "winch_step", "motor_step", "cable_step", "catenary_cables",
-           "log_step", "no_motor", "no_catenary"]
+           "log_step", "motor_part", "no_motor", "catenary_part", "no_catenary"]
 
 _cache = True
 DIVERGENCE_M = 10.0
@@ -132,11 +132,18 @@ class Motor(NamedTuple):
     limited: np.ndarray
 
 
+def motor_part(drive: WinchDrive, Ldot_ref: np.ndarray, Lddot_ref: np.ndarray, *, active: bool = True) -> Motor:
+    """A :class:`Motor` record for ``drive``'s winches following the plan's L' and L''
+    (n_steps, m), its scratch and counters allocated."""
+    m = drive.omega.shape[0]
+    return Motor(active, drive, np.ascontiguousarray(Ldot_ref, dtype=float),
+                 np.ascontiguousarray(Lddot_ref, dtype=float), np.zeros(m), np.zeros(m), np.zeros(2, dtype=np.int64))
+
+
 def no_motor(m: int) -> Motor:
     """An inactive :class:`Motor` record for m cables (of the same types as an active one)."""
-    z = np.zeros(m)
-    drive = WinchDrive(*(z.copy() for _ in range(14)), np.zeros(m, dtype=np.int64))
-    return Motor(False, drive, np.zeros((1, m)), np.zeros((1, m)), z.copy(), z.copy(), np.zeros(2, dtype=np.int64))
+    drive = WinchDrive(*(np.zeros(m) for _ in range(14)), np.zeros(m, dtype=np.int64))
+    return motor_part(drive, np.zeros((1, m)), np.zeros((1, m)), active=False)
 
 
 class Catenary(NamedTuple):
@@ -163,10 +170,16 @@ class Catenary(NamedTuple):
     status: np.ndarray
 
 
+def catenary_part(m: int, w: float, EA: float, up: np.ndarray, *, active: bool = True) -> Catenary:
+    """A :class:`Catenary` record for m cables of weight w (N/m) and stiffness EA (N) in the
+    vertical ``up`` (2 n_steps + 1, 3), its scratch allocated and no warm start yet."""
+    return Catenary(active, float(w), float(EA), np.ascontiguousarray(up, dtype=float), np.full((m, 2), np.nan),
+                    np.zeros((m, N_OUT)), np.zeros(3), np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
+
+
 def no_catenary(m: int) -> Catenary:
     """An inactive :class:`Catenary` record for m cables (of the same types as an active one)."""
-    return Catenary(False, 0.0, np.inf, np.zeros((1, 3)), np.zeros((m, 2)), np.zeros((m, N_OUT)), np.zeros(3),
-                    np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
+    return catenary_part(m, 0.0, np.inf, np.zeros((1, 3)), active=False)
 
 
 class Cables(NamedTuple):

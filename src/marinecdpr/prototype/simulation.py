@@ -292,11 +292,7 @@ def _catenary(scenario: Scenario, ship_h, m: int) -> P.Catenary:
     cab = scenario.simulation.cables
     if cab.model != "catenary":
         return P.no_catenary(m)
-    from marinecdpr.model.catenary import N_OUT
-
-    return P.Catenary(True, float(scenario.robot.cable_weight_N_m), float(cab.stiffness_EA_N),
-                      np.ascontiguousarray(ship_h.R_SO[:, 2, :]), np.full((m, 2), np.nan), np.zeros((m, N_OUT)),
-                      np.zeros(3), np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
+    return P.catenary_part(m, scenario.robot.cable_weight_N_m, cab.stiffness_EA_N, ship_h.R_SO[:, 2, :])
 
 
 def _winch(scenario: Scenario, ff: Plan, x0: np.ndarray, R0: np.ndarray) -> P.Winch:
@@ -332,8 +328,7 @@ def _motor(scenario: Scenario, ref: Plan, winch: P.Winch, n: int) -> P.Motor:
     k_w = tension_loop_damping(params, float(cab.stiffness_EA_N) / winch.L0, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
     omega0 = -params.gear_ratio * ref.length_rates[0] / params.drum_radius_m
     drive = winch_drive(params, m, winch.L0.copy(), omega0=omega0, k_T=1.0, k_w=k_w)
-    return P.Motor(True, drive, np.ascontiguousarray(ref.length_rates[:n]), np.ascontiguousarray(ref.length_accelerations[:n]),
-                   np.zeros(m), np.zeros(m), np.zeros(2, dtype=np.int64))
+    return P.motor_part(drive, ref.length_rates[:n], ref.length_accelerations[:n])
 
 
 def _initial_state(scenario: Scenario, ref: Plan):

@@ -185,8 +185,8 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
 
 def budget_summary(effects, report, held_share=None) -> dict:
     """``summary.json``'s ``error_budget`` (and ``winches`` with a winch report), with
-    ``workspace_held_share_point`` (the point model's share of the workspace map held at
-    every step) where maps were made."""
+    ``error_budget_workspace_held_share_point`` (the point model's share of the workspace map
+    held at every step) where maps were made."""
     out = {"error_budget": {e.name: {"length_change_m": e.length_change_m, "tension_change_N": e.tension_change_N,
                                      "workspace_change": e.workspace_change, "note": e.note} for e in effects}}
     if held_share is not None:

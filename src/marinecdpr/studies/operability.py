@@ -595,7 +595,10 @@ def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> Non
 def _sigint_deferred():
     """Ctrl-C (SIGINT) held back until the block ends, then raised as KeyboardInterrupt: a
     local cluster interrupted while it starts leaves Dask's own half-built state to fail
-    noisily at exit. Only in the main thread (elsewhere the block runs as it is)."""
+    noisily at exit. Only in the main thread (elsewhere the block runs as it is).
+
+    A handler, not the signal mask that ``report.files`` holds its signals with: the
+    cluster's worker processes start inside the block and would inherit a blocked mask."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
