@@ -2,8 +2,10 @@
 
 Exit codes: 0 success; 2 bad input (a scenario, an option, or an output folder that
 cannot be written); 3 the cables cannot hold the platform somewhere on the plan
-(``plan`` still writes its outputs, complete); 4 a simulation diverged; 130 interrupted
-(Ctrl-C: the output folder keeps what it held).
+(``plan`` still writes its outputs, complete); 4 a simulation diverged; 5 a closed loop's
+controller was bypassed (the plan's tensions fed forward) on more than ``[simulation]
+max_bypassed_share`` of its steps (the outputs are written, complete, with the verdict);
+130 interrupted (Ctrl-C: the output folder keeps what it held).
 """
 
 from __future__ import annotations
@@ -29,12 +31,16 @@ from marinecdpr.textfiles import strip_control
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
 EXIT_DIVERGED = 4
+EXIT_BYPASSED = 5
 EXIT_INTERRUPTED = 130
 
 app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
-    help="Cable-driven parallel robots on a moving ship.",
+    help="Cable-driven parallel robots on a moving ship.\n\nExit codes: 0 done; 2 bad input; 3 the cables "
+         "cannot hold the platform somewhere on the plan; 4 a simulation diverged; 5 a closed loop's "
+         "controller was bypassed (the plan's tensions fed forward) on more than "
+         "simulation.max_bypassed_share of its steps (the files are written, with the verdict); 130 interrupted.",
     pretty_exceptions_show_locals=False,
 )
 console = Console()
@@ -314,7 +320,8 @@ def simulate(
 
     Runs open loop, closed loop and the fixed-base plan on the moving ship; writes
     plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
-    report.html.
+    report.html. Exits 5 (the files written) if the closed loop's controller was bypassed on
+    more than simulation.max_bypassed_share of its steps.
     """
     from marinecdpr.studies.prototype_runs import virtual_prototype
     from marinecdpr.report.figures import RUN_TITLES
@@ -359,6 +366,20 @@ def simulate(
     for warning in s["warnings"]:
         err_console.print(_plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(_plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
+    _fail_bypassed([(run, vp.results[run].controller_fallbacks, s["steps"]) for run in s["runs_controller_bypassed"]],
+                   sc, out)
+
+
+def _fail_bypassed(runs: list[tuple[str, int, int]], sc, out: Path) -> None:
+    """A failed run for each (name, bypassed steps, steps) whose controller was bypassed:
+    one line on stderr, exit 5, after the files (which say so) are written."""
+    from marinecdpr.studies.prototype_runs import bypassed_text
+
+    if runs:
+        name, fallbacks, steps = runs[0]
+        more = f" (and {len(runs) - 1} more run{'s' if len(runs) > 2 else ''})" if len(runs) > 1 else ""
+        _fail(f"{name}{more}: {bypassed_text(fallbacks, steps, sc.simulation.max_bypassed_share)}; "
+              f"see {out / 'summary.json'}", EXIT_BYPASSED)
 
 
 @contextmanager
