@@ -147,7 +147,7 @@ def test_clean_fails_when_the_controller_was_bypassed(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert s["controller_verdict"] == "bypassed" and s["controller_bypassed_share"] > 0.99
     assert s["controller_bypassed_share_max"] == 0.01
-    assert "controller bypassed" in (out / "report.html").read_text()
+    assert "the controller was bypassed at" in (out / "report.html").read_text()
     lines = [ln for ln in res.stderr.splitlines() if ln.startswith("error:")]
     assert len(lines) == 1 and "simulation.max_bypassed_share" in lines[0]
 
@@ -168,7 +168,10 @@ def test_clean_fails_when_a_compared_run_was_bypassed(tmp_path):
     res = runner.invoke(app, ["clean", str(scenario), "--duration", "0.2", "--out", str(out)])
     assert res.exit_code == EXIT_BYPASSED, res.output
     s = json.loads((out / "summary.json").read_text())
-    assert {v["controller_verdict"] for v in s["comparison"].values()} == {"bypassed"}
+    assert set(s["comparison"]) == {"as asked", "calm water", "no brush drag"}
+    assert min(v["controller_bypassed_share"] for v in s["comparison"].values()) > 0.99
+    (line,) = [ln for ln in res.stderr.splitlines() if ln.startswith("error:")]
+    assert line.startswith("error: the cleaning job (and 2 more runs): the controller was bypassed at")
 
 
 def test_control_study_fails_when_a_run_was_bypassed(tmp_path):

@@ -266,6 +266,22 @@ def clean(
                       highlight=False, soft_wrap=True)
     console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)} "
                   f"({time.perf_counter() - t0:.1f} s)", highlight=False, soft_wrap=True)
+    _fail_bypassed(_clean_bypassed(job.summary, sc), sc, out)
+
+
+def _clean_bypassed(s: dict, sc) -> list[tuple[str, int, int]]:
+    """The cleaning job's closed loops whose controller was bypassed: (name, bypassed steps,
+    steps) of the job, the guarantee's first run and the compared variants."""
+    share = sc.simulation.max_bypassed_share
+    runs = [("the cleaning job", s["controller_fallbacks"], s["steps"])] if s["controller_verdict"] == "bypassed" else []
+    g = s.get("guarantee")
+    if g is not None and g["second_run"] and g["first_run_controller_verdict"] == "bypassed":
+        runs.append(("the guarantee's first run", g["first_run_controller_fallbacks"], s["steps"]))
+    for name, figures in s.get("comparison", {}).items():
+        if name != "as asked" and figures["controller_bypassed_share"] > share:
+            runs.append((f"the job in {name}" if name == "calm water" else f"the job with {name}",
+                         figures["controller_fallbacks"], s["steps"]))
+    return runs
 
 
 def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_area, move_time, coverage_target,
