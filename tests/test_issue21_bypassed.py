@@ -218,3 +218,19 @@ def test_operability_with_max_error_counts_a_bypassed_controller_as_a_failure():
     # its error is within 1 m, but the controller never ran: not workable
     assert bypassed.max_error_m < 1.0
     assert not bypassed.operable and bypassed.successes == 0 and bypassed.controller_bypassed == 1
+
+
+def test_operability_cli_counts_and_says_the_bypassed_records(tmp_path):
+    scenario = _scenario_file(tmp_path, "bandwidth", base="paper_sea")
+    scatter = tmp_path / "scatter.csv"
+    scatter.write_text("hs_m,tp_s,probability\n1.0,8.0,1.0\n", encoding="utf-8")
+    out = tmp_path / "out"
+    res = runner.invoke(app, ["operability", str(scenario), "--scatter", str(scatter), "--duration", "0.2",
+                              "--step", "0.001", "--realisations", "2", "--max-error", "1", "--serial",
+                              "--out", str(out)])
+    assert res.exit_code == 0, res.output  # a study: the sea state fails, the command does not
+    header, row = (out / "operability.csv").read_text().splitlines()[:2]
+    cells = dict(zip(header.split(","), row.split(",")))
+    assert cells["controller_bypassed"] == "2" and cells["successes"] == "0" and cells["operable"] == "0"
+    assert json.loads((out / "operability.json").read_text())["realisations_controller_bypassed"] == 2
+    assert "in 2 records the closed loop's controller was bypassed" in res.stderr

@@ -668,6 +668,13 @@ def operability(
                   f"a {duration:g} s operation succeeds ({realisations} record{'s' if realisations != 1 else ''} "
                   "per sea state); written: " + ", ".join(_plain(p) for p in paths), highlight=False,
                   soft_wrap=True)
+    bypassed = sum(r.controller_bypassed for r in op.results)
+    if bypassed:
+        err_console.print(_plain(f"warning: in {bypassed} record{'s' if bypassed != 1 else ''} the closed loop's "
+                                 "controller was bypassed (the plan's tensions fed forward) on more than "
+                                 f"simulation.max_bypassed_share = {sc.simulation.max_bypassed_share:g} of the steps: "
+                                 "counted as failures (operability.csv controller_bypassed)"),
+                          highlight=False, soft_wrap=True)
 
 
 def _interval(interval: tuple[float, float], realisations: int) -> str:
@@ -1003,8 +1010,12 @@ def control_study(
     for r in result.runs:
         console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
                       f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
-                      f"slack margin {r.slack_margin_N:.4g} N", highlight=False, soft_wrap=True)
+                      f"slack margin {r.slack_margin_N:.4g} N"
+                      + (f"; controller BYPASSED at {r.fallbacks} steps" if r.controller_verdict == "bypassed" else ""),
+                      highlight=False, soft_wrap=True)
     console.print(f"written: {', '.join(p.name for p in paths)}", highlight=False)
+    _fail_bypassed([(f"latency {1e3 * r.latency_s:g} ms, prediction {r.prediction}, pose from {r.pose_from}",
+                     r.fallbacks, result.steps) for r in result.bypassed], sc, out)
 
 
 @app.command()
