@@ -63,3 +63,7 @@ def test_clean_works_for_a_spatial_robot(tmp_path):
     assert (x0, float(rows[0]["brush_z_m"])) == (0.8, 0.8) and 0.05 < x1 - x0 < 0.1
     stadium = (x1 - x0) * 0.2 + math.pi * 0.1 ** 2
     assert abs(s["coverage_pct"] - 100.0 * stadium / 0.36) < 0.5
+    # the report says how the normal force was had: the cables, not a guide
+    assert s["robot_dofs"] == "spatial"
+    html = (out / "report.html").read_text()
+    assert "the cables hold the brush on the hull at the preload" in html and "the guide holds" not in html

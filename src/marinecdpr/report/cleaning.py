@@ -129,9 +129,11 @@ def cleaning_findings(summary: dict) -> list[str]:
                    f"{_span(free, 'tension')} (with it {_span(here, 'tension')}), the cross-track error at most "
                    f"{free['max_cross_track_error_m'] * 1e3:.3g} mm (with it {here['max_cross_track_error_m'] * 1e3:.3g} "
                    f"mm) and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
-    out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
-               "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
-               "from the plan (the guide holds the platform along the normal).")
+    out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; "
+               + ("the cables hold the brush on the hull at the preload, the normal force (a spatial robot's "
+                  "cables control the platform along the normal)." if s.get("robot_dofs") == "spatial" else
+                  "the normal force is the pusher's preload plus the platform's inertia and weight along the hull "
+                  "normal from the plan (the guide holds the platform along the normal)."))
     return out
 
 
