@@ -8,8 +8,36 @@ cannot be written); 3 the cables cannot hold the platform somewhere on the plan
 
 from __future__ import annotations
 
-import math
+import os
+import signal
 import sys
+
+
+def _interrupted_while_starting(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C while the command loads (its imports, before :func:`main`): one line, exit 130.
+    Nothing has been written yet, and nothing needs tidying."""
+    os.write(2, b"error: interrupted\n")
+    os._exit(130)
+
+
+def _run_as_the_command() -> bool:
+    """Is this process the ``marinecdpr`` command (its console script, ``python -m
+    marinecdpr`` or ``python -m marinecdpr.cli``), not a program that imports this module
+    (a test, or a worker multiprocessing spawned, which runs its parent's script under
+    another name)?"""
+    main_module = sys.modules.get("__main__")
+    spec = getattr(main_module, "__spec__", None)
+    if spec is not None:
+        return spec.name in ("marinecdpr.__main__", "marinecdpr.cli.__main__")
+    return os.path.basename(getattr(main_module, "__file__", None) or "") == "marinecdpr"
+
+
+# first, before the heavy imports below (typer, rich, numpy, pydantic: about a second on a
+# loaded machine)
+if _run_as_the_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    signal.signal(signal.SIGINT, _interrupted_while_starting)
+
+import math  # noqa: E402
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -63,7 +91,13 @@ def _plain(text: object) -> str:
     return escape(strip_control(str(text)))
 
 
+_interruption_said = False
+"""Has a one-line message about an interruption been printed (by :func:`_fail`)?"""
+
+
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
+    global _interruption_said
+    _interruption_said = _interruption_said or code == EXIT_INTERRUPTED
     err_console.print(f"[bold red]error:[/] {_plain(message)}", highlight=False, soft_wrap=True)
     raise typer.Exit(code)
 
@@ -1011,10 +1045,36 @@ def scenarios() -> None:
                       soft_wrap=True)
 
 
+def _interrupted_while_ending(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C once the command has finished (the interpreter shutting down, e.g. a Dask
+    cluster's teardown): one line if none was printed, exit 130."""
+    if not _interruption_said:
+        os.write(2, b"error: interrupted\n")
+    os._exit(EXIT_INTERRUPTED)
+
+
 def main() -> None:
-    """Console entry point."""
-    keep_freed_memory()
-    app()
+    """Console entry point.
+
+    Ctrl-C is one line on stderr and exit 130 at any moment: while the modules load
+    (:func:`_interrupted_while_starting`), while a command runs (``KeyboardInterrupt``:
+    the library tidies up, :func:`_output` says what the output folder holds; typer turns
+    one raised elsewhere into a silent exit 130, given its line here) and after it.
+    """
+    if signal.getsignal(signal.SIGINT) is _interrupted_while_starting:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        keep_freed_memory()
+        app()
+    except KeyboardInterrupt:
+        _fail("interrupted", EXIT_INTERRUPTED)
+    except SystemExit as exc:
+        if exc.code == EXIT_INTERRUPTED and not _interruption_said:
+            err_console.print("[bold red]error:[/] interrupted", highlight=False)
+        raise
+    finally:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted_while_ending)
 
 
 if __name__ == "__main__":  # pragma: no cover
