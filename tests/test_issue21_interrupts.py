@@ -77,3 +77,111 @@ def test_ctrl_c_that_typer_would_swallow_still_prints_its_line():
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert res.returncode == 130
     assert res.stderr.strip().splitlines() == ["error: interrupted"]
+
+
+@pytest.fixture()
+def python_sigint():
+    """SIGINT raises KeyboardInterrupt in this process (pytest's workers may have it otherwise)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.parametrize("when", ["replacing summary.json", "removing the staging folder"])
+def test_ctrl_c_while_the_files_are_committed_leaves_no_staging_folder(tmp_path, monkeypatch, python_sigint, when):
+    import marinecdpr.report.files as files
+
+    out = tmp_path / "out"
+    with files.StagedOutput(out) as stage:
+        (stage / "summary.json").write_text('{"run": 1}\n')
+    real_replace, real_rmtree, sent = files.os.replace, files.shutil.rmtree, []
+
+    def ctrl_c() -> None:
+        if not sent:
+            sent.append(True)
+            os.kill(os.getpid(), signal.SIGINT)  # the user's Ctrl-C, at this very moment
+
+    def replace(src, dst, *a, **k):
+        if when == "replacing summary.json" and Path(dst).name == "summary.json":
+            ctrl_c()
+        return real_replace(src, dst, *a, **k)
+
+    def rmtree(path, *a, **k):
+        if when == "removing the staging folder":
+            ctrl_c()
+        return real_rmtree(path, *a, **k)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    monkeypatch.setattr(files.shutil, "rmtree", rmtree)
+    staged = files.StagedOutput(out)
+    with pytest.raises(KeyboardInterrupt):
+        with staged as stage:
+            (stage / "summary.json").write_text('{"run": 2}\n')
+            (stage / "plan.csv").write_text("t\n0\n")
+    monkeypatch.setattr(files.shutil, "rmtree", real_rmtree)
+    assert sent
+    assert [p.name for p in out.glob(".staging-*")] == []
+    # the interrupt came once the run's files were in place: the folder holds the new run, whole
+    assert staged.committed
+    assert (out / "summary.json").read_text() == '{"run": 2}\n'
+    assert sorted(p.name for p in out.iterdir()) == [files.MANIFEST, "plan.csv", "summary.json"]
+
+
+def test_ctrl_c_as_the_files_go_in_says_the_folder_holds_the_new_run(tmp_path, monkeypatch, python_sigint, capsys):
+    import typer
+
+    import marinecdpr.cli.app as cli
+    import marinecdpr.report.files as files
+
+    real_replace = files.os.replace
+
+    def replace(src, dst, *a, **k):
+        if Path(dst).name == "summary.json":
+            os.kill(os.getpid(), signal.SIGINT)
+        return real_replace(src, dst, *a, **k)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    out = tmp_path / "out"
+    with pytest.raises(typer.Exit) as exit_:
+        with cli._output(out) as stage:
+            (stage / "summary.json").write_text("{}\n")
+    assert exit_.value.exit_code == 130
+    assert capsys.readouterr().err.strip() == f"error: interrupted; --out {out} holds this run's files, complete"
+    assert sorted(p.name for p in out.iterdir()) == [files.MANIFEST, "summary.json"]
+
+
+def _cpu_s(process) -> float:
+    try:
+        return sum(process.cpu_times()[:2])
+    except Exception:  # gone
+        return float("inf")
+
+
+OPERABILITY_ON_DASK = ["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005",
+                       "--realisations", "1", "--headings", "180,150,90"]
+
+
+@pytest.mark.parametrize("moment", ["as the workers start", "while they work"])
+def test_ctrl_c_to_the_process_group_on_dask_is_one_line(tmp_path, moment):
+    # a terminal's Ctrl-C reaches the workers too: they printed asyncio's KeyboardInterrupt
+    # traceback (working) or their bootstrap's and their nanny's "failed to start" (starting)
+    psutil = pytest.importorskip("psutil")
+    out = tmp_path / "out"
+    # as `python -m marinecdpr` (the workers of the console script's run met it too, less often)
+    proc = subprocess.Popen([sys.executable, "-m", "marinecdpr", *OPERABILITY_ON_DASK, "--out", str(out)],
+                            stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint, start_new_session=True)
+    workers, deadline = [], time.monotonic() + 120
+    while time.monotonic() < deadline and len(workers) < (1 if moment == "as the workers start" else 2):
+        time.sleep(0.05)
+        workers = [c for c in psutil.Process(proc.pid).children(recursive=True)
+                   if "spawn_main" in " ".join(c.cmdline()) and "resource_tracker" not in " ".join(c.cmdline())]
+    assert workers
+    while moment == "while they work" and time.monotonic() < deadline and min(
+            _cpu_s(w) for w in workers) < 10.0:  # both at their cells (started: a few s of CPU)
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines() == [f"error: interrupted; --out {out} keeps what it held"], err
+    assert not out.exists()

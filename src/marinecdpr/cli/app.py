@@ -412,6 +412,8 @@ def _output(out: Path):
     except OSError as exc:
         _fail(f"--out {out}: could not write the files ({exc.strerror or exc}); the folder keeps what it held")
     except KeyboardInterrupt:
+        if staged.committed:  # Ctrl-C as the files went in: they are all there
+            _fail(f"interrupted; --out {out} holds this run's files, complete", EXIT_INTERRUPTED)
         _fail(f"interrupted; --out {out} keeps what it held", EXIT_INTERRUPTED)
 
 
