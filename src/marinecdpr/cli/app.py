@@ -47,6 +47,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
@@ -65,8 +66,15 @@ app = typer.Typer(
     help="Cable-driven parallel robots on a moving ship.",
     pretty_exceptions_show_locals=False,
 )
-console = Console()
-err_console = Console(stderr=True)
+# no markup: every text printed reads literally (a user's names and paths, and the library's
+# messages: "pip install 'marinecdpr[bench]'"); the few styled words are rich Text (_styled)
+console = Console(markup=False)
+err_console = Console(stderr=True, markup=False)
+
+
+def _styled(word: str, style: str, rest: str) -> Text:
+    """``word`` in ``style``, then a space and ``rest`` as it is."""
+    return Text.assemble((word, style), " ", rest)
 
 
 def _version(value: bool) -> None:
@@ -87,8 +95,8 @@ def _options(
 
 def _plain(text: object) -> str:
     """Text from a user (names, paths, messages) for the terminal, read literally: control
-    characters (ANSI escapes) removed and rich markup escaped."""
-    return escape(strip_control(str(text)))
+    characters (ANSI escapes) removed (the consoles read no markup)."""
+    return strip_control(str(text))
 
 
 _interruption_said = False
@@ -98,7 +106,7 @@ _interruption_said = False
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
     global _interruption_said
     _interruption_said = _interruption_said or code == EXIT_INTERRUPTED
-    err_console.print(f"[bold red]error:[/] {_plain(message)}", highlight=False, soft_wrap=True)
+    err_console.print(_styled("error:", "bold red", _plain(message)), highlight=False, soft_wrap=True)
     raise typer.Exit(code)
 
 
@@ -164,7 +172,7 @@ def plan(
     console.print(table)
     problem = result.infeasibility()
     if problem is not None:
-        err_console.print(f"[bold yellow]infeasible:[/] {_plain(sc.name)}: {_plain(problem)}", highlight=False,
+        err_console.print(_styled("infeasible:", "bold yellow", f"{_plain(sc.name)}: {_plain(problem)}"), highlight=False,
                           soft_wrap=True)
         if not allow_infeasible:
             raise typer.Exit(EXIT_INFEASIBLE)
@@ -754,7 +762,7 @@ def _sea_executor(serial: bool, workers: int | None, scheduler: str | None, step
     executor, why = choose_executor(asked, steps, scheduler=scheduler)
     if why == "no dask":
         err_console.print("note: running the sea states serially: Dask is not installed "
-                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
+                          "(pip install 'marinecdpr[dask]' to run them in parallel)", highlight=False,
                           soft_wrap=True)
     elif executor == "dask" and not dask_installed():
         _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
@@ -767,7 +775,7 @@ def _warn_scale(sc, scenario: str) -> None:
     from marinecdpr.scenario.scale import scale_warnings
 
     for line in scale_warnings(sc):
-        err_console.print(f"[bold yellow]warning:[/] {_plain(scenario)}: {_plain(line)}", highlight=False,
+        err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: {_plain(line)}"), highlight=False,
                           soft_wrap=True)
 
 
@@ -1047,6 +1055,21 @@ def scenarios() -> None:
                       soft_wrap=True)
 
 
+def _help_read_literally(typer_app: typer.Typer) -> None:
+    """Escape rich markup in every command's help (its docstring and its options' help), so
+    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]"."""
+    import inspect
+
+    for command in typer_app.registered_commands:
+        doc = command.help if command.help is not None else inspect.getdoc(command.callback)
+        if doc:
+            command.help = escape(doc)
+        for parameter in inspect.signature(command.callback).parameters.values():
+            info = parameter.default
+            if isinstance(info, typer.models.ParameterInfo) and info.help:
+                info.help = escape(info.help)
+
+
 def _interrupted_while_ending(signum, frame) -> None:  # pragma: no cover - timing
     """Ctrl-C once the command has finished (the interpreter shutting down, e.g. a Dask
     cluster's teardown): one line if none was printed, exit 130."""
@@ -1072,12 +1095,14 @@ def main() -> None:
         _fail("interrupted", EXIT_INTERRUPTED)
     except SystemExit as exc:
         if exc.code == EXIT_INTERRUPTED and not _interruption_said:
-            err_console.print("[bold red]error:[/] interrupted", highlight=False)
+            err_console.print(_styled("error:", "bold red", "interrupted"), highlight=False)
         raise
     finally:
         if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
             signal.signal(signal.SIGINT, _interrupted_while_ending)
 
+
+_help_read_literally(app)
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())
