@@ -549,6 +549,18 @@ def _progress(label: str, total: int, unit: str = ""):
         yield update
 
 
+def _grid(flag: str, text: str, example: str) -> tuple[int, int]:
+    """A grid's two positive point counts from ``AxB`` (checked here, not by ``assert``: the
+    checks hold under ``python -O``); one line, exit 2, otherwise."""
+    try:
+        n = tuple(int(k) for k in text.lower().split("x"))
+    except ValueError:
+        n = ()
+    if len(n) != 2 or min(n) <= 0:
+        _fail(f"{flag} {text}: expected two positive integers like {example}")
+    return n
+
+
 @app.command()
 def workspace(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
@@ -563,11 +575,7 @@ def workspace(
     from marinecdpr.report.writers import write_workspace
     from marinecdpr.studies.workspace import workspace_map
 
-    try:
-        n = tuple(int(k) for k in points.lower().split("x"))
-        assert len(n) == 2 and min(n) > 0
-    except (ValueError, AssertionError):
-        _fail(f"--points {points}: expected two positive integers like 30x20")
+    n = _grid("--points", points, "30x20")
     if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
     _number("--fixed", fixed, finite_only=True)
@@ -638,11 +646,7 @@ def operability(
     _number("--max-error", max_error)
     grid = None
     if workspace_grid is not None:
-        try:
-            grid = tuple(int(k) for k in workspace_grid.lower().split("x"))
-            assert len(grid) == 2 and min(grid) > 0
-        except (ValueError, AssertionError):
-            _fail(f"--workspace {workspace_grid}: expected two positive integers like 12x8")
+        grid = _grid("--workspace", workspace_grid, "12x8")
     sc = _load(scenario, None, None)
     diagram = _scatter_diagram(scatter)
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
@@ -916,8 +920,9 @@ def windows(
         _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
     try:
         day_list = [float(d) for d in days.split(",")]
-        assert all(math.isfinite(d) and d > 0 for d in day_list)
-    except (ValueError, AssertionError):
+    except ValueError:
+        day_list = []
+    if not day_list or not all(math.isfinite(d) and d > 0 for d in day_list):
         _fail(f"--days {days}: expected positive numbers separated by commas, e.g. 1,3,7")
     try:
         path = series or Path(str(resources.files("marinecdpr") / "data" / "sea_states_illustrative.csv"))
