@@ -681,6 +681,11 @@ def operability(
                   soft_wrap=True)
 
 
+def _count(number: object, noun: str) -> str:
+    """``1 day``, ``3 days``, ``0.5 days``: the number as given, the noun singular for one."""
+    return f"{number} {noun}" + ("" if float(number) == 1.0 else "s")
+
+
 def _interval(interval: tuple[float, float], realisations: int) -> str:
     """' (95 %: lo-hi %)' for a study with several realisations, else ''."""
     if realisations <= 1:
@@ -703,7 +708,7 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
     """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
     ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
            else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
-    table = Table(title=title, caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
+    table = Table(title=title, caption=f"{_count(len(op.results), 'sea state')}, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
     table.add_column("Tp (s)", justify="right")
@@ -944,11 +949,12 @@ def windows(
                                        days=day_list)
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
     finish = summary["finish_within_days_probability"]
-    console.print(_plain(f"{len(w.windows)} windows, {summary['windows_long_enough']} of them {duration_h:g} h or "
+    console.print(_plain(f"{_count(len(w.windows), 'window')}, {summary['windows_long_enough']} of them {duration_h:g} h or "
                          f"longer; wait before the operation can start: {wait} (it can start from "
                          f"{100 * w.can_start:.1f} % of the start times); done within "
-                         + ", ".join(f"{d} days: {100 * p:.1f} %" for d, p in finish.items())
-                         + f"; written: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+                         + ", ".join(f"{_count(d, 'day')}: {100 * p:.1f} %" for d, p in finish.items())
+                         + f"; written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False,
+                  soft_wrap=True)
 
 
 @app.command("control-study")
@@ -1016,7 +1022,7 @@ def control_study(
         console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
                       f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
                       f"slack margin {r.slack_margin_N:.4g} N", highlight=False, soft_wrap=True)
-    console.print(f"written: {', '.join(p.name for p in paths)}", highlight=False)
+    console.print(_plain(f"written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
 
 
 @app.command()
