@@ -190,6 +190,10 @@ def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleanin
         if cleaning and (sc.cleaning is None or sc.trajectory.type != "coverage"):
             raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                                 source=sc.name, key="cleaning")
+        if duration is not None and duration > sc.time.duration_s:
+            err_console.print(_styled("warning:", "bold yellow", f"--duration {duration:g}: {_plain(scenario)} lasts "
+                                      f"{sc.time.duration_s:g} s; flying those {sc.time.duration_s:g} s"),
+                              highlight=False, soft_wrap=True)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
         check_run_size(sc, run)  # before any work: too big is one line, exit 2
@@ -286,6 +290,7 @@ def clean(
                 job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=step)
                 if compare:
                     job.summary["comparison"] = compare_conditions(job, plant=plant, progress=step)
+            update(done[0], done[0])  # the runs that were flown (a guarantee met at once skips its second)
         if hull_area is not None:
             try:
                 job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)
