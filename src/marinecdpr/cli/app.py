@@ -939,6 +939,8 @@ def windows(
         sea = read_sea_state_series(path)
         table = None
         if operability_json is not None:
+            if operability_json.is_dir():
+                raise ScenarioError("a folder, not a file; expected an operability.json", source=str(operability_json))
             try:
                 table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
             except (OSError, ValueError) as exc:
