@@ -8,8 +8,36 @@ cannot be written); 3 the cables cannot hold the platform somewhere on the plan
 
 from __future__ import annotations
 
-import math
+import os
+import signal
 import sys
+
+
+def _interrupted_while_starting(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C while the command loads (its imports, before :func:`main`): one line, exit 130.
+    Nothing has been written yet, and nothing needs tidying."""
+    os.write(2, b"error: interrupted\n")
+    os._exit(130)
+
+
+def _run_as_the_command() -> bool:
+    """Is this process the ``marinecdpr`` command (its console script, ``python -m
+    marinecdpr`` or ``python -m marinecdpr.cli``), not a program that imports this module
+    (a test, or a worker multiprocessing spawned, which runs its parent's script under
+    another name)?"""
+    main_module = sys.modules.get("__main__")
+    spec = getattr(main_module, "__spec__", None)
+    if spec is not None:
+        return spec.name in ("marinecdpr.__main__", "marinecdpr.cli.__main__")
+    return os.path.basename(getattr(main_module, "__file__", None) or "") == "marinecdpr"
+
+
+# first, before the heavy imports below (typer, rich, numpy, pydantic: about a second on a
+# loaded machine)
+if _run_as_the_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    signal.signal(signal.SIGINT, _interrupted_while_starting)
+
+import math  # noqa: E402
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -19,6 +47,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
@@ -37,8 +66,15 @@ app = typer.Typer(
     help="Cable-driven parallel robots on a moving ship.",
     pretty_exceptions_show_locals=False,
 )
-console = Console()
-err_console = Console(stderr=True)
+# no markup: every text printed reads literally (a user's names and paths, and the library's
+# messages: "pip install 'marinecdpr[bench]'"); the few styled words are rich Text (_styled)
+console = Console(markup=False)
+err_console = Console(stderr=True, markup=False)
+
+
+def _styled(word: str, style: str, rest: str) -> Text:
+    """``word`` in ``style``, then a space and ``rest`` as it is."""
+    return Text.assemble((word, style), " ", rest)
 
 
 def _version(value: bool) -> None:
@@ -59,12 +95,18 @@ def _options(
 
 def _plain(text: object) -> str:
     """Text from a user (names, paths, messages) for the terminal, read literally: control
-    characters (ANSI escapes) removed and rich markup escaped."""
-    return escape(strip_control(str(text)))
+    characters (ANSI escapes) removed (the consoles read no markup)."""
+    return strip_control(str(text))
+
+
+_interruption_said = False
+"""Has a one-line message about an interruption been printed (by :func:`_fail`)?"""
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
-    err_console.print(f"[bold red]error:[/] {_plain(message)}", highlight=False, soft_wrap=True)
+    global _interruption_said
+    _interruption_said = _interruption_said or code == EXIT_INTERRUPTED
+    err_console.print(_styled("error:", "bold red", _plain(message)), highlight=False, soft_wrap=True)
     raise typer.Exit(code)
 
 
@@ -130,7 +172,7 @@ def plan(
     console.print(table)
     problem = result.infeasibility()
     if problem is not None:
-        err_console.print(f"[bold yellow]infeasible:[/] {_plain(sc.name)}: {_plain(problem)}", highlight=False,
+        err_console.print(_styled("infeasible:", "bold yellow", f"{_plain(sc.name)}: {_plain(problem)}"), highlight=False,
                           soft_wrap=True)
         if not allow_infeasible:
             raise typer.Exit(EXIT_INFEASIBLE)
@@ -148,6 +190,10 @@ def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleanin
         if cleaning and (sc.cleaning is None or sc.trajectory.type != "coverage"):
             raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                                 source=sc.name, key="cleaning")
+        if duration is not None and duration > sc.time.duration_s:
+            err_console.print(_styled("warning:", "bold yellow", f"--duration {duration:g}: {_plain(scenario)} lasts "
+                                      f"{sc.time.duration_s:g} s; flying those {sc.time.duration_s:g} s"),
+                              highlight=False, soft_wrap=True)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
         check_run_size(sc, run)  # before any work: too big is one line, exit 2
@@ -244,6 +290,7 @@ def clean(
                 job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=step)
                 if compare:
                     job.summary["comparison"] = compare_conditions(job, plant=plant, progress=step)
+            update(done[0], done[0])  # the runs that were flown (a guarantee met at once skips its second)
         if hull_area is not None:
             try:
                 job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)
@@ -378,6 +425,8 @@ def _output(out: Path):
     except OSError as exc:
         _fail(f"--out {out}: could not write the files ({exc.strerror or exc}); the folder keeps what it held")
     except KeyboardInterrupt:
+        if staged.committed:  # Ctrl-C as the files went in: they are all there
+            _fail(f"interrupted; --out {out} holds this run's files, complete", EXIT_INTERRUPTED)
         _fail(f"interrupted; --out {out} keeps what it held", EXIT_INTERRUPTED)
 
 
@@ -505,6 +554,18 @@ def _progress(label: str, total: int, unit: str = ""):
         yield update
 
 
+def _grid(flag: str, text: str, example: str) -> tuple[int, int]:
+    """A grid's two positive point counts from ``AxB`` (checked here, not by ``assert``: the
+    checks hold under ``python -O``); one line, exit 2, otherwise."""
+    try:
+        n = tuple(int(k) for k in text.lower().split("x"))
+    except ValueError:
+        n = ()
+    if len(n) != 2 or min(n) <= 0:
+        _fail(f"{flag} {text}: expected two positive integers like {example}")
+    return n
+
+
 @app.command()
 def workspace(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
@@ -519,11 +580,7 @@ def workspace(
     from marinecdpr.report.writers import write_workspace
     from marinecdpr.studies.workspace import workspace_map
 
-    try:
-        n = tuple(int(k) for k in points.lower().split("x"))
-        assert len(n) == 2 and min(n) > 0
-    except (ValueError, AssertionError):
-        _fail(f"--points {points}: expected two positive integers like 30x20")
+    n = _grid("--points", points, "30x20")
     if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
     _number("--fixed", fixed, finite_only=True)
@@ -594,11 +651,7 @@ def operability(
     _number("--max-error", max_error)
     grid = None
     if workspace_grid is not None:
-        try:
-            grid = tuple(int(k) for k in workspace_grid.lower().split("x"))
-            assert len(grid) == 2 and min(grid) > 0
-        except (ValueError, AssertionError):
-            _fail(f"--workspace {workspace_grid}: expected two positive integers like 12x8")
+        grid = _grid("--workspace", workspace_grid, "12x8")
     sc = _load(scenario, None, None)
     diagram = _scatter_diagram(scatter)
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
@@ -633,6 +686,11 @@ def operability(
                   soft_wrap=True)
 
 
+def _count(number: object, noun: str) -> str:
+    """``1 day``, ``3 days``, ``0.5 days``: the number as given, the noun singular for one."""
+    return f"{number} {noun}" + ("" if float(number) == 1.0 else "s")
+
+
 def _interval(interval: tuple[float, float], realisations: int) -> str:
     """' (95 %: lo-hi %)' for a study with several realisations, else ''."""
     if realisations <= 1:
@@ -655,7 +713,7 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
     """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
     ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
            else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
-    table = Table(title=title, caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
+    table = Table(title=title, caption=f"{_count(len(op.results), 'sea state')}, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
     table.add_column("Tp (s)", justify="right")
@@ -718,7 +776,7 @@ def _sea_executor(serial: bool, workers: int | None, scheduler: str | None, step
     executor, why = choose_executor(asked, steps, scheduler=scheduler)
     if why == "no dask":
         err_console.print("note: running the sea states serially: Dask is not installed "
-                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
+                          "(pip install 'marinecdpr[dask]' to run them in parallel)", highlight=False,
                           soft_wrap=True)
     elif executor == "dask" and not dask_installed():
         _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
@@ -731,7 +789,7 @@ def _warn_scale(sc, scenario: str) -> None:
     from marinecdpr.scenario.scale import scale_warnings
 
     for line in scale_warnings(sc):
-        err_console.print(f"[bold yellow]warning:[/] {_plain(scenario)}: {_plain(line)}", highlight=False,
+        err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: {_plain(line)}"), highlight=False,
                           soft_wrap=True)
 
 
@@ -872,14 +930,17 @@ def windows(
         _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
     try:
         day_list = [float(d) for d in days.split(",")]
-        assert all(math.isfinite(d) and d > 0 for d in day_list)
-    except (ValueError, AssertionError):
+    except ValueError:
+        day_list = []
+    if not day_list or not all(math.isfinite(d) and d > 0 for d in day_list):
         _fail(f"--days {days}: expected positive numbers separated by commas, e.g. 1,3,7")
     try:
         path = series or Path(str(resources.files("marinecdpr") / "data" / "sea_states_illustrative.csv"))
         sea = read_sea_state_series(path)
         table = None
         if operability_json is not None:
+            if operability_json.is_dir():
+                raise ScenarioError("a folder, not a file; expected an operability.json", source=str(operability_json))
             try:
                 table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
             except (OSError, ValueError) as exc:
@@ -895,11 +956,12 @@ def windows(
                                        days=day_list)
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
     finish = summary["finish_within_days_probability"]
-    console.print(_plain(f"{len(w.windows)} windows, {summary['windows_long_enough']} of them {duration_h:g} h or "
+    console.print(_plain(f"{_count(len(w.windows), 'window')}, {summary['windows_long_enough']} of them {duration_h:g} h or "
                          f"longer; wait before the operation can start: {wait} (it can start from "
                          f"{100 * w.can_start:.1f} % of the start times); done within "
-                         + ", ".join(f"{d} days: {100 * p:.1f} %" for d, p in finish.items())
-                         + f"; written: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+                         + ", ".join(f"{_count(d, 'day')}: {100 * p:.1f} %" for d, p in finish.items())
+                         + f"; written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False,
+                  soft_wrap=True)
 
 
 @app.command("control-study")
@@ -967,7 +1029,7 @@ def control_study(
         console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
                       f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
                       f"slack margin {r.slack_margin_N:.4g} N", highlight=False, soft_wrap=True)
-    console.print(f"written: {', '.join(p.name for p in paths)}", highlight=False)
+    console.print(_plain(f"written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
 
 
 @app.command()
@@ -1011,11 +1073,54 @@ def scenarios() -> None:
                       soft_wrap=True)
 
 
-def main() -> None:
-    """Console entry point."""
-    keep_freed_memory()
-    app()
+def _help_read_literally(typer_app: typer.Typer) -> None:
+    """Escape rich markup in every command's help (its docstring and its options' help), so
+    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]"."""
+    import inspect
 
+    for command in typer_app.registered_commands:
+        doc = command.help if command.help is not None else inspect.getdoc(command.callback)
+        if doc:
+            command.help = escape(doc)
+        for parameter in inspect.signature(command.callback).parameters.values():
+            info = parameter.default
+            if isinstance(info, typer.models.ParameterInfo) and info.help:
+                info.help = escape(info.help)
+
+
+def _interrupted_while_ending(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C once the command has finished (the interpreter shutting down, e.g. a Dask
+    cluster's teardown): one line if none was printed, exit 130."""
+    if not _interruption_said:
+        os.write(2, b"error: interrupted\n")
+    os._exit(EXIT_INTERRUPTED)
+
+
+def main() -> None:
+    """Console entry point.
+
+    Ctrl-C is one line on stderr and exit 130 at any moment: while the modules load
+    (:func:`_interrupted_while_starting`), while a command runs (``KeyboardInterrupt``:
+    the library tidies up, :func:`_output` says what the output folder holds; typer turns
+    one raised elsewhere into a silent exit 130, given its line here) and after it.
+    """
+    if signal.getsignal(signal.SIGINT) is _interrupted_while_starting:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        keep_freed_memory()
+        app()
+    except KeyboardInterrupt:
+        _fail("interrupted", EXIT_INTERRUPTED)
+    except SystemExit as exc:
+        if exc.code == EXIT_INTERRUPTED and not _interruption_said:
+            err_console.print(_styled("error:", "bold red", "interrupted"), highlight=False)
+        raise
+    finally:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted_while_ending)
+
+
+_help_read_literally(app)
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

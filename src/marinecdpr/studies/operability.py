@@ -597,17 +597,30 @@ def _sigint_deferred():
     local cluster interrupted while it starts leaves Dask's own half-built state to fail
     noisily at exit. Only in the main thread (elsewhere the block runs as it is).
 
-    A handler, not the signal mask that ``report.files`` holds its signals with: the
-    cluster's worker processes start inside the block and would inherit a blocked mask."""
+    Both a handler (as ``report.files`` holds its signals) and the signal mask: the
+    handler holds a Ctrl-C whichever thread the signal reaches; the mask is inherited by
+    the threads the block starts (the cluster's) and by the worker processes they start,
+    so a Ctrl-C to the whole process group does not stop a worker while it starts (it
+    printed its traceback, and its nanny's "failed to start").
+    The workers ignore Ctrl-C from then on (:mod:`.dask_worker`). An error the block
+    raises after a Ctrl-C is its consequence: the Ctrl-C is raised instead."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     caught = []
     previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
-        yield
-    finally:
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a held Ctrl-C reaches the handler now
+    except BaseException:
         signal.signal(signal.SIGINT, previous)
+        if caught:
+            raise KeyboardInterrupt from None
+        raise
+    signal.signal(signal.SIGINT, previous)
     if caught:
         raise KeyboardInterrupt
 
@@ -624,9 +637,15 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
     else:
         # what workers log when their scheduler goes away (Ctrl-C) is no news; a cell that
         # fails raises its error here, through its future
+        from multiprocessing import resource_tracker
+
+        # started first, here: the thread that starts it is left with SIGINT unblocked, and
+        # the workers that thread would start with it (see _sigint_deferred)
+        resource_tracker.ensure_running()
         with _sigint_deferred():
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.CRITICAL)
+                                   dashboard_address=None, silence_logs=logging.CRITICAL,
+                                   preload=[f"{__package__}.dask_worker"])  # Ctrl-C is ours to handle
             try:
                 client = Client(cluster)
             except BaseException:
