@@ -179,6 +179,14 @@ def _compile_notice(plant: str) -> None:
                           "later runs)...", highlight=False, soft_wrap=True)
 
 
+def _size_notice(sc, size, grid: tuple[int, int] | None = None) -> None:
+    """A line on stderr saying how big the run about to start is
+    (:func:`~marinecdpr.planning.budget.describe_run`)."""
+    from marinecdpr.planning.budget import describe_run
+
+    err_console.print(_plain(f"size: {sc.name}: {describe_run(size, grid)}"), highlight=False, soft_wrap=True)
+
+
 @app.command()
 def clean(
     scenario: str = typer.Argument("paper_clean", help="A scenario file with a [cleaning] section, or a built-in name."),
@@ -531,11 +539,12 @@ def workspace(
     from marinecdpr.planning.budget import check_run_size
 
     try:
-        check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
+        size = check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
+        _size_notice(sc, size, n)
         with _progress("workspace", n[0] * n[1], "poses") as update:
             try:
                 ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed, progress=update)
