@@ -217,12 +217,26 @@ def _run_errors(scenario: str):
 
 
 def _compile_notice(plant: str) -> None:
-    """A line on stderr when the simulation's loop must first be compiled (a fresh install)."""
+    """A line on stderr when the simulation's loop must first be compiled (a fresh install);
+    every command that flies the virtual prototype calls it before its work."""
     from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, kernels_cached
 
     if not kernels_cached(plant):
-        err_console.print(f"compiling the simulation kernels, once (about {KERNEL_COMPILE_S:g} s; cached for "
-                          "later runs)...", highlight=False, soft_wrap=True)
+        _compiling("the simulation kernels", KERNEL_COMPILE_S)
+
+
+def _compiling(what: str, seconds: float) -> None:
+    """The one-line notice that ``what`` is compiled now, once, for about ``seconds``."""
+    err_console.print(f"compiling {what}, once (about {seconds:g} s; cached for later runs)...", highlight=False,
+                      soft_wrap=True)
+
+
+def _size_notice(sc, size, grid: tuple[int, int] | None = None) -> None:
+    """A line on stderr saying how big the run about to start is
+    (:func:`~marinecdpr.planning.budget.describe_run`)."""
+    from marinecdpr.planning.budget import describe_run
+
+    err_console.print(_plain(f"size: {sc.name}: {describe_run(size, grid)}"), highlight=False, soft_wrap=True)
 
 
 @app.command()
@@ -381,6 +395,9 @@ def simulate(
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
             def progress(run: str, done: int, total: int) -> None:
+                if run not in tasks:  # after the runs: the error budget's workspace maps, in poses
+                    tasks[run] = bar.add_task(RUN_TITLES.get(run, "error budget: workspace maps"), total=total,
+                                              unit="poses")
                 bar.update(tasks[run], completed=done, total=total)
 
             with _run_errors(scenario):
@@ -464,10 +481,10 @@ class _PlainProgress:
                     self._line(task, final=True)
         return False
 
-    def add_task(self, description: str = "", total: float | None = None, **_) -> int:
+    def add_task(self, description: str = "", total: float | None = None, unit: str | None = None, **_) -> int:
         now = time.perf_counter()
-        self._tasks.append(dict(description=description, total=total, done=0, printed=0, start=now,
-                                printed_at=now, finished=False, started=False))
+        self._tasks.append(dict(description=description, total=total, unit=unit, done=0, printed=0, start=now,
+                                printed_at=now, finished=False, started=False, rate_from=None))
         return len(self._tasks) - 1
 
     def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
@@ -485,6 +502,10 @@ class _PlainProgress:
         if advance is not None:
             task["done"] += advance
         done, total = task["done"], task["total"]
+        if task["rate_from"] is None and done > 0:
+            # the rate clock starts when the first piece of work is done: a first run's
+            # compile (tens of seconds) is in that piece, and would swell every estimate
+            task["rate_from"] = (time.perf_counter(), done)
         if task["finished"] or done <= task["printed"]:
             return
         tenth = PROGRESS_LINE_FRACTION
@@ -501,17 +522,22 @@ class _PlainProgress:
         elapsed = now - task["start"]
         done, total = task["done"], task["total"]
         name = ": ".join(x for x in (self.label, task["description"]) if x)
-        unit = f" {self.unit}" if self.unit else ""
+        unit = task["unit"] or self.unit
+        per = unit or "done"
+        unit = f" {unit}" if unit else ""
         of = f"{done:g} of {total:g}{unit}" if total else f"{done:g}{unit}"
         if final:
             rate = ""
             if elapsed > 0:
                 per_s = done / elapsed
-                rate = f" ({per_s:.3g} {self.unit or 'done'}/s)" if per_s < 100 else f" ({per_s:,.0f} {self.unit or 'done'}/s)"
+                rate = f" ({per_s:.3g} {per}/s)" if per_s < 100 else f" ({per_s:,.0f} {per}/s)"
             text = f"{name}: {of} in {_seconds(elapsed)}{rate}"
         else:
             pct = f" ({100 * done / total:.0f}%)" if total else ""
-            left = f", about {_seconds(elapsed * (total - done) / done)} left" if total and done else ""
+            left = ""
+            if total and task["rate_from"] is not None and done > task["rate_from"][1]:
+                since, done_then = task["rate_from"]
+                left = f", about {_seconds((now - since) * (total - done) / (done - done_then))} left"
             text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
         err_console.print(_plain(text), highlight=False, soft_wrap=True)
         task.update(printed=done, printed_at=now, finished=final, ended=now)
@@ -588,11 +614,12 @@ def workspace(
     from marinecdpr.planning.budget import check_run_size
 
     try:
-        check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
+        size = check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
+        _size_notice(sc, size, n)
         with _progress("workspace", n[0] * n[1], "poses") as update:
             try:
                 ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed, progress=update)
@@ -667,6 +694,8 @@ def operability(
     n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:
+        if max_error is not None:  # each cell flies the closed loop on the own plant
+            _compile_notice("own")
         with _progress_bar("sea states") as bar:
             task = bar.add_task("", total=n_cells)
             try:
@@ -1017,6 +1046,7 @@ def control_study(
         _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
               "warm-up and a second)")
     with _output(out) as folder:
+        _compile_notice(plant)
         with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
                                               "runs") as bar:
             result = study(sc, latencies_s=lat_s, predictions=preds, pose_from=sources, rate_hz=rate,
@@ -1044,9 +1074,11 @@ def latency(
     import dataclasses
     import json as _json
 
-    from marinecdpr.studies.latency import controller_latency
+    from marinecdpr.studies.latency import LATENCY_COMPILE_S, controller_latency, latency_kernels_cached
 
     sc = _load(scenario, None, None)
+    if not latency_kernels_cached():
+        _compiling("the controller's step", LATENCY_COMPILE_S)
     with _run_errors(scenario):
         lat = controller_latency(sc, calls=calls)
     if as_json:

@@ -28,7 +28,7 @@ from marinecdpr.scenario.robot import Robot
 from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
+__all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -416,6 +416,28 @@ def _options(scenario: Scenario, method: str | None, base_model: str | None) -> 
     if base_model not in ("moving", "fixed"):
         raise ValueError(f"base_model must be 'moving' or 'fixed', not {base_model!r}")
     return method, base_model
+
+
+def ship_motion_at(scenario: Scenario, t: np.ndarray, base_model: str | None = None) -> ShipMotion | None:
+    """The ship's motion a plan at times ``t`` rests on, to share between plans on the same
+    ship (:func:`plan_at`'s ``ship``): e.g. a workspace map's held poses, which would each
+    evaluate it again (for a sea state, a sum over thousands of wave components).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    base_model : {"moving", "fixed"}, optional
+        Default the scenario's ``planning.base_model``.
+
+    Returns
+    -------
+    ShipMotion or None
+        The scenario's base motion at t; None for a fixed-base plan (it takes a still ship).
+    """
+    _, base_model = _options(scenario, None, base_model)
+    return None if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, np.asarray(t, dtype=float))
 
 
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
