@@ -198,11 +198,13 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
         tensions, lengths = apart.result()
     finally:
         apart.stop()
+    # numbered by their order on the page; the paper's figures they follow named in words
     figures = {
-        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation": tensions,
-        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)": lengths,
-        "Figure 7: planned and actual pose, and the tracking errors": tracking,
-        "The platform's path in C, planned and actual": path_figure,
+        "Figure 1: cable tensions (a) from eq. (18) and (b) after optimisation, like the paper's figure 5": tensions,
+        "Figure 2: cable lengths, planned (kinematics) and actual (virtual prototype), like the paper's figure 6":
+            lengths,
+        "Figure 3: planned and actual pose, and the tracking errors, like the paper's figure 7": tracking,
+        "Figure 4: the platform's path in C, planned and actual": path_figure,
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
