@@ -67,6 +67,10 @@ def plot_coverage(job, path: Path) -> Path:
     return _save(fig, path)
 
 
+CROSS_TRACK_COLOUR = "#762a83"
+"""The cross-track error's line in cleaning.png: dark purple, in no cable's colour (tab10's)."""
+
+
 def plot_cleaning_series(job, path: Path) -> Path:
     """Over time: the cable tensions, the normal force within its band, the cross-track error."""
     plt = _pyplot()
@@ -84,8 +88,9 @@ def plot_cleaning_series(job, path: Path) -> Path:
     axes[1].axhspan(lo, hi, color="#1a9850", alpha=0.15, label="band")
     axes[1].set_ylabel("normal force (N)")
     size, unit = length_unit(float(job.cross_track.max()) if job.cross_track.size else 0.0)
-    # black: the cables take the colour cycle
-    axes[2].plot(*decimate(res.t, job.cross_track / size, columns), color="k", lw=1.0, label="cross-track error")
+    # a colour of its own: the cables take the colour cycle (tab10), the normal force black
+    axes[2].plot(*decimate(res.t, job.cross_track / size, columns), color=CROSS_TRACK_COLOUR, lw=1.0,
+                 label="cross-track error")
     axes[2].set_ylabel(f"cross-track error ({unit})")
     axes[2].set_xlabel("t (s)")
     for ax in axes:
@@ -108,9 +113,8 @@ def cleaning_findings(summary: dict) -> list[str]:
            f"The normal force stayed within its band {s['normal_force_in_band_pct']:.2f} % of the time "
            f"(contact lost {s['contact_lost_s']:.2f} s).",
            f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
-           f"steps in the plan; cross-track error at most {s['max_cross_track_error_m'] * 1e3:.3g} mm "
-           f"(95 % below {s['p95_cross_track_error_m'] * 1e3:.3g} mm); winches "
-           f"{s['winch_energy_kJ']:.3g} kJ."]
+           f"steps in the plan; cross-track error at most {_length(s['max_cross_track_error_m'])} "
+           f"(95 % below {_length(s['p95_cross_track_error_m'])}); winches {s['winch_energy_kJ']:.3g} kJ."]
     if "hull" in s:
         hull = s["hull"]
         out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
@@ -122,18 +126,23 @@ def cleaning_findings(summary: dict) -> list[str]:
         out.append(f"The sea: in calm water the brush would clean {calm['coverage_pct']:.2f} % of the panel (here "
                    f"{here['coverage_pct']:.2f} %), with the normal force {_span(calm, 'normal_force')} (here "
                    f"{_span(here, 'normal_force')}) and the tensions {_span(calm, 'tension')} (here "
-                   f"{_span(here, 'tension')}); cross-track error at most {calm['max_cross_track_error_m'] * 1e3:.3g} "
-                   f"mm (here {here['max_cross_track_error_m'] * 1e3:.3g} mm).")
+                   f"{_span(here, 'tension')}); cross-track error at most {_length(calm['max_cross_track_error_m'])} "
+                   f"(here {_length(here['max_cross_track_error_m'])}).")
     if here and "no brush drag" in cmp:
         free = cmp["no brush drag"]
         out.append(f"The brush: without its drag (friction and jet 0, the same preload) the tensions would span "
                    f"{_span(free, 'tension')} (with it {_span(here, 'tension')}), the cross-track error at most "
-                   f"{free['max_cross_track_error_m'] * 1e3:.3g} mm (with it {here['max_cross_track_error_m'] * 1e3:.3g} "
-                   f"mm) and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
+                   f"{_length(free['max_cross_track_error_m'])} (with it {_length(here['max_cross_track_error_m'])}) "
+                   f"and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
     out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
                "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
                "from the plan (the guide holds the platform along the normal).")
     return out
+
+
+def _length(v: float) -> str:
+    """A length for a sentence, in the unit its size reads in (mm, µm, nm)."""
+    return _fmt_length(v) if v > 0 else "0 mm"
 
 
 def _span(figures: dict, what: str) -> str:
@@ -148,7 +157,7 @@ FIGURES = {
     "coverage_pct": ("panel cleaned", _pct),
     "reachable_coverage_pct": ("of what a round brush can reach, cleaned", _pct),
     "missed_area_m2": ("area missed", lambda v: f"{v:.3g} m²"),
-    "overlap_pct": ("cleaned area cleaned twice or more", lambda v: f"{v:.1f} %"),
+    "overlap_pct": ("overlap: of the area cleaned, cleaned twice or more", lambda v: f"{v:.1f} %"),
     "area_rate_m2_h": ("area rate", lambda v: f"{v:.3g} m²/h"),
     "normal_force_in_band_pct": ("normal force within its band, of the time", _pct),
     "normal_force_min_N": ("smallest normal force", lambda v: f"{v:.1f} N"),
@@ -156,8 +165,8 @@ FIGURES = {
     "contact_lost_s": ("normal force out of band for", lambda v: f"{v:.2f} s"),
     "tension_min_N": ("smallest cable tension", lambda v: f"{v:.1f} N"),
     "tension_max_N": ("largest cable tension", lambda v: f"{v:.1f} N"),
-    "max_cross_track_error_m": ("largest cross-track error", lambda v: _fmt_length(v) if v > 0 else "0 mm"),
-    "p95_cross_track_error_m": ("cross-track error, 95th percentile", lambda v: _fmt_length(v) if v > 0 else "0 mm"),
+    "max_cross_track_error_m": ("largest cross-track error", lambda v: _length(v)),
+    "p95_cross_track_error_m": ("cross-track error, 95th percentile", lambda v: _length(v)),
     "winch_energy_kJ": ("winch energy, sum of |T L'| dt", lambda v: f"{v:.3g} kJ"),
 }
 """The job's figures as the report shows them: ``summary.json`` key -> (name, value with its unit)."""

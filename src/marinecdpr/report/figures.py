@@ -588,8 +588,9 @@ def plot_control_study(study, prediction, path: Path) -> Path:
         color, marker = styles[pred]
         # each later curve thinner, its markers smaller and hollow-centred: curves that
         # coincide still all show, each as its legend entry draws it
-        style = dict(ls="-" if source == "sensor" else "--", color=color, marker=marker, lw=max(2.8 - 0.6 * k, 0.8),
-                     ms=max(11.0 - 2.0 * k, 3.0), mfc="none" if source != "sensor" else color, mew=1.2)
+        share = k / max(len(keys) - 1, 1)  # 0 for the first (widest, underneath), 1 for the last
+        style = dict(ls="-" if source == "sensor" else "--", color=color, marker=marker, lw=3.0 - 2.2 * share,
+                     ms=12.0 - 8.0 * share, mfc="none" if source != "sensor" else color, mew=1.2)
         label = f"{pred}, pose from {source}"
         axes[0].plot(ms, [r.rms_error_m for r in runs], label=label, **style)
         axes[1].plot(ms, [r.headroom_N for r in runs], label=label, **style)
@@ -606,12 +607,14 @@ def plot_control_study(study, prediction, path: Path) -> Path:
     axes[1].set_title("tension headroom", fontsize=10)
     ax = axes[2]
     drawn = False
-    for name, err, color in (("predictor", prediction.predictor, "#1a9850"),
-                             ("kinematic", prediction.taylor, "#fc8d59"), ("hold", prediction.hold, "#d73027")):
+    for k, (name, err, color) in enumerate((("predictor", prediction.predictor, "#1a9850"),
+                                            ("kinematic", prediction.taylor, "#fc8d59"),
+                                            ("hold", prediction.hold, "#d73027"))):
         rows = worst_moving_dof(prediction, err)
         ok = np.isfinite(rows) & (rows > 0)
-        if ok.any():
-            ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name)
+        if ok.any():  # layered as on the left: the predictor's line shows under the kinematic one
+            ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name, lw=max(3.0 - k, 1.0),
+                    ms=max(9.0 - 2.0 * k, 4.0))
             drawn = True
     if drawn:
         ax.set_xscale("log")

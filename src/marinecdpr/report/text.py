@@ -148,7 +148,7 @@ def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> lis
             against = (f"{_times(fixed / limit)} times the error bound of {_fmt_length(limit)}" if fixed > limit else
                        f"{100 * fixed / limit:.3g} % of the error bound of {_fmt_length(limit)}")
             out.append(f"The fixed-base plan, which leaves out the ship's motion, errs by {_fmt_length(fixed)}, "
-                       f"{against} (the moving-base plan {_fmt_length(moving)}): what ignoring the ship costs.")
+                       f"{against}: what ignoring the ship costs.")
     if "paper_reported" in summary:
         out.append("The paper's column is its section 4.2: open loop on Adams with a 1 ms exchange.")
     out += [f"Warning: {w}." for w in summary.get("warnings", [])] if warnings else []
