@@ -249,6 +249,9 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
                                 "equally likely; each sea state's from the share of its realisations that succeed"),
         "realisations": op.results[0].realisations if op.results else 0,
         "margin_N": op.margin_N,
+        "min_margin_meaning": ("operability.csv's min_margin_N: the sea state's headroom, the smallest over its "
+                               "records' steps of the largest distance to the tension limits any tensions giving "
+                               "the wrench could keep, N: the largest margin_N it allows"),
         "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
         "per_heading_interval_95": {f"{h:g}": list(v) for h, v in (op.per_heading_interval or {}).items()},
         "limiting_hs_m": op.limiting_hs_json(),
