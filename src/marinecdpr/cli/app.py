@@ -864,6 +864,8 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         end = sc.trajectory.start_time_s + path.duration_s
         console.print(f"coverage path: {path.lanes} lanes {path.spacing_m:.4g} m apart at {path.direction_deg:g} deg, "
                       f"{path.length_m:.4g} m, {path.duration_s:.4g} s"
+                      + (f" (the pass along the edges {path.boundary_length_m:.4g} m, {path.boundary_duration_s:.4g} s "
+                         "of it)" if path.boundary_length_m > 0 else "")
                       + ("" if end <= sc.time.duration_s + 1e-9 else
                          f" (the scenario's {sc.time.duration_s:g} s ends before the path: only part of the panel)"),
                       highlight=False, soft_wrap=True)

@@ -31,7 +31,6 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import iter_plan
 from marinecdpr.scenario.schema import Scenario, SeaStateMotion
-from marinecdpr.studies.workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
@@ -153,8 +152,12 @@ class CellResult:
     """Share of the records' steps with feasible tensions (with a workspace grid: share of
     the frame's poses feasible throughout), averaged over the realisations."""
     min_margin_N: float
-    """Smallest distance of a planned tension to the untightened limits over the records
-    (at least the margin asked for; -inf if some step is infeasible)."""
+    """The sea state's smallest headroom over the records: at each step the largest
+    distance to the cables' (untightened) limits that any tensions producing the wrench
+    could keep (:func:`~marinecdpr.model.tension.largest_headroom`), the smallest over
+    the steps, N: the largest ``margin`` the sea state allows (negative: by how much
+    even the limits themselves are broken; -inf at a singular pose). A record is
+    workable with margin M only where this is at least M. NaN with a workspace grid."""
     n_steps: int
     """Steps of one record."""
     max_error_m: float = float("nan")
@@ -271,7 +274,6 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
                      workspace: tuple[int, int] | None, min_area: float) -> tuple[bool, float, float, int, float]:
     """One record of :func:`evaluate_cell`: (workable, fraction feasible, smallest margin,
     steps, largest closed-loop error)."""
-    lo, hi = sc.robot.tension_min, sc.robot.tension_max
     tight = with_margin(sc, margin_N)
     if workspace is not None:
         from marinecdpr.studies.workspace import workspace_map
@@ -281,14 +283,12 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
         area = float((ws.fraction_feasible[inside] == 1.0).mean()) if inside.any() else 0.0
         return area >= min_area, area, float("nan"), ws.n_steps, float("nan")
     ok, worst, n = 0, np.inf, 0
-    for piece in iter_plan(tight):
+    for piece in iter_plan(tight, headroom=True):
         ok += int(piece.feasible.sum())
         n += piece.n_steps
-        m = tension_margin(piece.tensions, lo, hi)
-        if np.isfinite(m).any():
-            worst = min(worst, float(np.nanmin(m)))
-    # feasible tensions are within limits up to rounding: no negative zero margins
-    worst = max(worst, 0.0) if ok == n else -np.inf
+        # the headroom to the tightened limits, plus the margin: to the cables' own limits
+        h = piece.tension_headroom + margin_N if margin_N > 0 else piece.tension_headroom
+        worst = min(worst, float(np.min(h)) if not np.isnan(h).any() else -np.inf)
     operable = ok == n
     error = float("nan")
     if max_error_m is not None and operable:
