@@ -2,8 +2,10 @@
 
 Exit codes: 0 success; 2 bad input (a scenario, an option, or an output folder that
 cannot be written); 3 the cables cannot hold the platform somewhere on the plan
-(``plan`` still writes its outputs, complete); 4 a simulation diverged; 130 interrupted
-(Ctrl-C: the output folder keeps what it held).
+(``plan`` still writes its outputs, complete); 4 a simulation diverged; 5 a closed loop's
+controller was bypassed (the plan's tensions fed forward) on more than ``[simulation]
+max_bypassed_share`` of its steps (the outputs are written, complete, with the verdict);
+130 interrupted (Ctrl-C: the output folder keeps what it held).
 """
 
 from __future__ import annotations
@@ -58,12 +60,16 @@ from marinecdpr.textfiles import strip_control
 EXIT_BAD_INPUT = 2
 EXIT_INFEASIBLE = 3
 EXIT_DIVERGED = 4
+EXIT_BYPASSED = 5
 EXIT_INTERRUPTED = 130
 
 app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
-    help="Cable-driven parallel robots on a moving ship.",
+    help="Cable-driven parallel robots on a moving ship.\n\nExit codes: 0 done; 2 bad input; 3 the cables "
+         "cannot hold the platform somewhere on the plan; 4 a simulation diverged; 5 a closed loop's "
+         "controller was bypassed (the plan's tensions fed forward) on more than "
+         "simulation.max_bypassed_share of its steps (the files are written, with the verdict); 130 interrupted.",
     pretty_exceptions_show_locals=False,
 )
 # no markup: every text printed reads literally (a user's names and paths, and the library's
@@ -321,6 +327,22 @@ def clean(
                       highlight=False, soft_wrap=True)
     console.print(f"written to {_plain(str(out))}/: {', '.join(p.name for p in paths)} "
                   f"({time.perf_counter() - t0:.1f} s)", highlight=False, soft_wrap=True)
+    _fail_bypassed(_clean_bypassed(job.summary, sc), sc, out)
+
+
+def _clean_bypassed(s: dict, sc) -> list[tuple[str, int, int]]:
+    """The cleaning job's closed loops whose controller was bypassed: (name, bypassed steps,
+    steps) of the job, the guarantee's first run and the compared variants."""
+    share = sc.simulation.max_bypassed_share
+    runs = [("the cleaning job", s["controller_fallbacks"], s["steps"])] if s["controller_verdict"] == "bypassed" else []
+    g = s.get("guarantee")
+    if g is not None and g["second_run"] and g["first_run_controller_verdict"] == "bypassed":
+        runs.append(("the guarantee's first run", g["first_run_controller_fallbacks"], s["steps"]))
+    for name, figures in s.get("comparison", {}).items():
+        if name != "as asked" and figures["controller_bypassed_share"] > share:
+            runs.append((f"the job in {name}" if name == "calm water" else f"the job with {name}",
+                         figures["controller_fallbacks"], s["steps"]))
+    return runs
 
 
 def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_area, move_time, coverage_target,
@@ -375,7 +397,8 @@ def simulate(
 
     Runs open loop, closed loop and the fixed-base plan on the moving ship; writes
     plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
-    report.html.
+    report.html. Exits 5 (the files written) if the closed loop's controller was bypassed on
+    more than simulation.max_bypassed_share of its steps.
     """
     from marinecdpr.studies.prototype_runs import virtual_prototype
     from marinecdpr.report.figures import RUN_TITLES
@@ -423,6 +446,20 @@ def simulate(
     for warning in s["warnings"]:
         err_console.print(_plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(_plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
+    _fail_bypassed([(run, vp.results[run].controller_fallbacks, s["steps"]) for run in s["runs_controller_bypassed"]],
+                   sc, out)
+
+
+def _fail_bypassed(runs: list[tuple[str, int, int]], sc, out: Path) -> None:
+    """A failed run for each (name, bypassed steps, steps) whose controller was bypassed:
+    one line on stderr, exit 5, after the files (which say so) are written."""
+    from marinecdpr.studies.prototype_runs import bypassed_text
+
+    if runs:
+        name, fallbacks, steps = runs[0]
+        more = f" (and {len(runs) - 1} more run{'s' if len(runs) > 2 else ''})" if len(runs) > 1 else ""
+        _fail(f"{name}{more}: {bypassed_text(fallbacks, steps, sc.simulation.max_bypassed_share)}; "
+              f"see {out / 'summary.json'}", EXIT_BYPASSED)
 
 
 @contextmanager
@@ -713,6 +750,13 @@ def operability(
                   f"a {duration:g} s operation succeeds ({realisations} record{'s' if realisations != 1 else ''} "
                   "per sea state); written: " + ", ".join(_plain(p) for p in paths), highlight=False,
                   soft_wrap=True)
+    bypassed = sum(r.controller_bypassed for r in op.results)
+    if bypassed:
+        err_console.print(_plain(f"warning: in {bypassed} record{'s' if bypassed != 1 else ''} the closed loop's "
+                                 "controller was bypassed (the plan's tensions fed forward) on more than "
+                                 f"simulation.max_bypassed_share = {sc.simulation.max_bypassed_share:g} of the steps: "
+                                 "counted as failures (operability.csv controller_bypassed)"),
+                          highlight=False, soft_wrap=True)
 
 
 def _count(number: object, noun: str) -> str:
@@ -1060,8 +1104,12 @@ def control_study(
     for r in result.runs:
         console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
                       f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
-                      f"slack margin {r.slack_margin_N:.4g} N", highlight=False, soft_wrap=True)
+                      f"slack margin {r.slack_margin_N:.4g} N"
+                      + (f"; controller BYPASSED at {r.fallbacks} steps" if r.controller_verdict == "bypassed" else ""),
+                      highlight=False, soft_wrap=True)
     console.print(_plain(f"written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+    _fail_bypassed([(f"latency {1e3 * r.latency_s:g} ms, prediction {r.prediction}, pose from {r.pose_from}",
+                     r.fallbacks, result.steps) for r in result.bypassed], sc, out)
 
 
 @app.command()

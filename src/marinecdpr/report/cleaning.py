@@ -115,6 +115,11 @@ def cleaning_findings(summary: dict) -> list[str]:
            f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
            f"steps in the plan; cross-track error at most {_length(s['max_cross_track_error_m'])} "
            f"(95 % below {_length(s['p95_cross_track_error_m'])}); winches {s['winch_energy_kJ']:.3g} kJ."]
+    if s.get("controller_verdict") == "bypassed":
+        from marinecdpr.studies.prototype_runs import bypassed_text
+
+        out.insert(0, "The job FAILED: " + bypassed_text(s["controller_fallbacks"], s["steps"],
+                                                         s["controller_bypassed_share_max"]) + ".")
     if "hull" in s:
         hull = s["hull"]
         out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
@@ -274,7 +279,8 @@ def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
                         folder / "sea_states.csv", int_last=False, int_columns=(SEA_STATE_COLUMNS.index("works"),))]
     summary = {
         "scenario": scenario.name,
-        "what_works": (f"the plan's tensions within limits at every step, the closed loop without fallback, "
+        "what_works": (f"the plan's tensions within limits at every step, the closed loop's controller not bypassed "
+                       f"(on at most simulation.max_bypassed_share of the steps), "
                        f"at least {cs.coverage_target_pct:g} % of the reachable panel cleaned and the normal "
                        f"force in band at least {cs.in_band_target_pct:g} % of the time"),
         "coverage_target_pct": cs.coverage_target_pct,

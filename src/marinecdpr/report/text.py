@@ -43,8 +43,9 @@ def _error_rows(summary: dict, scenario: Scenario) -> list[tuple[str, str, list[
 
 def error_table(summary: dict, scenario: Scenario) -> tuple[list[str], list[list[str]]]:
     """The tracking errors as text: header and rows, one unit per row (chosen from its
-    largest value), the paper's column only for the paper's experiment, and a last row
-    saying which runs stayed within the error bound."""
+    largest value), the paper's column only for the paper's experiment, a row saying which
+    runs stayed within the error bound, and (where a run has a controller) a last row saying
+    whether its controller held or was bypassed (``controller_verdict``)."""
     runs = _sim_runs(summary)
     paper = "paper_reported" in summary
     header = ["max |error|"] + (["paper (Adams, open loop)"] if paper else []) + [RUN_TITLES[r] for r in runs]
@@ -60,7 +61,18 @@ def error_table(summary: dict, scenario: Scenario) -> tuple[list[str], list[list
                 + (["–"] if paper else [])
                 + ["yes" if summary[r]["within_error_bound"] else "NO: " + beyond_text(summary[r]["beyond_error_bound"])
                    for r in runs])
+    if any("controller_verdict" in summary[r] for r in runs):
+        rows.append(["controller"] + (["–"] if paper else [])
+                    + [_controller_cell(summary[r], summary.get("steps")) for r in runs])
     return header, rows
+
+
+def _controller_cell(run: dict, steps: int | None) -> str:
+    verdict = run.get("controller_verdict")
+    if verdict is None:
+        return "–"
+    of = f" of {steps}" if steps else ""
+    return ("held" if verdict == "held" else "BYPASSED") + f" ({run['controller_fallbacks']}{of} steps fed the plan)"
 
 
 def beyond_text(names: list[str]) -> str:
@@ -131,12 +143,14 @@ def findings(summary: dict, scenario: Scenario, *, warnings: bool = True) -> lis
                        f"plan, its largest growth rate is {st['open_loop_growth_rate_1_s']:.2g} 1/s (mode in {mode}).")
     if "closed_loop" in summary:
         c = summary["closed_loop"]
-        if not c["within_error_bound"]:
+        if c.get("controller_verdict") == "bypassed":
+            from marinecdpr.studies.prototype_runs import bypassed_text
+
+            out.append("The closed loop FAILED: " + bypassed_text(c["controller_fallbacks"], summary["steps"],
+                                                                 summary["controller_bypassed_share_max"]) + ".")
+        elif not c["within_error_bound"]:
             out.append("The closed loop too leaves the bound: the feedback gains, the sensors or the "
                        "cables do not hold this robot on its plan.")
-        elif c["controller_fallbacks"] > 0.01 * summary["steps"]:
-            out.append("The closed loop stays within the bound, but on the plan's tensions at "
-                       f"{c['controller_fallbacks']} of {summary['steps']} steps: it shows the plan, not the controller.")
         else:
             out.append("The closed loop holds the platform within the bound.")
     if "open_loop" in summary and "fixed_base_open_loop" in summary:

@@ -234,12 +234,14 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
-             "max_error_m", "realisations", "successes", "success_probability", "success_low", "success_high"]
+             "max_error_m", "realisations", "successes", "success_probability", "success_low", "success_high",
+             "controller_bypassed"]
     values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
                         r.fraction_feasible, r.min_margin_N, r.max_error_m, r.realisations, r.successes,
-                        r.success_probability, *r.interval] for r in op.results])
+                        r.success_probability, *r.interval, r.controller_bypassed] for r in op.results])
     paths = [_write_csv(names, values, folder / "operability.csv", int_last=False,
-                        int_columns=(names.index("realisations"), names.index("successes")))]
+                        int_columns=(names.index("realisations"), names.index("successes"),
+                                     names.index("controller_bypassed")))]
     summary = {
         "scenario": scenario.name,
         "operability": op.operability,
@@ -258,6 +260,7 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
         "limiting_hs_meaning": LIMITING_HS_MEANING,
         "cells": len(op.results),
         "steps_per_cell": op.results[0].n_steps if op.results else 0,
+        "realisations_controller_bypassed": sum(r.controller_bypassed for r in op.results),
     }
     paths.append(write_json(summary, folder / "operability.json"))
     paths.append(plot_operability(op, scenario, folder / "operability.png"))
@@ -354,6 +357,8 @@ def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Pat
                               folder / "prediction.csv"))
     summary = {"scenario": study.scenario, "mru_rate_hz": study.rate_hz, "duration_s": study.duration_s,
                "judged_from_s": study.settle_s, "runs": runs,
+               "controller_bypassed_share_max": study.max_bypassed_share,
+               "runs_controller_bypassed": sum(r.controller_verdict == "bypassed" for r in study.runs),
                "prediction_error": {"meaning": "RMS error of the predicted eta over the RMS of eta, worst moving "
                                                "DOF, MRU without latency",
                                     "horizons_s": prediction.horizons_s.tolist(),

@@ -462,6 +462,10 @@ class Simulation(_Model):
     the frame's largest extent."""
     max_error_deg: _ranged(0.0, 180.0, "deg", "half a turn", above=True) = 1.0
     """A run whose orientation error passes this is flagged, deg."""
+    max_bypassed_share: _ranged(0.0, 1.0, "", "a share of the run's steps") = 0.01
+    """A closed loop whose controller was bypassed (its feedback's tensions outside the
+    limits, the plan's fed forward instead) on more than this share of its steps is a
+    failed run: it shows the plan, not the controller."""
 
 
 class Environment(_Model):

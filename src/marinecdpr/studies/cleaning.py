@@ -39,6 +39,7 @@ from marinecdpr.studies.coverage import CoverageMap, coverage_map
 from marinecdpr.studies.operability import (
     Cell, Operability, ScatterDiagram, cell_scenario, check_sea_state, run_cells, scatter_cells, summarise,
 )
+from marinecdpr.studies.prototype_runs import controller_verdict
 
 __all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
@@ -202,6 +203,9 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
         "p95_cross_track_error_m": float(np.percentile(cross, 95)) if n else 0.0,
         "winch_energy_kJ": energy / 1000.0,
         "coverage_resolution_m": float(cov.resolution_m),
+        "controller_fallbacks": int(res.controller_fallbacks),
+        **controller_verdict(res, scenario),
+        "controller_bypassed_share_max": float(scenario.simulation.max_bypassed_share),
     }
 
 
@@ -244,6 +248,8 @@ def guaranteed_job(
         "second_run": job is not first,
         "checked": bool(2.0 * e95_check <= overlap + 1e-12),
         "checked_p95_cross_track_error_m": float(e95_check),
+        "first_run_controller_fallbacks": int(first.result.controller_fallbacks),
+        "first_run_controller_verdict": first.summary["controller_verdict"],
     }
     return CleaningJob(**{**job.__dict__, "summary": summary})
 
@@ -277,7 +283,7 @@ def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict
 # ------------------------------------------------------------ beside calm water
 COMPARED = ("coverage_pct", "reachable_coverage_pct", "normal_force_in_band_pct", "normal_force_min_N",
             "normal_force_max_N", "tension_min_N", "tension_max_N", "max_cross_track_error_m",
-            "p95_cross_track_error_m", "winch_energy_kJ")
+            "p95_cross_track_error_m", "winch_energy_kJ", "controller_fallbacks", "controller_bypassed_share")
 """The figures :func:`compare_conditions` sets side by side."""
 
 
@@ -318,7 +324,8 @@ class CleaningCellResult:
     """The cleaning job in one sea state.
 
     ``operable``: the job works there: the plan has tensions within limits at every step
-    and the closed loop held (no fallback, no divergence), the reachable coverage and the
+    and the closed loop held (its controller not bypassed, see
+    :func:`~marinecdpr.studies.prototype_runs.controller_verdict`; no divergence), the reachable coverage and the
     share of time in band reach their targets. ``reason`` says why not ("" if it works).
     Percentages are NaN where the job could not be flown.
     """
@@ -363,8 +370,10 @@ def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pc
         return CleaningCellResult(cell, False, "the closed loop diverged", nan, nan, nan, nan, nan, nan, nan)
     s = job.summary
     reasons = []
-    if job.result.controller_fallbacks:
-        reasons.append(f"the controller found no tensions within limits at {job.result.controller_fallbacks} steps")
+    if s["controller_verdict"] == "bypassed":
+        reasons.append(f"the controller was bypassed at {s['controller_fallbacks']} of {s['steps']} steps (above "
+                       f"simulation.max_bypassed_share = {s['controller_bypassed_share_max']:g}): its tensions "
+                       "outside the limits, the plan's fed forward")
     if s["reachable_coverage_pct"] < coverage_target_pct:
         reasons.append(f"reachable coverage {s['reachable_coverage_pct']:.2f} % < {coverage_target_pct:g} %")
     if s["normal_force_in_band_pct"] < in_band_target_pct:

@@ -22,6 +22,7 @@ from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.prediction import PredictionError, prediction_error
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.scenario.schema import Scenario
+from marinecdpr.studies.prototype_runs import controller_verdict
 
 __all__ = ["ControlRun", "ControlStudy", "control_study", "ship_prediction_error", "worst_moving_dof",
            "moving_dofs", "PREDICTIONS"]
@@ -48,7 +49,14 @@ class ControlRun:
         The smallest distance of a commanded tension above its lower limit, N (0 where the
         tension method holds a cable at its lower limit).
     fallbacks : int
-        Steps where the tension problem had no solution within limits.
+        Steps where the tension problem had no solution within limits (the controller
+        bypassed, the plan's tensions fed forward), over the whole run.
+    bypassed_share : float
+        ``fallbacks`` over the run's steps, 0 to 1.
+    controller_verdict : {"held", "bypassed"}
+        ``bypassed`` beyond ``[simulation] max_bypassed_share``: the run's figures are the
+        plan's, not the controller's
+        (:func:`~marinecdpr.studies.prototype_runs.controller_verdict`).
     """
 
     latency_s: float
@@ -60,6 +68,8 @@ class ControlRun:
     headroom_N: float
     slack_margin_N: float
     fallbacks: int
+    bypassed_share: float = 0.0
+    controller_verdict: str = "held"
 
 
 @dataclass(frozen=True)
@@ -71,6 +81,15 @@ class ControlStudy:
     duration_s: float
     settle_s: float
     runs: tuple[ControlRun, ...]
+    max_bypassed_share: float = 0.01
+    """The scenario's ``[simulation] max_bypassed_share``."""
+    steps: int = 0
+    """Steps of each run."""
+
+    @property
+    def bypassed(self) -> tuple[ControlRun, ...]:
+        """The runs whose controller was bypassed."""
+        return tuple(r for r in self.runs if r.controller_verdict == "bypassed")
 
     def run(self, latency_s: float, prediction: str, pose_from: str = "sensor") -> ControlRun:
         """The run with these settings (KeyError if the study has none)."""
@@ -140,16 +159,19 @@ def control_study(
         err = res.pose_error[judged]
         pos = np.linalg.norm(err[:, :3], axis=1)
         T = res.tensions_commanded[judged]
+        verdict = controller_verdict(res, sc)
         runs.append(ControlRun(
             latency_s=float(latency), prediction=prediction, pose_from=source,
             rms_error_m=float(np.sqrt(np.mean(pos * pos))), max_error_m=float(pos.max()),
             max_angle_error_deg=float(np.degrees(np.abs(err[:, 3:]).max())),
             headroom_N=float(np.min(hi - T)), slack_margin_N=float(np.min(T - lo)),
-            fallbacks=res.controller_fallbacks))
+            fallbacks=res.controller_fallbacks, bypassed_share=verdict["controller_bypassed_share"],
+            controller_verdict=verdict["controller_verdict"]))
         if progress is not None:
             progress(i + 1, len(cases))
     return ControlStudy(scenario=scenario.name, rate_hz=float(rate_hz), duration_s=float(duration_s),
-                        settle_s=settle, runs=tuple(runs))
+                        settle_s=settle, runs=tuple(runs), max_bypassed_share=scenario.simulation.max_bypassed_share,
+                        steps=base.time.n_steps)
 
 
 def ship_prediction_error(

@@ -165,6 +165,10 @@ class CellResult:
     realisations: int = 1
     successes: int = 0
     """Realisations in which the operation succeeded."""
+    controller_bypassed: int = 0
+    """Realisations whose closed loop (``max_error_m``) had its controller bypassed on more
+    than ``[simulation] max_bypassed_share`` of its steps: failures, whatever their error
+    (:func:`~marinecdpr.studies.prototype_runs.controller_verdict`)."""
 
     @property
     def success_probability(self) -> float:
@@ -252,7 +256,8 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     A record is workable if tensions exist within the limits tightened by ``margin_N``
     at every step (the plan is made with those tightened limits) and, if
     ``max_error_m`` is given, the closed loop flown on the own plant keeps the platform
-    within that distance of its plan. With ``workspace = (n_u, n_v)`` the trajectory is
+    within that distance of its plan with its controller not bypassed (on at most
+    ``[simulation] max_bypassed_share`` of the steps). With ``workspace = (n_u, n_v)`` the trajectory is
     replaced by a grid of held poses over the frame (:func:`~marinecdpr.studies.workspace.workspace_map`),
     and a record is workable if at least ``min_area`` of the poses inside the frame stay
     feasible throughout; ``fraction_feasible`` is then that share of poses. The records
@@ -267,13 +272,13 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     errors = np.array([run[4] for run in runs])
     error = float("nan") if np.isnan(errors).all() else float(np.nanmax(errors))
     return CellResult(cell, all(ok), float(np.mean([run[1] for run in runs])), min(run[2] for run in runs),
-                      runs[0][3], error, realisations, int(sum(ok)))
+                      runs[0][3], error, realisations, int(sum(ok)), int(sum(run[5] for run in runs)))
 
 
 def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None,
-                     workspace: tuple[int, int] | None, min_area: float) -> tuple[bool, float, float, int, float]:
+                     workspace: tuple[int, int] | None, min_area: float) -> tuple[bool, float, float, int, float, bool]:
     """One record of :func:`evaluate_cell`: (workable, fraction feasible, smallest margin,
-    steps, largest closed-loop error)."""
+    steps, largest closed-loop error, the closed loop's controller bypassed)."""
     tight = with_margin(sc, margin_N)
     if workspace is not None:
         from marinecdpr.studies.workspace import workspace_map
@@ -281,7 +286,7 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
         ws = workspace_map(tight, n=workspace)
         inside = np.isfinite(ws.fraction_feasible)
         area = float((ws.fraction_feasible[inside] == 1.0).mean()) if inside.any() else 0.0
-        return area >= min_area, area, float("nan"), ws.n_steps, float("nan")
+        return area >= min_area, area, float("nan"), ws.n_steps, float("nan"), False
     ok, worst, n = 0, np.inf, 0
     for piece in iter_plan(tight, headroom=True):
         ok += int(piece.feasible.sum())
@@ -290,17 +295,19 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
         h = piece.tension_headroom + margin_N if margin_N > 0 else piece.tension_headroom
         worst = min(worst, float(np.min(h)) if not np.isnan(h).any() else -np.inf)
     operable = ok == n
-    error = float("nan")
+    error, bypassed = float("nan"), False
     if max_error_m is not None and operable:
         from marinecdpr.prototype.simulation import simulate
+        from marinecdpr.studies.prototype_runs import controller_verdict
 
         try:
             res = simulate(tight, run="closed_loop", plant="own")
             error = float(np.abs(res.pose_error[:, :3]).max())
+            bypassed = controller_verdict(res, tight)["controller_verdict"] == "bypassed"
         except ArithmeticError:  # diverged
             error = float("inf")
-        operable = error <= max_error_m
-    return bool(operable), ok / n, worst, n, error
+        operable = error <= max_error_m and not bypassed
+    return bool(operable), ok / n, worst, n, error, bypassed
 
 
 @dataclass(frozen=True)

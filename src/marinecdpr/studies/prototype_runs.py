@@ -15,7 +15,7 @@ from marinecdpr.studies.error_budget import budget_summary, error_budget
 from marinecdpr.studies.stability import plan_stability, stability_summary
 
 __all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
-           "is_paper_scenario", "error_bounds", "run_warnings"]
+           "is_paper_scenario", "error_bounds", "run_warnings", "controller_verdict", "bypassed_text"]
 
 PAPER_REPORTED = {
     "max_abs_error_x_m": 0.025,
@@ -76,7 +76,9 @@ def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
     ``tension_max_N`` (applied), ``tension_limit_excess_N`` (how far applied tensions left
     their limits beyond the tension tolerance, 0 if never), ``rms_error_x_m``,
-    ``rms_error_z_m``, ``controller_fallbacks``, with motor winches ``winch_limited_steps``
+    ``rms_error_z_m``, ``controller_fallbacks``, for the closed loop its
+    :func:`controller_verdict` (``controller_bypassed_share``, ``controller_verdict``), with
+    motor winches ``winch_limited_steps``
     and ``winch_overspeed_steps``, ``ship_tracking_error`` (m or rad),
     ``plant``, ``within_error_bound`` (False if a position or cable-length error passed
     :func:`error_bounds`' first value or the angle error its second) and
@@ -104,6 +106,7 @@ def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
     out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
     out["controller_fallbacks"] = res.controller_fallbacks
+    out.update(controller_verdict(res, scenario))
     if scenario.simulation.cables.winch == "motor":
         out["winch_limited_steps"] = res.winch_limited_steps
         out["winch_overspeed_steps"] = res.winch_overspeed_steps
@@ -132,8 +135,10 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     """``summary.json``: each run's figures, the plan's tension range, the error bounds, the
     open loop's stability along the plan (``open_loop_growth_rate_1_s`` and ``stability``:
     :mod:`~marinecdpr.studies.stability`), the cables-as-built error budget
-    (``error_budget``, ``winches``: :mod:`~marinecdpr.studies.error_budget`), and (for the paper's experiment only, see
-    :func:`is_paper_scenario`) the paper's errors."""
+    (``error_budget``, ``winches``: :mod:`~marinecdpr.studies.error_budget`), the closed loops
+    whose controller was bypassed (``runs_controller_bypassed``, beyond
+    ``controller_bypassed_share_max``: :func:`controller_verdict`), and (for the paper's
+    experiment only, see :func:`is_paper_scenario`) the paper's errors."""
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     out: dict = {
         "scenario": scenario.name,
@@ -145,6 +150,7 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
         "opt_tension_max_N": float(np.nanmax(plan.tensions)),
         "error_bound_m": bound_m,
         "error_bound_deg": bound_deg,
+        "controller_bypassed_share_max": scenario.simulation.max_bypassed_share,
     }
     g = plan_stability(plan, scenario)
     out["open_loop_growth_rate_1_s"] = g.rate
@@ -155,22 +161,46 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     for name, res in results.items():
         out[name] = run_summary(res, scenario, max_error_m=max_error_m)
     out["runs_beyond_error_bound"] = [name for name in results if not out[name]["within_error_bound"]]
+    out["runs_controller_bypassed"] = [name for name in results
+                                       if out[name].get("controller_verdict") == "bypassed"]
     out["warnings"] = run_warnings(results, scenario)
     return out
 
 
-FALLBACK_WARNING_FRACTION = 0.01
-"""Share of closed-loop steps fed the plan's tensions beyond which the run is not what the
-controller designed (its feedback asked for tensions outside the limits)."""
+def controller_verdict(res: SimResult, scenario: Scenario) -> dict:
+    """Whether a closed loop ran closed: its controller is bypassed at a step whose feedback
+    asks for tensions outside the limits (the plan's are fed forward instead,
+    ``res.controller_fallbacks``); on more than ``[simulation] max_bypassed_share`` of its
+    steps the run shows the plan, not the controller, and is a failed run.
+
+    Returns ``{"controller_bypassed_share": fallbacks / steps (0 to 1),
+    "controller_verdict": "held" or "bypassed"}``; empty for a run without a controller
+    (the open loops).
+    """
+    if res.run != "closed_loop":
+        return {}
+    share = res.controller_fallbacks / res.t.size if res.t.size else 0.0
+    bypassed = share > scenario.simulation.max_bypassed_share
+    return {"controller_bypassed_share": float(share), "controller_verdict": "bypassed" if bypassed else "held"}
+
+
+def bypassed_text(fallbacks: int, steps: int, max_share: float) -> str:
+    """Why a run whose controller was bypassed failed, as a clause (after its name)."""
+    return (f"the controller was bypassed at {fallbacks} of {steps} steps ({100.0 * fallbacks / max(steps, 1):.3g} %, "
+            f"above simulation.max_bypassed_share = {max_share:g}): the feedback asked for tensions outside "
+            "the limits and the plan's were fed forward instead, so the run shows the plan, not the controller "
+            "(gains too high for the step, or measurements too noisy)")
+
+
 SAMPLES_PER_BANDWIDTH = 10.0
 """A sampled controller behaves as designed only with an exchange rate at least this many
 times its bandwidth."""
 
 
 def run_warnings(results: dict[str, SimResult], scenario: Scenario) -> list[str]:
-    """Runs that stayed bounded but mean less than their numbers say, one sentence each:
-    a closed loop sampled too slowly for its bandwidth, or one that could not find tensions
-    within the limits at many steps and fed the plan's forward instead."""
+    """Runs that mean less than their numbers say, one sentence each: a closed loop sampled
+    too slowly for its bandwidth, or a motor winch held at its limits. (A closed loop whose
+    controller was bypassed is a failed run: :func:`controller_verdict`.)"""
     out = []
     h = scenario.time.step_s
     bw = scenario.simulation.control.bandwidth_hz
@@ -180,10 +210,6 @@ def run_warnings(results: dict[str, SimResult], scenario: Scenario) -> list[str]
                    f"(use at most {1.0 / (SAMPLES_PER_BANDWIDTH * h):g} Hz)")
     for name, res in results.items():
         n = res.t.size
-        if res.controller_fallbacks > FALLBACK_WARNING_FRACTION * n:
-            out.append(f"{name}: at {res.controller_fallbacks} of {n} steps the feedback asked for tensions "
-                       "outside the limits and the plan's were fed forward instead: the run shows the plan, "
-                       "not the controller (gains too high for the step, or measurements too noisy)")
         if res.winch_overspeed_steps:
             out.append(f"{name}: at {res.winch_overspeed_steps} of {n} steps a winch's motor turned past its speed "
                        "limit (robot.winch.speed_max_rad_s): the cable drove it")
