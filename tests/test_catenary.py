@@ -93,7 +93,9 @@ def test_shooting_on_the_ode_finds_the_same_forces(name):
         return [y[0] - h, y[1] - v]
 
     shot = root(miss, [1.03 * H / scale, V_A / scale + 0.02], method="hybr", options={"xtol": 1e-13})
-    assert shot.success
+    # hybr may stop short of xtol 1e-13 once the ODE's round-off stalls it ("not making good
+    # progress", scipy 1.17 on "paper platform below", 4e-16 m off B): judge the shot by its miss
+    assert np.abs(miss(shot.x)).max() < 1e-12
     assert shot.x * scale == pytest.approx([H, V_A], rel=1e-8, abs=1e-8 * scale)
 
 

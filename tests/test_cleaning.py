@@ -50,11 +50,12 @@ def test_a_coverage_trajectory_needs_the_cleaning_section(clean):
 def test_the_brush_loads_enter_the_planned_wrench_by_hand(clean):
     # calm water, mid-lane at cruise speed: friction mu F_n against the travel along x, the
     # disc's reaction moment (2/3) mu F_n R about the hull normal y, and the hull's push F_n
-    calm = clean.with_changes(base_motion={"type": "still"}, time={"step_s": 0.001, "duration_s": 12.0})
+    calm = clean.with_changes(base_motion={"type": "still"}, time={"step_s": 0.001, "duration_s": 25.0})
     dry = _with(calm, friction=0.0)
     p, p0 = marinecdpr.plan(calm), marinecdpr.plan(dry)
     path = cleaning_path(calm.cleaning)
-    first_lane_mid = 0.5 * path.vertex_time_s[1]  # cruise on the first lane (along +x)
+    lane = int(np.flatnonzero(path.lane_segment)[0])  # after the pass up the first side
+    first_lane_mid = 0.5 * (path.vertex_time_s[lane] + path.vertex_time_s[lane + 1])  # cruise on it (along +x)
     k = int(round(first_lane_mid / calm.time.step_s))
     v = p.twist[k, :3]
     assert v[0] == pytest.approx(calm.cleaning.speed_m_s) and abs(v[2]) < 1e-12

@@ -75,7 +75,7 @@ def test_console_script_prints_no_traceback(tmp_path):
     """The installed command, as a user runs it: a missing file is one line, exit 2."""
     exe = Path(sys.executable).parent / "marinecdpr"
     proc = subprocess.run([str(exe), "plan", str(tmp_path / "missing.toml"), "--out", str(tmp_path)],
-                          capture_output=True, text=True, timeout=60)
+                          capture_output=True, text=True, timeout=300)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
     assert "missing.toml: no such file" in proc.stderr

@@ -53,7 +53,7 @@ def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
         proc = _start(["simulate", "paper_sea", "--duration", "0.3", "--out", str(out)])
         time.sleep(delay)
         proc.kill()
-        proc.communicate(timeout=60)
+        proc.communicate(timeout=300)
         seen.add(_one_complete_run(out))
     assert seen <= {"paper", "paper_sea"}
     again = subprocess.run([EXE, "simulate", "paper_sea", "--duration", "0.3", "--out", str(out)],
@@ -74,7 +74,7 @@ def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path):
     line = proc.stderr.readline()
     assert line.startswith("simulate: "), line
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
+    _, err = proc.communicate(timeout=300)
     assert proc.returncode == 130
     lines = [ln for ln in (line + err).splitlines() if not ln.startswith("simulate: ")]
     assert lines == [f"error: interrupted; --out {out} keeps what it held"]
@@ -91,13 +91,12 @@ def test_a_read_only_output_folder_is_one_line_before_the_work(tmp_path):
         pytest.skip("bind mounts are not allowed here")
     try:
         subprocess.run(["mount", "-o", "remount,bind,ro", str(out)], capture_output=True)
-        t0 = time.perf_counter()
-        res = subprocess.run([EXE, "simulate", "paper", "--out", str(out)], capture_output=True, text=True,
-                             timeout=120)
+        import tripwire
+
+        res = tripwire.run_cli("simulate", "paper", "--out", str(out))  # refused before any work
         assert res.returncode == 2 and "Traceback" not in res.stderr
         assert res.stderr.strip().splitlines() == [
             f"error: --out {out}: cannot write there (Read-only file system)"]
-        assert time.perf_counter() - t0 < 20  # refused before the 15 s main job
     finally:
         subprocess.run(["umount", str(out)], capture_output=True)
 
@@ -147,17 +146,16 @@ def test_sigint_to_operability_on_dask_leaves_no_worker_behind(tmp_path):
     proc = _start(["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005", "--realisations", "1",
                    "--headings", "180,150,90", "--out", str(out)])
     children = []
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and len(children) < 3:  # the workers are up (and their nannies)
-        time.sleep(0.5)
+    while len(children) < 3 and proc.poll() is None:  # until the workers are up (and their nannies),
+        time.sleep(0.5)                                 # however long a loaded machine takes
         children = psutil.Process(proc.pid).children(recursive=True)
-    assert len(children) >= 2
+    assert len(children) >= 2, proc.poll()
     time.sleep(2.0)
     proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
+    _, err = proc.communicate(timeout=300)
     assert proc.returncode == 130
     assert err.strip().splitlines()[-1] == f"error: interrupted; --out {out} keeps what it held"
     assert "WARNING" not in err and "Traceback" not in err
-    time.sleep(1.0)
-    assert [c.pid for c in children if c.is_running() and c.status() != psutil.STATUS_ZOMBIE] == []
+    _, alive = psutil.wait_procs(children, timeout=300)  # a hang guard, not a speed check
+    assert [c.pid for c in alive if c.is_running() and c.status() != psutil.STATUS_ZOMBIE] == []
     assert not out.exists()

@@ -157,6 +157,7 @@ def test_piped_workspace_prints_progress_lines(tmp_path, monkeypatch):
     monkeypatch.setattr(cli, "PROGRESS_LINE_MIN_S", 0.0)
     res = runner.invoke(app, args)
     lines = res.stderr.strip().splitlines()
+    assert lines.pop(0).startswith("size: paper: 48 poses (8 x 6) x 21 steps")  # before the work
     done = [int(re.match(r"workspace: (\d+) of 48 poses \(\d+%\), \d+\.\d s, about \d+\.\d s left$", line)[1])
             for line in lines[:-1]]
     assert done == [5, 10, 15, 20, 24, 29, 34, 39, 44]

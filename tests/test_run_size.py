@@ -4,9 +4,6 @@
 from __future__ import annotations
 
 import resource
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
+import tripwire
 from marinecdpr.cli.app import app
 from marinecdpr.errors import ScenarioError
 
@@ -35,52 +33,59 @@ def _scenario(tmp_path: Path, name: str, replace: dict[str, str], base: str = "p
     return path
 
 
-def _cli(*args: str, timeout: float = 120.0) -> tuple[int, list[str], float]:
-    """Exit code, stderr lines and wall time of the command in a child process whose memory
-    is capped (a run that tried to allocate its size would fail or time out, not refuse)."""
+def _cli(*args: str, timeout: float = 300.0) -> tuple[int, list[str]]:
+    """Exit code and stderr lines of the command in a child process whose memory is capped
+    (a run that tried to allocate its size would fail, not refuse) and whose work is
+    tripwired (:mod:`tripwire`: a run that started its work exits 99 naming where)."""
 
     def cap() -> None:
         resource.setrlimit(resource.RLIMIT_AS, (LIMIT_AS, LIMIT_AS))
 
-    t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "marinecdpr", *args], capture_output=True, text=True,
-                          timeout=timeout, preexec_fn=cap)
-    return proc.returncode, proc.stderr.strip().splitlines(), time.perf_counter() - t0
+    proc = tripwire.run_cli(*args, preexec_fn=cap, timeout=timeout)
+    return proc.returncode, proc.stderr.strip().splitlines()
 
 
-def _refused(code: int, lines: list[str], elapsed: float, *parts: str) -> None:
+def _refused(code: int, lines: list[str], *parts: str) -> None:
+    """One line, exit 2, before any work (arithmetic, not allocation: no tripwire crossed)."""
+    assert code != tripwire.TRIPPED, lines
     assert code == 2, lines[-5:]
     assert len(lines) == 1 and lines[0].startswith("error: "), lines
     for part in parts:
         assert part in lines[0], lines[0]
-    assert elapsed < 5.0  # arithmetic, not allocation (the interpreter's start included)
+
+
+def test_the_tripwires_catch_a_run_that_starts(tmp_path):
+    # the check above is not vacuous: a run that is not refused crosses one at once
+    code, lines = _cli("plan", "paper", "--out", str(tmp_path / "o"))
+    assert code == tripwire.TRIPPED and lines[-1].startswith("work started: marinecdpr."), lines
+    assert not (tmp_path / "o" / "plan.csv").exists()
 
 
 # ----------------------------------------------------------------- refused up front
 def test_plan_with_a_tiny_step_over_days_is_refused_with_its_size(tmp_path):
     scen = _scenario(tmp_path, "fine", {"step_s = 0.001": "step_s = 1e-5", "duration_s = 15.0": "duration_s = 1e6"})
-    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed, "time.step_s", "1e+11 steps of 1e-05 s over 1e+06 s",
+    code, lines = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, "time.step_s", "1e+11 steps of 1e-05 s over 1e+06 s",
              "sane time", "use a longer step_s")
     assert not (tmp_path / "o").exists()
 
 
 def test_plan_of_a_long_duration_is_refused_with_its_size(tmp_path):
     scen = _scenario(tmp_path, "long", {"duration_s = 15.0": "duration_s = 1e6"})
-    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed, "time.duration_s", "1,000,000,001 steps of 0.001 s", "use a shorter duration_s")
+    code, lines = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, "time.duration_s", "1,000,000,001 steps of 0.001 s", "use a shorter duration_s")
 
 
 def test_simulate_of_a_long_duration_is_refused_with_its_memory(tmp_path):
     scen = _scenario(tmp_path, "long", {"duration_s = 15.0": "duration_s = 1e5"})
-    code, lines, elapsed = _cli("simulate", str(scen), "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed, "time.duration_s", "100,000,001 steps", "GB in memory", "this machine:")
+    code, lines = _cli("simulate", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, "time.duration_s", "100,000,001 steps", "GB in memory", "this machine:")
     assert not (tmp_path / "o").exists()
 
 
 def test_workspace_of_a_huge_grid_is_refused_with_its_memory(tmp_path):
-    code, lines, elapsed = _cli("workspace", "paper", "--points", "100000x100000", "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed, "1e+10 poses (100000 x 100000)", "TB in memory", "fewer grid points")
+    code, lines = _cli("workspace", "paper", "--points", "100000x100000", "--out", str(tmp_path / "o"))
+    _refused(code, lines, "1e+10 poses (100000 x 100000)", "TB in memory", "fewer grid points")
     assert not (tmp_path / "o").exists()
 
 
@@ -88,8 +93,8 @@ def test_sea_state_summed_too_often_is_refused(tmp_path):
     # a 3 h record of 8100 wave components, summed at 21.6 M times: about 5 h of work
     scen = _scenario(tmp_path, "sea", {"record_s = 1800.0 ": "record_s = 10800.0 ", "step_s = 0.001": "step_s = 0.0005",
                                        "duration_s = 15.0": "duration_s = 10800.0"}, base="paper_sea")
-    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"), timeout=60.0)
-    _refused(code, lines, elapsed, "base_motion.record_s", "8,100 wave components", "component-samples",
+    code, lines = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, "base_motion.record_s", "8,100 wave components", "component-samples",
              "use a shorter record_s")
 
 
@@ -100,27 +105,30 @@ def test_sea_state_summed_too_often_is_refused(tmp_path):
 ])
 def test_absurd_times_are_one_line_exit_2(tmp_path, command, replace):
     scen = _scenario(tmp_path, "absurd", replace)
-    code, lines, elapsed = _cli(command, str(scen), "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed)
+    code, lines = _cli(command, str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines)
 
 
 def test_absurd_sea_record_is_one_line_exit_2(tmp_path):
     scen = _scenario(tmp_path, "absurd", {"record_s = 1800.0 ": "record_s = 1e12 "}, base="paper_sea")
-    code, lines, elapsed = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
-    _refused(code, lines, elapsed, "record_s")
+    code, lines = _cli("plan", str(scen), "--out", str(tmp_path / "o"))
+    _refused(code, lines, "record_s")
 
 
-def test_library_refuses_before_allocating(paper):
+def test_library_refuses_before_allocating(paper, monkeypatch):
+    from marinecdpr.prototype import simulation  # noqa: F401 - imported before the tripwires, patched too
     from marinecdpr.studies.workspace import workspace_map
 
     fine = paper.with_changes(time={"step_s": 1e-5, "duration_s": 1e6})
-    for call in (lambda: marinecdpr.plan(fine), lambda: marinecdpr.simulate(fine, plant="own"),
-                 lambda: workspace_map(paper, n=(100000, 100000))):
-        t0 = time.perf_counter()
-        with pytest.raises(ScenarioError, match="in memory") as info:
-            call()
-        assert time.perf_counter() - t0 < 1.0
-        assert "\n" not in str(info.value)
+    with monkeypatch.context() as armed:
+        tripwire.arm(armed)  # the refusal comes before any work (not: within a second)
+        for call in (lambda: marinecdpr.plan(fine), lambda: marinecdpr.simulate(fine, plant="own"),
+                     lambda: workspace_map(paper, n=(100000, 100000))):
+            with pytest.raises(ScenarioError, match="in memory") as info:
+                call()
+            assert "\n" not in str(info.value)
+        with pytest.raises(tripwire.WorkStarted):  # and the tripwires do catch work
+            marinecdpr.plan(paper)
     with pytest.raises(ScenarioError) as info:
         marinecdpr.plan(fine)
     assert info.value.key == "time.step_s" and "TB in memory" in str(info.value)

@@ -12,9 +12,6 @@ shaped ``(n_steps, ...)``.
 
 from marinecdpr.errors import InfeasibleError, MarineCDPRError, ScenarioError
 from marinecdpr.memory import keep_freed_memory
-from marinecdpr.planning.planner import Plan, iter_plan, plan
-from marinecdpr.scenario.loading import builtin_scenarios, load_scenario
-from marinecdpr.scenario.schema import Scenario
 
 __all__ = [
     "load_scenario",
@@ -32,12 +29,15 @@ __all__ = [
     "SimResult",
 ]
 
-_LAZY = {"simulate": "prototype.simulation", "SimResult": "prototype.simulation",
+_LAZY = {"load_scenario": "scenario.loading", "builtin_scenarios": "scenario.loading",
+         "Scenario": "scenario.schema", "plan": "planning.planner", "iter_plan": "planning.planner",
+         "Plan": "planning.planner", "simulate": "prototype.simulation", "SimResult": "prototype.simulation",
          "virtual_prototype": "studies.prototype_runs"}
 
 
 def __getattr__(name: str):
-    """The simulation layer (numba, MuJoCo) loads on first use, not with the package."""
+    """The layers (pydantic, numba, MuJoCo) load on first use, not with the package: the
+    ``marinecdpr`` command catches Ctrl-C before it imports them (:mod:`marinecdpr.cli.app`)."""
     if name in _LAZY:
         import importlib
 

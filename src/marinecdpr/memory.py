@@ -19,9 +19,6 @@ opt in (the ``marinecdpr`` command does).
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
-
 __all__ = ["keep_freed_memory"]
 
 _M_TRIM_THRESHOLD = -1
@@ -45,6 +42,9 @@ def keep_freed_memory(*, top_pad_bytes: int = 64 << 20, trim_threshold_bytes: in
     bool
         True if the settings took effect; False where the C library is not glibc.
     """
+    import ctypes  # here, not with the package: ``import marinecdpr`` stays light
+    import ctypes.util
+
     _no_numpy_huge_pages()
     name = ctypes.util.find_library("c")
     try:

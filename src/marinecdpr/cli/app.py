@@ -10,8 +10,36 @@ max_bypassed_share`` of its steps (the outputs are written, complete, with the v
 
 from __future__ import annotations
 
-import math
+import os
+import signal
 import sys
+
+
+def _interrupted_while_starting(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C while the command loads (its imports, before :func:`main`): one line, exit 130.
+    Nothing has been written yet, and nothing needs tidying."""
+    os.write(2, b"error: interrupted\n")
+    os._exit(130)
+
+
+def _run_as_the_command() -> bool:
+    """Is this process the ``marinecdpr`` command (its console script, ``python -m
+    marinecdpr`` or ``python -m marinecdpr.cli``), not a program that imports this module
+    (a test, or a worker multiprocessing spawned, which runs its parent's script under
+    another name)?"""
+    main_module = sys.modules.get("__main__")
+    spec = getattr(main_module, "__spec__", None)
+    if spec is not None:
+        return spec.name in ("marinecdpr.__main__", "marinecdpr.cli.__main__")
+    return os.path.basename(getattr(main_module, "__file__", None) or "") == "marinecdpr"
+
+
+# first, before the heavy imports below (typer, rich, numpy, pydantic: about a second on a
+# loaded machine)
+if _run_as_the_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+    signal.signal(signal.SIGINT, _interrupted_while_starting)
+
+import math  # noqa: E402
 import time
 from contextlib import contextmanager
 from pathlib import Path
@@ -21,6 +49,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
@@ -43,8 +72,15 @@ app = typer.Typer(
          "simulation.max_bypassed_share of its steps (the files are written, with the verdict); 130 interrupted.",
     pretty_exceptions_show_locals=False,
 )
-console = Console()
-err_console = Console(stderr=True)
+# no markup: every text printed reads literally (a user's names and paths, and the library's
+# messages: "pip install 'marinecdpr[bench]'"); the few styled words are rich Text (_styled)
+console = Console(markup=False)
+err_console = Console(stderr=True, markup=False)
+
+
+def _styled(word: str, style: str, rest: str) -> Text:
+    """``word`` in ``style``, then a space and ``rest`` as it is."""
+    return Text.assemble((word, style), " ", rest)
 
 
 def _version(value: bool) -> None:
@@ -65,12 +101,18 @@ def _options(
 
 def _plain(text: object) -> str:
     """Text from a user (names, paths, messages) for the terminal, read literally: control
-    characters (ANSI escapes) removed and rich markup escaped."""
-    return escape(strip_control(str(text)))
+    characters (ANSI escapes) removed (the consoles read no markup)."""
+    return strip_control(str(text))
+
+
+_interruption_said = False
+"""Has a one-line message about an interruption been printed (by :func:`_fail`)?"""
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
-    err_console.print(f"[bold red]error:[/] {_plain(message)}", highlight=False, soft_wrap=True)
+    global _interruption_said
+    _interruption_said = _interruption_said or code == EXIT_INTERRUPTED
+    err_console.print(_styled("error:", "bold red", _plain(message)), highlight=False, soft_wrap=True)
     raise typer.Exit(code)
 
 
@@ -136,7 +178,7 @@ def plan(
     console.print(table)
     problem = result.infeasibility()
     if problem is not None:
-        err_console.print(f"[bold yellow]infeasible:[/] {_plain(sc.name)}: {_plain(problem)}", highlight=False,
+        err_console.print(_styled("infeasible:", "bold yellow", f"{_plain(sc.name)}: {_plain(problem)}"), highlight=False,
                           soft_wrap=True)
         if not allow_infeasible:
             raise typer.Exit(EXIT_INFEASIBLE)
@@ -154,6 +196,10 @@ def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleanin
         if cleaning and (sc.cleaning is None or sc.trajectory.type != "coverage"):
             raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                                 source=sc.name, key="cleaning")
+        if duration is not None and duration > sc.time.duration_s:
+            err_console.print(_styled("warning:", "bold yellow", f"--duration {duration:g}: {_plain(scenario)} lasts "
+                                      f"{sc.time.duration_s:g} s; flying those {sc.time.duration_s:g} s"),
+                              highlight=False, soft_wrap=True)
         if duration is not None:
             sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
         check_run_size(sc, run)  # before any work: too big is one line, exit 2
@@ -177,12 +223,26 @@ def _run_errors(scenario: str):
 
 
 def _compile_notice(plant: str) -> None:
-    """A line on stderr when the simulation's loop must first be compiled (a fresh install)."""
+    """A line on stderr when the simulation's loop must first be compiled (a fresh install);
+    every command that flies the virtual prototype calls it before its work."""
     from marinecdpr.prototype.simulation import KERNEL_COMPILE_S, kernels_cached
 
     if not kernels_cached(plant):
-        err_console.print(f"compiling the simulation kernels, once (about {KERNEL_COMPILE_S:g} s; cached for "
-                          "later runs)...", highlight=False, soft_wrap=True)
+        _compiling("the simulation kernels", KERNEL_COMPILE_S)
+
+
+def _compiling(what: str, seconds: float) -> None:
+    """The one-line notice that ``what`` is compiled now, once, for about ``seconds``."""
+    err_console.print(f"compiling {what}, once (about {seconds:g} s; cached for later runs)...", highlight=False,
+                      soft_wrap=True)
+
+
+def _size_notice(sc, size, grid: tuple[int, int] | None = None) -> None:
+    """A line on stderr saying how big the run about to start is
+    (:func:`~marinecdpr.planning.budget.describe_run`)."""
+    from marinecdpr.planning.budget import describe_run
+
+    err_console.print(_plain(f"size: {sc.name}: {describe_run(size, grid)}"), highlight=False, soft_wrap=True)
 
 
 @app.command()
@@ -250,6 +310,7 @@ def clean(
                 job = (guaranteed_job if guarantee else cleaning_job)(sc, plant=plant, progress=step)
                 if compare:
                     job.summary["comparison"] = compare_conditions(job, plant=plant, progress=step)
+            update(done[0], done[0])  # the runs that were flown (a guarantee met at once skips its second)
         if hull_area is not None:
             try:
                 job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)
@@ -357,6 +418,9 @@ def simulate(
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
             def progress(run: str, done: int, total: int) -> None:
+                if run not in tasks:  # after the runs: the error budget's workspace maps, in poses
+                    tasks[run] = bar.add_task(RUN_TITLES.get(run, "error budget: workspace maps"), total=total,
+                                              unit="poses")
                 bar.update(tasks[run], completed=done, total=total)
 
             with _run_errors(scenario):
@@ -415,6 +479,8 @@ def _output(out: Path):
     except OSError as exc:
         _fail(f"--out {out}: could not write the files ({exc.strerror or exc}); the folder keeps what it held")
     except KeyboardInterrupt:
+        if staged.committed:  # Ctrl-C as the files went in: they are all there
+            _fail(f"interrupted; --out {out} holds this run's files, complete", EXIT_INTERRUPTED)
         _fail(f"interrupted; --out {out} keeps what it held", EXIT_INTERRUPTED)
 
 
@@ -452,10 +518,10 @@ class _PlainProgress:
                     self._line(task, final=True)
         return False
 
-    def add_task(self, description: str = "", total: float | None = None, **_) -> int:
+    def add_task(self, description: str = "", total: float | None = None, unit: str | None = None, **_) -> int:
         now = time.perf_counter()
-        self._tasks.append(dict(description=description, total=total, done=0, printed=0, start=now,
-                                printed_at=now, finished=False, started=False))
+        self._tasks.append(dict(description=description, total=total, unit=unit, done=0, printed=0, start=now,
+                                printed_at=now, finished=False, started=False, rate_from=None))
         return len(self._tasks) - 1
 
     def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
@@ -473,6 +539,10 @@ class _PlainProgress:
         if advance is not None:
             task["done"] += advance
         done, total = task["done"], task["total"]
+        if task["rate_from"] is None and done > 0:
+            # the rate clock starts when the first piece of work is done: a first run's
+            # compile (tens of seconds) is in that piece, and would swell every estimate
+            task["rate_from"] = (time.perf_counter(), done)
         if task["finished"] or done <= task["printed"]:
             return
         tenth = PROGRESS_LINE_FRACTION
@@ -489,17 +559,22 @@ class _PlainProgress:
         elapsed = now - task["start"]
         done, total = task["done"], task["total"]
         name = ": ".join(x for x in (self.label, task["description"]) if x)
-        unit = f" {self.unit}" if self.unit else ""
+        unit = task["unit"] or self.unit
+        per = unit or "done"
+        unit = f" {unit}" if unit else ""
         of = f"{done:g} of {total:g}{unit}" if total else f"{done:g}{unit}"
         if final:
             rate = ""
             if elapsed > 0:
                 per_s = done / elapsed
-                rate = f" ({per_s:.3g} {self.unit or 'done'}/s)" if per_s < 100 else f" ({per_s:,.0f} {self.unit or 'done'}/s)"
+                rate = f" ({per_s:.3g} {per}/s)" if per_s < 100 else f" ({per_s:,.0f} {per}/s)"
             text = f"{name}: {of} in {_seconds(elapsed)}{rate}"
         else:
             pct = f" ({100 * done / total:.0f}%)" if total else ""
-            left = f", about {_seconds(elapsed * (total - done) / done)} left" if total and done else ""
+            left = ""
+            if total and task["rate_from"] is not None and done > task["rate_from"][1]:
+                since, done_then = task["rate_from"]
+                left = f", about {_seconds((now - since) * (total - done) / (done - done_then))} left"
             text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
         err_console.print(_plain(text), highlight=False, soft_wrap=True)
         task.update(printed=done, printed_at=now, finished=final, ended=now)
@@ -542,6 +617,18 @@ def _progress(label: str, total: int, unit: str = ""):
         yield update
 
 
+def _grid(flag: str, text: str, example: str) -> tuple[int, int]:
+    """A grid's two positive point counts from ``AxB`` (checked here, not by ``assert``: the
+    checks hold under ``python -O``); one line, exit 2, otherwise."""
+    try:
+        n = tuple(int(k) for k in text.lower().split("x"))
+    except ValueError:
+        n = ()
+    if len(n) != 2 or min(n) <= 0:
+        _fail(f"{flag} {text}: expected two positive integers like {example}")
+    return n
+
+
 @app.command()
 def workspace(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
@@ -556,11 +643,7 @@ def workspace(
     from marinecdpr.report.writers import write_workspace
     from marinecdpr.studies.workspace import workspace_map
 
-    try:
-        n = tuple(int(k) for k in points.lower().split("x"))
-        assert len(n) == 2 and min(n) > 0
-    except (ValueError, AssertionError):
-        _fail(f"--points {points}: expected two positive integers like 30x20")
+    n = _grid("--points", points, "30x20")
     if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
         _fail(f"--axes {axes}: expected two different letters of x, y, z")
     _number("--fixed", fixed, finite_only=True)
@@ -568,11 +651,12 @@ def workspace(
     from marinecdpr.planning.budget import check_run_size
 
     try:
-        check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
+        size = check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     t0 = time.perf_counter()
     with _output(out) as folder:
+        _size_notice(sc, size, n)
         with _progress("workspace", n[0] * n[1], "poses") as update:
             try:
                 ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed, progress=update)
@@ -631,11 +715,7 @@ def operability(
     _number("--max-error", max_error)
     grid = None
     if workspace_grid is not None:
-        try:
-            grid = tuple(int(k) for k in workspace_grid.lower().split("x"))
-            assert len(grid) == 2 and min(grid) > 0
-        except (ValueError, AssertionError):
-            _fail(f"--workspace {workspace_grid}: expected two positive integers like 12x8")
+        grid = _grid("--workspace", workspace_grid, "12x8")
     sc = _load(scenario, None, None)
     diagram = _scatter_diagram(scatter)
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
@@ -651,6 +731,8 @@ def operability(
     n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:
+        if max_error is not None:  # each cell flies the closed loop on the own plant
+            _compile_notice("own")
         with _progress_bar("sea states") as bar:
             task = bar.add_task("", total=n_cells)
             try:
@@ -677,6 +759,11 @@ def operability(
                           highlight=False, soft_wrap=True)
 
 
+def _count(number: object, noun: str) -> str:
+    """``1 day``, ``3 days``, ``0.5 days``: the number as given, the noun singular for one."""
+    return f"{number} {noun}" + ("" if float(number) == 1.0 else "s")
+
+
 def _interval(interval: tuple[float, float], realisations: int) -> str:
     """' (95 %: lo-hi %)' for a study with several realisations, else ''."""
     if realisations <= 1:
@@ -699,7 +786,7 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
     """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
     ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
            else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
-    table = Table(title=title, caption=f"{len(op.results)} sea states, {_plain(ran)}, {elapsed:.1f} s")
+    table = Table(title=title, caption=f"{_count(len(op.results), 'sea state')}, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
     table.add_column("Tp (s)", justify="right")
@@ -762,7 +849,7 @@ def _sea_executor(serial: bool, workers: int | None, scheduler: str | None, step
     executor, why = choose_executor(asked, steps, scheduler=scheduler)
     if why == "no dask":
         err_console.print("note: running the sea states serially: Dask is not installed "
-                          "(pip install 'marinecdpr[dask]' to run them in parallel)", markup=False, highlight=False,
+                          "(pip install 'marinecdpr[dask]' to run them in parallel)", highlight=False,
                           soft_wrap=True)
     elif executor == "dask" and not dask_installed():
         _fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
@@ -775,7 +862,7 @@ def _warn_scale(sc, scenario: str) -> None:
     from marinecdpr.scenario.scale import scale_warnings
 
     for line in scale_warnings(sc):
-        err_console.print(f"[bold yellow]warning:[/] {_plain(scenario)}: {_plain(line)}", highlight=False,
+        err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: {_plain(line)}"), highlight=False,
                           soft_wrap=True)
 
 
@@ -821,6 +908,8 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         end = sc.trajectory.start_time_s + path.duration_s
         console.print(f"coverage path: {path.lanes} lanes {path.spacing_m:.4g} m apart at {path.direction_deg:g} deg, "
                       f"{path.length_m:.4g} m, {path.duration_s:.4g} s"
+                      + (f" (the pass along the edges {path.boundary_length_m:.4g} m, {path.boundary_duration_s:.4g} s "
+                         "of it)" if path.boundary_length_m > 0 else "")
                       + ("" if end <= sc.time.duration_s + 1e-9 else
                          f" (the scenario's {sc.time.duration_s:g} s ends before the path: only part of the panel)"),
                       highlight=False, soft_wrap=True)
@@ -916,14 +1005,17 @@ def windows(
         _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
     try:
         day_list = [float(d) for d in days.split(",")]
-        assert all(math.isfinite(d) and d > 0 for d in day_list)
-    except (ValueError, AssertionError):
+    except ValueError:
+        day_list = []
+    if not day_list or not all(math.isfinite(d) and d > 0 for d in day_list):
         _fail(f"--days {days}: expected positive numbers separated by commas, e.g. 1,3,7")
     try:
         path = series or Path(str(resources.files("marinecdpr") / "data" / "sea_states_illustrative.csv"))
         sea = read_sea_state_series(path)
         table = None
         if operability_json is not None:
+            if operability_json.is_dir():
+                raise ScenarioError("a folder, not a file; expected an operability.json", source=str(operability_json))
             try:
                 table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
             except (OSError, ValueError) as exc:
@@ -939,11 +1031,12 @@ def windows(
                                        days=day_list)
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
     finish = summary["finish_within_days_probability"]
-    console.print(_plain(f"{len(w.windows)} windows, {summary['windows_long_enough']} of them {duration_h:g} h or "
+    console.print(_plain(f"{_count(len(w.windows), 'window')}, {summary['windows_long_enough']} of them {duration_h:g} h or "
                          f"longer; wait before the operation can start: {wait} (it can start from "
                          f"{100 * w.can_start:.1f} % of the start times); done within "
-                         + ", ".join(f"{d} days: {100 * p:.1f} %" for d, p in finish.items())
-                         + f"; written: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
+                         + ", ".join(f"{_count(d, 'day')}: {100 * p:.1f} %" for d, p in finish.items())
+                         + f"; written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False,
+                  soft_wrap=True)
 
 
 @app.command("control-study")
@@ -999,6 +1092,7 @@ def control_study(
         _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
               "warm-up and a second)")
     with _output(out) as folder:
+        _compile_notice(plant)
         with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
                                               "runs") as bar:
             result = study(sc, latencies_s=lat_s, predictions=preds, pose_from=sources, rate_hz=rate,
@@ -1013,7 +1107,7 @@ def control_study(
                       f"slack margin {r.slack_margin_N:.4g} N"
                       + (f"; controller BYPASSED at {r.fallbacks} steps" if r.controller_verdict == "bypassed" else ""),
                       highlight=False, soft_wrap=True)
-    console.print(f"written: {', '.join(p.name for p in paths)}", highlight=False)
+    console.print(_plain(f"written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
     _fail_bypassed([(f"latency {1e3 * r.latency_s:g} ms, prediction {r.prediction}, pose from {r.pose_from}",
                      r.fallbacks, result.steps) for r in result.bypassed], sc, out)
 
@@ -1030,9 +1124,11 @@ def latency(
     import dataclasses
     import json as _json
 
-    from marinecdpr.studies.latency import controller_latency
+    from marinecdpr.studies.latency import LATENCY_COMPILE_S, controller_latency, latency_kernels_cached
 
     sc = _load(scenario, None, None)
+    if not latency_kernels_cached():
+        _compiling("the controller's step", LATENCY_COMPILE_S)
     with _run_errors(scenario):
         lat = controller_latency(sc, calls=calls)
     if as_json:
@@ -1059,11 +1155,54 @@ def scenarios() -> None:
                       soft_wrap=True)
 
 
-def main() -> None:
-    """Console entry point."""
-    keep_freed_memory()
-    app()
+def _help_read_literally(typer_app: typer.Typer) -> None:
+    """Escape rich markup in every command's help (its docstring and its options' help), so
+    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]"."""
+    import inspect
 
+    for command in typer_app.registered_commands:
+        doc = command.help if command.help is not None else inspect.getdoc(command.callback)
+        if doc:
+            command.help = escape(doc)
+        for parameter in inspect.signature(command.callback).parameters.values():
+            info = parameter.default
+            if isinstance(info, typer.models.ParameterInfo) and info.help:
+                info.help = escape(info.help)
+
+
+def _interrupted_while_ending(signum, frame) -> None:  # pragma: no cover - timing
+    """Ctrl-C once the command has finished (the interpreter shutting down, e.g. a Dask
+    cluster's teardown): one line if none was printed, exit 130."""
+    if not _interruption_said:
+        os.write(2, b"error: interrupted\n")
+    os._exit(EXIT_INTERRUPTED)
+
+
+def main() -> None:
+    """Console entry point.
+
+    Ctrl-C is one line on stderr and exit 130 at any moment: while the modules load
+    (:func:`_interrupted_while_starting`), while a command runs (``KeyboardInterrupt``:
+    the library tidies up, :func:`_output` says what the output folder holds; typer turns
+    one raised elsewhere into a silent exit 130, given its line here) and after it.
+    """
+    if signal.getsignal(signal.SIGINT) is _interrupted_while_starting:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        keep_freed_memory()
+        app()
+    except KeyboardInterrupt:
+        _fail("interrupted", EXIT_INTERRUPTED)
+    except SystemExit as exc:
+        if exc.code == EXIT_INTERRUPTED and not _interruption_said:
+            err_console.print(_styled("error:", "bold red", "interrupted"), highlight=False)
+        raise
+    finally:
+        if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _interrupted_while_ending)
+
+
+_help_read_literally(app)
 
 if __name__ == "__main__":  # pragma: no cover
     sys.exit(main())

@@ -48,6 +48,7 @@ __all__ = [
     "pseudo_inverse_tensions",
     "null_space",
     "distribute_tensions",
+    "largest_headroom",
     "TENSION_TOLERANCE",
 ]
 
@@ -396,3 +397,92 @@ def distribute_tensions(
         f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
         "closed_form, improved_closed_form or minimum_norm)"
     )
+
+
+_VERTEX_BUDGET = 4096
+"""Largest number of candidate vertices per step :func:`largest_headroom` enumerates; above
+it each step is solved as a linear programme (HiGHS)."""
+
+
+def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: np.ndarray) -> np.ndarray:
+    """The largest headroom any tensions producing the wrench could keep, at every step.
+
+    The headroom of tensions T is their smallest distance to the limits,
+    min_i min(T_i - T_min,i, T_max,i - T_i). Over every solution T = T_s + N lambda of
+    J~^T T = w (eqs. 17, 19), this returns the largest: the linear programme
+    max h s.t. T_s + N lambda - T_min >= h, T_max - T_s - N lambda >= h. It is the
+    largest margin the limits could be tightened by with the step still feasible
+    (negative: even the untightened limits cannot be met, by that much). Whatever the
+    tension method, a step is feasible within the limits tightened by a margin M only
+    if this is at least M (and the exact methods find tensions whenever it is).
+
+    The programme is bounded (each cable's two limits bound lambda both ways along N's
+    rows); its optimum is at a vertex where r + 1 of its 2 n_cables constraints are
+    tight. For r = n_cables - k small enough (``_VERTEX_BUDGET`` candidates) every such
+    vertex is tried, vectorised over the steps; otherwise HiGHS solves each step.
+
+    Parameters
+    ----------
+    J : ndarray, shape (n_steps, n_cables, k)
+        Controlled columns of J~ (eq. 6), full column rank where T_s is finite.
+    T_s : ndarray, shape (n_steps, n_cables)
+        The pseudo-inverse tensions (:func:`pseudo_inverse_tensions`), N; NaN at singular
+        poses.
+    t_min, t_max : ndarray, shape (n_cables,)
+        Tension limits, N.
+
+    Returns
+    -------
+    ndarray, shape (n_steps,)
+        N; NaN where T_s is not finite (a singular pose).
+    """
+    from itertools import combinations
+
+    J = np.asarray(J, dtype=float)
+    T_s = np.asarray(T_s, dtype=float)
+    n, m, k = J.shape
+    lo = np.broadcast_to(np.asarray(t_min, dtype=float), (m,))
+    hi = np.broadcast_to(np.asarray(t_max, dtype=float), (m,))
+    out = np.full(n, np.nan)
+    good = np.all(np.isfinite(T_s), axis=1)
+    if m == k:  # no redundancy: the tensions are T_s
+        out[good] = np.minimum(T_s[good] - lo, hi - T_s[good]).min(axis=1)
+        return out
+    idx = np.flatnonzero(good)
+    r = m - k
+    combos = np.array(list(combinations(range(2 * m), r + 1))) if _n_choose(2 * m, r + 1) <= _VERTEX_BUDGET else None
+    for s in range(0, idx.size, 2048):
+        rows = idx[s:s + 2048]
+        N = null_space(J[rows])                                    # (b, m, r)
+        A = np.concatenate([N, -N], axis=1)                        # (b, 2m, r): h <= A lambda + b
+        b = np.concatenate([T_s[rows] - lo, hi - T_s[rows]], axis=1)  # (b, 2m)
+        if combos is None:
+            out[rows] = [_headroom_lp(A[i], b[i]) for i in range(rows.size)]
+            continue
+        # vertex: A_j lambda - h = -b_j for the r + 1 constraints j of a combination
+        M = np.concatenate([A[:, combos], -np.ones(A[:, combos].shape[:-1] + (1,))], axis=-1)  # (b, c, r+1, r+1)
+        rhs = -b[:, combos]                                                                    # (b, c, r+1)
+        det = np.linalg.det(M)
+        scale = np.abs(M).max(axis=(-2, -1)) ** (r + 1)
+        regular = np.abs(det) > 1e-12 * scale
+        M = np.where(regular[..., None, None], M, np.eye(r + 1))
+        lam = np.linalg.solve(M, rhs[..., None])[..., :r, 0]                                  # (b, c, r)
+        g = (np.einsum("bjr,bcr->bcj", A, lam) + b[:, None, :]).min(axis=-1)                  # (b, c)
+        out[rows] = np.where(regular, g, -np.inf).max(axis=1)
+    return out
+
+
+def _n_choose(a: int, b: int) -> int:
+    from math import comb
+
+    return comb(a, b)
+
+
+def _headroom_lp(A: np.ndarray, b: np.ndarray) -> float:
+    """max h s.t. h <= A lambda + b (one step of :func:`largest_headroom`), by HiGHS."""
+    from scipy.optimize import linprog
+
+    r = A.shape[1]
+    res = linprog(np.r_[np.zeros(r), -1.0], A_ub=np.c_[-A, np.ones(len(b))], b_ub=b,
+                  bounds=[(None, None)] * (r + 1), method="highs")
+    return float(-res.fun) if res.status == 0 else float("nan")

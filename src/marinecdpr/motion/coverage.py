@@ -29,6 +29,8 @@ __all__ = ["CoveragePath", "coverage_path"]
 _STARTS = {"lower_left": (0, 0), "lower_right": (1, 0), "upper_left": (0, 1), "upper_right": (1, 1)}
 #: relative tolerance on lengths (of the panel's size) and on the brush radius
 _REL = 1e-9
+#: kinds of the path's segments: steps between lanes and transfers, lanes, the boundary pass
+_STEP, _LANE, _BOUNDARY = 0, 1, 2
 
 
 @dataclass(frozen=True)
@@ -43,8 +45,11 @@ class CoveragePath:
     vertices : ndarray, shape (m + 1, 2)
         The path's corner points in order, ``(x, z)`` in C, m.
     lane_segment : ndarray of bool, shape (m,)
-        True for the segments that are lanes, False for the steps between lanes and the
-        transfers between cells.
+        True for the segments that are lanes, False for the steps between lanes, the
+        transfers between cells and the boundary pass.
+    boundary_segment : ndarray of bool, shape (m,)
+        True for the segments of the boundary pass (``boundary_pass``) and of the transfers
+        it needs; all False without it.
     vertex_time_s : ndarray, shape (m + 1,)
         Time at which the brush is (at rest) at each vertex, s; 0 for the first.
     lanes : int
@@ -58,18 +63,24 @@ class CoveragePath:
         Length of the path, m.
     duration_s : float
         Time to traverse the path, s.
+    boundary_length_m, boundary_duration_s : float
+        What the boundary pass costs: the path's length (m) and duration (s) less those of
+        the same panel's path without it (which may have one lane fewer); 0 without it.
     speed_m_s, accel_m_s2, jerk_m_s3 : float
         The limits the time law respects (m/s, m/s^2, m/s^3).
     """
 
     vertices: np.ndarray
     lane_segment: np.ndarray
+    boundary_segment: np.ndarray
     vertex_time_s: np.ndarray
     lanes: int
     spacing_m: float
     direction_deg: float
     length_m: float
     duration_s: float
+    boundary_length_m: float
+    boundary_duration_s: float
     speed_m_s: float
     accel_m_s2: float
     jerk_m_s3: float
@@ -184,10 +195,19 @@ def coverage_path(
         The corner of the panel's bounding box in (x, z) near which the path starts: it
         starts at the cell entry corner nearest to it.
     boundary_pass : bool
-        After the lanes, go once round the panel's outline inset by ``width_m / 2``, from
-        its corner nearest the last lane's end: it cleans the slivers the lanes leave
-        along the edges (where no step runs between lane ends). A convex panel without
-        holes only.
+        Also run the brush along the panel's outline inset by ``width_m / 2`` where the
+        lanes do not: it cleans the slivers the lanes leave along the edges (where no step
+        runs between lane ends). The pass follows the inset outline less its edges along
+        the lanes (the first and last lanes lie on them): on a rectangle, its two sides.
+        The lanes and the pieces of the pass are ordered to need the shortest transfers,
+        the path still starting at the point nearest ``start``: on a rectangle, up one
+        side from the start, the lanes back from the far end, up the other side, with no
+        transfer and nothing flown twice but the steps between lanes. That needs an odd
+        number of lanes (an even number would end on the side it started from, a
+        transfer across the panel away from the other side): where the spacing gives an
+        even number, one lane more is laid, closer together. What the pass costs, against
+        the path without it, is ``boundary_length_m`` and ``boundary_duration_s``. A
+        convex panel without holes only.
 
     Returns
     -------
@@ -258,11 +278,18 @@ def coverage_path(
             f"the panel is {v_hi - v_lo:.6g} m across the lanes ({theta:.6g} deg), narrower than the brush "
             f"(width_m = {width!r})", key="width_m",
         )
+    ring = along = None
+    if boundary_pass:
+        ring, along = _inset_ring(loops[0], radius, bool(inner), tol)
     if span <= tol:
         lines = np.array([0.5 * (v_lo + v_hi)])
         spacing = nominal
     else:
         gaps = max(1, int(np.ceil(span / nominal - 1e-9)))
+        if boundary_pass and along.sum() >= 2 and gaps % 2 == 1:
+            # the pass's two sides, one before the lanes and one after, need an odd number
+            # of lanes (an even number ends on the side it started from: a transfer across)
+            gaps += 1
         spacing = span / gaps
         lines = v_lo + radius + spacing * np.arange(gaps + 1)
         lines[-1] = v_hi - radius
@@ -275,25 +302,34 @@ def coverage_path(
     cells = _cells(pieces, lines, geo)
     corner = np.array([[outer[:, 0].min(), outer[:, 0].max()][_STARTS[start][0]],
                        [outer[:, 1].min(), outer[:, 1].max()][_STARTS[start][1]]]) @ to_lane
-    points, is_lane = _sweep(cells, corner, geo)
     if boundary_pass:
-        points, is_lane = _with_boundary_pass(points, is_lane, outer @ to_lane, radius, bool(inner), tol)
-    points, is_lane = _merge_collinear(points, is_lane, tol)
+        points, kind = _with_boundary_pass(cells, corner, ring, along, tol)
+    else:
+        points, is_lane = _sweep(cells, corner, geo)
+        kind = np.where(is_lane, _LANE, _STEP).astype(np.int8)
+    points, kind = _merge_collinear(points, kind, tol)
     vertices = points @ to_lane.T
     vertices.flags.writeable = False
     lengths = np.linalg.norm(np.diff(vertices, axis=0), axis=1)
     phases, times = _time_law(lengths, speed, accel, jerk)
-    is_lane.flags.writeable = False
-    times.flags.writeable = False
+    is_lane, on_boundary = kind == _LANE, kind == _BOUNDARY
+    if boundary_pass:  # the same path without the pass, for what the pass costs
+        bare = coverage_path(panel, holes, width_m=width, overlap_m=overlap, speed_m_s=speed, accel_m_s2=accel,
+                             jerk_m_s3=jerk, direction_deg=theta, start=start)
+    for a in (is_lane, on_boundary, times):
+        a.flags.writeable = False
     return CoveragePath(
         vertices=vertices,
         lane_segment=is_lane,
+        boundary_segment=on_boundary,
         vertex_time_s=times,
         lanes=int(is_lane.sum()),
         spacing_m=float(spacing),
         direction_deg=float(theta),
         length_m=float(lengths.sum()),
         duration_s=float(times[-1]),
+        boundary_length_m=float(lengths.sum()) - bare.length_m if boundary_pass else 0.0,
+        boundary_duration_s=float(times[-1]) - bare.duration_s if boundary_pass else 0.0,
         speed_m_s=speed,
         accel_m_s2=accel,
         jerk_m_s3=jerk,
@@ -301,10 +337,10 @@ def coverage_path(
     )
 
 
-def _with_boundary_pass(points: np.ndarray, is_lane: np.ndarray, outer: np.ndarray, radius: float,
-                        holes: bool, tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """The path, then a straight transfer to the nearest corner of the outline (k, 2),
-    counter-clockwise, inset by ``radius``, and once round it back to that corner."""
+def _inset_ring(outer: np.ndarray, radius: float, holes: bool, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """The convex panel ``outer`` (k, 2), counter-clockwise, in lane coordinates, inset by
+    ``radius``: its corners (k', 2), counter-clockwise, and which of its edges (corner i to
+    i + 1) run along the lanes (constant v), (k',) bool."""
     edges = np.roll(outer, -1, axis=0) - outer
     turn = edges[:, 0] * np.roll(edges, -1, axis=0)[:, 1] - edges[:, 1] * np.roll(edges, -1, axis=0)[:, 0]
     if holes or np.any(turn < -tol * tol):
@@ -318,13 +354,99 @@ def _with_boundary_pass(points: np.ndarray, is_lane: np.ndarray, outer: np.ndarr
     keep = np.abs(cross) > 1e-12  # collinear edges share their inset line: no corner
     w = a1 - a0
     lam = (w[:, 0] * d1[:, 1] - w[:, 1] * d1[:, 0])[keep] / cross[keep]
-    corners = a0[keep] + lam[:, None] * d0[keep]
-    first = int(np.argmin(np.linalg.norm(corners - points[-1], axis=1)))
-    loop = np.roll(corners, -first, axis=0)
-    loop = np.concatenate([loop, loop[:1]])
-    if np.linalg.norm(loop[0] - points[-1]) <= tol:  # the lanes end on that corner
-        loop = loop[1:]
-    return np.concatenate([points, loop]), np.concatenate([is_lane, np.zeros(len(loop), dtype=bool)])
+    ring = a0[keep] + lam[:, None] * d0[keep]
+    along = np.abs(np.roll(ring, -1, axis=0)[:, 1] - ring[:, 1]) <= tol
+    return ring, along
+
+
+def _with_boundary_pass(cells, corner: np.ndarray, ring: np.ndarray, along: np.ndarray,
+                        tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """The lanes and the boundary pass (see :func:`coverage_path`), in lane coordinates:
+    points (m + 1, 2) and each segment's kind (m,) (``_LANE``, ``_STEP``, ``_BOUNDARY``).
+
+    ``ring``, ``along``: :func:`_inset_ring`. The pass covers the inset panel's outline
+    less its edges along the lanes (the first and last lanes lie on them): one or two
+    open chains, or the closed outline when no edge runs along the lanes. The single
+    cell's sweep (four ways to enter it) and the chains (either way round) are put in the
+    order that needs the shortest transfers (straight: the inset panel is convex), among
+    the orders that start at the point nearest ``corner``.
+    """
+    from itertools import permutations
+
+    if len(cells) != 1:
+        raise ScenarioError("a boundary pass needs a convex panel without holes", key="boundary_pass")
+    closed = not along.any()
+    chains = []
+    if not closed:  # walk round from the end of an edge along the lanes, cutting at each such edge
+        k = len(ring)
+        first = int(np.flatnonzero(along)[0])
+        current = None
+        for e in (np.arange(1, k + 1) + first) % k:
+            if along[e]:
+                if current is not None:
+                    chains.append(np.array(current))
+                current = None
+            else:
+                current = [ring[e]] if current is None else current
+                current.append(ring[(e + 1) % k])
+        chains = [c for c in chains if np.linalg.norm(np.diff(c, axis=0), axis=1).sum() > tol]
+
+    lanes = cells[0]
+
+    def sweep(order, side):
+        pts, kinds = [], []
+        for lane in (lanes if order == 0 else lanes[::-1]):
+            v, lo, hi = lane
+            a, b = ((lo, v), (hi, v)) if side == 0 else ((hi, v), (lo, v))
+            if pts:
+                pts.append(np.array(a))
+                kinds.append(_STEP)
+            else:
+                pts.append(np.array(a))
+            pts.append(np.array(b))
+            kinds.append(_LANE)
+            side = 1 - side
+        return pts, kinds
+
+    sweeps = [sweep(order, side) for order in (0, 1) for side in (0, 1)]
+    if closed:
+        # once round from where the lanes end: the pass starts and ends there, no transfer
+        best = None
+        for pts, kinds in sweeps:
+            d = float(np.linalg.norm(pts[0] - corner))
+            if best is None or d < best[0] - tol:
+                best = (d, pts, kinds)
+        _, pts, kinds = best
+        end = pts[-1]
+        e = int(np.argmin([_point_seg(end, p, q) for p, q in zip(ring, np.roll(ring, -1, axis=0))]))
+        loop = [end] + [ring[(e + 1 + i) % len(ring)] for i in range(len(ring))] + [end]
+        pts = pts + loop[1:]
+        kinds = kinds + [_BOUNDARY] * (len(loop) - 1)
+        return np.array(pts), np.array(kinds, dtype=np.int8)
+
+    items = [("sweep", None)] + [("chain", c) for c in chains]
+    best = None
+    for order in permutations(range(len(items))):
+        for variant in np.ndindex(*[4 if items[i][0] == "sweep" else 2 for i in order]):
+            parts = []
+            for i, var in zip(order, variant):
+                if items[i][0] == "sweep":
+                    parts.append(sweeps[var])
+                else:
+                    c = items[i][1] if var == 0 else items[i][1][::-1]
+                    parts.append((list(c), [_BOUNDARY] * (len(c) - 1)))
+            start_d = float(np.linalg.norm(parts[0][0][0] - corner))
+            transfer = sum(float(np.linalg.norm(q[0][0] - p[0][-1])) for p, q in zip(parts[:-1], parts[1:]))
+            key = (round(start_d / tol), round(transfer / tol))
+            if best is None or key < best[0]:
+                best = (key, parts)
+    pts, kinds = list(best[1][0][0]), list(best[1][0][1])
+    for part_pts, part_kinds in best[1][1:]:
+        pts.append(part_pts[0])
+        kinds.append(_BOUNDARY)  # the transfer the pass needs (zero long where none is)
+        pts += part_pts[1:]
+        kinds += part_kinds
+    return np.array(pts), np.array(kinds, dtype=np.int8)
 
 
 # --- inputs -------------------------------------------------------------------------------
@@ -692,13 +814,14 @@ def _sweep(cells, corner: np.ndarray, geo: _Free) -> tuple[np.ndarray, np.ndarra
     return np.array(points, dtype=float), np.array(is_lane, dtype=bool)
 
 
-def _merge_collinear(points: np.ndarray, is_lane: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """Drop zero-length segments and join consecutive collinear transfer segments."""
-    keep_p, keep_l = [points[0]], []
-    for p, lane in zip(points[1:], is_lane):
+def _merge_collinear(points: np.ndarray, kind: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Drop zero-length segments and join consecutive collinear segments of one kind that
+    are not lanes (transfers, steps, the boundary pass)."""
+    keep_p, keep_k = [points[0]], []
+    for p, k in zip(points[1:], kind):
         if np.linalg.norm(p - keep_p[-1]) <= tol:
             continue
-        if keep_l and not lane and not keep_l[-1]:
+        if keep_k and k != _LANE and keep_k[-1] == k:
             d0 = keep_p[-1] - keep_p[-2]
             d1 = p - keep_p[-1]
             cross = d0[0] * d1[1] - d0[1] * d1[0]
@@ -706,8 +829,8 @@ def _merge_collinear(points: np.ndarray, is_lane: np.ndarray, tol: float) -> tup
                 keep_p[-1] = p
                 continue
         keep_p.append(p)
-        keep_l.append(lane)
-    return np.array(keep_p), np.array(keep_l, dtype=bool)
+        keep_k.append(k)
+    return np.array(keep_p), np.array(keep_k, dtype=np.int8)
 
 
 # --- time law -------------------------------------------------------------------------------

@@ -40,6 +40,7 @@ __all__ = [
     "estimate_run",
     "check_run_size",
     "human_bytes",
+    "describe_run",
 ]
 
 COMMANDS = ("plan", "plan_stream", "simulate", "virtual_prototype", "workspace", "operability")
@@ -336,9 +337,11 @@ def estimate_run(
         series = n * (3 * _result_row(m) + _sim_row(m, k, w) + _csv_row(1 + 12 + 4 * m))
         sea = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2)
     elif command == "workspace":
+        # the ship's motion of a chunk, shared by every held pose: evaluated once per chunk
         series = 0
+        working += chunk * SHIP_ROW
         pose_bytes = poses * POSE_BYTES
-        sea = _sea(scenario, chunk, n * poses, h)
+        sea = _sea(scenario, chunk, n, h)
     else:  # operability
         poses *= max(int(cells), 1)
         runs = 2 if closed_loop else 1
@@ -347,13 +350,36 @@ def estimate_run(
         series = max(int(workers), 1) * flight
         pose_bytes = poses * POSE_BYTES
         fly = _sea(scenario, 2 * n + 1, 2 * n + 1, h / 2) if closed_loop else (0, 0, 0)
-        wave_samples = per_cell[2] * poses + fly[2] * max(int(cells), 1)
+        # a cell's held poses share its ship's motion (workspace_map): summed once per cell
+        wave_samples = (per_cell[2] + fly[2]) * max(int(cells), 1)
+        working += chunk * SHIP_ROW if grid is not None else 0
         sea = (max(int(workers), 1) * max(per_cell[0], fly[0]), per_cell[1], wave_samples)
         working *= max(int(workers), 1)
     sea_bytes, components, samples = sea
     memory = BASE_BYTES + working + series + sea_bytes + pose_bytes
     return RunSize(command, n, m, poses, runs, int(memory), int(series), int(sea_bytes), int(pose_bytes),
                    int(components), int(samples))
+
+
+def describe_run(size: RunSize, grid: tuple[int, int] | None = None) -> str:
+    """One line saying how big a run is, for the terminal before it starts, e.g.
+    ``600 poses (30 x 20) x 15,001 steps = 9,000,600 plan steps, about 564 MB in memory; the
+    sea state's 1,350 wave components summed at 15,001 times``."""
+    text = f"{_count(size.n_steps)} steps"
+    if size.poses > 1 or grid is not None:
+        shape = f" ({grid[0]} x {grid[1]})" if grid is not None else ""
+        text = f"{_count(size.poses)} pose{'s' if size.poses != 1 else ''}{shape} x {text}"
+    if size.runs > 1:
+        text += f" x {size.runs} runs"
+    if size.steps != size.n_steps:
+        text += f" = {_count(size.steps)} plan steps"
+    text += f", about {human_bytes(size.memory_bytes)} in memory"
+    if size.wave_samples:
+        text += (f"; the sea state's {_count(size.wave_components)} wave components summed at "
+                 f"{_count(size.wave_samples)} times")
+    elif size.wave_components:
+        text += f"; the sea state's {_count(size.wave_components)} wave components by inverse FFT"
+    return text
 
 
 # ------------------------------------------------------------------------ check

@@ -20,7 +20,9 @@ from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
-from marinecdpr.model.tension import TENSION_TOLERANCE, distribute_tensions, pseudo_inverse_tensions
+from marinecdpr.model.tension import (
+    TENSION_TOLERANCE, distribute_tensions, largest_headroom, pseudo_inverse_tensions,
+)
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.ship import ShipMotion, still_ship
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
@@ -28,7 +30,7 @@ from marinecdpr.scenario.robot import Robot
 from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Plan", "plan", "plan_at", "iter_plan", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
+__all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -90,6 +92,11 @@ class Plan:
         for ideal cables) in the true vertical, carrying the planned tension at the platform:
         the extra unstretched length the winch pays out against a straight cable at that
         tension (m), and the tension at the winch end (N). NaN where infeasible. None without.
+    tension_headroom : ndarray, shape (n_steps,), optional
+        Asked for (:func:`iter_plan`'s ``headroom``): at each step the largest headroom to
+        the robot's tension limits that any tensions producing the wrench could keep
+        (:func:`~marinecdpr.model.tension.largest_headroom`), N, whatever the method's
+        tensions; NaN at singular poses. None otherwise.
     """
 
     t: np.ndarray
@@ -115,6 +122,7 @@ class Plan:
     winch_limit: np.ndarray | None = None
     sag_lengths: np.ndarray | None = None
     winch_tensions: np.ndarray | None = None
+    tension_headroom: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -241,6 +249,7 @@ _ARRAY_FIELDS = (
     "tensions_pinv", "tensions", "feasible", "reaction",
     "length_accelerations", "tension_lower", "tension_upper", "winch_limit",  # with winches only
     "sag_lengths", "winch_tensions",  # with heavy cables only
+    "tension_headroom",  # when asked for (iter_plan(headroom=True))
 )
 WINCH_OVERSPEED, WINCH_NO_TENSION = 1, 2
 """Codes of :attr:`Plan.winch_limit`."""
@@ -333,7 +342,7 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
 
 
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
-                ship: ShipMotion | None = None) -> dict:
+                ship: ShipMotion | None = None, headroom: bool = False) -> dict:
     robot = scenario.robot
     platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
     if base_model == "fixed":
@@ -380,11 +389,13 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     reaction = w[:, u] - sum(J_u[:, i] * sol.tensions[:, i, None] for i in range(J_u.shape[1]))
     sag = {} if robot.cable_weight_N_m == 0.0 else _sag(scenario, spans_from, anchors, ship.R_SO[:, 2, :],
                                                          sol.tensions)
+    # the largest headroom any tensions could keep, within the cables' own limits
+    extra = {"tension_headroom": largest_headroom(J, T_s, robot.tension_min, robot.tension_max)} if headroom else {}
     return dict(
         t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
         lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,
         C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
-        feasible=sol.feasible, reaction=reaction, **winch, **sag,
+        feasible=sol.feasible, reaction=reaction, **winch, **sag, **extra,
     )
 
 
@@ -418,6 +429,28 @@ def _options(scenario: Scenario, method: str | None, base_model: str | None) -> 
     return method, base_model
 
 
+def ship_motion_at(scenario: Scenario, t: np.ndarray, base_model: str | None = None) -> ShipMotion | None:
+    """The ship's motion a plan at times ``t`` rests on, to share between plans on the same
+    ship (:func:`plan_at`'s ``ship``): e.g. a workspace map's held poses, which would each
+    evaluate it again (for a sea state, a sum over thousands of wave components).
+
+    Parameters
+    ----------
+    scenario : Scenario
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    base_model : {"moving", "fixed"}, optional
+        Default the scenario's ``planning.base_model``.
+
+    Returns
+    -------
+    ShipMotion or None
+        The scenario's base motion at t; None for a fixed-base plan (it takes a still ship).
+    """
+    _, base_model = _options(scenario, None, base_model)
+    return None if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, np.asarray(t, dtype=float))
+
+
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
     names = tuple(TWIST_NAMES[i] for i in uncontrolled(scenario.robot.controlled))
     return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model, robot=scenario.robot)
@@ -429,6 +462,7 @@ def iter_plan(
     method: str | None = None,
     base_model: str | None = None,
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    headroom: bool = False,
 ) -> Iterator[Plan]:
     """Plan the scenario chunk by chunk; memory stays bounded by ``chunk_steps``.
 
@@ -441,6 +475,10 @@ def iter_plan(
         Default the scenario's ``planning.base_model``.
     chunk_steps : int
         Steps per yielded :class:`Plan`.
+    headroom : bool
+        Also give each step's :attr:`Plan.tension_headroom`: the largest headroom to the
+        robot's tension limits any tensions producing the wrench could keep
+        (:func:`~marinecdpr.model.tension.largest_headroom`), N.
 
     Yields
     ------
@@ -457,7 +495,8 @@ def iter_plan(
     for i0 in range(0, n, chunk_steps):
         # each chunk's times alone (the values of np.arange(n) * step): nothing of size n is held
         t = np.arange(i0, min(i0 + chunk_steps, n)) * step
-        yield _make_plan(scenario, _plan_chunk(scenario, t, method, base_model), method, base_model)
+        yield _make_plan(scenario, _plan_chunk(scenario, t, method, base_model, headroom=headroom), method,
+                         base_model)
 
 
 class PlanSummary:

@@ -160,10 +160,28 @@ def build_xml(scenario: Scenario) -> str:
 """
 
 
+def quiet_mujoco_log() -> None:
+    """Keep MuJoCo's warnings out of the user's folder and terminal.
+
+    MuJoCo's default log appends each warning ("... The simulation is unstable") to
+    ``MUJOCO_LOG.TXT`` in the working directory and prints it on stdout. The prototype
+    reads the same warnings from ``mjData.warning`` and reports a diverged run itself
+    (exit 4, one line), so the log is switched off for the process.
+    """
+    import mujoco
+
+    config = mujoco.MjLogConfig.get()
+    if config.logto_file or config.logto_console:
+        config.logto_file = False
+        config.logto_console = False
+        mujoco.MjLogConfig.set(config)
+
+
 def build_model(scenario: Scenario) -> MujocoModel:
     """Compile the scenario's MuJoCo model."""
     import mujoco
 
+    quiet_mujoco_log()
     xml = build_xml(scenario)
     model = mujoco.MjModel.from_xml_string(xml)
     jid = lambda name: mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)  # noqa: E731

@@ -358,20 +358,23 @@ KERNEL_COMPILE_S = 75.0
 """About how long the first simulation compiles its loop on a fresh install, s (README)."""
 
 
-def kernels_cached(plant: str) -> bool:
-    """False if simulating on ``plant`` must first compile its loop: neither this process nor
-    numba's cache (an index for the current source with an entry) holds it. True when unsure
-    (numba's cache internals changed): no notice rather than a wrong one."""
+def compiled_cached(*dispatchers) -> bool:
+    """False if one of numba's ``dispatchers`` must first be compiled: neither this process
+    nor numba's cache (an index for the current source with an entry) holds it. True when
+    unsure (numba's cache internals changed): no notice rather than a wrong one."""
     try:
-        if plant == "own":
-            loop = own_loop
-        elif mujoco_library():
-            loop = mujoco_loop
-        else:  # MuJoCo's library not found: the loop runs in Python, each exchange compiled
-            loop = mujoco_exchange
-        return bool(loop.signatures) or bool(loop._cache._cache_file._load_index())
+        return all(bool(d.signatures) or bool(d._cache._cache_file._load_index()) for d in dispatchers)
     except Exception:  # noqa: BLE001 - a private numba API
         return True
+
+
+def kernels_cached(plant: str) -> bool:
+    """False if simulating on ``plant`` must first compile its loop (see :func:`compiled_cached`)."""
+    if plant == "own":
+        return compiled_cached(own_loop)
+    if mujoco_library():
+        return compiled_cached(mujoco_loop)
+    return compiled_cached(mujoco_exchange)  # MuJoCo's library not found: each exchange compiled
 
 
 def _diverged_message(scenario: Scenario, run: str, t: float) -> str:

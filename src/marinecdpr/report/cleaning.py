@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from marinecdpr.report.figures import (
-    FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate, plot_operability,
+    FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate, length_unit, plot_operability,
 )
 from marinecdpr.report.files import _write_csv, atomic_path, write_json
-from marinecdpr.report.text import describe_base_motion
+from marinecdpr.report.text import _fmt_length, describe_base_motion
 from marinecdpr.textfiles import strip_control
 
 __all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
@@ -67,6 +67,10 @@ def plot_coverage(job, path: Path) -> Path:
     return _save(fig, path)
 
 
+CROSS_TRACK_COLOUR = "#762a83"
+"""The cross-track error's line in cleaning.png: dark purple, in no cable's colour (tab10's)."""
+
+
 def plot_cleaning_series(job, path: Path) -> Path:
     """Over time: the cable tensions, the normal force within its band, the cross-track error."""
     plt = _pyplot()
@@ -75,14 +79,19 @@ def plot_cleaning_series(job, path: Path) -> Path:
     columns = _figure_columns(fig, FIGURE_DPI)
     for i in range(res.tensions.shape[1]):
         axes[0].plot(*decimate(res.t, res.tensions[:, i], columns), lw=1.0, label=f"cable {i + 1}")
+    robot = job.scenario.robot
+    for j, v in enumerate(np.unique(np.concatenate([robot.tension_min, robot.tension_max]))):
+        axes[0].axhline(v, color="k", ls="--", lw=0.8, label="tension limits" if j == 0 else None)
     axes[0].set_ylabel("tension (N)")
     lo, hi = cleaning.band_N
     axes[1].plot(*decimate(res.t, job.normal_force, columns), color="k", lw=1.0, label="normal force")
     axes[1].axhspan(lo, hi, color="#1a9850", alpha=0.15, label="band")
     axes[1].set_ylabel("normal force (N)")
-    err = job.cross_track * 1e3
-    axes[2].plot(*decimate(res.t, err, columns), color="C3", lw=1.0, label="cross-track error")
-    axes[2].set_ylabel("cross-track error (mm)")
+    size, unit = length_unit(float(job.cross_track.max()) if job.cross_track.size else 0.0)
+    # a colour of its own: the cables take the colour cycle (tab10), the normal force black
+    axes[2].plot(*decimate(res.t, job.cross_track / size, columns), color=CROSS_TRACK_COLOUR, lw=1.0,
+                 label="cross-track error")
+    axes[2].set_ylabel(f"cross-track error ({unit})")
     axes[2].set_xlabel("t (s)")
     for ax in axes:
         ax.grid(alpha=0.3)
@@ -98,13 +107,14 @@ def cleaning_findings(summary: dict) -> list[str]:
            f"({s['reachable_coverage_pct']:.2f} % of the {s['reachable_area_m2']:.3g} m2 a round brush of "
            f"{s['brush_width_m']:g} m can reach); {s['missed_area_m2']:.3g} m2 missed.",
            f"{s['lanes']} lanes {s['lane_spacing_m']:.3g} m apart, {s['path_length_m']:.3g} m of path in "
-           f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h.",
+           f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h"
+           + (f"; the pass along the edges the lanes leave takes {s['boundary_pass_length_m']:.3g} m and "
+              f"{s['boundary_pass_time_s']:.1f} s of it." if s.get("boundary_pass_length_m", 0.0) > 0 else "."),
            f"The normal force stayed within its band {s['normal_force_in_band_pct']:.2f} % of the time "
            f"(contact lost {s['contact_lost_s']:.2f} s).",
            f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
-           f"steps in the plan; cross-track error at most {s['max_cross_track_error_m'] * 1e3:.3g} mm "
-           f"(95 % below {s['p95_cross_track_error_m'] * 1e3:.3g} mm); winches "
-           f"{s['winch_energy_kJ']:.3g} kJ."]
+           f"steps in the plan; cross-track error at most {_length(s['max_cross_track_error_m'])} "
+           f"(95 % below {_length(s['p95_cross_track_error_m'])}); winches {s['winch_energy_kJ']:.3g} kJ."]
     if s.get("controller_verdict") == "bypassed":
         from marinecdpr.studies.prototype_runs import bypassed_text
 
@@ -121,14 +131,14 @@ def cleaning_findings(summary: dict) -> list[str]:
         out.append(f"The sea: in calm water the brush would clean {calm['coverage_pct']:.2f} % of the panel (here "
                    f"{here['coverage_pct']:.2f} %), with the normal force {_span(calm, 'normal_force')} (here "
                    f"{_span(here, 'normal_force')}) and the tensions {_span(calm, 'tension')} (here "
-                   f"{_span(here, 'tension')}); cross-track error at most {calm['max_cross_track_error_m'] * 1e3:.3g} "
-                   f"mm (here {here['max_cross_track_error_m'] * 1e3:.3g} mm).")
+                   f"{_span(here, 'tension')}); cross-track error at most {_length(calm['max_cross_track_error_m'])} "
+                   f"(here {_length(here['max_cross_track_error_m'])}).")
     if here and "no brush drag" in cmp:
         free = cmp["no brush drag"]
         out.append(f"The brush: without its drag (friction and jet 0, the same preload) the tensions would span "
                    f"{_span(free, 'tension')} (with it {_span(here, 'tension')}), the cross-track error at most "
-                   f"{free['max_cross_track_error_m'] * 1e3:.3g} mm (with it {here['max_cross_track_error_m'] * 1e3:.3g} "
-                   f"mm) and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
+                   f"{_length(free['max_cross_track_error_m'])} (with it {_length(here['max_cross_track_error_m'])}) "
+                   f"and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
     out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; "
                + ("the cables hold the brush on the hull at the preload, the normal force (a spatial robot's "
                   "cables control the platform along the normal)." if s.get("robot_dofs") == "spatial" else
@@ -137,8 +147,44 @@ def cleaning_findings(summary: dict) -> list[str]:
     return out
 
 
+def _length(v: float) -> str:
+    """A length for a sentence, in the unit its size reads in (mm, µm, nm)."""
+    return _fmt_length(v) if v > 0 else "0 mm"
+
+
 def _span(figures: dict, what: str) -> str:
     return f"{figures[what + '_min_N']:.1f} .. {figures[what + '_max_N']:.1f} N"
+
+
+def _pct(v: float) -> str:
+    return f"{v:.2f} %"
+
+
+FIGURES = {
+    "coverage_pct": ("panel cleaned", _pct),
+    "reachable_coverage_pct": ("of what a round brush can reach, cleaned", _pct),
+    "missed_area_m2": ("area missed", lambda v: f"{v:.3g} m²"),
+    "overlap_pct": ("overlap: of the area cleaned, cleaned twice or more", lambda v: f"{v:.1f} %"),
+    "area_rate_m2_h": ("area rate", lambda v: f"{v:.3g} m²/h"),
+    "normal_force_in_band_pct": ("normal force within its band, of the time", _pct),
+    "normal_force_min_N": ("smallest normal force", lambda v: f"{v:.1f} N"),
+    "normal_force_max_N": ("largest normal force", lambda v: f"{v:.1f} N"),
+    "contact_lost_s": ("normal force out of band for", lambda v: f"{v:.2f} s"),
+    "tension_min_N": ("smallest cable tension", lambda v: f"{v:.1f} N"),
+    "tension_max_N": ("largest cable tension", lambda v: f"{v:.1f} N"),
+    "max_cross_track_error_m": ("largest cross-track error", lambda v: _length(v)),
+    "p95_cross_track_error_m": ("cross-track error, 95th percentile", lambda v: _length(v)),
+    "winch_energy_kJ": ("winch energy, sum of |T L'| dt", lambda v: f"{v:.3g} kJ"),
+    "controller_fallbacks": ("steps the controller was bypassed (the plan's tensions fed forward)",
+                             lambda v: f"{v:d}"),
+    "controller_bypassed_share": ("controller bypassed, of the steps", lambda v: f"{100.0 * v:.3g} %"),
+}
+"""The job's figures as the report shows them: ``summary.json`` key -> (name, value with its unit)."""
+
+
+def _figure_row(key: str, value: float) -> tuple[str, str]:
+    name, fmt = FIGURES[key]
+    return name, fmt(value)
 
 
 def _comparison_table(comparison: dict, esc) -> str:
@@ -147,7 +193,8 @@ def _comparison_table(comparison: dict, esc) -> str:
         return ""
     names = list(comparison)
     head = "".join(f"<th>{esc(n)}</th>" for n in names)
-    rows = "".join(f"<tr><th>{esc(k)}</th>" + "".join(f"<td>{comparison[n][k]:.6g}</td>" for n in names) + "</tr>"
+    rows = "".join(f"<tr><th>{esc(FIGURES[k][0])}</th>"
+                   + "".join(f"<td>{esc(_figure_row(k, comparison[n][k])[1])}</td>" for n in names) + "</tr>"
                    for k in comparison[names[0]])
     return (f"<h2>What the sea and the brush do</h2><p>The same job flown in calm water and without the brush's "
             f"drag (friction and jet 0, the same preload):</p><table><tr><th></th>{head}</tr>{rows}</table>")
@@ -164,13 +211,20 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
              ("brush", f"{c.brush}, {c.brush_diameter_m:g} m, friction {c.friction:g}, preload {c.preload:g} N, "
                        f"band {c.band_N[0]:g} .. {c.band_N[1]:g} N"),
              ("path", f"{s['lanes']} lanes, spacing {s['lane_spacing_m']:.3g} m, {s['path_length_m']:.3g} m, "
-                      f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s")]
+                      f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s"),
+             ("pass along the edges", f"{s['boundary_pass_length_m']:.3g} m, {s['boundary_pass_time_s']:.1f} s of "
+                                      "the path" if s.get("boundary_pass_length_m", 0.0) > 0 else "none")]
     rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
-    keys = ("coverage_pct", "reachable_coverage_pct", "missed_area_m2", "overlap_pct", "area_rate_m2_h",
-            "normal_force_in_band_pct", "normal_force_min_N", "normal_force_max_N", "contact_lost_s",
-            "tension_min_N", "tension_max_N",
-            "max_cross_track_error_m", "p95_cross_track_error_m", "winch_energy_kJ")
-    numbers = "".join(f"<tr><th>{esc(k)}</th><td>{s[k]:.6g}</td></tr>" for k in keys)
+    table = [_figure_row(k, s[k]) for k in FIGURES]
+    table.insert(5, ("job time", f"{s['job_time_s']:.1f} s"))
+    table.append(("controller", "BYPASSED: a failed run" if s["controller_verdict"] == "bypassed" else "held"))
+    if "hull" in s:
+        hull = s["hull"]
+        table += [("hull", f"{hull['hull_area_m2']:g} m², {hull['placements']} placements of the frame, "
+                           f"{hull['move_time_s']:g} s per move"),
+                  ("hull: time", f"{hull['hours']:.1f} h"),
+                  ("hull: area rate, moves included", f"{hull['area_rate_m2_h']:.3g} m²/h")]
+    numbers = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in table)
     notes = "".join(f"<li>{esc(x)}</li>" for x in cleaning_findings(s))
     imgs = "".join(
         f'<figure><img src="data:image/png;base64,{base64.b64encode(Path(p).read_bytes()).decode("ascii")}" '
@@ -196,8 +250,9 @@ def write_cleaning(job, folder: Path) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [write_clean_csv(job, folder / "clean.csv")]
-    figures = {"Coverage of the panel from the simulated brush": plot_coverage(job, folder / "coverage.png"),
-               "Tensions, normal force and cross-track error": plot_cleaning_series(job, folder / "cleaning.png")}
+    figures = {"Figure 1: coverage of the panel from the simulated brush": plot_coverage(job, folder / "coverage.png"),
+               "Figure 2: tensions, normal force and cross-track error":
+                   plot_cleaning_series(job, folder / "cleaning.png")}
     paths += list(figures.values())
     paths.append(write_json(job.summary, folder / "summary.json"))
     paths.append(write_cleaning_html(job, figures, folder / "report.html"))

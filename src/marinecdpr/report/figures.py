@@ -271,10 +271,12 @@ RUN_TITLES = {
     "fixed_base_open_loop": "fixed-base plan, open loop",
 }
 RUN_COLOURS = {"open_loop": "C0", "closed_loop": "C2", "fixed_base_open_loop": "C3"}
-# the open loop (the paper's test) is drawn wide and underneath, the closed loop dashed on
-# top, so that both stay visible where they coincide
+# the open loop (the paper's test) is drawn wide, pale and underneath, the closed loop thin
+# on top, so that both stay visible where they coincide. All solid: a dashed line drawn
+# through a decimated series (each pixel column's extremes, a zigzag) spends its dashes
+# on the zigzag and looks solid, unlike its legend entry
 RUN_STYLES = {"fixed_base_open_loop": dict(lw=1.3, ls="-"), "open_loop": dict(lw=3.0, ls="-", alpha=0.55),
-              "closed_loop": dict(lw=1.1, ls=(0, (4, 2)))}
+              "closed_loop": dict(lw=1.0, ls="-")}
 
 
 def _drawing_order(results: dict):
@@ -303,8 +305,13 @@ def _legend_below(fig, axes, max_columns: int = 4, *, wspace: float = 0.2, hspac
     if fig.get_layout_engine() is not None:
         fig.legend(handles, labels, loc="outside lower center", ncol=ncol, fontsize=9)
         return
-    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.005), ncol=ncol, fontsize=9,
-               frameon=False)
+    while True:  # as many columns as fit across the figure
+        legend = fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.005), ncol=ncol,
+                            fontsize=9, frameon=False)
+        if ncol == 1 or legend.get_window_extent(fig.canvas.get_renderer()).width <= 0.98 * fig.bbox.width:
+            break
+        legend.remove()
+        ncol -= 1
     _fixed_margins(fig, legend_rows=-(-len(labels) // ncol), wspace=wspace, hspace=hspace)
 
 
@@ -360,8 +367,7 @@ def _planned_vs_actual(results: dict, rows: list, *, planned_label: str, row_hei
                     **_run_style(name))
             err = errors[name] / size
             # the log scale shows the positive errors: decimated among themselves (zeros are gaps)
-            ax_e.plot(*decimate(res.t, np.where(err > 0, err, np.nan), columns), color=RUN_COLOURS.get(name),
-                      lw=0.8)
+            ax_e.plot(*decimate(res.t, np.where(err > 0, err, np.nan), columns), **_run_style(name))
         ax.plot(*decimate(first.t, value(first, True), columns), "k:", lw=1.1, label=planned_label)
         ax.set_ylabel(f"{label} ({'deg' if angular else 'm'})")
         ax_e.set_ylabel(f"|{label} error| ({unit_e})")
@@ -469,11 +475,12 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
         grid = op.probability_grid(h)
         image = ax.imshow(grid, origin="lower", cmap=cmap, vmin=0, vmax=1, aspect="auto",
                           extent=(-0.5, op.scatter.tp.size - 0.5, -0.5, op.scatter.hs.size - 0.5))
-        for i in range(op.scatter.hs.size):
+        for i in range(op.scatter.hs.size):  # the colour's number: the probability of success
             for j in range(op.scatter.tp.size):
-                p = op.scatter.probability[i, j]
-                if p > 0:
-                    ax.text(j, i, f"{100 * p:.2g}", ha="center", va="center", fontsize=7, color="white")
+                p = grid[i, j]
+                if np.isfinite(p):
+                    ax.text(j, i, _percent_text(p), ha="center", va="center", fontsize=7,
+                            color="white" if p < 0.2 or p > 0.8 else "black")
         ax.set_xticks(range(op.scatter.tp.size), [f"{v:g}" for v in op.scatter.tp])
         ax.set_yticks(range(op.scatter.hs.size), [f"{v:g}" for v in op.scatter.hs])
         ax.set_xlabel("Tp (s)")
@@ -485,8 +492,38 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
     if realisations > 1:
         fig.colorbar(image, ax=list(axes[0]), shrink=0.8, label=f"probability of success ({realisations} records)")
     workable = workable or f"workable with {op.margin_N:g} N margin"
-    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: probability %)", fontsize=10)
+    numbers = "probability of success, %" + (f" of {realisations} records" if realisations > 1 else "")
+    fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: {numbers}; "
+                 "blank: no sea state)", fontsize=10)
     return _save(fig, path)
+
+
+def _percent_text(p: float) -> str:
+    """A probability in [0, 1] as a cell's percent: 100 and 0 only when exact."""
+    if p >= 1.0:
+        return "100"
+    if p <= 0.0:
+        return "0"
+    return f"{min(max(100 * p, 0.1), 99.9):.3g}"
+
+
+def _plain_axis(ax, values, *, least_span: float = 1.0) -> None:
+    """A linear y axis in plain numbers (no offset, no scientific notation) spanning at
+    least ``least_span`` about ``values``' middle: nearly equal values show as one level,
+    not as ticks of 0.0004 under a "+1.2878e2"."""
+    from matplotlib.ticker import MaxNLocator, ScalarFormatter
+
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    formatter = ScalarFormatter(useOffset=False)
+    formatter.set_scientific(False)
+    ax.yaxis.set_major_formatter(formatter)
+    ax.yaxis.set_major_locator(MaxNLocator(nbins=6, steps=[1, 2, 2.5, 5, 10]))
+    if v.size:
+        lo, hi = float(v.min()), float(v.max())
+        if hi - lo < least_span:
+            mid = 0.5 * (lo + hi)
+            ax.set_ylim(mid - least_span, mid + least_span)
 
 
 def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "") -> Path:
@@ -516,9 +553,13 @@ def plot_windows(series, windows, path: Path, *, title: str) -> Path:
     long enough for the operation darker)."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(12, 4.2), constrained_layout=True)
+    shades = {True: 0.35, False: 0.12}
+    labels = {True: f"window of at least {windows.duration_h:g} h (the operation fits)",
+              False: f"window shorter than {windows.duration_h:g} h"}
     for a, b in windows.windows:
         long_enough = b - a >= windows.duration_h - 1e-12
-        ax.axvspan(a, b, color="#1a9850", alpha=0.35 if long_enough else 0.12, lw=0)
+        # each kind of shade labelled once, for the legend
+        ax.axvspan(a, b, color="#1a9850", alpha=shades[long_enough], lw=0, label=labels.pop(long_enough, None))
     ax.step(series.t_h, series.hs_m, where="post", color="k", lw=1.0, label="Hs")
     ax.step(series.t_h, windows.limit_m, where="post", color="#d73027", lw=1.0,
             label=f"operational limit (alpha {windows.alpha:g} x design)")
@@ -540,18 +581,23 @@ def plot_control_study(study, prediction, path: Path) -> Path:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
     styles = {"none": ("#d73027", "o"), "kinematic": ("#fc8d59", "s"), "ar": ("#1a9850", "^")}
     keys = sorted({(r.prediction, r.pose_from) for r in study.runs}, key=lambda k: (k[1], list(styles).index(k[0])))
-    for pred, source in keys:
+    for k, (pred, source) in enumerate(keys):
         runs = sorted((r for r in study.runs if r.prediction == pred and r.pose_from == source),
                       key=lambda r: r.latency_s)
         ms = [1e3 * r.latency_s for r in runs]
         color, marker = styles[pred]
-        ls = "-" if source == "sensor" else "--"
+        # each later curve thinner, its markers smaller and hollow-centred: curves that
+        # coincide still all show, each as its legend entry draws it
+        share = k / max(len(keys) - 1, 1)  # 0 for the first (widest, underneath), 1 for the last
+        style = dict(ls="-" if source == "sensor" else "--", color=color, marker=marker, lw=3.0 - 2.2 * share,
+                     ms=12.0 - 8.0 * share, mfc="none" if source != "sensor" else color, mew=1.2)
         label = f"{pred}, pose from {source}"
-        axes[0].plot(ms, [r.rms_error_m for r in runs], ls, color=color, marker=marker, label=label)
-        axes[1].plot(ms, [r.headroom_N for r in runs], ls, color=color, marker=marker, label=label)
+        axes[0].plot(ms, [r.rms_error_m for r in runs], label=label, **style)
+        axes[1].plot(ms, [r.headroom_N for r in runs], label=label, **style)
     axes[0].set_yscale("log")
     axes[0].set_ylabel("RMS position error (m)")
     axes[1].set_ylabel("smallest headroom below the tension limit (N)")
+    _plain_axis(axes[1], [r.headroom_N for r in study.runs])
     for ax in axes[:2]:
         ax.set_xlabel("motion sensor latency (ms)")
         ax.grid(alpha=0.3)
@@ -561,12 +607,14 @@ def plot_control_study(study, prediction, path: Path) -> Path:
     axes[1].set_title("tension headroom", fontsize=10)
     ax = axes[2]
     drawn = False
-    for name, err, color in (("predictor", prediction.predictor, "#1a9850"),
-                             ("kinematic", prediction.taylor, "#fc8d59"), ("hold", prediction.hold, "#d73027")):
+    for k, (name, err, color) in enumerate((("predictor", prediction.predictor, "#1a9850"),
+                                            ("kinematic", prediction.taylor, "#fc8d59"),
+                                            ("hold", prediction.hold, "#d73027"))):
         rows = worst_moving_dof(prediction, err)
         ok = np.isfinite(rows) & (rows > 0)
-        if ok.any():
-            ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name)
+        if ok.any():  # layered as on the left: the predictor's line shows under the kinematic one
+            ax.plot(prediction.horizons_s[ok], rows[ok], "-o", color=color, label=name, lw=max(3.0 - k, 1.0),
+                    ms=max(9.0 - 2.0 * k, 4.0))
             drawn = True
     if drawn:
         ax.set_xscale("log")

@@ -61,9 +61,11 @@ class StagedOutput:
     staging folder inside it, so a folder that cannot be written fails at once. Write
     every file into the path the ``with`` block yields; when the block ends normally
     the files replace those of the previous run (the ones its manifest lists; other
-    files in ``target`` are left alone), with SIGINT and SIGTERM held off for the few
-    renames. If the block raises, the staged files are deleted and ``target`` keeps the
-    previous run (or, if this created it, is removed again while still empty).
+    files in ``target`` are left alone). If the block raises, the staged files are
+    deleted and ``target`` keeps the previous run (or, if this created it, is removed
+    again while still empty). SIGINT and SIGTERM are held off (delivered after) while the
+    files are renamed into place and the staging folder removed, so neither is cut short;
+    :attr:`committed` then says whether ``target`` holds the new run.
 
     Raises
     ------
@@ -76,6 +78,7 @@ class StagedOutput:
         if self.target.exists() and not self.target.is_dir():
             raise OutputError(f"{self.target}: exists and is not a folder")
         self._created = not self.target.exists()
+        self.committed = False
         try:
             self.target.mkdir(parents=True, exist_ok=True)
             self.stage = Path(tempfile.mkdtemp(prefix=f".staging-{os.getpid()}-", dir=self.target))
@@ -87,16 +90,18 @@ class StagedOutput:
         return self.stage
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        try:
-            if exc_type is None:
-                self._commit()
-        finally:
-            shutil.rmtree(self.stage, ignore_errors=True)
-            if exc_type is not None and self._created:
-                try:
-                    self.target.rmdir()  # only while empty
-                except OSError:
-                    pass
+        with _signals_held():  # a Ctrl-C now waits until the folder is tidy
+            try:
+                if exc_type is None:
+                    self._commit()
+                    self.committed = True
+            finally:
+                shutil.rmtree(self.stage, ignore_errors=True)
+                if exc_type is not None and self._created:
+                    try:
+                        self.target.rmdir()  # only while empty
+                    except OSError:
+                        pass
 
     def _commit(self) -> None:
         new = sorted(p.name for p in self.stage.iterdir())
@@ -105,15 +110,14 @@ class StagedOutput:
             old = set(manifest.read_text(encoding="utf-8").split("\n")) - {""}
         except (OSError, UnicodeDecodeError):
             old = set()
-        with _signals_held():
-            for name in sorted(old - set(new)):
-                stale = self.target / name
-                if "/" not in name and stale.is_file():
-                    stale.unlink()
-            for name in new:
-                os.replace(self.stage / name, self.target / name)
-            with atomic_path(manifest) as tmp:
-                tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
+        for name in sorted(old - set(new)):
+            stale = self.target / name
+            if "/" not in name and stale.is_file():
+                stale.unlink()
+        for name in new:
+            os.replace(self.stage / name, self.target / name)
+        with atomic_path(manifest) as tmp:
+            tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
 
 
 def _remove_orphans(folder: Path) -> None:
@@ -127,18 +131,35 @@ def _remove_orphans(folder: Path) -> None:
             pass  # not ours, or a live process of another user
 
 
+HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM off (delivered after the block) in the main thread."""
+    """Hold SIGINT and SIGTERM off, in the main thread, until the block ends; then deliver
+    them (a Ctrl-C raises its KeyboardInterrupt after the block).
+
+    By handlers that note the signals, not the signal mask: the mask is the thread's own,
+    and a signal sent to the process goes to any thread that does not block it (NumPy's
+    BLAS threads, Dask's), after which Python runs its handler in the main thread anyway.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    caught: list[int] = []
+    previous = {}
+    for sig in HELD_SIGNALS:
+        handler = signal.getsignal(sig)
+        if handler is None or handler == signal.SIG_IGN:
+            continue  # set outside Python (cannot be put back), or ignored anyway
+        previous[sig] = signal.signal(sig, lambda signum, frame: caught.append(signum))
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        for sig in dict.fromkeys(caught):
+            signal.raise_signal(sig)
 
 
 # ------------------------------------------------------------------ CSV and JSON

@@ -198,11 +198,13 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
         tensions, lengths = apart.result()
     finally:
         apart.stop()
+    # numbered by their order on the page; the paper's figures they follow named in words
     figures = {
-        "Figure 5: cable tensions (a) from eq. (18) and (b) after optimisation": tensions,
-        "Figure 6: cable lengths, planned (kinematics) and actual (virtual prototype)": lengths,
-        "Figure 7: planned and actual pose, and the tracking errors": tracking,
-        "The platform's path in C, planned and actual": path_figure,
+        "Figure 1: cable tensions (a) from eq. (18) and (b) after optimisation, like the paper's figure 5": tensions,
+        "Figure 2: cable lengths, planned (kinematics) and actual (virtual prototype), like the paper's figure 6":
+            lengths,
+        "Figure 3: planned and actual pose, and the tracking errors, like the paper's figure 7": tracking,
+        "Figure 4: the platform's path in C, planned and actual": path_figure,
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
@@ -249,6 +251,9 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
                                 "equally likely; each sea state's from the share of its realisations that succeed"),
         "realisations": op.results[0].realisations if op.results else 0,
         "margin_N": op.margin_N,
+        "min_margin_meaning": ("operability.csv's min_margin_N: the sea state's headroom, the smallest over its "
+                               "records' steps of the largest distance to the tension limits any tensions giving "
+                               "the wrench could keep, N: the largest margin_N it allows"),
         "per_heading": {f"{h:g}": v for h, v in op.per_heading.items()},
         "per_heading_interval_95": {f"{h:g}": list(v) for h, v in (op.per_heading_interval or {}).items()},
         "limiting_hs_m": op.limiting_hs_json(),

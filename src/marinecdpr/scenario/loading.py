@@ -42,6 +42,9 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
         builtin = resources.files("marinecdpr.scenario") / "builtin"
         text = (builtin / f"{path_or_name}.toml").read_text(encoding="utf-8")
         path = Path(str(builtin / f"{path_or_name}.toml"))  # its files (an RAO table) lie beside it
+    elif path.is_dir():
+        raise ScenarioError("a folder, not a file; expected a scenario file (.toml) or a built-in name",
+                            source=str(path_or_name))
     else:
         raise ScenarioError(
             f"no such file, and no built-in scenario of that name "

@@ -101,6 +101,8 @@ def _resolve_file(value: str, info: ValidationInfo) -> str:
     path = Path(value).expanduser()
     if not path.is_absolute() and base is not None:
         path = Path(base) / path
+    if path.is_dir():
+        raise ValueError(f"a folder, not a file: {path}")
     if not path.is_file():
         raise ValueError(f"no such file: {path}")
     return str(path.resolve())

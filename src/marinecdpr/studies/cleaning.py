@@ -188,6 +188,8 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
         "path_length_m": float(path.length_m),
         "lanes": int(path.lanes),
         "path_duration_s": float(path.duration_s),
+        "boundary_pass_length_m": float(path.boundary_length_m),
+        "boundary_pass_time_s": float(path.boundary_duration_s),
         "job_time_s": float(job_time),
         "area_rate_m2_h": float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
         "normal_force_band_N": [float(v) for v in cleaning.band_N],

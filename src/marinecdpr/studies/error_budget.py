@@ -31,6 +31,8 @@ change it (they change the lengths a winch pays out, not the tensions that hold 
 
 from __future__ import annotations
 
+from typing import Callable
+
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -77,12 +79,12 @@ def _point_robot(scenario: Scenario, *, pulleys: bool = False, winch: bool = Fal
     return scenario
 
 
-def _held_share(scenario: Scenario, grid: tuple[int, int]) -> float:
+def _held_share(scenario: Scenario, grid: tuple[int, int], progress=None) -> float:
     """The share of the workspace map (over the cells where the platform fits) where every
-    step of the ship's motion has tensions within limits."""
+    step of the ship's motion has tensions within limits; ``progress(done, total)`` per pose."""
     from marinecdpr.studies.workspace import workspace_map
 
-    f = workspace_map(scenario, n=grid).fraction_feasible
+    f = workspace_map(scenario, n=grid, progress=progress).fraction_feasible
     return float(np.mean(f[np.isfinite(f)] == 1.0))
 
 
@@ -145,7 +147,8 @@ def _winches(scenario: Scenario, p: Plan):
     return Effect("winch limits", None, dT, note), report
 
 
-def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: tuple[int, int] | None = WORKSPACE_GRID):
+def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: tuple[int, int] | None = WORKSPACE_GRID,
+                 progress: Callable[[int, int], None] | None = None):
     """The effects of pulleys, stretch, sag and winch limits on the scenario's plan.
 
     Parameters
@@ -156,6 +159,9 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
     workspace_grid : (int, int) or None
         The workspace maps' grid (None: no workspace change); maps are made only for a
         scenario that describes pulleys or winches.
+    progress : callable(done, total), optional
+        Called as the maps' poses are planned (all maps' poses on one count): tens of
+        seconds for paper_as_built's three 16 x 10 maps.
 
     Returns
     -------
@@ -170,7 +176,15 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
     robot = scenario.robot
     base = None
     if workspace_grid is not None and (robot.has_pulleys or robot.winch is not None):
-        base = _held_share(_point_robot(scenario), workspace_grid)
+        mapped = [i for i, e in enumerate(effects) if e.tension_change_N is not None and e.name not in ("stretch", "sag")]
+        poses = workspace_grid[0] * workspace_grid[1]
+        total = poses * (1 + len(mapped))
+
+        def share(sc: Scenario, k: int) -> float:  # the k-th map of 1 + len(mapped), on one count
+            cb = None if progress is None else (lambda done, _n: progress(k * poses + done, total))
+            return _held_share(sc, workspace_grid, cb)
+
+        base = share(_point_robot(scenario), 0)
         for i, e in enumerate(effects):
             if e.tension_change_N is None:
                 continue
@@ -178,7 +192,7 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
                 change = 0.0
             else:
                 kept = dict(pulleys=e.name == "pulleys", winch=e.name == "winch limits")
-                change = _held_share(_point_robot(scenario, **kept), workspace_grid) - base
+                change = share(_point_robot(scenario, **kept), 1 + mapped.index(i)) - base
             effects[i] = replace(e, workspace_change=change)
     return tuple(effects), report, base
 

@@ -133,6 +133,20 @@ def _quadprog_p50_us(ctl: Controller, calls: int) -> float | None:
     return float(np.percentile(times, 50)) / 1e3
 
 
+LATENCY_COMPILE_S = 60.0
+"""About how long ``marinecdpr latency`` first compiles the controller's step and its timed
+loop on a fresh install, s (measured: 62 s for ``latency paper`` on a fresh copy, 2-core CI machine, 2026-12-03)."""
+
+
+def latency_kernels_cached() -> bool:
+    """False if timing the controller must first compile its step and the timed loop
+    (:func:`~marinecdpr.prototype.simulation.compiled_cached`)."""
+    from marinecdpr.control.controller import _step
+    from marinecdpr.prototype.simulation import compiled_cached
+
+    return compiled_cached(_step, _timed_steps)
+
+
 def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     """Time the scenario's controller step from Python and inside a compiled loop.
 

@@ -31,7 +31,6 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import iter_plan
 from marinecdpr.scenario.schema import Scenario, SeaStateMotion
-from marinecdpr.studies.workspace import tension_margin
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
@@ -153,8 +152,12 @@ class CellResult:
     """Share of the records' steps with feasible tensions (with a workspace grid: share of
     the frame's poses feasible throughout), averaged over the realisations."""
     min_margin_N: float
-    """Smallest distance of a planned tension to the untightened limits over the records
-    (at least the margin asked for; -inf if some step is infeasible)."""
+    """The sea state's smallest headroom over the records: at each step the largest
+    distance to the cables' (untightened) limits that any tensions producing the wrench
+    could keep (:func:`~marinecdpr.model.tension.largest_headroom`), the smallest over
+    the steps, N: the largest ``margin`` the sea state allows (negative: by how much
+    even the limits themselves are broken; -inf at a singular pose). A record is
+    workable with margin M only where this is at least M. NaN with a workspace grid."""
     n_steps: int
     """Steps of one record."""
     max_error_m: float = float("nan")
@@ -276,7 +279,6 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
                      workspace: tuple[int, int] | None, min_area: float) -> tuple[bool, float, float, int, float, bool]:
     """One record of :func:`evaluate_cell`: (workable, fraction feasible, smallest margin,
     steps, largest closed-loop error, the closed loop's controller bypassed)."""
-    lo, hi = sc.robot.tension_min, sc.robot.tension_max
     tight = with_margin(sc, margin_N)
     if workspace is not None:
         from marinecdpr.studies.workspace import workspace_map
@@ -286,14 +288,12 @@ def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None
         area = float((ws.fraction_feasible[inside] == 1.0).mean()) if inside.any() else 0.0
         return area >= min_area, area, float("nan"), ws.n_steps, float("nan"), False
     ok, worst, n = 0, np.inf, 0
-    for piece in iter_plan(tight):
+    for piece in iter_plan(tight, headroom=True):
         ok += int(piece.feasible.sum())
         n += piece.n_steps
-        m = tension_margin(piece.tensions, lo, hi)
-        if np.isfinite(m).any():
-            worst = min(worst, float(np.nanmin(m)))
-    # feasible tensions are within limits up to rounding: no negative zero margins
-    worst = max(worst, 0.0) if ok == n else -np.inf
+        # the headroom to the tightened limits, plus the margin: to the cables' own limits
+        h = piece.tension_headroom + margin_N if margin_N > 0 else piece.tension_headroom
+        worst = min(worst, float(np.min(h)) if not np.isnan(h).any() else -np.inf)
     operable = ok == n
     error, bypassed = float("nan"), False
     if max_error_m is not None and operable:
@@ -604,17 +604,30 @@ def _sigint_deferred():
     local cluster interrupted while it starts leaves Dask's own half-built state to fail
     noisily at exit. Only in the main thread (elsewhere the block runs as it is).
 
-    A handler, not the signal mask that ``report.files`` holds its signals with: the
-    cluster's worker processes start inside the block and would inherit a blocked mask."""
+    Both a handler (as ``report.files`` holds its signals) and the signal mask: the
+    handler holds a Ctrl-C whichever thread the signal reaches; the mask is inherited by
+    the threads the block starts (the cluster's) and by the worker processes they start,
+    so a Ctrl-C to the whole process group does not stop a worker while it starts (it
+    printed its traceback, and its nanny's "failed to start").
+    The workers ignore Ctrl-C from then on (:mod:`.dask_worker`). An error the block
+    raises after a Ctrl-C is its consequence: the Ctrl-C is raised instead."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     caught = []
     previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
-        yield
-    finally:
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a held Ctrl-C reaches the handler now
+    except BaseException:
         signal.signal(signal.SIGINT, previous)
+        if caught:
+            raise KeyboardInterrupt from None
+        raise
+    signal.signal(signal.SIGINT, previous)
     if caught:
         raise KeyboardInterrupt
 
@@ -631,9 +644,15 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
     else:
         # what workers log when their scheduler goes away (Ctrl-C) is no news; a cell that
         # fails raises its error here, through its future
+        from multiprocessing import resource_tracker
+
+        # started first, here: the thread that starts it is left with SIGINT unblocked, and
+        # the workers that thread would start with it (see _sigint_deferred)
+        resource_tracker.ensure_running()
         with _sigint_deferred():
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.CRITICAL)
+                                   dashboard_address=None, silence_logs=logging.CRITICAL,
+                                   preload=[f"{__package__}.dask_worker"])  # Ctrl-C is ours to handle
             try:
                 client = Client(cluster)
             except BaseException:

@@ -131,7 +131,7 @@ def _tension_tolerance(hi: np.ndarray) -> float:
 
 
 def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
-            max_error_m: float | None = None) -> dict:
+            max_error_m: float | None = None, progress: Callable[[int, int], None] | None = None) -> dict:
     """``summary.json``: each run's figures, the plan's tension range, the error bounds, the
     open loop's stability along the plan (``open_loop_growth_rate_1_s`` and ``stability``:
     :mod:`~marinecdpr.studies.stability`), the cables-as-built error budget
@@ -155,7 +155,7 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     g = plan_stability(plan, scenario)
     out["open_loop_growth_rate_1_s"] = g.rate
     out["stability"] = stability_summary(g)
-    out.update(budget_summary(*error_budget(scenario, plan)))
+    out.update(budget_summary(*error_budget(scenario, plan, progress=progress)))
     if is_paper_scenario(scenario):
         out["paper_reported"] = PAPER_REPORTED
     for name, res in results.items():
@@ -251,7 +251,8 @@ def virtual_prototype(
         see :func:`error_bounds`).
     progress : callable(run, done, total), optional
         Called as each run goes on; for a run flown in a forked process (below), at its
-        start (done = 0) and at its end.
+        start (done = 0) and at its end; then as ``progress("error_budget", poses, total)``
+        while the error budget's workspace maps are made (a scenario with pulleys or winches).
 
     Where it is safe and pays (:func:`~marinecdpr.forked.can_fork`: Linux, two CPUs or
     more, no other thread), the last run flies in a forked copy of this process while
@@ -283,4 +284,7 @@ def virtual_prototype(
         if apart is not None:
             apart.stop()
     results = {run: results[run] for run in runs}
-    return VirtualPrototype(scenario, p, results, summary(p, results, scenario, max_error_m=max_error_m))
+    # the error budget's workspace maps (a scenario with pulleys or winches) take a while: told as "error_budget"
+    maps = None if progress is None else (lambda done, total: progress("error_budget", done, total))
+    return VirtualPrototype(scenario, p, results, summary(p, results, scenario, max_error_m=max_error_m,
+                                                          progress=maps))

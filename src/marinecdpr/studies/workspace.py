@@ -14,7 +14,7 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.planning.planner import iter_plan
+from marinecdpr.planning.planner import DEFAULT_CHUNK_STEPS, plan_at, ship_motion_at
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range"]
@@ -132,35 +132,46 @@ def workspace_map(
     if fixed_m is None:
         fixed_m = 0.0 if scenario.robot.dofs == "planar" else 0.5 * (lo[i_w] + hi[i_w])
     shape = (grid[0].size, grid[1].size)
-    frac = np.full(shape, np.nan)
-    margin = np.full(shape, np.nan)
-    pinv = np.full(shape, np.nan)
     lo_T, hi_T = scenario.robot.tension_min, scenario.robot.tension_max
     total = shape[0] * shape[1]
-    n_steps = scenario.time.n_steps
-    for a, u in enumerate(grid[0]):
-        for b, v in enumerate(grid[1]):
+    n_steps, step = scenario.time.n_steps, scenario.time.step_s
+    held = []
+    for u in grid[0]:
+        for v in grid[1]:
             pos = [0.0, 0.0, 0.0]
             pos[i_u], pos[i_v], pos[i_w] = float(u), float(v), float(fixed_m)
-            held = scenario.with_changes(trajectory={
+            held.append(scenario.with_changes(trajectory={
                 "type": "line", "start_position_m": pos, "end_position_m": pos,
-                "start_orientation_deg": list(orientation_deg), "duration_s": 1.0})
-            try:
-                ok = pinv_ok = 0
-                worst = np.inf
-                for piece in iter_plan(held):
-                    ok += int(piece.feasible.sum())
+                "start_orientation_deg": list(orientation_deg), "duration_s": 1.0}))
+    ok = np.zeros(total, dtype=np.int64)
+    pinv_ok = np.zeros(total, dtype=np.int64)
+    worst = np.full(total, np.inf)
+    outside = np.zeros(total, dtype=bool)  # the platform would leave the frame: NaN
+    method, base_model = scenario.planning.method, scenario.planning.base_model
+    chunks = range(0, n_steps, DEFAULT_CHUNK_STEPS)
+    for j, i0 in enumerate(chunks):
+        # the chunks of iter_plan, each pose planned on them; the ship's motion, the same for
+        # every held pose, evaluated once per chunk (not once per pose: a sea state's sum)
+        t = np.arange(i0, min(i0 + DEFAULT_CHUNK_STEPS, n_steps)) * step
+        ship = ship_motion_at(scenario, t)
+        for p, sc in enumerate(held):
+            if not outside[p]:
+                try:
+                    piece = plan_at(sc, t, method=method, base_model=base_model, ship=ship)
+                except ScenarioError:
+                    outside[p] = True
+                else:
+                    ok[p] += int(piece.feasible.sum())
                     T_s = piece.tensions_pinv
                     with np.errstate(invalid="ignore"):
-                        pinv_ok += int(np.all((T_s >= lo_T) & (T_s <= hi_T), axis=1).sum())
+                        pinv_ok[p] += int(np.all((T_s >= lo_T) & (T_s <= hi_T), axis=1).sum())
                     m = tension_margin(piece.tensions, lo_T, hi_T)
-                    worst = min(worst, float(np.nanmin(m)) if np.isfinite(m).any() else np.inf)
-                frac[a, b] = ok / n_steps
-                pinv[a, b] = pinv_ok / n_steps
-                margin[a, b] = max(worst, 0.0) if ok == n_steps else -np.inf
-            except ScenarioError:
-                pass  # the platform would leave the frame: NaN
+                    worst[p] = min(worst[p], float(np.nanmin(m)) if np.isfinite(m).any() else np.inf)
             if progress is not None:
-                progress(a * shape[1] + b + 1, total)
+                progress((j * total + p + 1) // len(chunks), total)
+    inside = ~outside
+    frac = np.where(inside, ok / n_steps, np.nan).reshape(shape)
+    pinv = np.where(inside, pinv_ok / n_steps, np.nan).reshape(shape)
+    margin = np.where(inside, np.where(ok == n_steps, np.maximum(worst, 0.0), -np.inf), np.nan).reshape(shape)
     fixed = {"axis": "xyz"[i_w], "value_m": float(fixed_m), "orientation_deg": list(orientation_deg)}
     return WorkspaceMap((axes[0], axes[1]), grid[0], grid[1], frac, margin, pinv, fixed, n_steps)

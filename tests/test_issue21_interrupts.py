@@ -1,0 +1,187 @@
+"""Issue 21, items 2 and 21: Ctrl-C is one line on stderr and exit 130 at any moment of a
+command (while its modules load, while it reads its input, while it works, while it commits
+its files), to the command alone or to its whole process group (its Dask workers too), and
+it leaves no staging folder behind."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+EXE = str(Path(sys.executable).parent / "marinecdpr")
+
+
+def _default_sigint() -> None:
+    # a test run in a shell's background inherits SIGINT ignored: give the command a terminal's default
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _catches_sigint(pid: int) -> bool:
+    """Has the process's interpreter installed its SIGINT handler (the C-level catch that
+    Python sets up before it runs any of the program's code)?"""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return True  # gone already, or no /proc: nothing to wait for
+    caught = next(line for line in status.splitlines() if line.startswith("SigCgt:"))
+    return bool(int(caught.split()[1], 16) & (1 << (signal.SIGINT - 1)))
+
+
+def _interrupt_after(args, delay: float, *, group: bool = False, cwd=None):
+    """Run ``marinecdpr args``, send SIGINT ``delay`` s after its interpreter is up (to it
+    alone, or to its process group); return (exit code, stderr)."""
+    proc = subprocess.Popen([EXE, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
+                            preexec_fn=_default_sigint, start_new_session=group)
+    deadline = time.monotonic() + 60
+    while not _catches_sigint(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.002)
+    time.sleep(delay)
+    if group:
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    return proc.returncode, err
+
+
+@pytest.mark.parametrize("delay", [0.1, 0.5, 1.0, 2.5, 4.0])
+def test_ctrl_c_at_any_moment_is_one_line_and_exit_130(tmp_path, delay):
+    # a long workspace map (20 000 poses): still working at 4 s, its first progress line
+    # (10 %) far later; an interrupt anywhere from the imports to the work is one line
+    out = tmp_path / "out"
+    code, err = _interrupt_after(["workspace", "paper", "--points", "200x100", "--out", str(out)], delay)
+    assert code == 130, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0] in ("error: interrupted", f"error: interrupted; --out {out} keeps what it held"), err
+    assert not out.exists()
+
+
+def test_ctrl_c_that_typer_would_swallow_still_prints_its_line():
+    # a KeyboardInterrupt outside the output folder's block (here: while the scenario loads)
+    # became typer's silent exit 130
+    code = (
+        "import signal, sys\n"
+        "import marinecdpr.cli.app as app\n"
+        "import marinecdpr.scenario.loading as loading\n"
+        "def interrupted(*a, **k):\n"
+        "    raise KeyboardInterrupt\n"
+        "app.load_scenario = interrupted\n"
+        "sys.argv = ['marinecdpr', 'check', 'paper']\n"
+        "app.main()\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 130
+    assert res.stderr.strip().splitlines() == ["error: interrupted"]
+
+
+@pytest.fixture()
+def python_sigint():
+    """SIGINT raises KeyboardInterrupt in this process (pytest's workers may have it otherwise)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.parametrize("when", ["replacing summary.json", "removing the staging folder"])
+def test_ctrl_c_while_the_files_are_committed_leaves_no_staging_folder(tmp_path, monkeypatch, python_sigint, when):
+    import marinecdpr.report.files as files
+
+    out = tmp_path / "out"
+    with files.StagedOutput(out) as stage:
+        (stage / "summary.json").write_text('{"run": 1}\n')
+    real_replace, real_rmtree, sent = files.os.replace, files.shutil.rmtree, []
+
+    def ctrl_c() -> None:
+        if not sent:
+            sent.append(True)
+            os.kill(os.getpid(), signal.SIGINT)  # the user's Ctrl-C, at this very moment
+
+    def replace(src, dst, *a, **k):
+        if when == "replacing summary.json" and Path(dst).name == "summary.json":
+            ctrl_c()
+        return real_replace(src, dst, *a, **k)
+
+    def rmtree(path, *a, **k):
+        if when == "removing the staging folder":
+            ctrl_c()
+        return real_rmtree(path, *a, **k)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    monkeypatch.setattr(files.shutil, "rmtree", rmtree)
+    staged = files.StagedOutput(out)
+    with pytest.raises(KeyboardInterrupt):
+        with staged as stage:
+            (stage / "summary.json").write_text('{"run": 2}\n')
+            (stage / "plan.csv").write_text("t\n0\n")
+    monkeypatch.setattr(files.shutil, "rmtree", real_rmtree)
+    assert sent
+    assert [p.name for p in out.glob(".staging-*")] == []
+    # the interrupt came once the run's files were in place: the folder holds the new run, whole
+    assert staged.committed
+    assert (out / "summary.json").read_text() == '{"run": 2}\n'
+    assert sorted(p.name for p in out.iterdir()) == [files.MANIFEST, "plan.csv", "summary.json"]
+
+
+def test_ctrl_c_as_the_files_go_in_says_the_folder_holds_the_new_run(tmp_path, monkeypatch, python_sigint, capsys):
+    import typer
+
+    import marinecdpr.cli.app as cli
+    import marinecdpr.report.files as files
+
+    real_replace = files.os.replace
+
+    def replace(src, dst, *a, **k):
+        if Path(dst).name == "summary.json":
+            os.kill(os.getpid(), signal.SIGINT)
+        return real_replace(src, dst, *a, **k)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+    out = tmp_path / "out"
+    with pytest.raises(typer.Exit) as exit_:
+        with cli._output(out) as stage:
+            (stage / "summary.json").write_text("{}\n")
+    assert exit_.value.exit_code == 130
+    assert capsys.readouterr().err.strip() == f"error: interrupted; --out {out} holds this run's files, complete"
+    assert sorted(p.name for p in out.iterdir()) == [files.MANIFEST, "summary.json"]
+
+
+def _cpu_s(process) -> float:
+    try:
+        return sum(process.cpu_times()[:2])
+    except Exception:  # gone
+        return float("inf")
+
+
+OPERABILITY_ON_DASK = ["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005",
+                       "--realisations", "1", "--headings", "180,150,90"]
+
+
+@pytest.mark.parametrize("moment", ["as the workers start", "while they work"])
+def test_ctrl_c_to_the_process_group_on_dask_is_one_line(tmp_path, moment):
+    # a terminal's Ctrl-C reaches the workers too: they printed asyncio's KeyboardInterrupt
+    # traceback (working) or their bootstrap's and their nanny's "failed to start" (starting)
+    psutil = pytest.importorskip("psutil")
+    out = tmp_path / "out"
+    # as `python -m marinecdpr` (the workers of the console script's run met it too, less often)
+    proc = subprocess.Popen([sys.executable, "-m", "marinecdpr", *OPERABILITY_ON_DASK, "--out", str(out)],
+                            stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint, start_new_session=True)
+    workers, deadline = [], time.monotonic() + 120
+    while time.monotonic() < deadline and len(workers) < (1 if moment == "as the workers start" else 2):
+        time.sleep(0.05)
+        workers = [c for c in psutil.Process(proc.pid).children(recursive=True)
+                   if "spawn_main" in " ".join(c.cmdline()) and "resource_tracker" not in " ".join(c.cmdline())]
+    assert workers
+    while moment == "while they work" and time.monotonic() < deadline and min(
+            _cpu_s(w) for w in workers) < 10.0:  # both at their cells (started: a few s of CPU)
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines() == [f"error: interrupted; --out {out} keeps what it held"], err
+    assert not out.exists()
