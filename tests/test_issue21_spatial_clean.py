@@ -58,10 +58,13 @@ def test_clean_works_for_a_spatial_robot(tmp_path):
     # on the panel's plane (y = 1 m) and on its path, across the rolling, heaving ship
     assert max(abs(float(r["brush_y_m"]) - 1.0) for r in rows) < 1e-6
     assert s["max_cross_track_error_m"] < 1e-5
-    # the first lane along x from (0.8, 0.8): the cleaned area is the swept stadium
-    x0, x1 = float(rows[0]["brush_x_m"]), float(rows[-1]["brush_x_m"])
-    assert (x0, float(rows[0]["brush_z_m"])) == (0.8, 0.8) and 0.05 < x1 - x0 < 0.1
-    stadium = (x1 - x0) * 0.2 + math.pi * 0.1 ** 2
+    # the first second is a straight stretch from the corner (0.8, 0.8) inset by the brush's
+    # radius: the cleaned area is the swept stadium
+    xz = [(float(r["brush_x_m"]), float(r["brush_z_m"])) for r in rows]
+    assert xz[0] == (0.8, 0.8)
+    length = math.dist(xz[0], xz[-1])
+    assert 0.05 < length < 0.1 and abs(sum(math.dist(a, b) for a, b in zip(xz, xz[1:])) - length) < 1e-5
+    stadium = length * 0.2 + math.pi * 0.1 ** 2
     assert abs(s["coverage_pct"] - 100.0 * stadium / 0.36) < 0.5
     # the report says how the normal force was had: the cables, not a guide
     assert s["robot_dofs"] == "spatial"
