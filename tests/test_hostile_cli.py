@@ -52,21 +52,23 @@ def test_a_run_that_blows_up_stops_with_exit_4_naming_run_and_time(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
-def test_a_bounded_but_meaningless_closed_loop_is_warned_about(tmp_path):
+def test_a_bounded_but_meaningless_closed_loop_fails(tmp_path):
     """A 400 Hz controller sampled at 1 kHz: its feedback asks for tensions outside the limits
-    and the plan's are fed forward instead; the numbers look fine and mean nothing."""
+    and the plan's are fed forward instead; the numbers look fine and mean nothing: a failed
+    run (exit 5, issue 21 item 22), its files written with the verdict."""
     sc = _variant(tmp_path, EXAMPLES / "paper.toml", ("bandwidth_hz = 5.0", "bandwidth_hz = 400.0"))
     res = runner.invoke(app, ["simulate", str(sc), "--duration", "0.3", "--out", str(tmp_path / "o")])
-    assert res.exit_code == 0, res.output
+    assert res.exit_code == 5, res.output
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert s["closed_loop"]["controller_fallbacks"] > 0.5 * s["steps"]
+    assert s["closed_loop"]["controller_verdict"] == "bypassed" and s["runs_controller_bypassed"] == ["closed_loop"]
     assert any(w.startswith("closed_loop: the controller's bandwidth (400 Hz) is above 1/10 of the 1000 Hz "
                             "exchange") for w in s["warnings"])
-    assert any(w.startswith(f"closed_loop: at {s['closed_loop']['controller_fallbacks']} of 301 steps the "
-                            "feedback asked for tensions outside the limits") for w in s["warnings"])
     assert "warning: closed_loop: the controller's bandwidth (400 Hz)" in res.stderr
+    assert res.stderr.strip().splitlines()[-1].startswith(
+        f"error: closed_loop: the controller was bypassed at {s['closed_loop']['controller_fallbacks']} of 301 steps")
     html = (tmp_path / "o" / "report.html").read_text()
-    assert "it shows the plan, not the controller" in html
+    assert "so the run shows the plan, not the controller" in html
     # the paper's own 5 Hz controller draws no warning
     ok = runner.invoke(app, ["simulate", "--duration", "0.3", "--out", str(tmp_path / "p")])
     assert ok.exit_code == 0 and "warning" not in ok.stderr

@@ -139,9 +139,11 @@ def cleaning_findings(summary: dict) -> list[str]:
                    f"{_span(free, 'tension')} (with it {_span(here, 'tension')}), the cross-track error at most "
                    f"{_length(free['max_cross_track_error_m'])} (with it {_length(here['max_cross_track_error_m'])}) "
                    f"and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
-    out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; the normal "
-               "force is the pusher's preload plus the platform's inertia and weight along the hull normal "
-               "from the plan (the guide holds the platform along the normal).")
+    out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; "
+               + ("the cables hold the brush on the hull at the preload, the normal force (a spatial robot's "
+                  "cables control the platform along the normal)." if s.get("robot_dofs") == "spatial" else
+                  "the normal force is the pusher's preload plus the platform's inertia and weight along the hull "
+                  "normal from the plan (the guide holds the platform along the normal)."))
     return out
 
 
@@ -173,6 +175,9 @@ FIGURES = {
     "max_cross_track_error_m": ("largest cross-track error", lambda v: _length(v)),
     "p95_cross_track_error_m": ("cross-track error, 95th percentile", lambda v: _length(v)),
     "winch_energy_kJ": ("winch energy, sum of |T L'| dt", lambda v: f"{v:.3g} kJ"),
+    "controller_fallbacks": ("steps the controller was bypassed (the plan's tensions fed forward)",
+                             lambda v: f"{v:d}"),
+    "controller_bypassed_share": ("controller bypassed, of the steps", lambda v: f"{100.0 * v:.3g} %"),
 }
 """The job's figures as the report shows them: ``summary.json`` key -> (name, value with its unit)."""
 
@@ -212,6 +217,7 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
     rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     table = [_figure_row(k, s[k]) for k in FIGURES]
     table.insert(5, ("job time", f"{s['job_time_s']:.1f} s"))
+    table.append(("controller", "BYPASSED: a failed run" if s["controller_verdict"] == "bypassed" else "held"))
     if "hull" in s:
         hull = s["hull"]
         table += [("hull", f"{hull['hull_area_m2']:g} m², {hull['placements']} placements of the frame, "

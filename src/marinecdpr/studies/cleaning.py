@@ -174,6 +174,7 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
     energy = float(np.sum(np.abs(res.tensions * rates)) * h)  # sum over cables of |T L'| dt, J
     return {
         "scenario": scenario.name,
+        "robot_dofs": scenario.robot.dofs,
         "steps": int(n),
         "panel_polygon_m": [list(map(float, v)) for v in cleaning.panel_m],
         "brush_width_m": float(cleaning.brush_diameter_m),
