@@ -70,7 +70,7 @@ def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path):
     assert first.returncode == 0, first.stderr
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a long run, interrupted while it simulates (the first progress line says it has begun)
-    proc = _start(["simulate", "paper_sea", "--duration", "60", "--out", str(out)])
+    proc = _start(["simulate", "paper_sea", "--out", str(out)])
     line = proc.stderr.readline()
     assert line.startswith("simulate: "), line
     proc.send_signal(signal.SIGINT)

@@ -29,7 +29,8 @@ def test_clean_with_a_guarantee_met_at_once_ends_its_progress_on_the_runs_flown(
         for k in (n // 2, n):
             progress(k, n)
         return SimpleNamespace(summary={"guarantee": {"reason": "met", "lane_spacing_m": 0.1, "checked": True,
-                                                      "second_run": False}})
+                                                      "second_run": False},
+                                        "controller_verdict": "held", "controller_fallbacks": 0, "steps": n})
 
     monkeypatch.setattr(cleaning, "guaranteed_job", guaranteed_job)
     monkeypatch.setattr(report, "write_cleaning", lambda job, folder: [Path(folder) / "clean.csv"])

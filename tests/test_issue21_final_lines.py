@@ -26,7 +26,7 @@ def test_control_study_names_its_folder(tmp_path, monkeypatch):
     import marinecdpr.report.writers as writers
     import marinecdpr.studies.control as control
 
-    monkeypatch.setattr(control, "control_study", lambda *a, **k: SimpleNamespace(runs=[]))
+    monkeypatch.setattr(control, "control_study", lambda *a, **k: SimpleNamespace(runs=[], bypassed=[]))
     monkeypatch.setattr(control, "ship_prediction_error", lambda *a, **k: None)
     monkeypatch.setattr(writers, "write_control_study",
                         lambda result, prediction, folder: (None, [Path(folder) / "control_study.csv"]))

@@ -36,8 +36,9 @@ def _interrupt_after(args, delay: float, *, group: bool = False, cwd=None):
     alone, or to its process group); return (exit code, stderr)."""
     proc = subprocess.Popen([EXE, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd,
                             preexec_fn=_default_sigint, start_new_session=group)
-    deadline = time.monotonic() + 60
-    while not _catches_sigint(proc.pid) and time.monotonic() < deadline:
+    for _ in range(30_000):  # a hang guard by count, not by clock
+        if _catches_sigint(proc.pid):
+            break
         time.sleep(0.002)
     time.sleep(delay)
     if group:
@@ -55,7 +56,8 @@ def test_ctrl_c_at_any_moment_is_one_line_and_exit_130(tmp_path, delay):
     out = tmp_path / "out"
     code, err = _interrupt_after(["workspace", "paper", "--points", "200x100", "--out", str(out)], delay)
     assert code == 130, err
-    lines = err.strip().splitlines()
+    # the run's size line (printed before the work, when the interrupt came later) is not a message
+    lines = [line for line in err.strip().splitlines() if not line.startswith("size: ")]
     assert len(lines) == 1, err
     assert lines[0] in ("error: interrupted", f"error: interrupted; --out {out} keeps what it held"), err
     assert not out.exists()
@@ -171,14 +173,17 @@ def test_ctrl_c_to_the_process_group_on_dask_is_one_line(tmp_path, moment):
     proc = subprocess.Popen([sys.executable, "-m", "marinecdpr", *OPERABILITY_ON_DASK, "--out", str(out)],
                             stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint, start_new_session=True)
-    workers, deadline = [], time.monotonic() + 120
-    while time.monotonic() < deadline and len(workers) < (1 if moment == "as the workers start" else 2):
+    workers = []
+    for _ in range(2400):  # a hang guard by count, not by clock
+        if len(workers) >= (1 if moment == "as the workers start" else 2):
+            break
         time.sleep(0.05)
         workers = [c for c in psutil.Process(proc.pid).children(recursive=True)
                    if "spawn_main" in " ".join(c.cmdline()) and "resource_tracker" not in " ".join(c.cmdline())]
     assert workers
-    while moment == "while they work" and time.monotonic() < deadline and min(
-            _cpu_s(w) for w in workers) < 10.0:  # both at their cells (started: a few s of CPU)
+    for _ in range(600 if moment == "while they work" else 0):
+        if min(_cpu_s(w) for w in workers) >= 10.0:  # both at their cells (started: a few s of CPU)
+            break
         time.sleep(0.2)
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=120)
