@@ -858,16 +858,17 @@ def windows(
 ) -> None:
     """Weather windows in a series of sea states: when an operation of --duration-h fits,
     the expected wait before it can start, and the probability it is done within days."""
-    import json as _json
     from importlib import resources
 
     from marinecdpr.report.writers import write_windows
-    from marinecdpr.studies.weather import limit_from_operability, read_sea_state_series, weather_windows
+    from marinecdpr.studies.weather import (limit_from_operability, read_operability_json, read_sea_state_series,
+                                            weather_windows)
 
     _number("--duration-h", duration_h)
     if (hs_limit is None) == (operability_json is None):
         _fail("give one design limit: --hs-limit H or --operability FILE.json")
     _number("--hs-limit", hs_limit)
+    _number("--heading", heading, finite_only=True)
     if not (math.isfinite(alpha) and 0.0 < alpha <= 1.0):
         _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
     try:
@@ -881,10 +882,9 @@ def windows(
         table = None
         if operability_json is not None:
             try:
-                table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
-            except (OSError, ValueError) as exc:
-                raise ScenarioError(f"cannot read it as operability.json ({type(exc).__name__})",
-                                    source=str(operability_json)) from None
+                table = limit_from_operability(read_operability_json(operability_json), heading)
+            except ScenarioError as exc:
+                raise ScenarioError(exc.detail, source=str(operability_json), key=exc.key) from None
     except ScenarioError as exc:
         _fail(str(exc))
     w = weather_windows(sea, duration_h=duration_h, alpha=alpha, hs_limit_m=hs_limit, limit_table=table)
