@@ -273,9 +273,15 @@ def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_are
         check_sea_state(sc)
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
+    from marinecdpr.planning.budget import check_run_size
+
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
-    executor = _sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
     n_workers = workers or 2
+    try:  # before any work: every sea state flies the job closed loop
+        check_run_size(sc, "operability", cells=n_cells, closed_loop=True, workers=1 if serial else n_workers)
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    executor = _sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
     t0 = time.perf_counter()
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
@@ -782,6 +788,10 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
                       highlight=False, soft_wrap=True)
 
 
+MAX_RAO_FREQUENCIES = 2000
+"""Most wave frequencies ``rao --omega`` takes (a table of 33 is typical)."""
+
+
 @app.command()
 def rao(
     length: float = typer.Option(..., help="The hull's length, m."),
@@ -811,14 +821,29 @@ def rao(
                         ("--panel", panel)):
         _number(name, value)
     _number("--roll-damping", roll_damping, zero_ok=True)
+    from marinecdpr.planning.budget import check_bem_size
+
     try:
-        heads = tuple(sorted({float(h) % 360.0 for h in headings.split(",")}))
-        first, last, count = omega.split(":")
-        w = np.linspace(float(first), float(last), int(count))
+        given = [float(h) for h in headings.split(",")]
     except ValueError:
-        _fail(f"--headings {headings} / --omega {omega}: expected numbers like 90,180 and 0.2:1.8:33")
-    if not (w.size >= 2 and np.all(np.isfinite(w)) and w[0] > 0 and np.all(np.diff(w) > 0)):
-        _fail(f"--omega {omega}: expected first:last:count with 0 < first < last and count >= 2")
+        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 90,180")
+    if not all(math.isfinite(h) for h in given):
+        _fail(f"--headings {headings}: expected finite headings, deg")
+    heads = tuple(sorted({h % 360.0 for h in given}))
+    try:
+        first, last, count = omega.split(":")
+        first, last, count = float(first), float(last), int(count)
+    except ValueError:
+        _fail(f"--omega {omega}: expected first:last:count, e.g. 0.2:1.8:33")
+    if not (math.isfinite(first) and math.isfinite(last) and 0 < first < last and 2 <= count <= MAX_RAO_FREQUENCIES):
+        _fail(f"--omega {omega}: expected first:last:count with 0 < first < last and 2 <= count <= "
+              f"{MAX_RAO_FREQUENCIES}")
+    w = np.linspace(first, last, count)
+    try:  # before any work: a BEM the machine cannot hold or finish is one line
+        check_bem_size(shape=hull, length_m=length, beam_m=beam, draught_m=draught, panel_m=panel,
+                       frequencies=count, headings=len(heads))
+    except (ScenarioError, ValueError) as exc:
+        _fail(str(exc))
     t0 = time.perf_counter()
     with _output(out) as folder:
         try:
@@ -954,6 +979,19 @@ def control_study(
     if duration <= settle:
         _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
               "warm-up and a second)")
+    from marinecdpr.planning.budget import check_run_size
+
+    n_runs = len(lat_s) * len(preds) * len(sources)
+    try:  # the MRU's settings as the runs will set them, checked before the first run
+        sc.with_updates("simulation.mru", rate_hz=rate, latency_s=max(lat_s))
+    except ScenarioError as exc:
+        _fail(f"--rate {rate:g} / --latencies {latencies}: {exc.detail} ({exc.key})" if exc.key else
+              f"--rate {rate:g} / --latencies {latencies}: {exc.detail}")
+    try:  # before any work: runs the machine cannot hold or finish are one line
+        check_run_size(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": duration}), "simulate",
+                       repeat=n_runs)
+    except ScenarioError as exc:
+        _fail(f"--duration {duration:g} ({n_runs} run{'s' if n_runs != 1 else ''}): {exc.detail}")
     with _output(out) as folder:
         with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
                                               "runs") as bar:
@@ -973,22 +1011,29 @@ def control_study(
 @app.command()
 def latency(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
-    calls: int = typer.Option(20000, "--calls", min=1, help="Steps timed from Python and in a compiled loop."),
+    calls: int = typer.Option(20000, "--calls", help="Steps timed from Python and in a compiled loop (1 to "
+                              "10,000,000)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of a table."),
 ) -> None:
     """How long the controller's step takes on this machine: called from Python and inside a
     compiled loop along the scenario's plan, beside one quadprog solve of the same tension
     problem (the bench extra)."""
     import dataclasses
-    import json as _json
 
     from marinecdpr.studies.latency import controller_latency
 
+    from marinecdpr.planning.budget import check_latency_calls
+    from marinecdpr.report.files import json_text
+
+    try:
+        check_latency_calls(calls)  # before any work
+    except ScenarioError as exc:
+        _fail(str(exc))
     sc = _load(scenario, None, None)
     with _run_errors(scenario):
         lat = controller_latency(sc, calls=calls)
     if as_json:
-        print(_json.dumps(dataclasses.asdict(lat)))
+        print(json_text(dataclasses.asdict(lat), indent=None))
         return
     qp = "quadprog not installed (pip install 'marinecdpr[bench]')" if lat.quadprog_p50_us is None else \
         f"{lat.quadprog_p50_us:.2f} us per solve (p50)"
