@@ -171,3 +171,15 @@ def test_every_json_written_is_strict():
 def test_write_json_writes_null_for_undefined(tmp_path):
     path = write_json({"headroom_N": float("nan"), "rms": 1.5}, tmp_path / "s.json")
     assert json.loads(path.read_text()) == {"headroom_N": None, "rms": 1.5}
+
+
+def test_an_operation_that_never_starts_is_never_done_however_many_days():
+    from marinecdpr.studies.weather import SeaStateSeries, weather_windows
+
+    s = SeaStateSeries(np.arange(4.0), np.array([1.0, 3.0, 1.0, 1.0]), np.full(4, 8.0))
+    w = weather_windows(s, duration_h=1e308, hs_limit_m=2.0)
+    assert w.can_start == 0.0
+    assert w.finish_probability(1e308) == 0.0 and w.finish_probability(math.inf) == 0.0
+    # a 2 h operation starts from t = 0 (wait 2 h) .. 2; from 3 it cannot: done within ever, 3 of 4
+    w2 = weather_windows(s, duration_h=2.0, hs_limit_m=2.0)
+    assert w2.finish_probability(1e308) == 0.75 and w2.finish_probability(3 / 24) == 0.5

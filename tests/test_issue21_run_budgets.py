@@ -169,3 +169,25 @@ def test_clean_over_sea_states_refuses_billions_of_steps(tmp_path):
     line = _one_line_exit_2(res, "paper_clean: ", "judging ", "sea states and poses", "more than the "
                             "1,000,000,000 steps a run can finish in sane time")
     assert math.isfinite(len(line)) and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("command", [["operability"], ["clean", "--seas"]])
+def test_sea_studies_refuse_more_workers_than_the_machine_can_run(command, tmp_path, monkeypatch):
+    import os
+
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
+    for workers in ("100", "1000000000"):
+        res = runner.invoke(app, command + ["--workers", workers, "--out", str(tmp_path / "o")])
+        _one_line_exit_2(res, f"--workers {workers}: more than 4 per core of this machine's 2 gains nothing",
+                         "use at most 8")
+
+
+def test_each_worker_counts_its_own_process():
+    from marinecdpr.planning.budget import BASE_BYTES, check_run_size, estimate_run
+    from marinecdpr.scenario.loading import load_scenario
+
+    sc = load_scenario("paper_sea")
+    one, eight = (estimate_run(sc, "operability", cells=10, workers=w) for w in (1, 8))
+    assert eight.memory_bytes - one.memory_bytes >= 7 * BASE_BYTES
+    with pytest.raises(ScenarioError, match="judging on 8 workers at once would need about .*; use fewer workers"):
+        check_run_size(sc, "operability", cells=10, workers=8, memory_bytes=(one.memory_bytes + 10**8) * 4 // 3)

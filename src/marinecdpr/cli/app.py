@@ -9,6 +9,7 @@ cannot be written); 3 the cables cannot hold the platform somewhere on the plan
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
 from contextlib import contextmanager
@@ -680,6 +681,10 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
                   "record (0: not even the smallest; none within the diagram: all are)", highlight=False)
 
 
+WORKERS_PER_CORE = 4
+"""Most local Dask workers per core a sea-state study starts."""
+
+
 def _sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
     """A sea-state study's headings (deg) from ``--headings``, its executor options checked
     (``--serial`` alone; a ``--scheduler`` that answers)."""
@@ -687,6 +692,10 @@ def _sea_study_options(headings: str, serial: bool, workers: int | None, schedul
 
     if serial and (workers is not None or scheduler):
         _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
+    cores = os.cpu_count() or 1
+    if workers is not None and workers > WORKERS_PER_CORE * cores:
+        _fail(f"--workers {workers}: more than {WORKERS_PER_CORE} per core of this machine's {cores} gains nothing "
+              f"(each is a process of its own); use at most {WORKERS_PER_CORE * cores}")
     try:
         heads = tuple(float(h) for h in headings.split(","))
     except ValueError:

@@ -312,7 +312,8 @@ def estimate_run(
     closed_loop : bool
         ``operability`` also flies the closed loop in each cell.
     workers : int
-        Processes running cells at once (``operability``).
+        Processes running cells at once (``operability``), each with its own
+        :data:`BASE_BYTES`.
     chunk_steps : int
         Steps planned at once.
     repeat : int
@@ -368,6 +369,8 @@ def estimate_run(
         wave_samples = per_cell[2] * poses + fly[2] * max(int(cells), 1)
         sea = (max(int(workers), 1) * max(per_cell[0], fly[0]), per_cell[1], wave_samples)
         working *= max(int(workers), 1)
+        # each worker is a process of its own: its Python, NumPy, SciPy and numba
+        working += (max(int(workers), 1) - 1) * BASE_BYTES
     sea_bytes, components, samples = sea
     runs *= max(int(repeat), 1)
     samples *= max(int(repeat), 1)
@@ -436,6 +439,9 @@ def check_run_size(
     if size.memory_bytes > limit:
         need = (f"would need about {human_bytes(size.memory_bytes)} in memory (this machine: {_gib(total)}, "
                 f"a run may use {MEMORY_FRACTION:.0%})")
+        workers = int(kwargs.get("workers", 1))
+        if workers > 1 and estimate_run(scenario, command, **(kwargs | {"workers": 1})).memory_bytes <= limit:
+            raise ScenarioError(f"{verb} on {_count(workers)} workers at once {need}; use fewer workers")
         part = max(("series", size.series_bytes), ("sea", size.sea_bytes), ("poses", size.pose_bytes),
                    key=lambda p: p[1])[0]
         if part == "sea":

@@ -233,7 +233,8 @@ class Windows:
     def finish_probability(self, days: float) -> float:
         """The probability (over start times) that the operation is finished within
         ``days``: it can start, and wait + duration <= days x 24 h."""
-        done = np.nan_to_num(self.wait_h, nan=np.inf) + self.duration_h <= days * 24.0 + 1e-9
+        can = np.isfinite(self.wait_h)  # (inf + d <= inf would count the start times that never start)
+        done = can & (np.where(can, self.wait_h, 0.0) + self.duration_h <= days * 24.0 + 1e-9)
         return float(done.mean())
 
 
