@@ -103,6 +103,7 @@ def test_the_bem_budget_is_memory_and_time():
     (["--omega", "0.2:inf:10"], ["--omega 0.2:inf:10: expected"]),
     (["--omega", "0.2:1.8:1"], ["--omega 0.2:1.8:1: expected"]),
     (["--omega", "1:2"], ["--omega 1:2: expected first:last:count"]),
+    (["--roll-damping", "1e308"], ["--roll-damping 1e+308: expected a fraction of critical damping from 0 to 1"]),
 ])
 def test_rao_bad_values_are_one_line(args, words, tmp_path):
     _one_line_exit_2(runner.invoke(app, RAO + args + ["--out", str(tmp_path / "o")]), *words)

@@ -830,6 +830,8 @@ def rao(
                         ("--panel", panel)):
         _number(name, value)
     _number("--roll-damping", roll_damping, zero_ok=True)
+    if roll_damping > 1.0:
+        _fail(f"--roll-damping {roll_damping:g}: expected a fraction of critical damping from 0 to 1")
     from marinecdpr.planning.budget import check_bem_size
 
     try:
@@ -865,10 +867,13 @@ def rao(
                 f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
                 f"--panel {panel:g} (marinecdpr {__version__})")
         box_label = "box approximation" + ("" if hull == "box" else " of the same main dimensions")
-        bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
-                                                                        draught_m=draught, gm_m=gm,
-                                                                        roll_damping_ratio=roll_damping),
-                                    box_label=box_label)
+        try:  # a result the tables refuse (not finite, beyond their ranges) is one line, not a traceback
+            bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
+                                                                            draught_m=draught, gm_m=gm,
+                                                                            roll_damping_ratio=roll_damping),
+                                        box_label=box_label)
+        except (ScenarioError, ValueError) as exc:
+            _fail(f"the BEM's RAOs for these dimensions cannot be written: {exc}")
     peak = float(np.degrees(np.abs(bem.values[3])).max())
     console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m ({box_label} "
                          f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: "

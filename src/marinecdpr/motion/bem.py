@@ -50,6 +50,9 @@ ROLL_GYRADIUS_DRY_OVER_BEAM = 0.35
 from the BEM solution)."""
 PITCH_GYRADIUS_OVER_LENGTH = 0.25
 """A ship's pitch (and yaw) radius of gyration over its length."""
+ROLL_DAMPING_MAX = 1.0
+"""Largest viscous roll damping :func:`hull_bem` adds, a fraction of critical (a ship's is
+some 0.02-0.2; the box approximation's ``roll_damping_ratio`` has the same bound)."""
 
 
 def _capytaine():
@@ -274,7 +277,8 @@ def hull_bem(
     gm_m : float
         Transverse metacentric height, m (> 0, and less than KB + BM).
     roll_damping_ratio : float
-        Viscous roll damping over critical, added to the radiation damping (>= 0).
+        Viscous roll damping over critical, added to the radiation damping (0 to
+        :data:`ROLL_DAMPING_MAX`).
     omega : array_like, shape (n_omega,)
         Wave angular frequencies, rad/s (> 0).
     heading_deg : array_like, shape (n_heading,)
@@ -296,8 +300,9 @@ def hull_bem(
     cpt, xr = _capytaine()
     L, B, T, GM = float(length_m), float(beam_m), float(draught_m), float(gm_m)
     check_positive(length_m=L, beam_m=B, draught_m=T, gm_m=GM, panel_m=panel_m, rho=rho, g=g)
-    if not (math.isfinite(roll_damping_ratio) and roll_damping_ratio >= 0):
-        raise ValueError(f"roll_damping_ratio must be finite and >= 0, got {roll_damping_ratio}")
+    if not (math.isfinite(roll_damping_ratio) and 0.0 <= roll_damping_ratio <= ROLL_DAMPING_MAX):
+        raise ValueError(f"roll_damping_ratio must be a fraction of critical damping from 0 to {ROLL_DAMPING_MAX:g}, "
+                         f"got {roll_damping_ratio:g}")
     hydro = (box_hydrostatics if shape == "box" else wigley_hydrostatics)(L, B, T)
     KB, BM = hydro.kb_m, hydro.bm_m
     KG = KB + BM - GM
