@@ -183,3 +183,27 @@ def test_an_operation_that_never_starts_is_never_done_however_many_days():
     # a 2 h operation starts from t = 0 (wait 2 h) .. 2; from 3 it cannot: done within ever, 3 of 4
     w2 = weather_windows(s, duration_h=2.0, hs_limit_m=2.0)
     assert w2.finish_probability(1e308) == 0.75 and w2.finish_probability(3 / 24) == 0.5
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--hull-area", "1e308"], "--hull-area 1e+308 / --move-time 600: hull_area_m2 must be a positive number of m2 "
+                               "up to 1e+06"),
+    (["--hull-area", "100", "--move-time", "1e300"], "move_time_s must be a number of seconds from 0 to 1e+06"),
+    (["--seas", "--hull-area", "1e9"], "hull_area_m2 must be a positive number of m2 up to 1e+06"),
+])
+def test_a_hull_estimate_that_would_mean_nothing_is_refused_before_the_job(args, words, tmp_path):
+    res = runner.invoke(app, ["clean", *args, "--out", str(tmp_path / "o")])
+    _one_line_exit_2(res, words)
+
+
+def test_ship_side_never_overflows():
+    from marinecdpr.studies.cleaning import ship_side
+
+    job = {"panel_area_m2": 2.0, "missed_area_m2": 0.5, "job_time_s": 100.0}
+    est = ship_side(job, hull_area_m2=1e6, move_time_s=1e6)
+    assert est["placements"] == 666667 and math.isfinite(est["hours"])
+    with pytest.raises(ValueError, match="up to 1e\\+06"):
+        ship_side(job, hull_area_m2=1e308, move_time_s=600.0)
+    with pytest.raises(ValueError, match="cleaned nothing"):
+        ship_side({"panel_area_m2": 1e-310, "missed_area_m2": 0.0, "job_time_s": 1.0}, hull_area_m2=1e6,
+                  move_time_s=0.0)

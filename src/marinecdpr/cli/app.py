@@ -218,6 +218,13 @@ def clean(
     _number("--duration", duration)
     _number("--hull-area", hull_area)
     _number("--move-time", move_time, zero_ok=True)
+    if hull_area is not None:
+        from marinecdpr.studies.cleaning import check_hull_estimate
+
+        try:  # before the job: an estimate that would mean nothing is one line
+            check_hull_estimate(hull_area, move_time)
+        except ValueError as exc:
+            _fail(f"--hull-area {hull_area:g} / --move-time {move_time:g}: {exc}")
     sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
     if seas or scatter is not None:
         if guarantee:
@@ -1034,10 +1041,9 @@ def latency(
     problem (the bench extra)."""
     import dataclasses
 
-    from marinecdpr.studies.latency import controller_latency
-
     from marinecdpr.planning.budget import check_latency_calls
     from marinecdpr.report.files import json_text
+    from marinecdpr.studies.latency import controller_latency
 
     try:
         check_latency_calls(calls)  # before any work
