@@ -207,3 +207,21 @@ def test_ship_side_never_overflows():
     with pytest.raises(ValueError, match="cleaned nothing"):
         ship_side({"panel_area_m2": 1e-310, "missed_area_m2": 0.0, "job_time_s": 1.0}, hull_area_m2=1e6,
                   move_time_s=0.0)
+
+
+def test_a_prediction_study_with_too_few_samples_is_undefined_not_nan_in_json():
+    """control-study --rate 0.5 on a 12 s run: no forecast after the settling lands in the
+    record; the errors are undefined: NaN in the arrays (no 0/0 warning), null in the JSON."""
+    import warnings
+
+    from marinecdpr.scenario.loading import load_scenario
+    from marinecdpr.studies.control import ship_prediction_error, worst_moving_dof
+
+    sc = load_scenario("paper_sea")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        p = ship_prediction_error(sc, rate_hz=0.5, duration_s=12.0, settle_s=11.0)
+    assert p.n_evaluated.tolist() == [0] * p.horizons_s.size
+    assert np.isnan(p.model_share).all() and np.isnan(p.predictor).all()
+    text = json_text({"model_share": p.model_share, "predictor": worst_moving_dof(p, p.predictor)})
+    assert json.loads(text) == {"model_share": [None] * p.horizons_s.size, "predictor": [None] * p.horizons_s.size}
