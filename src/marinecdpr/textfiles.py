@@ -1,8 +1,10 @@
 """Reading text files that may be anything: a scenario names them, and anyone may write a
 scenario. RAO tables (:mod:`~marinecdpr.motion.rao`), recorded ship motion
-(:mod:`~marinecdpr.motion.recorded`) and scenarios are read through these helpers, which refuse
-what is not a small UTF-8 text table before parsing and whose messages name the place
-but never quote the content. Also :func:`strip_control`, for showing user text.
+(:mod:`~marinecdpr.motion.recorded`), scatter diagrams and sea-state series
+(:mod:`~marinecdpr.studies`), operability summaries and scenarios are read through these
+helpers, which refuse what is not a small UTF-8 text table before parsing and whose
+messages name the place but never quote the content. Also :func:`strip_control`, for
+showing user text, and :func:`atomic_path`, through which every file is written.
 """
 
 from __future__ import annotations
@@ -11,11 +13,14 @@ import itertools
 import os
 import re
 import stat
+import tempfile
+from contextlib import contextmanager
 from os import PathLike
-from typing import Callable, NoReturn
+from pathlib import Path
+from typing import Callable, Iterator, NoReturn
 
-__all__ = ["MAX_CSV_BYTES", "MAX_LINE_CHARS", "MAX_FIELD_CHARS", "check_file", "read_lines", "long_field",
-           "position", "strip_control"]
+__all__ = ["MAX_CSV_BYTES", "MAX_LINE_CHARS", "MAX_FIELD_CHARS", "check_file", "read_text", "read_lines", "long_field",
+           "position", "strip_control", "atomic_path"]
 
 MAX_CSV_BYTES = 256 * 2**20
 """Largest CSV file read, bytes (256 MiB). A dense RAO table (500 frequencies x 360
@@ -66,27 +71,28 @@ def position(buf: bytes | str, pos: int, word: str) -> str:
     return f"{word} {line}, column {width + 1}"
 
 
-def read_lines(path: str | PathLike, fail: Callable[[str], NoReturn], what: str, word: str = "line") -> list[str]:
-    """The lines of a small UTF-8 text file, without their line ends.
+def read_text(path: str | PathLike, fail: Callable[[str], NoReturn], what: str, word: str = "line",
+              max_bytes: int = MAX_CSV_BYTES) -> str:
+    """The text of a small UTF-8 file, its line ends as written.
 
-    Accepts what spreadsheets write: a UTF-8 byte-order mark and LF, CRLF or CR line
-    ends. Refuses, through ``fail`` with one line that names the place (``word`` L,
-    column C) but never quotes the content: a path that is not a regular file, a
-    file over :data:`MAX_CSV_BYTES`, UTF-16, NUL bytes or other control characters
-    (binary data), bytes that are not UTF-8, and lines over :data:`MAX_LINE_CHARS`
-    characters. ``what`` says what was expected ("a ... file").
+    Refuses, through ``fail`` with one line that names the place (``word`` L, column C)
+    but never quotes the content: a path that is not a regular file (a folder, a device,
+    a pipe: checked again once open, and read without blocking), a file over
+    ``max_bytes``, UTF-16, NUL bytes or other control characters (binary data) and bytes
+    that are not UTF-8. A UTF-8 byte-order mark is dropped. ``what`` says what was
+    expected ("a ... file").
     """
-    check_file(path, fail, what, MAX_CSV_BYTES)
+    check_file(path, fail, what, max_bytes)
     try:  # non-blocking, and checked again once open: the path may have changed meanwhile
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
         with os.fdopen(fd, "rb") as f:
             if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
                 fail(f"not a regular file; expected {what}")
-            data = f.read(MAX_CSV_BYTES + 1)  # bounded: /proc files report size 0
+            data = f.read(max_bytes + 1)  # bounded: /proc files report size 0
     except OSError as exc:
         fail(f"cannot read the file ({exc.strerror or type(exc).__name__}); expected {what}")
-    if len(data) > MAX_CSV_BYTES:
-        fail(f"larger than {what} can be ({mib(MAX_CSV_BYTES)} at most)")
+    if len(data) > max_bytes:
+        fail(f"larger than {what} can be ({mib(max_bytes)} at most)")
     if data.startswith(_UTF8_BOM):
         data = data[len(_UTF8_BOM):]
     elif data.startswith((b"\xff\xfe", b"\xfe\xff")):
@@ -101,6 +107,19 @@ def read_lines(path: str | PathLike, fail: Callable[[str], NoReturn], what: str,
     control = _CONTROL.search(text)
     if control:
         fail(f"{position(text, control.start(), word)}: a control character, so not text; expected {what}")
+    return text
+
+
+def read_lines(path: str | PathLike, fail: Callable[[str], NoReturn], what: str, word: str = "line") -> list[str]:
+    """The lines of a small UTF-8 text file, without their line ends.
+
+    Accepts what spreadsheets write: a UTF-8 byte-order mark and LF, CRLF or CR line
+    ends. Refuses, through ``fail``, what :func:`read_text` refuses (not a regular
+    file, over :data:`MAX_CSV_BYTES`, binary, not UTF-8) and lines over
+    :data:`MAX_LINE_CHARS` characters (so that no CSV field reaches the csv module's
+    own field limit). ``what`` says what was expected ("a ... file").
+    """
+    text = read_text(path, fail, what, word)
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     if lines[-1] == "":
         lines.pop()
@@ -115,3 +134,31 @@ def long_field(rows: list[list[str]]) -> tuple[int, int] | None:
     if max(map(len, itertools.chain.from_iterable(rows)), default=0) <= MAX_FIELD_CHARS:
         return None
     return next((i, j) for i, rec in enumerate(rows) for j, c in enumerate(rec) if len(c) > MAX_FIELD_CHARS)
+
+
+def _file_mode() -> int:
+    """The mode a new file gets from open(): 0o666 less the process's umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+@contextmanager
+def atomic_path(path: str | PathLike, suffix: str = "") -> Iterator[Path]:
+    """A temporary path in ``path``'s folder, renamed to ``path`` if the block succeeds:
+    the file is complete or not there at all (an interrupted or failed write leaves the
+    previous file, or none). Every file the package writes goes through this.
+
+    The file ends with the mode ``open()`` would give it (the umask honoured), not the
+    temporary file's private 0600.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.chmod(tmp, _file_mode())
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)

@@ -10,6 +10,7 @@ max_bypassed_share`` of its steps (the outputs are written, complete, with the v
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import sys
@@ -283,6 +284,13 @@ def clean(
     _number("--duration", duration)
     _number("--hull-area", hull_area)
     _number("--move-time", move_time, zero_ok=True)
+    if hull_area is not None:
+        from marinecdpr.studies.cleaning import check_hull_estimate
+
+        try:  # before the job: an estimate that would mean nothing is one line
+            check_hull_estimate(hull_area, move_time)
+        except ValueError as exc:
+            _fail(f"--hull-area {hull_area:g} / --move-time {move_time:g}: {exc}")
     sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
     if seas or scatter is not None:
         if guarantee:
@@ -356,9 +364,15 @@ def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_are
         check_sea_state(sc)
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
+    from marinecdpr.planning.budget import check_run_size
+
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
-    executor = _sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
     n_workers = workers or 2
+    try:  # before any work: every sea state flies the job closed loop
+        check_run_size(sc, "operability", cells=n_cells, closed_loop=True, workers=1 if serial else n_workers)
+    except ScenarioError as exc:
+        _fail_scenario(exc, scenario)
+    executor = _sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
     t0 = time.perf_counter()
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
@@ -805,6 +819,10 @@ def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elap
                   "record (0: not even the smallest; none within the diagram: all are)", highlight=False)
 
 
+WORKERS_PER_CORE = 4
+"""Most local Dask workers per core a sea-state study starts."""
+
+
 def _sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
     """A sea-state study's headings (deg) from ``--headings``, its executor options checked
     (``--serial`` alone; a ``--scheduler`` that answers)."""
@@ -812,6 +830,10 @@ def _sea_study_options(headings: str, serial: bool, workers: int | None, schedul
 
     if serial and (workers is not None or scheduler):
         _fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
+    cores = os.cpu_count() or 1
+    if workers is not None and workers > WORKERS_PER_CORE * cores:
+        _fail(f"--workers {workers}: more than {WORKERS_PER_CORE} per core of this machine's {cores} gains nothing "
+              f"(each is a process of its own); use at most {WORKERS_PER_CORE * cores}")
     try:
         heads = tuple(float(h) for h in headings.split(","))
     except ValueError:
@@ -915,6 +937,10 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
                       highlight=False, soft_wrap=True)
 
 
+MAX_RAO_FREQUENCIES = 2000
+"""Most wave frequencies ``rao --omega`` takes (a table of 33 is typical)."""
+
+
 @app.command()
 def rao(
     length: float = typer.Option(..., help="The hull's length, m."),
@@ -944,14 +970,31 @@ def rao(
                         ("--panel", panel)):
         _number(name, value)
     _number("--roll-damping", roll_damping, zero_ok=True)
+    if roll_damping > 1.0:
+        _fail(f"--roll-damping {roll_damping:g}: expected a fraction of critical damping from 0 to 1")
+    from marinecdpr.planning.budget import check_bem_size
+
     try:
-        heads = tuple(sorted({float(h) % 360.0 for h in headings.split(",")}))
-        first, last, count = omega.split(":")
-        w = np.linspace(float(first), float(last), int(count))
+        given = [float(h) for h in headings.split(",")]
     except ValueError:
-        _fail(f"--headings {headings} / --omega {omega}: expected numbers like 90,180 and 0.2:1.8:33")
-    if not (w.size >= 2 and np.all(np.isfinite(w)) and w[0] > 0 and np.all(np.diff(w) > 0)):
-        _fail(f"--omega {omega}: expected first:last:count with 0 < first < last and count >= 2")
+        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 90,180")
+    if not all(math.isfinite(h) for h in given):
+        _fail(f"--headings {headings}: expected finite headings, deg")
+    heads = tuple(sorted({h % 360.0 for h in given}))
+    try:
+        first, last, count = omega.split(":")
+        first, last, count = float(first), float(last), int(count)
+    except ValueError:
+        _fail(f"--omega {omega}: expected first:last:count, e.g. 0.2:1.8:33")
+    if not (math.isfinite(first) and math.isfinite(last) and 0 < first < last and 2 <= count <= MAX_RAO_FREQUENCIES):
+        _fail(f"--omega {omega}: expected first:last:count with 0 < first < last and 2 <= count <= "
+              f"{MAX_RAO_FREQUENCIES}")
+    w = np.linspace(first, last, count)
+    try:  # before any work: a BEM the machine cannot hold or finish is one line
+        check_bem_size(shape=hull, length_m=length, beam_m=beam, draught_m=draught, panel_m=panel,
+                       frequencies=count, headings=len(heads))
+    except (ScenarioError, ValueError) as exc:
+        _fail(str(exc))
     t0 = time.perf_counter()
     with _output(out) as folder:
         try:
@@ -964,10 +1007,13 @@ def rao(
                 f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
                 f"--panel {panel:g} (marinecdpr {__version__})")
         box_label = "box approximation" + ("" if hull == "box" else " of the same main dimensions")
-        bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
-                                                                        draught_m=draught, gm_m=gm,
-                                                                        roll_damping_ratio=roll_damping),
-                                    box_label=box_label)
+        try:  # a result the tables refuse (not finite, beyond their ranges) is one line, not a traceback
+            bem, box, paths = write_rao(ds, folder, made_by=made, box=dict(length_m=length, beam_m=beam,
+                                                                            draught_m=draught, gm_m=gm,
+                                                                            roll_damping_ratio=roll_damping),
+                                        box_label=box_label)
+        except (ScenarioError, ValueError) as exc:
+            _fail(f"the BEM's RAOs for these dimensions cannot be written: {exc}")
     peak = float(np.degrees(np.abs(bem.values[3])).max())
     console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m ({box_label} "
                          f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: "
@@ -991,16 +1037,17 @@ def windows(
 ) -> None:
     """Weather windows in a series of sea states: when an operation of --duration-h fits,
     the expected wait before it can start, and the probability it is done within days."""
-    import json as _json
     from importlib import resources
 
     from marinecdpr.report.writers import write_windows
-    from marinecdpr.studies.weather import limit_from_operability, read_sea_state_series, weather_windows
+    from marinecdpr.studies.weather import (limit_from_operability, read_operability_json, read_sea_state_series,
+                                            weather_windows)
 
     _number("--duration-h", duration_h)
     if (hs_limit is None) == (operability_json is None):
         _fail("give one design limit: --hs-limit H or --operability FILE.json")
     _number("--hs-limit", hs_limit)
+    _number("--heading", heading, finite_only=True)
     if not (math.isfinite(alpha) and 0.0 < alpha <= 1.0):
         _fail(f"--alpha {alpha:g}: expected a factor in (0, 1]")
     try:
@@ -1017,10 +1064,9 @@ def windows(
             if operability_json.is_dir():
                 raise ScenarioError("a folder, not a file; expected an operability.json", source=str(operability_json))
             try:
-                table = limit_from_operability(_json.loads(operability_json.read_text(encoding="utf-8")), heading)
-            except (OSError, ValueError) as exc:
-                raise ScenarioError(f"cannot read it as operability.json ({type(exc).__name__})",
-                                    source=str(operability_json)) from None
+                table = limit_from_operability(read_operability_json(operability_json), heading)
+            except ScenarioError as exc:
+                raise ScenarioError(exc.detail, source=str(operability_json), key=exc.key) from None
     except ScenarioError as exc:
         _fail(str(exc))
     w = weather_windows(sea, duration_h=duration_h, alpha=alpha, hs_limit_m=hs_limit, limit_table=table)
@@ -1091,6 +1137,19 @@ def control_study(
     if duration <= settle:
         _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
               "warm-up and a second)")
+    from marinecdpr.planning.budget import check_run_size
+
+    n_runs = len(lat_s) * len(preds) * len(sources)
+    try:  # the MRU's settings as the runs will set them, checked before the first run
+        sc.with_updates("simulation.mru", rate_hz=rate, latency_s=max(lat_s))
+    except ScenarioError as exc:
+        _fail(f"--rate {rate:g} / --latencies {latencies}: {exc.detail} ({exc.key})" if exc.key else
+              f"--rate {rate:g} / --latencies {latencies}: {exc.detail}")
+    try:  # before any work: runs the machine cannot hold or finish are one line
+        check_run_size(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": duration}), "simulate",
+                       repeat=n_runs)
+    except ScenarioError as exc:
+        _fail(f"--duration {duration:g} ({n_runs} run{'s' if n_runs != 1 else ''}): {exc.detail}")
     with _output(out) as folder:
         _compile_notice(plant)
         with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
@@ -1115,24 +1174,30 @@ def control_study(
 @app.command()
 def latency(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
-    calls: int = typer.Option(20000, "--calls", min=1, help="Steps timed from Python and in a compiled loop."),
+    calls: int = typer.Option(20000, "--calls", help="Steps timed from Python and in a compiled loop (1 to "
+                              "10,000,000)."),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of a table."),
 ) -> None:
     """How long the controller's step takes on this machine: called from Python and inside a
     compiled loop along the scenario's plan, beside one quadprog solve of the same tension
     problem (the bench extra)."""
     import dataclasses
-    import json as _json
 
+    from marinecdpr.planning.budget import check_latency_calls
+    from marinecdpr.report.files import json_text
     from marinecdpr.studies.latency import LATENCY_COMPILE_S, controller_latency, latency_kernels_cached
 
+    try:
+        check_latency_calls(calls)  # before any work
+    except ScenarioError as exc:
+        _fail(str(exc))
     sc = _load(scenario, None, None)
     if not latency_kernels_cached():
         _compiling("the controller's step", LATENCY_COMPILE_S)
     with _run_errors(scenario):
         lat = controller_latency(sc, calls=calls)
     if as_json:
-        print(_json.dumps(dataclasses.asdict(lat)))
+        print(json_text(dataclasses.asdict(lat), indent=None))
         return
     qp = "quadprog not installed (pip install 'marinecdpr[bench]')" if lat.quadprog_p50_us is None else \
         f"{lat.quadprog_p50_us:.2f} us per solve (p50)"

@@ -40,7 +40,7 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.rao import check_positive
 
-__all__ = ["hull_bem", "box_hull_bem", "HULL_SHAPES", "Hydrostatics", "box_hydrostatics", "wigley_hydrostatics",
+__all__ = ["hull_bem", "box_hull_bem", "bem_panels", "HULL_SHAPES", "Hydrostatics", "box_hydrostatics", "wigley_hydrostatics",
            "wigley_half_breadth", "wigley_mesh", "ROLL_GYRADIUS_DRY_OVER_BEAM", "PITCH_GYRADIUS_OVER_LENGTH"]
 
 HULL_SHAPES = ("box", "wigley")
@@ -50,6 +50,9 @@ ROLL_GYRADIUS_DRY_OVER_BEAM = 0.35
 from the BEM solution)."""
 PITCH_GYRADIUS_OVER_LENGTH = 0.25
 """A ship's pitch (and yaw) radius of gyration over its length."""
+ROLL_DAMPING_MAX = 1.0
+"""Largest viscous roll damping :func:`hull_bem` adds, a fraction of critical (a ship's is
+some 0.02-0.2; the box approximation's ``roll_damping_ratio`` has the same bound)."""
 
 
 def _capytaine():
@@ -159,6 +162,57 @@ def wigley_half_breadth(x, z, *, length_m: float, beam_m: float, draught_m: floa
     return 0.5 * beam_m * (1.0 - xi * xi) * (1.0 - zeta * zeta)
 
 
+def _wigley_grid(L: float, B: float, T: float, panel_m: float) -> tuple[int, int]:
+    """(n_x, n_z) of :func:`wigley_mesh`: n_x = ceil(L / panel_m) rounded up to even (a
+    station amidships), n_z = ceil(girth / panel_m), at least 2."""
+    fine = np.linspace(-T, 0.0, 2001)
+    section = wigley_half_breadth(0.0, fine, length_m=L, beam_m=B, draught_m=T)
+    girth = float(np.sum(np.hypot(np.diff(fine), np.diff(section))))
+    return 2 * _cells(L / 2.0, panel_m, 1), _cells(girth, panel_m)
+
+
+def _cells(extent: float, panel_m: float, least: int = 2) -> int:
+    """Panels of about ``panel_m`` across ``extent``, at least ``least`` (counted up to 1e12:
+    a denormal panel's ratio is infinite; any such hull is refused by its size)."""
+    return max(least, math.ceil(min(extent / panel_m, 1e12)))
+
+
+def _box_resolution(L: float, B: float, T: float, panel_m: float) -> tuple[int, int, int]:
+    """Panels along the length, beam and height of the box about the waterline (2 T high)."""
+    return tuple(_cells(x, panel_m) for x in (L, B, 2.0 * T))
+
+
+def bem_panels(*, shape: str, length_m: float, beam_m: float, draught_m: float, panel_m: float) -> int:
+    """How many panels :func:`hull_bem`'s immersed hull has, from arithmetic alone (no mesh
+    is built, Capytaine need not be installed): what sizes the BEM's memory and time
+    (:func:`marinecdpr.planning.budget.check_bem_size`).
+
+    Parameters
+    ----------
+    shape : {"box", "wigley"}
+    length_m, beam_m, draught_m : float
+        L, B, T, m (> 0).
+    panel_m : float
+        About the panels' size, m (> 0).
+
+    Returns
+    -------
+    int
+        Box: the bottom's n_x n_y and the four sides' 2 (n_x + n_y) rows below the
+        waterline (n_z / 2 for an even n_z; the clipped middle row adds one for an odd
+        n_z). Wigley: 2 n_x n_z (:func:`wigley_mesh`).
+    """
+    if shape not in HULL_SHAPES:
+        raise ValueError(f"shape {shape!r}: expected one of {', '.join(HULL_SHAPES)}")
+    check_positive(length_m=length_m, beam_m=beam_m, draught_m=draught_m, panel_m=panel_m)
+    L, B, T = float(length_m), float(beam_m), float(draught_m)
+    if shape == "box":
+        nx, ny, nz = _box_resolution(L, B, T, panel_m)
+        return nx * ny + 2 * (nx + ny) * (nz // 2 + (nz % 2) * 2)
+    nx, nz = _wigley_grid(L, B, T, panel_m)
+    return 2 * nx * nz
+
+
 def wigley_mesh(*, length_m: float, beam_m: float, draught_m: float, panel_m: float):
     """The Wigley hull's wetted surface as a Capytaine mesh (normals outward, into the water).
 
@@ -184,10 +238,7 @@ def wigley_mesh(*, length_m: float, beam_m: float, draught_m: float, panel_m: fl
     """
     cpt, _ = _capytaine()
     L, B, T = float(length_m), float(beam_m), float(draught_m)
-    fine = np.linspace(-T, 0.0, 2001)
-    section = wigley_half_breadth(0.0, fine, length_m=L, beam_m=B, draught_m=T)
-    girth = float(np.sum(np.hypot(np.diff(fine), np.diff(section))))
-    nx, nz = 2 * math.ceil(L / (2.0 * panel_m)), max(2, math.ceil(girth / panel_m))  # a station amidships
+    nx, nz = _wigley_grid(L, B, T, panel_m)
     X, Z = np.meshgrid(np.linspace(-L / 2.0, L / 2.0, nx + 1), np.linspace(-T, 0.0, nz + 1), indexing="ij")
     Y = wigley_half_breadth(X, Z, length_m=L, beam_m=B, draught_m=T)
     side = np.stack([X, Y, Z], axis=-1).reshape(-1, 3)  # the port (+y) side
@@ -226,7 +277,8 @@ def hull_bem(
     gm_m : float
         Transverse metacentric height, m (> 0, and less than KB + BM).
     roll_damping_ratio : float
-        Viscous roll damping over critical, added to the radiation damping (>= 0).
+        Viscous roll damping over critical, added to the radiation damping (0 to
+        :data:`ROLL_DAMPING_MAX`).
     omega : array_like, shape (n_omega,)
         Wave angular frequencies, rad/s (> 0).
     heading_deg : array_like, shape (n_heading,)
@@ -248,18 +300,24 @@ def hull_bem(
     cpt, xr = _capytaine()
     L, B, T, GM = float(length_m), float(beam_m), float(draught_m), float(gm_m)
     check_positive(length_m=L, beam_m=B, draught_m=T, gm_m=GM, panel_m=panel_m, rho=rho, g=g)
-    if not (math.isfinite(roll_damping_ratio) and roll_damping_ratio >= 0):
-        raise ValueError(f"roll_damping_ratio must be finite and >= 0, got {roll_damping_ratio}")
+    if not (math.isfinite(roll_damping_ratio) and 0.0 <= roll_damping_ratio <= ROLL_DAMPING_MAX):
+        raise ValueError(f"roll_damping_ratio must be a fraction of critical damping from 0 to {ROLL_DAMPING_MAX:g}, "
+                         f"got {roll_damping_ratio:g}")
     hydro = (box_hydrostatics if shape == "box" else wigley_hydrostatics)(L, B, T)
     KB, BM = hydro.kb_m, hydro.bm_m
     KG = KB + BM - GM
     if KG <= 0:
         raise ValueError(f"gm_m {GM:g} m is more than KB + BM = {KB + BM:.3g} m: no centre of gravity gives it")
     omega = np.asarray(omega, dtype=float)
-    directions = np.radians(np.asarray(heading_deg, dtype=float))
+    if not (omega.ndim == 1 and omega.size >= 1 and np.all(np.isfinite(omega)) and np.all(omega > 0)):
+        raise ValueError("omega must be finite wave frequencies > 0 rad/s")
+    heading = np.asarray(heading_deg, dtype=float)
+    if not (heading.ndim == 1 and heading.size >= 1 and np.all(np.isfinite(heading))):
+        raise ValueError("heading_deg must be finite wave headings, deg")
+    directions = np.radians(heading)
     if shape == "box":
         size = (L, B, 2.0 * T)  # a box about the waterline; its immersed half is the hull
-        resolution = tuple(max(2, math.ceil(s / panel_m)) for s in size)
+        resolution = _box_resolution(L, B, T, panel_m)
         mesh = cpt.mesh_parallelepiped(size=size, center=(0.0, 0.0, 0.0), resolution=resolution, name="box")
     else:
         mesh = wigley_mesh(length_m=L, beam_m=B, draught_m=T, panel_m=panel_m)

@@ -680,11 +680,14 @@ class PredictionError:
     predictor, taylor, hold : ndarray, shape (n_h, 3, n_dof)
         RMS error of eta, eta', eta'' (axis 1) over the RMS of the record's eta, eta',
         eta'' (about its mean, :attr:`record_rms`): the predictor, the Taylor extrapolation
-        (8) of the last sample, and the last sample held. NaN for a DOF that does not move.
+        (8) of the last sample, and the last sample held. NaN for a DOF that does not move,
+        and at a horizon where no forecast was compared (``n_evaluated`` 0: the MRU's
+        samples too sparse for the record).
     record_rms : ndarray, shape (3, n_dof)
         The record's RMS about its mean: m, rad (row 0), per s (1), per s^2 (2).
     model_share : ndarray, shape (n_h,)
-        The fraction of the evaluations the AR model served (the rest: Taylor, warm-up).
+        The fraction of the evaluations the AR model served (the rest: Taylor, warm-up);
+        NaN where none was made.
     n_evaluated : ndarray, shape (n_h,), int
         Forecasts compared (one per MRU sample after ``discard_s``, target within the record).
     sample_hz, latency_s, discard_s : float
@@ -871,9 +874,11 @@ def prediction_error(
     _study_loop(pred, ts, samples, rec, t[0], dt, ahead, t_from, t[-1], sse, count, model)
     rms = np.sqrt(np.mean((rec - rec.mean(axis=0)) ** 2, axis=0))  # (3, n_dof)
     scale = np.where(rms > 1e-12 * max(float(rms.max()), 1e-300), rms, np.nan)
-    err = np.sqrt(sse / count[None, :, None, None]) / scale
+    evaluated = count > 0  # NaN, said once, where no forecast was compared (no 0/0 warning)
+    n = np.where(evaluated, count, 1)
+    err = np.where(evaluated[None, :, None, None], np.sqrt(sse / n[None, :, None, None]), np.nan) / scale
     return PredictionError(
         horizons_s=ahead - latency_s, predictor=err[0], taylor=err[1], hold=err[2], record_rms=rms,
-        model_share=model / count, n_evaluated=count, sample_hz=float(sample_hz),
+        model_share=np.where(evaluated, model / n, np.nan), n_evaluated=count, sample_hz=float(sample_hz),
         latency_s=float(latency_s), discard_s=float(discard_s), noise_std=noise,
         resets=int(pred.ints[_RESETS]), options=dict(options))

@@ -32,12 +32,12 @@ import csv
 import math
 from dataclasses import dataclass
 from os import PathLike
-from typing import Any, Callable, NamedTuple, NoReturn
+from typing import Any, Callable, NamedTuple, NoReturn, Sequence
 
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.textfiles import MAX_FIELD_CHARS, check_file, long_field, read_lines
+from marinecdpr.textfiles import MAX_FIELD_CHARS, atomic_path, check_file, long_field, read_lines, strip_control
 
 __all__ = [
     "DOFS",
@@ -495,7 +495,7 @@ def _grid_values(rows: _RaoRows, grid: _Grid) -> np.ndarray:
     return values
 
 
-def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
+def write_rao_csv(rao: RAO, path: str | PathLike, *, comments: Sequence[str] = ()) -> None:
     """Write RAOs as the CSV table :func:`read_rao_csv` reads.
 
     Rows are ordered by heading, then omega, then DOF; numbers are written with
@@ -507,7 +507,10 @@ def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
     rao : RAO
         The table to write.
     path : str or path-like
-        The CSV file (overwritten).
+        The CSV file (replaced whole: written to a temporary file beside it and renamed,
+        so it is never left half-written).
+    comments : sequence of str
+        Lines written first, each as ``# line`` (read back as comments).
 
     Raises
     ------
@@ -534,8 +537,9 @@ def write_rao_csv(rao: RAO, path: str | PathLike) -> None:
         map(repr, phase.tolist()),
     ]
     body = "\n".join(",".join(r) for r in zip(*cols))
-    with open(path, "w", newline="", encoding="utf-8") as f:
-        f.write(",".join(_CSV_COLUMNS) + "\n" + body + "\n")
+    head = "".join(f"# {strip_control(line)}\n" for line in comments)
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as f:
+        f.write(head + ",".join(_CSV_COLUMNS) + "\n" + body + "\n")
 
 
 # ---------------------------------------------------------------------------------------

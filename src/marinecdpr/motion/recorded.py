@@ -61,7 +61,7 @@ from scipy.interpolate import BSpline, make_smoothing_spline
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.ship import ShipMotion, ship_motion
-from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines
+from marinecdpr.textfiles import MAX_FIELD_CHARS, atomic_path, long_field, read_lines
 
 __all__ = [
     "MOTION_CSV_COLUMNS",
@@ -499,7 +499,8 @@ def write_motion_csv(
     Parameters
     ----------
     path : str or Path
-        The file to write (overwritten).
+        The file to write (replaced whole: written to a temporary file beside it and
+        renamed, so it is never left half-written).
     t : array_like, shape (n,)
         Times, s.
     eta : array_like, shape (n, 6)
@@ -519,14 +520,15 @@ def write_motion_csv(
     out = flip_z_axis(eta) if z_axis == "down" else eta.copy()
     if angles == "deg":
         out[:, 3:] = np.degrees(out[:, 3:])
-    np.savetxt(
-        path,
-        np.column_stack([t, out]),
-        fmt="%.17g",
-        delimiter=",",
-        header=",".join(MOTION_CSV_COLUMNS),
-        comments="",
-    )
+    with atomic_path(path) as tmp:  # complete or not at all
+        np.savetxt(
+            tmp,
+            np.column_stack([t, out]),
+            fmt="%.17g",
+            delimiter=",",
+            header=",".join(MOTION_CSV_COLUMNS),
+            comments="",
+        )
 
 
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:

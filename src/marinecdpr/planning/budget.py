@@ -41,6 +41,12 @@ __all__ = [
     "check_run_size",
     "human_bytes",
     "describe_run",
+    "BemSize",
+    "estimate_bem",
+    "check_bem_size",
+    "MAX_BEM_S",
+    "MAX_LATENCY_CALLS",
+    "check_latency_calls",
 ]
 
 COMMANDS = ("plan", "plan_stream", "simulate", "virtual_prototype", "workspace", "operability")
@@ -151,6 +157,8 @@ def machine_memory_bytes() -> int:
 def human_bytes(n: float) -> str:
     """``2.4 TB``, ``15 GB``, ``400 GB``: decimal units, a decimal below 10."""
     for unit in ("B", "kB", "MB", "GB", "TB", "PB", "EB", "ZB", "YB"):
+        if unit == "YB" and abs(n) >= 999.5:
+            return f"{n:.3g} YB"
         if abs(n) < 999.5 or unit == "YB":
             return f"{n:.1f} {unit}" if abs(n) < 9.95 and unit != "B" else f"{n:.0f} {unit}"
         n /= 1000.0
@@ -162,8 +170,14 @@ def _gib(n: float) -> str:
 
 
 def _count(n: float) -> str:
-    """Exact below ten billion (``1,000,000,001``), else ``3e+12``."""
-    return f"{int(n):,}" if n < 10**10 else f"{n:.3g}"
+    """Exact below ten billion (``1,000,000,001``), else ``3e+12`` (``1e+400`` for an integer
+    beyond floats)."""
+    if n < 10**10:
+        return f"{int(n):,}"
+    try:
+        return f"{float(n):.3g}"
+    except OverflowError:
+        return f"1e+{len(str(int(n))) - 1}"
 
 
 # ---------------------------------------------------------------------- estimate
@@ -281,6 +295,7 @@ def estimate_run(
     closed_loop: bool = False,
     workers: int = 1,
     chunk_steps: int = CHUNK_STEPS,
+    repeat: int = 1,
 ) -> RunSize:
     """The memory and work of ``command`` on ``scenario`` (arithmetic only).
 
@@ -298,9 +313,13 @@ def estimate_run(
     closed_loop : bool
         ``operability`` also flies the closed loop in each cell.
     workers : int
-        Processes running cells at once (``operability``).
+        Processes running cells at once (``operability``), each with its own
+        :data:`BASE_BYTES`.
     chunk_steps : int
         Steps planned at once.
+    repeat : int
+        Runs of the command one after another (``control-study``'s closed-loop runs): the
+        steps multiply, the memory does not.
 
     Returns
     -------
@@ -355,7 +374,11 @@ def estimate_run(
         working += chunk * SHIP_ROW if grid is not None else 0
         sea = (max(int(workers), 1) * max(per_cell[0], fly[0]), per_cell[1], wave_samples)
         working *= max(int(workers), 1)
+        # each worker is a process of its own: its Python, NumPy, SciPy and numba
+        working += (max(int(workers), 1) - 1) * BASE_BYTES
     sea_bytes, components, samples = sea
+    runs *= max(int(repeat), 1)
+    samples *= max(int(repeat), 1)
     memory = BASE_BYTES + working + series + sea_bytes + pose_bytes
     return RunSize(command, n, m, poses, runs, int(memory), int(series), int(sea_bytes), int(pose_bytes),
                    int(components), int(samples))
@@ -419,7 +442,8 @@ def check_run_size(
         The machine's memory (default :func:`machine_memory_bytes`); a run may use
         :data:`MEMORY_FRACTION` of it.
     **kwargs
-        As :func:`estimate_run` (``n_steps``, ``grid``, ``cells``, ``closed_loop``, ``workers``).
+        As :func:`estimate_run` (``n_steps``, ``grid``, ``cells``, ``closed_loop``, ``workers``,
+        ``repeat``).
 
     Returns
     -------
@@ -441,6 +465,9 @@ def check_run_size(
     if size.memory_bytes > limit:
         need = (f"would need about {human_bytes(size.memory_bytes)} in memory (this machine: {_gib(total)}, "
                 f"a run may use {MEMORY_FRACTION:.0%})")
+        workers = int(kwargs.get("workers", 1))
+        if workers > 1 and estimate_run(scenario, command, **(kwargs | {"workers": 1})).memory_bytes <= limit:
+            raise ScenarioError(f"{verb} on {_count(workers)} workers at once {need}; use fewer workers")
         part = max(("series", size.series_bytes), ("sea", size.sea_bytes), ("poses", size.pose_bytes),
                    key=lambda p: p[1])[0]
         if part == "sea":
@@ -477,3 +504,122 @@ def check_run_size(
             f"({size.wave_work:.3g} component-samples) is more than the {MAX_WAVE_WORK:.0e} a run can finish "
             f"in sane time; use a shorter record_s or fewer steps", key="base_motion.record_s")
     return size
+
+
+# ------------------------------------------------------------------ BEM (marinecdpr rao)
+BEM_MATRIX_BYTES = 64
+"""Capytaine's memory per panel pair: its influence matrices S and K (complex, 16 B each),
+K's LU factors and the Green function's temporaries. Measured: 422 MB above the
+process's baseline for 2829 panels (53 B a pair; Capytaine 3.0, its default engine)."""
+BEM_PAIR_S = 5e-7
+"""Seconds per panel pair and wave frequency to build the matrices..."""
+BEM_LU_S = 1e-10
+"""... per panel cubed and frequency to factor them..."""
+BEM_SOLVE_S = 2e-8
+"""... and per panel pair, frequency and problem (six radiating DOFs and a diffraction
+problem per heading) to solve. Measured on the 2-core CI machine, loaded: 2829 panels
+took 4.8 s a frequency (this model says 6.3 s); the estimate errs high."""
+MAX_BEM_S = 3600.0
+"""Longest BEM run ``marinecdpr rao`` starts, by the estimate, s: an hour."""
+
+
+@dataclass(frozen=True)
+class BemSize:
+    """What a BEM run would take: ``panels`` of the immersed hull, ``frequencies`` and
+    ``headings`` solved, estimated peak ``memory_bytes`` and ``seconds``."""
+
+    panels: int
+    frequencies: int
+    headings: int
+    memory_bytes: float
+    seconds: float
+
+
+def estimate_bem(*, shape: str, length_m: float, beam_m: float, draught_m: float, panel_m: float,
+                 frequencies: int, headings: int) -> BemSize:
+    """The memory and time of :func:`~marinecdpr.motion.bem.hull_bem` (arithmetic only: the
+    panels from :func:`~marinecdpr.motion.bem.bem_panels`, dense matrices of every panel
+    pair, factored once per frequency)."""
+    from marinecdpr.motion.bem import bem_panels
+
+    n = bem_panels(shape=shape, length_m=length_m, beam_m=beam_m, draught_m=draught_m, panel_m=panel_m)
+    pairs = float(n) * float(n)
+    per_frequency = BEM_PAIR_S * pairs + BEM_LU_S * pairs * n + BEM_SOLVE_S * pairs * (6 + headings)
+    return BemSize(n, int(frequencies), int(headings), BASE_BYTES + BEM_MATRIX_BYTES * pairs,
+                   frequencies * per_frequency)
+
+
+def _duration(s: float) -> str:
+    """``40 s``, ``12 min``, ``3.5 h``, ``2e+05 days``."""
+    if s < 120:
+        return f"{s:.0f} s"
+    if s < 7200:
+        return f"{s / 60:.0f} min"
+    if s < 4 * 86400:
+        return f"{s / 3600:.1f} h"
+    return f"{s / 86400:.3g} days"
+
+
+def check_bem_size(*, memory_bytes: int | None = None, max_seconds: float = MAX_BEM_S, **hull) -> BemSize:
+    """Refuse a BEM run that would not fit in memory or would take more than ``max_seconds``.
+
+    Parameters
+    ----------
+    memory_bytes : int, optional
+        The machine's memory (default :func:`machine_memory_bytes`); a run may use
+        :data:`MEMORY_FRACTION` of it.
+    max_seconds : float
+        The longest run started (default :data:`MAX_BEM_S`).
+    **hull
+        As :func:`estimate_bem`.
+
+    Returns
+    -------
+    BemSize
+        The estimate, when the run fits.
+
+    Raises
+    ------
+    ScenarioError
+        One line: the panels, the estimated memory or time and what to change (a larger
+        ``--panel``, fewer frequencies).
+    """
+    size = estimate_bem(**hull)
+    total = machine_memory_bytes() if memory_bytes is None else int(memory_bytes)
+    what = (f"a BEM of {_count(size.panels)} panels ({hull['shape']} hull of {hull['length_m']:g} x "
+            f"{hull['beam_m']:g} x {hull['draught_m']:g} m at {hull['panel_m']:g} m panels)")
+    if size.memory_bytes > MEMORY_FRACTION * total:
+        raise ScenarioError(f"{what} would need about {human_bytes(size.memory_bytes)} in memory (this machine: "
+                            f"{_gib(total)}, a run may use {MEMORY_FRACTION:.0%}); use a larger --panel")
+    if size.seconds > max_seconds:
+        raise ScenarioError(f"{what} at {size.frequencies} frequencies and {size.headings} heading"
+                            f"{'s' if size.headings != 1 else ''} would take about {_duration(size.seconds)}, "
+                            f"more than the {_duration(max_seconds)} a run may take; use a larger --panel or "
+                            "fewer --omega frequencies")
+    return size
+
+
+# ------------------------------------------------------------------ marinecdpr latency
+LATENCY_CALL_BYTES = 3 * F8
+"""Memory per timed call: its cycle count and its two times (compiled, from Python)."""
+MAX_LATENCY_CALLS = 10**7
+"""Most steps ``marinecdpr latency`` times each way: from Python a step took 4.9 us (p50,
+``paper``, the 2-core CI machine, loaded) and more on larger robots, so ten million are
+minutes; the percentiles settle long before."""
+
+
+def check_latency_calls(calls: int, *, memory_bytes: int | None = None) -> None:
+    """Refuse a latency measurement of more than :data:`MAX_LATENCY_CALLS` calls, or one
+    whose per-call records would not fit in memory (ScenarioError, one line naming
+    ``--calls``; ValueError-compatible)."""
+    if calls < 1:
+        raise ScenarioError(f"--calls {calls}: expected at least 1 call")
+    if calls > MAX_LATENCY_CALLS:
+        raise ScenarioError(f"--calls {_count(calls)}: more than the {_count(MAX_LATENCY_CALLS)} calls a measurement "
+                            "may take (a step takes microseconds from Python, so that is minutes; the percentiles "
+                            "settle within 10^5 calls)")
+    total = machine_memory_bytes() if memory_bytes is None else int(memory_bytes)
+    need = BASE_BYTES + LATENCY_CALL_BYTES * calls
+    if need > MEMORY_FRACTION * total:
+        raise ScenarioError(f"--calls {_count(calls)}: timing them would need about {human_bytes(need)} in memory "
+                            f"(this machine: {_gib(total)}, a run may use {MEMORY_FRACTION:.0%}); use fewer")

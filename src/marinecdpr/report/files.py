@@ -20,34 +20,9 @@ from typing import Iterator
 import numpy as np
 
 from marinecdpr.errors import OutputError
+from marinecdpr.textfiles import atomic_path
 
-__all__ = ["StagedOutput", "atomic_path", "write_json"]
-
-
-def _file_mode() -> int:
-    """The mode a new file gets from open(): 0o666 less the process's umask."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
-@contextmanager
-def atomic_path(path: Path, suffix: str = "") -> Iterator[Path]:
-    """A temporary path in ``path``'s folder, renamed to ``path`` if the block succeeds.
-
-    The file ends with the mode ``open()`` would give it (the umask honoured), not the
-    temporary file's private 0600.
-    """
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.chmod(tmp, _file_mode())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+__all__ = ["StagedOutput", "atomic_path", "write_json", "json_text", "strict_json"]
 
 
 MANIFEST = ".marinecdpr-files"
@@ -198,10 +173,35 @@ def _write_rows(fh, fmt: str, values: np.ndarray) -> None:
         fh.write((line * len(block) % tuple(block.ravel().tolist())).replace("nan", ""))
 
 
-def write_json(data: dict, path: Path) -> Path:
+def strict_json(data):
+    """``data`` for strict JSON (RFC 8259, which has no NaN or Infinity): every float that
+    is not finite becomes None (``null``: the value is undefined, as each summary's
+    documentation of the key says), NumPy scalars and arrays become Python numbers and lists,
+    tuples lists. Refusing the inputs that would make an infinite result is the commands'
+    job; this keeps any file or line of JSON the package writes readable by any parser."""
+    if isinstance(data, dict):
+        return {str(k): strict_json(v) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return [strict_json(v) for v in data]
+    if isinstance(data, np.ndarray):
+        return strict_json(data.tolist())
+    if isinstance(data, np.generic):
+        data = data.item()
+    if isinstance(data, float) and not np.isfinite(data):
+        return None
+    return data
+
+
+def json_text(data, indent: int | None = 2) -> str:
+    """``data`` as strict JSON text (:func:`strict_json`; ``allow_nan=False``)."""
     import json
 
+    return json.dumps(strict_json(data), indent=indent, allow_nan=False)
+
+
+def write_json(data: dict, path: Path) -> Path:
+    """Write ``data`` as strict JSON (:func:`json_text`), atomically."""
     path = Path(path)
     with atomic_path(path) as tmp:
-        Path(tmp).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+        Path(tmp).write_text(json_text(data) + "\n", encoding="utf-8")
     return path

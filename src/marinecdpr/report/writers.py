@@ -285,10 +285,8 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "bo
     cpt.export_dataset(str(nc), ds)
     bem = read_capytaine(nc)
     table = folder / "rao.csv"
-    write_rao_csv(bem, table)
-    header = (f"# RAOs from BEM: {ds.attrs['hull']}\n# made by: {made_by}\n"
-              "# below the first omega the first row's values hold; above the last, zero\n")
-    table.write_text(header + table.read_text(encoding="utf-8"), encoding="utf-8")
+    write_rao_csv(bem, table, comments=(f"RAOs from BEM: {ds.attrs['hull']}", f"made by: {made_by}",
+                                        "below the first omega the first row's values hold; above the last, zero"))
     approx = box_hull_rao(**(box | {"roll_damping_ratio": max(box["roll_damping_ratio"], 1e-3)}),
                           omega=bem.omega, heading_deg=bem.heading_deg)
     figure = plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=approx,
@@ -360,7 +358,8 @@ def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Pat
                "controller_bypassed_share_max": study.max_bypassed_share,
                "runs_controller_bypassed": sum(r.controller_verdict == "bypassed" for r in study.runs),
                "prediction_error": {"meaning": "RMS error of the predicted eta over the RMS of eta, worst moving "
-                                               "DOF, MRU without latency",
+                                               "DOF, MRU without latency; null at a horizon where no forecast was "
+                                               "compared (the MRU's samples too sparse for the record)",
                                     "horizons_s": prediction.horizons_s.tolist(),
                                     "model_share": prediction.model_share.tolist(),
                                     **{name: [None if np.isnan(v) else float(v)

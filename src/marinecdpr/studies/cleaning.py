@@ -22,6 +22,7 @@ the normal force above; the controller's load model holds them along the plan.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -41,7 +42,7 @@ from marinecdpr.studies.operability import (
 )
 from marinecdpr.studies.prototype_runs import controller_verdict
 
-__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "brush_positions", "normal_force",
+__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "check_hull_estimate", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
            "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT", "COMPARED", "job_variants",
            "compare_conditions"]
@@ -255,6 +256,24 @@ def guaranteed_job(
     return CleaningJob(**{**job.__dict__, "summary": summary})
 
 
+HULL_AREA_MAX_M2 = 1e6
+"""Largest hull area :func:`ship_side` estimates, m^2 (a square kilometre; the largest
+ships' wetted surface is some 40 000 m^2)."""
+MOVE_TIME_MAX_S = 1e6
+"""Longest move of the frame to its next place, s (some 11 days)."""
+
+
+def check_hull_estimate(hull_area_m2: float, move_time_s: float) -> None:
+    """Refuse a hull area outside (0, :data:`HULL_AREA_MAX_M2`] m^2 or a move time outside
+    [0, :data:`MOVE_TIME_MAX_S`] s (ValueError naming it): beyond them the hours are no
+    estimate (or not finite)."""
+    if not (math.isfinite(hull_area_m2) and 0 < hull_area_m2 <= HULL_AREA_MAX_M2):
+        raise ValueError(f"hull_area_m2 must be a positive number of m2 up to {HULL_AREA_MAX_M2:g}, "
+                         f"got {hull_area_m2:g}")
+    if not (math.isfinite(move_time_s) and 0 <= move_time_s <= MOVE_TIME_MAX_S):
+        raise ValueError(f"move_time_s must be a number of seconds from 0 to {MOVE_TIME_MAX_S:g}, got {move_time_s:g}")
+
+
 def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict:
     """How long a hull of ``hull_area_m2`` takes, panel by panel, from one panel's job.
 
@@ -268,12 +287,9 @@ def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict
         ``hull_area_m2``, ``move_time_s``, ``placements``, ``hours``, ``area_rate_m2_h``
         (hull area over the whole time, moves included).
     """
-    if not (np.isfinite(hull_area_m2) and hull_area_m2 > 0):
-        raise ValueError(f"hull_area_m2 must be a positive number of m2, got {hull_area_m2}")
-    if not (np.isfinite(move_time_s) and move_time_s >= 0):
-        raise ValueError(f"move_time_s must be a number of seconds >= 0, got {move_time_s}")
+    check_hull_estimate(hull_area_m2, move_time_s)
     cleaned = summary["panel_area_m2"] - summary["missed_area_m2"]
-    if cleaned <= 0:
+    if not (cleaned > 0 and math.isfinite(hull_area_m2 / cleaned)):
         raise ValueError("the panel's job cleaned nothing: no estimate for the hull")
     placements = int(np.ceil(hull_area_m2 / cleaned - 1e-9))
     seconds = placements * summary["job_time_s"] + max(placements - 1, 0) * move_time_s

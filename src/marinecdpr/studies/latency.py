@@ -27,6 +27,7 @@ from marinecdpr.control.controller import plans
 from marinecdpr.control.step import control_step
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.planning.budget import check_latency_calls
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Latency", "controller_latency", "quadprog_problem"]
@@ -154,14 +155,19 @@ def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     ----------
     scenario : Scenario
     calls : int
-        Steps timed each way (>= 1); the plan's steps are cycled over if fewer.
+        Steps timed each way, 1 to :data:`~marinecdpr.planning.budget.MAX_LATENCY_CALLS`;
+        the plan's steps are cycled over if fewer.
+
+    Raises
+    ------
+    ScenarioError
+        For a count outside that range (a ValueError), before any work.
 
     Returns
     -------
     Latency
     """
-    if calls < 1:
-        raise ValueError(f"calls must be >= 1, got {calls}")
+    check_latency_calls(int(calls))  # at most MAX_LATENCY_CALLS, and what memory holds
     h = scenario.time.step_s
     n = min(calls, scenario.time.n_steps)
     ref, _, _ = plans(scenario, n)

@@ -23,7 +23,7 @@ import threading
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import Callable, NoReturn
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import iter_plan
 from marinecdpr.scenario.schema import Scenario, SeaStateMotion
+from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
@@ -43,6 +44,9 @@ TP_RANGE_S = (1.0, 30.0)
 """A scatter diagram's Tp must lie in [1, 30] s."""
 PROBABILITY_SUM_TOL = 1e-3
 """A scatter diagram's probabilities must sum to 1 within this."""
+PROBABILITY_MAX = 1000.0
+"""A scatter diagram's cell above this is refused at once, as no probability (a cell of a
+table in per mille reaches 1000; such a table is then named by its sum)."""
 
 
 @dataclass(frozen=True)
@@ -67,8 +71,10 @@ class ScatterDiagram:
 def read_scatter_csv(path: str | Path) -> ScatterDiagram:
     """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability``, one row per cell.
 
-    Probabilities must be finite, non-negative and sum to 1 within 1e-3 (they are then
-    rescaled to sum to 1 exactly); pairs left out have probability 0. Hs must lie in
+    Read through :func:`marinecdpr.textfiles.read_lines` (a regular UTF-8 text file of at
+    most 256 MiB, no field over 100 characters). Probabilities must be finite,
+    non-negative and sum to 1 within 1e-3 (they are then rescaled to sum to 1 exactly);
+    pairs left out have probability 0. Hs must lie in
     0 < Hs <= 30 m and Tp in 1 s <= Tp <= 30 s. A UTF-8 byte-order mark and CRLF line
     ends (what spreadsheets write) are accepted.
 
@@ -80,11 +86,18 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
     """
     path = Path(path)
     src = str(path)
+    what = "a scatter diagram CSV file (hs_m,tp_s,probability)"
+
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
+
+    reader = csv.reader(read_lines(path, fail, what, word="row"))
     try:
-        # utf-8-sig drops a byte-order mark; splitlines() takes \n, \r\n and \r alike
-        rows = list(csv.reader(path.read_text(encoding="utf-8-sig").splitlines()))
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"cannot read the file ({exc})", source=src) from None
+        rows = list(reader)
+    except csv.Error as exc:
+        fail(f"row {reader.line_num}: not readable as CSV ({exc})")
+    if (long := long_field(rows)) is not None:
+        fail(f"row {long[0] + 1}, field {long[1] + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
     if not rows or [h.strip() for h in rows[0]] != ["hs_m", "tp_s", "probability"]:
         raise ScenarioError("the header must be hs_m,tp_s,probability", source=src, key="row 1")
     cells: dict[tuple[float, float], float] = {}
@@ -107,6 +120,9 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
                                 key=f"row {i}")
         if not (math.isfinite(p) and p >= 0):
             raise ScenarioError(f"probability = {row[2].strip()} (column 3) must be finite and non-negative",
+                                source=src, key=f"row {i}")
+        if p > PROBABILITY_MAX:  # not even per mille (and their sum stays finite)
+            raise ScenarioError(f"probability = {row[2].strip()} (column 3) is not a probability (at most 1)",
                                 source=src, key=f"row {i}")
         if (hs, tp) in cells:
             raise ScenarioError(f"Hs {hs:g} m, Tp {tp:g} s appears twice", source=src, key=f"row {i}")

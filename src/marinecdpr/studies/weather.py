@@ -17,15 +17,19 @@ probability that the operation is finished within a number of days.
 from __future__ import annotations
 
 import csv
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines, read_text
 
-__all__ = ["SeaStateSeries", "read_sea_state_series", "Windows", "weather_windows", "limit_from_operability"]
+__all__ = ["SeaStateSeries", "read_sea_state_series", "Windows", "weather_windows", "read_operability_json",
+           "limit_from_operability", "SERIES_HOURS_MAX"]
 
 
 @dataclass(frozen=True)
@@ -44,24 +48,47 @@ class SeaStateSeries:
         return np.append(d, np.median(d) if d.size else 1.0)
 
 
+SERIES_HOURS_MAX = 1e7
+"""Largest time of a sea-state series, in magnitude, h (some 1100 years: a hindcast spans
+decades). Beyond it, times lose the hour's resolution and their differences overflow."""
+
+
 def read_sea_state_series(path: str | Path) -> SeaStateSeries:
     """A CSV with columns ``time_h, hs_m, tp_s`` (header row; further columns ignored;
-    ``#`` comment lines skipped). One-line errors name the file, line and column."""
+    ``#`` comment lines skipped). Read through :func:`marinecdpr.textfiles.read_lines`
+    (a regular UTF-8 text file of at most 256 MiB; a byte-order mark and CRLF accepted).
+    Times lie within +-:data:`SERIES_HOURS_MAX` h, Hs and Tp within the ranges of a
+    scatter diagram (:data:`~marinecdpr.studies.operability.HS_RANGE_M`,
+    :data:`~marinecdpr.studies.operability.TP_RANGE_S`). One-line errors name the file,
+    line and column, and never quote more than a field."""
+    from marinecdpr.studies.operability import HS_RANGE_M, TP_RANGE_S
+
     src = str(path)
+    what = "a sea-state series CSV file (time_h,hs_m,tp_s)"
+
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
+
+    reader = csv.reader(read_lines(path, fail, what))
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"cannot read the sea-state series ({exc})", source=src) from None
-    rows = [(i, r) for i, r in enumerate(csv.reader(text.splitlines()), start=1)
+        records = list(reader)
+    except csv.Error as exc:
+        fail(f"line {reader.line_num}: not readable as CSV ({exc})")
+    rows = [(i, r) for i, r in enumerate(records, start=1)
             if r and r[0].strip() and not r[0].lstrip().startswith("#")]
     if not rows:
         raise ScenarioError("empty: expected a header time_h,hs_m,tp_s and rows", source=src)
+    if (long := long_field([r for _, r in rows])) is not None:
+        k, j = long
+        fail(f"line {rows[k][0]}, field {j + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
     header = [h.strip() for h in rows[0][1]]
     missing = [c for c in ("time_h", "hs_m", "tp_s") if c not in header]
     if missing:
         raise ScenarioError(f"line {rows[0][0]}: missing column(s) {', '.join(missing)} (expected time_h,hs_m,tp_s)",
                             source=src)
     cols = [header.index(c) for c in ("time_h", "hs_m", "tp_s")]
+    ranges = {"time_h": (-SERIES_HOURS_MAX, SERIES_HOURS_MAX, "h"), "hs_m": (*HS_RANGE_M, "m"),
+              "tp_s": (*TP_RANGE_S, "s")}
     values = np.empty((len(rows) - 1, 3))
     for k, (line, r) in enumerate(rows[1:]):
         for j, (c, name) in enumerate(zip(cols, ("time_h", "hs_m", "tp_s"))):
@@ -73,6 +100,10 @@ def read_sea_state_series(path: str | Path) -> SeaStateSeries:
             if not math.isfinite(v) or (name != "time_h" and v <= 0):
                 raise ScenarioError(f"line {line}, {name}: expected a finite{' positive' if name != 'time_h' else ''} "
                                     f"number, got {v:g}", source=src)
+            lo, hi, unit = ranges[name]
+            if not lo <= v <= hi:
+                raise ScenarioError(f"line {line}, {name}: {v:g} {unit} is outside {lo:g} .. {hi:g} {unit}",
+                                    source=src)
             values[k, j] = v
     if values.shape[0] < 2:
         raise ScenarioError("fewer than two sea states: no series", source=src)
@@ -82,15 +113,89 @@ def read_sea_state_series(path: str | Path) -> SeaStateSeries:
     return SeaStateSeries(values[:, 0] - values[0, 0], values[:, 1], values[:, 2])
 
 
+OPERABILITY_JSON_MAX_BYTES = 64 * 2**20
+"""Largest operability.json read, bytes (a study of 10 000 sea states writes some 2 MB)."""
+
+
+def read_operability_json(path: str | Path) -> dict:
+    """An ``operability.json`` (what ``marinecdpr operability`` writes), read through
+    :func:`marinecdpr.textfiles.read_text` (a regular UTF-8 text file of at most
+    :data:`OPERABILITY_JSON_MAX_BYTES`) as strict JSON (``NaN`` and ``Infinity`` refused).
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the file (and the line and column where the JSON is malformed).
+    """
+    src = str(path)
+    what = "an operability.json file (marinecdpr operability writes one)"
+
+    def fail(message: str) -> NoReturn:
+        raise ScenarioError(message, source=src)
+
+    def constant(name: str):
+        fail(f"{name} is not a JSON number; expected {what}")
+
+    text = read_text(path, fail, what, max_bytes=OPERABILITY_JSON_MAX_BYTES)
+    try:
+        data = json.loads(text, parse_constant=constant)
+    except json.JSONDecodeError as exc:
+        fail(f"line {exc.lineno}, column {exc.colno}: not JSON ({exc.msg}); expected {what}")
+    except RecursionError:
+        fail(f"nested too deep; expected {what}")
+    if not isinstance(data, dict):
+        fail(f"expected a JSON object with the key limiting_hs_m, got a {type(data).__name__}")
+    return data
+
+
 def limit_from_operability(summary: dict, heading_deg: float) -> tuple[np.ndarray, np.ndarray]:
     """The design Hs limit per Tp (tp (k,), hs (k,)) from an ``operability.json``'s
-    ``limiting_hs_m`` at one heading; ``None`` (no limit within the diagram) becomes inf."""
-    table = summary.get("limiting_hs_m", {}).get(f"{heading_deg:g}")
+    ``limiting_hs_m`` at one heading; ``None`` (no limit within the diagram) becomes inf.
+
+    Raises
+    ------
+    ScenarioError
+        If the summary has no such heading, or its table is not an object of Tp (s, in
+        :data:`~marinecdpr.studies.operability.TP_RANGE_S`) to a limiting Hs (a finite
+        number >= 0 m, or null); ``key`` names the entry.
+    """
+    from marinecdpr.studies.operability import TP_RANGE_S
+
+    limits = summary.get("limiting_hs_m") if isinstance(summary, dict) else None
+    if not isinstance(limits, dict):
+        raise ScenarioError("expected limiting_hs_m: an object of headings (deg) to tables of Tp to Hs",
+                            key="limiting_hs_m")
+    table = limits.get(f"{heading_deg:g}")
     if not table:
         raise ScenarioError(f"the operability summary has no heading {heading_deg:g} deg "
-                            f"(it has {', '.join(summary.get('limiting_hs_m', {})) or 'none'})")
-    tp = np.array(sorted(float(k) for k in table))
-    hs = np.array([np.inf if table[f"{t:g}"] is None else float(table[f"{t:g}"]) for t in tp])
+                            f"(it has {', '.join(map(str, limits)) or 'none'})")
+    key = f"limiting_hs_m.{heading_deg:g}"
+    if not isinstance(table, dict):
+        raise ScenarioError(f"expected an object of Tp (s) to the limiting Hs (m), got a {type(table).__name__}",
+                            key=key)
+    pairs = []
+    for k, v in table.items():
+        try:
+            tp = float(k)
+        except ValueError:
+            tp = math.nan
+        if not TP_RANGE_S[0] <= tp <= TP_RANGE_S[1]:
+            raise ScenarioError(f"the Tp {k[:40]!r} is not a number of seconds in {TP_RANGE_S[0]:g} .. "
+                                f"{TP_RANGE_S[1]:g}", key=key)
+        if v is None:
+            hs = math.inf
+        elif isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v >= 0:
+            hs = float(v)
+        else:
+            shown = type(v).__name__ if isinstance(v, (dict, list, str, bool)) else f"{v:g}"
+            raise ScenarioError(f"expected a limiting Hs: a finite number >= 0 m or null, got {shown}",
+                                key=f"{key}.{k}")
+        pairs.append((tp, hs))
+    pairs.sort()
+    tp = np.array([p[0] for p in pairs])
+    hs = np.array([p[1] for p in pairs])
+    if np.any(np.diff(tp) <= 0):
+        raise ScenarioError("a Tp appears twice", key=key)
     return tp, hs
 
 
@@ -128,7 +233,8 @@ class Windows:
     def finish_probability(self, days: float) -> float:
         """The probability (over start times) that the operation is finished within
         ``days``: it can start, and wait + duration <= days x 24 h."""
-        done = np.nan_to_num(self.wait_h, nan=np.inf) + self.duration_h <= days * 24.0 + 1e-9
+        can = np.isfinite(self.wait_h)  # (inf + d <= inf would count the start times that never start)
+        done = can & (np.where(can, self.wait_h, 0.0) + self.duration_h <= days * 24.0 + 1e-9)
         return float(done.mean())
 
 
