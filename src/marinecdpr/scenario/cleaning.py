@@ -12,11 +12,12 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, model_validator
+from pydantic import AfterValidator, Field, StrictBool, StrictFloat, field_validator, model_validator
 
 from marinecdpr.geometry.polygons import inside_or_on, polygon_area
 from marinecdpr.scenario.fields import (
-    POSITION_MAX_M, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
+    POSITION_MAX_M, UNIT_TOLERANCE, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
+    normalised_unit,
 )
 
 __all__ = ["Cleaning", "CoverageTrajectory"]
@@ -49,7 +50,7 @@ class Cleaning(_Model):
     jerk_m_s3: _ranged(0.0, 5000.0, "m/s^3", "of the travel at turns", above=True)
     direction_deg: _ranged(-180.0, 180.0, "deg", "the lanes' angle from x towards z") | None = None
     """The lanes' direction; by default the one with the fewest lanes."""
-    boundary_pass: bool | None = None
+    boundary_pass: StrictBool | None = None
     """After the lanes, once round the panel's outline inset by the brush's radius (cleans
     the slivers along the edges); by default on for a convex panel without holes."""
     normal_force_N: tuple[_ranged(0.0, 1e6, "N", "a brush's contact force"),
@@ -62,8 +63,14 @@ class Cleaning(_Model):
     """A water jet's reaction on the tool, N, positive away from the hull."""
     brush_offset_m: Position = (0.0, 0.0, 0.0)
     """The brush's centre in the platform frame P, m."""
-    hull_normal: tuple[float, float, float] = (0.0, 1.0, 0.0)
-    """The hull's normal in C, pointing from the hull towards the robot (the frame's y)."""
+    hull_normal: tuple[StrictFloat, StrictFloat, StrictFloat] = (0.0, 1.0, 0.0)
+    """The hull's normal in C, pointing from the hull towards the robot (the frame's y); a unit
+    vector within ``UNIT_TOLERANCE`` (1e-6), normalised."""
+
+    @field_validator("hull_normal", mode="after")
+    @classmethod
+    def _unit_normal(cls, n: tuple[float, float, float]) -> tuple[float, float, float]:
+        return normalised_unit(n)
 
     @model_validator(mode="after")
     def _check(self) -> "Cleaning":
@@ -78,8 +85,9 @@ class Cleaning(_Model):
             raise _KeyedError("preload_N", f"must be within normal_force_N [{_num(lo)}, {_num(hi)}] N, "
                                            f"got {_num(self.preload_N)}")
         n = np.asarray(self.hull_normal, dtype=float)
-        if not np.isfinite(n).all() or abs(float(np.linalg.norm(n)) - 1.0) > 1e-6:
-            raise _KeyedError("hull_normal", "must be a unit vector [x, y, z] in C")
+        if not np.isfinite(n).all() or abs(float(np.linalg.norm(n)) - 1.0) > UNIT_TOLERANCE:
+            raise _KeyedError("hull_normal", f"must be a unit vector [x, y, z] in C (length 1 within "
+                                             f"{UNIT_TOLERANCE:g}), got length {_num(float(np.linalg.norm(n)))}")
         panel = np.asarray(self.panel_m, dtype=float)
         size = float(np.ptp(panel, axis=0).max())
         if abs(polygon_area(panel)) <= 1e-9 * max(size, 1e-9) ** 2:

@@ -57,6 +57,27 @@ RANK_TOLERANCE = 1e-9
 largest count as zero."""
 
 
+UNIT_TOLERANCE = 1e-6
+"""How far from 1 a unit vector's length may be in a scenario file (a direction written
+to six digits); within it the vector is normalised, beyond it refused."""
+
+
+def normalised_unit(values: Any) -> Any:
+    """``values`` as a unit 3-vector when it is one within :data:`UNIT_TOLERANCE`, else unchanged.
+
+    Three finite numbers whose length is within ``UNIT_TOLERANCE`` of 1 come back divided by
+    their length (left as given when already unit to 1e-12, so exact inputs keep their bits);
+    anything else comes back as it was, for the caller's validator to refuse by name.
+    """
+    if not (isinstance(values, (list, tuple)) and len(values) == 3 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values)):
+        return values
+    length = math.sqrt(sum(float(v) * float(v) for v in values))
+    if abs(length - 1.0) > UNIT_TOLERANCE or abs(length - 1.0) <= 1e-12:
+        return values
+    return tuple(float(v) / length for v in values)
+
+
 def _num(x: float) -> str:
     """A number as messages show it: 6 significant digits, exponents as 1e6 and 1e-5."""
     text = f"{x:g}"

@@ -8,7 +8,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
-from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, CONTROLLED_DOFS, DEGENERATE_RELATIVE, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged
+from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, CONTROLLED_DOFS, DEGENERATE_RELATIVE, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged, UNIT_TOLERANCE, normalised_unit
 
 # --------------------------------------------------------------------------- robot
 class Cable(_Model):
@@ -28,6 +28,11 @@ class Cable(_Model):
     """The pulley's swivel axis in C, a unit vector along which the cable arrives at the frame
     anchor from its winch (required with a pulley; in the x-z plane for a planar robot)."""
 
+    @field_validator("pulley_axis", mode="after")
+    @classmethod
+    def _unit_axis(cls, z: Any) -> Any:
+        return normalised_unit(z)  # within UNIT_TOLERANCE of unit length: made exactly unit
+
     @model_validator(mode="after")
     def _check_pulley(self) -> "Cable":
         if self.pulley_radius_m == 0.0:
@@ -41,8 +46,9 @@ class Cable(_Model):
             isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in z)
         if not ok:
             raise _KeyedError("pulley_axis", f"must be three finite numbers, got {z!r}")
-        if abs(math.sqrt(sum(v * v for v in z)) - 1.0) > 1e-6:
-            raise _KeyedError("pulley_axis", f"must be a unit vector, got length {_num(math.sqrt(sum(v * v for v in z)))}")
+        if abs(math.sqrt(sum(v * v for v in z)) - 1.0) > UNIT_TOLERANCE:
+            raise _KeyedError("pulley_axis", f"must be a unit vector (length 1 within {UNIT_TOLERANCE:g}), "
+                                             f"got length {_num(math.sqrt(sum(v * v for v in z)))}")
         return self
 
 
