@@ -40,8 +40,7 @@ def _run_as_the_command() -> bool:
 if _run_as_the_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
     signal.signal(signal.SIGINT, _interrupted_while_starting)
 
-import math  # noqa: E402
-import time
+import time  # noqa: E402
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
