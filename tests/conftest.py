@@ -51,3 +51,15 @@ def captured_figures(monkeypatch) -> dict:
 
     monkeypatch.setattr(figures, "_save", keep)
     return figs
+
+
+def one_line_exit_2(res, *words) -> str:
+    """A CliRunner result that failed as bad input should: exit 2, no exception but the
+    exit, exactly one ``error:`` line on stderr holding each of ``words``; that line."""
+    assert res.exit_code == 2, res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+    return lines[0]

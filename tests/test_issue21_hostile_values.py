@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from conftest import one_line_exit_2
+
 from marinecdpr.cli.app import app
 from marinecdpr.errors import ScenarioError
 from marinecdpr.report.files import json_text, strict_json, write_json
@@ -18,16 +20,6 @@ from marinecdpr.studies.weather import limit_from_operability, read_sea_state_se
 
 runner = CliRunner()
 SERIES = "time_h,hs_m,tp_s\n" + "".join(f"{i},{1.0 if i % 3 else 3.0},8\n" for i in range(12))
-
-
-def _one_line_exit_2(res, *words):
-    assert res.exit_code == 2, res.output
-    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception
-    lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 # ------------------------------------------------------------------ windows --operability
@@ -45,7 +37,7 @@ def test_an_operability_limit_that_is_no_number_is_one_line(limit, words, tmp_pa
     op.write_text(json.dumps({"limiting_hs_m": {"180": {"8": limit}}}))
     res = runner.invoke(app, ["windows", str(series), "--duration-h", "2", "--operability", str(op),
                               "--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, str(op), words)
+    one_line_exit_2(res, str(op), words)
     assert not (tmp_path / "o").exists()
 
 
@@ -65,7 +57,7 @@ def test_an_operability_json_that_is_malformed_is_one_line(text, words, tmp_path
     op.write_text(text)
     res = runner.invoke(app, ["windows", str(series), "--duration-h", "2", "--operability", str(op),
                               "--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, str(op), words)
+    one_line_exit_2(res, str(op), words)
 
 
 def test_an_operability_json_that_is_a_folder_or_binary_is_one_line(tmp_path):
@@ -76,7 +68,7 @@ def test_an_operability_json_that_is_a_folder_or_binary_is_one_line(tmp_path):
     for op, words in ((tmp_path, "a folder, not a file"), (binary, "a NUL byte")):
         res = runner.invoke(app, ["windows", str(series), "--duration-h", "2", "--operability", str(op),
                                   "--out", str(tmp_path / "o")])
-        _one_line_exit_2(res, words)
+        one_line_exit_2(res, words)
 
 
 def test_the_limit_table_still_reads_by_hand():
@@ -129,7 +121,7 @@ def test_a_scatter_of_huge_probabilities_is_refused_in_one_line(tmp_path):
     with pytest.raises(ScenarioError, match=r"row 2: probability = 1e308 \(column 3\) is not a probability"):
         read_scatter_csv(scatter)
     res = runner.invoke(app, ["operability", "--scatter", str(scatter), "--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, "is not a probability")
+    one_line_exit_2(res, "is not a probability")
     # a per mille table is still named for what it is
     mille = tmp_path / "mille.csv"
     mille.write_text("hs_m,tp_s,probability\n1.0,8.0,400\n2.0,9.0,600\n")
@@ -144,7 +136,7 @@ def test_a_series_of_absurd_times_is_refused_not_written_as_inf(times, tmp_path)
     series.write_text(f"time_h,hs_m,tp_s\n{times[0]},1.0,8\n{times[1]},1.0,8\n")
     res = runner.invoke(app, ["windows", str(series), "--duration-h", "2", "--hs-limit", "2",
                               "--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, "time_h: ", "h is outside -1e+07 .. 1e+07 h")
+    one_line_exit_2(res, "time_h: ", "h is outside -1e+07 .. 1e+07 h")
     assert not (tmp_path / "o").exists()
 
 
@@ -193,7 +185,7 @@ def test_an_operation_that_never_starts_is_never_done_however_many_days():
 ])
 def test_a_hull_estimate_that_would_mean_nothing_is_refused_before_the_job(args, words, tmp_path):
     res = runner.invoke(app, ["clean", *args, "--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, words)
+    one_line_exit_2(res, words)
 
 
 def test_ship_side_never_overflows():

@@ -9,6 +9,8 @@ import math
 import pytest
 from typer.testing import CliRunner
 
+from conftest import one_line_exit_2
+
 from marinecdpr.cli.app import app
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.bem import bem_panels
@@ -18,16 +20,6 @@ from marinecdpr.planning.budget import (MAX_BEM_S, MAX_LATENCY_CALLS, check_bem_
 runner = CliRunner()
 GIB = 2**30
 RAO = ["rao", "--length", "100", "--beam", "20", "--draught", "5", "--gm", "2"]
-
-
-def _one_line_exit_2(res, *words):
-    assert res.exit_code == 2, res.output
-    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception
-    lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
-    for w in words:
-        assert w in lines[0], lines[0]
-    return lines[0]
 
 
 # ------------------------------------------------------------------ the BEM's size
@@ -80,7 +72,7 @@ def test_the_bem_estimate_by_hand():
 ])
 def test_rao_refuses_a_bem_it_cannot_afford_before_starting(args, words, tmp_path):
     res = runner.invoke(app, RAO + args + ["--out", str(tmp_path / "o")])
-    _one_line_exit_2(res, *words)
+    one_line_exit_2(res, *words)
     assert not (tmp_path / "o").exists()
 
 
@@ -106,7 +98,7 @@ def test_the_bem_budget_is_memory_and_time():
     (["--roll-damping", "1e308"], ["--roll-damping 1e+308: expected a fraction of critical damping from 0 to 1"]),
 ])
 def test_rao_bad_values_are_one_line(args, words, tmp_path):
-    _one_line_exit_2(runner.invoke(app, RAO + args + ["--out", str(tmp_path / "o")]), *words)
+    one_line_exit_2(runner.invoke(app, RAO + args + ["--out", str(tmp_path / "o")]), *words)
 
 
 def test_hull_bem_refuses_non_finite_headings_itself():
@@ -131,7 +123,7 @@ def test_hull_bem_refuses_non_finite_headings_itself():
     ("-3", "--calls -3: expected at least 1 call"),
 ])
 def test_latency_refuses_counts_it_cannot_afford(calls, words):
-    _one_line_exit_2(runner.invoke(app, ["latency", "--calls", calls]), words)
+    one_line_exit_2(runner.invoke(app, ["latency", "--calls", calls]), words)
 
 
 def test_the_latency_budget_is_memory_too():
@@ -150,7 +142,7 @@ def test_control_study_refuses_billions_of_steps_before_its_first_run(tmp_path):
     latencies = ",".join(["1"] * 1000)
     res = runner.invoke(app, ["control-study", "--latencies", latencies, "--duration", "1000", "--out",
                               str(tmp_path / "o")])
-    _one_line_exit_2(res, "--duration 1000 (6000 runs): simulating 1,000,001 steps of 0.001 s over 1000 s is "
+    one_line_exit_2(res, "--duration 1000 (6000 runs): simulating 1,000,001 steps of 0.001 s over 1000 s is "
                           "6,000,006,000 steps in all, more than the 1,000,000,000 steps")
     assert not (tmp_path / "o").exists()
 
@@ -160,14 +152,14 @@ def test_control_study_refuses_billions_of_steps_before_its_first_run(tmp_path):
     (["--latencies", "0,9000"], "--latencies 0,9000: must be between 0 and 5 s"),
 ])
 def test_control_study_checks_the_mru_settings_before_its_first_run(args, words, tmp_path):
-    _one_line_exit_2(runner.invoke(app, ["control-study", *args, "--out", str(tmp_path / "o")]), words)
+    one_line_exit_2(runner.invoke(app, ["control-study", *args, "--out", str(tmp_path / "o")]), words)
 
 
 def test_clean_over_sea_states_refuses_billions_of_steps(tmp_path):
     headings = ",".join(str(h) for h in range(360))
     res = runner.invoke(app, ["clean", "paper_clean", "--seas", "--serial", "--headings", headings, "--out",
                               str(tmp_path / "o")])
-    line = _one_line_exit_2(res, "paper_clean: ", "judging ", "sea states and poses", "more than the "
+    line = one_line_exit_2(res, "paper_clean: ", "judging ", "sea states and poses", "more than the "
                             "1,000,000,000 steps a run can finish in sane time")
     assert math.isfinite(len(line)) and not (tmp_path / "o").exists()
 
@@ -179,7 +171,7 @@ def test_sea_studies_refuse_more_workers_than_the_machine_can_run(command, tmp_p
     monkeypatch.setattr(os, "cpu_count", lambda: 2)
     for workers in ("100", "1000000000"):
         res = runner.invoke(app, command + ["--workers", workers, "--out", str(tmp_path / "o")])
-        _one_line_exit_2(res, f"--workers {workers}: more than 4 per core of this machine's 2 gains nothing",
+        one_line_exit_2(res, f"--workers {workers}: more than 4 per core of this machine's 2 gains nothing",
                          "use at most 8")
 
 
