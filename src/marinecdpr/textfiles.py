@@ -9,6 +9,7 @@ showing user text, and :func:`atomic_path`, through which every file is written.
 
 from __future__ import annotations
 
+import csv
 import itertools
 import os
 import re
@@ -19,8 +20,8 @@ from os import PathLike
 from pathlib import Path
 from typing import Callable, Iterator, NoReturn
 
-__all__ = ["MAX_CSV_BYTES", "MAX_LINE_CHARS", "MAX_FIELD_CHARS", "check_file", "read_text", "read_lines", "long_field",
-           "position", "strip_control", "atomic_path"]
+__all__ = ["MAX_CSV_BYTES", "MAX_LINE_CHARS", "MAX_FIELD_CHARS", "check_file", "read_text", "read_lines",
+           "read_csv_records", "long_field", "position", "strip_control", "atomic_path"]
 
 MAX_CSV_BYTES = 256 * 2**20
 """Largest CSV file read, bytes (256 MiB). A dense RAO table (500 frequencies x 360
@@ -127,6 +128,25 @@ def read_lines(path: str | PathLike, fail: Callable[[str], NoReturn], what: str,
         i = next(i for i, line in enumerate(lines) if len(line) > MAX_LINE_CHARS)
         fail(f"{word} {i + 1}: longer than {MAX_LINE_CHARS} characters; expected {what}")
     return lines
+
+
+def read_csv_records(path: str | PathLike, fail: Callable[[str], NoReturn], what: str, word: str = "line", *,
+                     one_per_line: bool = False) -> list[list[str]]:
+    """The CSV records of a small UTF-8 text file read by :func:`read_lines` (its guards),
+    ``[]`` for a blank line. Refused through ``fail``: a line the csv module cannot parse
+    (``"<word> N: not readable as CSV (...)"``) and, with ``one_per_line``, a quoted field
+    spanning lines (so that record k is line k)."""
+    lines = read_lines(path, fail, what, word)
+    reader = csv.reader(lines)
+    try:
+        records = list(reader)
+    except csv.Error as exc:
+        fail(f"{word} {reader.line_num}: not readable as CSV ({exc})")
+    if one_per_line and reader.line_num != len(records):  # a quoted field with a line break
+        reader = csv.reader(lines)
+        line = next(reader.line_num for k, _ in enumerate(reader, 1) if reader.line_num != k)
+        fail(f"{word} {line}: a quoted field spans lines; expected {what}")
+    return records
 
 
 def long_field(rows: list[list[str]]) -> tuple[int, int] | None:

@@ -51,7 +51,6 @@ that is (:func:`flip_z_axis`, its own inverse)::
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, NamedTuple, NoReturn
@@ -61,7 +60,7 @@ from scipy.interpolate import BSpline, make_smoothing_spline
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.ship import ShipMotion, ship_motion
-from marinecdpr.textfiles import MAX_FIELD_CHARS, atomic_path, long_field, read_lines
+from marinecdpr.textfiles import MAX_FIELD_CHARS, atomic_path, long_field, read_csv_records
 
 __all__ = [
     "MOTION_CSV_COLUMNS",
@@ -288,7 +287,7 @@ def read_motion_csv(
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    row_lines, rows = _nonblank_rows(_read_records(path, fail), fail)
+    row_lines, rows = _nonblank_rows(read_csv_records(path, fail, _WHAT, one_per_line=True), fail)
     order = _column_order(rows[0], row_lines[0], fail)
     samples = _parse_samples(rows[1:], row_lines[1:], order, fail)
     _check_times(samples, fail)
@@ -316,20 +315,6 @@ class _Samples(NamedTuple):
 
     lines: np.ndarray
     values: np.ndarray
-
-
-def _read_records(path: str | Path, fail: _Fail) -> list[list[str]]:
-    """The file's CSV records, one per line (``[]`` if blank); refuses a quoted field spanning lines."""
-    reader = csv.reader(read_lines(path, fail, _WHAT))
-    try:
-        records = list(reader)
-    except csv.Error as exc:
-        fail(f"line {reader.line_num}: not readable as CSV ({exc})")
-    if reader.line_num != len(records):  # a quoted field with a line break
-        reader = csv.reader(read_lines(path, fail, _WHAT))
-        line = next(reader.line_num for k, _ in enumerate(reader, 1) if reader.line_num != k)
-        fail(f"line {line}: a quoted field spans lines; expected {_WHAT}")
-    return records
 
 
 def _nonblank_rows(records: list[list[str]], fail: _Fail) -> tuple[list[int], list[list[str]]]:

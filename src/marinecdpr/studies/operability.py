@@ -15,7 +15,6 @@ serial for small studies and when Dask is not installed (:func:`choose_executor`
 
 from __future__ import annotations
 
-import csv
 import logging
 import math
 import signal
@@ -31,7 +30,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import iter_plan
 from marinecdpr.scenario.schema import Scenario, SeaStateMotion
-from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines
+from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
@@ -91,11 +90,7 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    reader = csv.reader(read_lines(path, fail, what, word="row"))
-    try:
-        rows = list(reader)
-    except csv.Error as exc:
-        fail(f"row {reader.line_num}: not readable as CSV ({exc})")
+    rows = read_csv_records(path, fail, what, word="row")
     if (long := long_field(rows)) is not None:
         fail(f"row {long[0] + 1}, field {long[1] + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
     if not rows or [h.strip() for h in rows[0]] != ["hs_m", "tp_s", "probability"]:

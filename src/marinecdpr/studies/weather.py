@@ -16,7 +16,6 @@ probability that the operation is finished within a number of days.
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from dataclasses import dataclass
@@ -26,7 +25,7 @@ from typing import NoReturn
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_lines, read_text
+from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records, read_text
 
 __all__ = ["SeaStateSeries", "read_sea_state_series", "Windows", "weather_windows", "read_operability_json",
            "limit_from_operability", "SERIES_HOURS_MAX"]
@@ -69,12 +68,7 @@ def read_sea_state_series(path: str | Path) -> SeaStateSeries:
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    reader = csv.reader(read_lines(path, fail, what))
-    try:
-        records = list(reader)
-    except csv.Error as exc:
-        fail(f"line {reader.line_num}: not readable as CSV ({exc})")
-    rows = [(i, r) for i, r in enumerate(records, start=1)
+    rows = [(i, r) for i, r in enumerate(read_csv_records(path, fail, what), start=1)
             if r and r[0].strip() and not r[0].lstrip().startswith("#")]
     if not rows:
         raise ScenarioError("empty: expected a header time_h,hs_m,tp_s and rows", source=src)
