@@ -470,7 +470,7 @@ def _fail_bypassed(runs: list[tuple[str, int, int]], sc, out: Path) -> None:
 
     if runs:
         name, fallbacks, steps = runs[0]
-        more = f" (and {len(runs) - 1} more run{'s' if len(runs) > 2 else ''})" if len(runs) > 1 else ""
+        more = f" (and {_count(len(runs) - 1, 'more run')})" if len(runs) > 1 else ""
         _fail(f"{name}{more}: {bypassed_text(fallbacks, steps, sc.simulation.max_bypassed_share)}; "
               f"see {out / 'summary.json'}", EXIT_BYPASSED)
 
@@ -760,12 +760,12 @@ def operability(
 
     _print_sea_table(op, f"operability: {_plain(sc.name)}", scheduler, n_workers, elapsed)
     console.print(f"overall {_percent(op.operability)}{_interval(op.interval, realisations)}, the probability that "
-                  f"a {duration:g} s operation succeeds ({realisations} record{'s' if realisations != 1 else ''} "
+                  f"a {duration:g} s operation succeeds ({_count(realisations, 'record')} "
                   "per sea state); written: " + ", ".join(_plain(p) for p in paths), highlight=False,
                   soft_wrap=True)
     bypassed = sum(r.controller_bypassed for r in op.results)
     if bypassed:
-        err_console.print(_plain(f"warning: in {bypassed} record{'s' if bypassed != 1 else ''} the closed loop's "
+        err_console.print(_plain(f"warning: in {_count(bypassed, 'record')} the closed loop's "
                                  "controller was bypassed (the plan's tensions fed forward) on more than "
                                  f"simulation.max_bypassed_share = {sc.simulation.max_bypassed_share:g} of the steps: "
                                  "counted as failures (operability.csv controller_bypassed)"),
@@ -798,7 +798,7 @@ def _percent(x: float) -> str:
 def _print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elapsed: float) -> None:
     """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
     ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
-           else f"Dask, {n_workers} worker{'s' if n_workers != 1 else ''}")
+           else f"Dask, {_count(n_workers, 'worker')}")
     table = Table(title=title, caption=f"{_count(len(op.results), 'sea state')}, {_plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")
@@ -1148,11 +1148,10 @@ def control_study(
         check_run_size(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": duration}), "simulate",
                        repeat=n_runs)
     except ScenarioError as exc:
-        _fail(f"--duration {duration:g} ({n_runs} run{'s' if n_runs != 1 else ''}): {exc.detail}")
+        _fail(f"--duration {duration:g} ({_count(n_runs, 'run')}): {exc.detail}")
     with _output(out) as folder:
         _compile_notice(plant)
-        with _run_errors(scenario), _progress("closed-loop runs", len(lat_s) * len(preds) * len(sources),
-                                              "runs") as bar:
+        with _run_errors(scenario), _progress("closed-loop runs", n_runs, "runs") as bar:
             result = study(sc, latencies_s=lat_s, predictions=preds, pose_from=sources, rate_hz=rate,
                            duration_s=duration, settle_s=settle, plant=plant, progress=bar)
             prediction = ship_prediction_error(sc, rate_hz=rate, duration_s=duration, settle_s=settle)
