@@ -437,6 +437,7 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         N; NaN where T_s is not finite (a singular pose).
     """
     from itertools import combinations
+    from math import comb
 
     J = np.asarray(J, dtype=float)
     T_s = np.asarray(T_s, dtype=float)
@@ -450,7 +451,7 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         return out
     idx = np.flatnonzero(good)
     r = m - k
-    combos = np.array(list(combinations(range(2 * m), r + 1))) if _n_choose(2 * m, r + 1) <= _VERTEX_BUDGET else None
+    combos = np.array(list(combinations(range(2 * m), r + 1))) if comb(2 * m, r + 1) <= _VERTEX_BUDGET else None
     for s in range(0, idx.size, 2048):
         rows = idx[s:s + 2048]
         N = null_space(J[rows])                                    # (b, m, r)
@@ -460,7 +461,8 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
             out[rows] = [_headroom_lp(A[i], b[i]) for i in range(rows.size)]
             continue
         # vertex: A_j lambda - h = -b_j for the r + 1 constraints j of a combination
-        M = np.concatenate([A[:, combos], -np.ones(A[:, combos].shape[:-1] + (1,))], axis=-1)  # (b, c, r+1, r+1)
+        A_c = A[:, combos]                                                                     # (b, c, r+1, r)
+        M = np.concatenate([A_c, -np.ones(A_c.shape[:-1] + (1,))], axis=-1)                    # (b, c, r+1, r+1)
         rhs = -b[:, combos]                                                                    # (b, c, r+1)
         det = np.linalg.det(M)
         scale = np.abs(M).max(axis=(-2, -1)) ** (r + 1)
@@ -470,12 +472,6 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         g = (np.einsum("bjr,bcr->bcj", A, lam) + b[:, None, :]).min(axis=-1)                  # (b, c)
         out[rows] = np.where(regular, g, -np.inf).max(axis=1)
     return out
-
-
-def _n_choose(a: int, b: int) -> int:
-    from math import comb
-
-    return comb(a, b)
 
 
 def _headroom_lp(A: np.ndarray, b: np.ndarray) -> float:
