@@ -8,8 +8,10 @@ Clean is one of:
 * ``refused``: exit 2, 3, 4, 5 or 130, no traceback, exactly one ``error:`` line on stderr
   and it is the last (warnings and progress lines before it are allowed), and no staging
   folder or half-written file left in the output folder;
-* ``usage``: exit 2 from the option parser itself (click's "Usage: ... Error" box: an
-  integer option given "abc", a choice out of range), no traceback.
+* ``usage``: exit 2 from the option parser itself in click's "Usage: ... Error" box, no
+  traceback. Since the parser's errors are one ``error:`` line too (an integer option given
+  "abc", a count below its minimum: ``cli.app._OneLineUsage``), they count as ``refused``,
+  and this class stays empty.
 
 Anything else is unclean: ``traceback``, ``exit N`` (another exit code), ``stderr`` (not
 one error line), ``json`` (non-strict or non-finite output), ``staging`` (leftovers), or

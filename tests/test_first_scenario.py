@@ -117,11 +117,21 @@ def test_infeasible_plan_names_the_cables_at_their_limits():
     grad = A.T @ (A @ up.x - w)
     assert (grad[:2] < 0).all() and (grad[2:] > 0).all()
     force, moment = np.linalg.norm(missing[:2]), abs(missing[2])
-    assert msg.endswith(
+    assert (
         f": at best, cables 3, 4 at T_min = 10 N and cables 1, 2 at T_max = 450 N still leave "
         f"{force:.4g} N of force (along +z) and {moment:.4g} N m of moment "
-        f"(about {'+' if missing[2] > 0 else '-'}y) short")
+        f"(about {'+' if missing[2] > 0 else '-'}y) short; ") in msg
     assert f"{force:.4g}" == "1472"
+    # and what the cables can give along z with the x force and the moment held, worked out
+    # here by its own linear programmes, against the weight: the force is short, so the hint
+    # is the force's
+    span = [sign * linprog(sign * u[:, 2], A_eq=np.vstack([u[:, 0], m_y]), b_eq=[w[0], 0.0],
+                           bounds=list(zip(r.tension_min, r.tension_max)), method="highs").fun
+            for sign in (1.0, -1.0)]
+    assert msg.endswith(
+        f"short; with the rest of the wrench held the cables give {span[0]:.4g} to {span[1]:.4g} N along z there, "
+        f"against {w[1]:.4g} N needed: raise robot.tension_max_N, or move the frame anchors so that more cables "
+        "pull that way (robot.cables frame_anchor_m)")
 
     # a plan that does not know its robot still gives the controlled DOFs, without the cause
     bare = replace(p, robot=None).infeasibility()
@@ -142,7 +152,9 @@ def test_infeasible_messages_for_a_method_that_misses_and_a_spatial_robot():
     # is far below the 1470 N weight
     assert "(x = 1 m, y = 1 m, z = 1 m, rx = 0 deg, ry = 0 deg, rz = 0 deg): at best, cables 1, 2, 3, 4 " \
            "at T_min = 10 N and cables 5, 6, 7, 8 at T_max = 450 N still leave" in msg
-    assert re.search(r"still leave \d+(\.\d+)? N of force \(along \+z\) short$", msg)
+    assert re.search(r"still leave \d+(\.\d+)? N of force \(along \+z\) short; with the rest of the wrench held "
+                     r"the cables give -?\d+(\.\d+)? to \d+(\.\d+)? N along z there, against \d+ N needed: raise "
+                     r"robot.tension_max_N", msg)
 
 
 def test_piped_workspace_prints_progress_lines(tmp_path, monkeypatch):

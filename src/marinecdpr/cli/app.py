@@ -63,7 +63,36 @@ EXIT_DIVERGED = 4
 EXIT_BYPASSED = 5
 EXIT_INTERRUPTED = 130
 
+class _OneLineUsage(typer.core.TyperGroup):
+    """The command group, its option parser's errors one line (``error: ...``, exit 2) like
+    every other bad input, not click's usage box. Asking for help with no arguments still
+    shows the help."""
+
+    def parse_args(self, ctx, args):
+        with _usage_in_one_line():
+            return super().parse_args(ctx, args)
+
+    def invoke(self, ctx):  # a command's own options are parsed as the group invokes it
+        with _usage_in_one_line():
+            return super().invoke(ctx)
+
+
+@contextmanager
+def _usage_in_one_line():
+    # the exceptions of the click typer runs on (its own copy from typer 0.22, else click's),
+    # found through typer's public BadParameter
+    errors = sys.modules[typer.BadParameter.__module__]
+    try:
+        yield
+    except getattr(errors, "NoArgsIsHelpError", ()):
+        raise
+    except errors.UsageError as exc:
+        where = exc.ctx.command_path if exc.ctx is not None else "marinecdpr"
+        _fail(f"{where}: {' '.join(exc.format_message().split()).rstrip('.')} (see {where} --help)", exc.exit_code)
+
+
 app = typer.Typer(
+    cls=_OneLineUsage,
     add_completion=False,
     no_args_is_help=True,
     help="Cable-driven parallel robots on a moving ship.\n\nExit codes: 0 done; 2 bad input; 3 the cables "
@@ -172,8 +201,10 @@ def plan(
     table.add_column("value", justify="right")
     table.add_row("steps", f"{result.n_steps} ({elapsed * 1e3:.1f} ms)")
     table.add_row("feasible steps", f"{result.n_feasible} of {result.n_steps}")
-    table.add_row("eq. 18 tensions (N)", "{:.2f} .. {:.2f}".format(*result.pinv_range))
-    table.add_row("planned tensions (N)", "{:.2f} .. {:.2f}".format(*result.tension_range))
+    if result.n_singular:
+        table.add_row("singular steps (J~ loses rank)", f"{result.n_singular} of {result.n_steps}")
+    for name, (lo, hi) in (("eq. 18 tensions (N)", result.pinv_range), ("planned tensions (N)", result.tension_range)):
+        table.add_row(name, "none" if math.isnan(lo) else f"{lo:.2f} .. {hi:.2f}")
     table.add_row("written", f"{csv_path}\n{fig_path}")
     console.print(table)
     problem = result.infeasibility()
@@ -667,6 +698,9 @@ def workspace(
         size = check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
+    from marinecdpr.studies.workspace import singular_poses
+
+    _warn_singular(scenario, (singular_poses(sc),))
     t0 = time.perf_counter()
     with _output(out) as folder:
         _size_notice(sc, size, n)
@@ -737,6 +771,11 @@ def operability(
         probe = cell_scenario(sc, Cell(0, float(diagram.hs.max()), tp_min, heads[0], 1.0), duration, step)
         check_run_size(probe, "operability", cells=n_cells * realisations, grid=grid,
                        closed_loop=max_error is not None, workers=1 if serial else (workers or 2))
+        from marinecdpr.planning.planner import check_trajectory
+        from marinecdpr.studies.workspace import singular_poses
+
+        # where no sea state can be workable: the robot singular along its path or over the frame
+        _warn_singular(scenario, (singular_poses(sc),) if grid is not None else (check_trajectory(probe),))
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     executor = _sea_executor(serial, workers, scheduler, study_steps(n_cells * realisations, duration_s=duration,
@@ -887,6 +926,20 @@ def _warn_scale(sc, scenario: str) -> None:
                           soft_wrap=True)
 
 
+def _warn_singular(scenario: str, surveys) -> None:
+    """Warn (stderr, exit code unchanged) where J~ loses rank in each survey
+    (:class:`~marinecdpr.planning.planner.SingularPoses`: along the trajectory, from
+    :func:`~marinecdpr.planning.planner.check_trajectory`; over the frame, from
+    :func:`~marinecdpr.studies.workspace.singular_poses`); the layout's hint given once."""
+    hinted = False
+    for survey in surveys:
+        line = survey.message(hint=not hinted)
+        if line is not None:
+            hinted = hinted or survey.scale is not None
+            err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: {_plain(line)}"),
+                              highlight=False, soft_wrap=True)
+
+
 def _load(scenario: str, duration: float | None, step: float | None):
     """The scenario, with ``--duration`` and ``--step`` (checked: positive, finite) if given."""
     _number("--duration", duration)
@@ -912,9 +965,12 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         sc = load_scenario(scenario)
         _warn_scale(sc, scenario)
         check_run_size(sc, "plan_stream")
-        check_trajectory(sc)
+        along = check_trajectory(sc)
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
+    from marinecdpr.studies.workspace import singular_poses
+
+    _warn_singular(scenario, (singular_poses(sc), along))  # valid, but the robot is singular there
     r = sc.robot
     console.print(
         f"{_plain(scenario)}: ok: '{_plain(sc.name)}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "

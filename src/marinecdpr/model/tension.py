@@ -46,6 +46,7 @@ from marinecdpr.geometry import _vec as vec
 __all__ = [
     "TensionSolution",
     "pseudo_inverse_tensions",
+    "full_rank",
     "null_space",
     "distribute_tensions",
     "largest_headroom",
@@ -188,6 +189,23 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
     """
     Jt = _time_last(np.asarray(J, dtype=float))
     return _pinv_cols(_cols(Jt), np.asarray(w, dtype=float), J.shape[0], Jt)
+
+
+def full_rank(J: np.ndarray) -> np.ndarray:
+    """Where J~ has full column rank, by the rank test of :func:`pseudo_inverse_tensions`
+    (the one the planner's tensions rest on): False at a singular pose.
+
+    Parameters
+    ----------
+    J : ndarray, shape (n_steps, n_cables, k)
+        Controlled columns of J~.
+
+    Returns
+    -------
+    ok : ndarray of bool, shape (n_steps,)
+    """
+    J = np.asarray(J, dtype=float)
+    return pseudo_inverse_tensions(J, np.zeros((J.shape[0], J.shape[2])))[1]
 
 
 def null_space(J: np.ndarray) -> np.ndarray:

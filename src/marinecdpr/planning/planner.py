@@ -21,16 +21,17 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.model.tension import (
-    TENSION_TOLERANCE, distribute_tensions, largest_headroom, pseudo_inverse_tensions,
+    TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.ship import ShipMotion, still_ship
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
-from marinecdpr.scenario.robot import Robot
+from marinecdpr.scenario.robot import Robot, scaled_copy
 from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "DEFAULT_CHUNK_STEPS",
+__all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
+           "describe_pose", "DEFAULT_CHUNK_STEPS",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -133,6 +134,11 @@ class Plan:
         return bool(self.feasible.all())
 
     @property
+    def singular(self) -> np.ndarray:
+        """Steps at which J~ loses rank (a singular pose: no eq. 18 tensions), shape (n_steps,)."""
+        return np.isnan(self.tensions_pinv).any(axis=1)
+
+    @property
     def controlled(self) -> tuple[int, ...]:
         """Twist components the cables control (indices into (v, omega) in C)."""
         return tuple(j for j, name in enumerate(TWIST_NAMES) if name not in self.reaction_dofs)
@@ -153,12 +159,7 @@ class Plan:
     def _infeasibility_at(self, i: int, n_bad: int, n_steps: int) -> str:
         """:meth:`infeasibility`'s line for step ``i`` of this plan, first of ``n_bad``
         infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks)."""
-        c = self.controlled
-        pose = ", ".join(
-            f"{name} = {self.pose[i, j] if j < 3 else np.degrees(self.pose[i, j]):.4g}"
-            f"{' m' if j < 3 else ' deg'}"
-            for name, j in zip(controlled_pose_names(c), c)
-        )
+        pose = describe_pose(self.pose[i], self.controlled)
         message = (
             f"the cables cannot hold the platform within their tension limits at "
             f"{n_bad} of {n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
@@ -214,23 +215,25 @@ class Plan:
         tol = len(lo) * TENSION_TOLERANCE * max(1.0, float(hi.max())) + 1e-12 * float(np.abs(w * weight).max())
         force, moment = missing[~is_moment], missing[is_moment]
         f, m = float(np.linalg.norm(force)), float(np.linalg.norm(moment))
-        singular = np.linalg.matrix_rank(A) < len(c)
+        singular = None  # J~'s rank test as the tension solver has it, and the layout's part in it
+        if not full_rank(A.T[None])[0]:
+            scale = scaled_copy(robot)
+            singular = "J~ loses rank there (a singular pose" + (
+                "" if scale is None else f"; the platform's anchors are a scaled copy (x {scale:.3g}) of the "
+                "frame's: `marinecdpr check` says what to change") + ")"
         if f <= tol and m <= tol * radius:
             if singular:
-                return "the pose is singular there (J~ loses rank)"
+                return singular
             return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
                     f"method did not find them")
-        names = np.array(TWIST_NAMES)[c]
-        short = []
-        for value, part, unit, word, axis_word in ((f, force, "N", "force", "along"),
-                                                   (m, moment, "N m", "moment", "about")):
+        axes = np.array([name[-1] for name in np.array(TWIST_NAMES)[c]])  # "x", "z", "y" of ry...
+        short, lacking = [], None
+        for value, part, unit, word, axis_word, rows in ((f, force, "N", "force", "along", ~is_moment),
+                                                         (m, moment, "N m", "moment", "about", is_moment)):
             if value > (tol if unit == "N" else tol * radius):
-                k = int(np.argmax(np.abs(part)))
-                along = ""
-                if abs(part[k]) >= 0.9 * value:
-                    axis = names[~is_moment][k] if unit == "N" else names[is_moment][k][1]
-                    along = f" ({axis_word} {'+' if part[k] > 0 else '-'}{axis})"
-                short.append(f"{value:.4g} {unit} of {word}{along}")
+                short.append(f"{value:.4g} {unit} of {word} ({axis_word} {_direction(part / value, axes[rows])})")
+                if lacking is None or (unit == "N m" and m / radius > f):  # the larger shortfall, as a force
+                    lacking = (word, unit, axis_word, np.flatnonzero(rows), part / value)
         at, n_at = [], 0
         tol_T = 1e-6 * float(hi.max())
         labels = ("T_min", "T_max") if self.tension_lower is None else ("its winch's least", "its winch's most")
@@ -240,8 +243,72 @@ class Plan:
                 n_at += len(cables)
                 at.append(f"cable{'s' if len(cables) > 1 else ''} {', '.join(cables)} at {label} = {value:g} N")
         who = (", ".join(at[:-1]) + " and " + at[-1]) if len(at) > 1 else (at[0] if at else "the best tensions")
-        prefix = "J~ loses rank there (a singular pose); " if singular else ""
-        return f"{prefix}at best, {who} still leave{'s' if n_at == 1 else ''} {' and '.join(short)} short"
+        prefix = f"{singular}; " if singular else ""
+        line = f"{prefix}at best, {who} still leave{'s' if n_at == 1 else ''} {' and '.join(short)} short"
+        if singular:
+            return line
+        return line + _sizing_hint(A, w, lo, hi, lacking, axes, self.tension_lower is not None)
+
+
+def _direction(d: np.ndarray, axes) -> str:
+    """A unit vector over the named axes as a reader would write it: ``+z`` where one axis
+    carries it (90 % or more), else its components, ``+0.77 x, -0.64 z``."""
+    k = int(np.argmax(np.abs(d)))
+    if abs(d[k]) >= 0.9:
+        return f"{'+' if d[k] > 0 else '-'}{axes[k]}"
+    return ", ".join(f"{v:+.2g} {a}" for v, a in zip(d, axes) if abs(v) >= 0.005)
+
+
+def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, lacking, axes,
+                 winches: bool) -> str:
+    """What the cables can give in the DOF that is short, with the rest of the wrench held, and
+    which change of the robot gives more: the part of :meth:`Plan.limiting_cables`'s line after
+    the shortfall.
+
+    The range is two linear programmes over T_min <= T <= T_max: the smallest and largest
+    component r of J~_c^T T with every other component equal to w's (scipy's HiGHS); left out
+    where no tensions hold the rest.
+
+    Parameters
+    ----------
+    A : ndarray, shape (k, n_cables)
+        J~_c^T at the step.
+    w : ndarray, shape (k,)
+        The required wrench's controlled part, N and N m.
+    lo, hi : ndarray, shape (n_cables,)
+        The tension bounds at the step, N.
+    lacking : tuple
+        (word, unit, axis word, rows, direction) of the short part (force or moment).
+    axes : ndarray of str, shape (k,)
+        The axis letter of each controlled component.
+    winches : bool
+        Are the bounds the winches' (the limit to raise is then theirs)?
+    """
+    from scipy.optimize import linprog
+
+    word, unit, axis_word, rows, d = lacking
+    r = int(rows[int(np.argmax(np.abs(d)))])  # the component that carries most of the shortfall
+    others = np.array([q for q in range(len(w)) if q != r], dtype=int)
+    span = []
+    for sign in (1.0, -1.0):
+        res = linprog(sign * A[r], A_eq=A[others] if others.size else None,
+                      b_eq=w[others] if others.size else None, bounds=list(zip(lo, hi)), method="highs")
+        span.append(float(A[r] @ res.x) if res.status == 0 else np.nan)
+    out = ""
+    if np.isfinite(span).all():
+        # as many digits as tell the need from the nearer end of the range
+        near = span[0] if abs(w[r] - span[0]) < abs(w[r] - span[1]) else span[1]
+        gap = abs(w[r] - near)
+        digits = 4 if gap == 0.0 else int(min(12, max(4, np.ceil(np.log10(max(abs(near), abs(w[r])) / gap)) + 2)))
+        out = (f"; with the rest of the wrench held the cables give {span[0]:.{digits}g} to {span[1]:.{digits}g} "
+               f"{unit} {axis_word} {axes[r]} there, against {w[r]:.{digits}g} {unit} needed")
+    limit = "the winches' torque and power (robot.winch)" if winches else "robot.tension_max_N"
+    if word == "moment":
+        return out + (f": spread the platform's anchors wider (robot.cables platform_anchor_m: the moment grows "
+                      f"with their spacing) or raise {limit}; a brush's reaction moment is cancelled by a "
+                      "counter-rotating pair (cleaning.brush = \"pair\")")
+    return out + (f": raise {limit}, or move the frame anchors so that more cables pull that way "
+                  "(robot.cables frame_anchor_m)")
 
 
 _ARRAY_FIELDS = (
@@ -399,26 +466,108 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     )
 
 
-def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> None:
+def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> "SingularPoses":
     """Raise :class:`ScenarioError` if the trajectory leaves the frame or a motion file is bad
-    (no dynamics solved).
+    (no dynamics solved); return where along it J~ loses rank.
 
     Parameters
     ----------
     scenario : Scenario
     chunk_steps : int
         Steps evaluated at once.
+
+    Returns
+    -------
+    SingularPoses
+        The trajectory's steps at which J~ (over the pulleys, if any) loses rank on the
+        controlled DOFs, by the tension solver's own rank test
+        (:func:`~marinecdpr.model.tension.full_rank`): the steps every plan fails at.
     """
     robot = scenario.robot
+    c = list(robot.controlled)
     n, step = scenario.time.n_steps, scenario.time.step_s
     # reads and checks any file the ship's motion comes from, over the whole duration
     evaluate_base_motion(scenario.base_motion, np.array([0.0, (n - 1) * step]))
+    n_singular, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
         platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
         kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors,
                                robot.platform_anchors)
         check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
+        if robot.has_pulleys:
+            kin = _over_pulleys(robot, platform, platform.twist, t)
+        bad = ~full_rank(_columns(kin.J_tilde, c))
+        if bad.any():
+            n_singular += int(bad.sum())
+            if first is None:
+                i = int(np.flatnonzero(bad)[0])
+                first = f"t = {t[i]:.4g} s ({describe_pose(platform.pose[i], robot.controlled)})"
+    return SingularPoses(what="steps of the trajectory", n_poses=n, n_singular=n_singular, first=first,
+                         scale=scaled_copy(robot), level=False)
+
+
+def describe_pose(pose: np.ndarray, controlled: tuple[int, ...]) -> str:
+    """A pose's controlled DOFs as a reader would write them: ``x = 2.38 m, z = 1.5 m,
+    theta_y = 0 deg``.
+
+    Parameters
+    ----------
+    pose : ndarray, shape (6,)
+        (x, y, z) in C, m, and the XYZ Euler angles, rad.
+    controlled : tuple of int
+        Indices into ``pose`` of the controlled DOFs.
+    """
+    return ", ".join(
+        f"{name} = {pose[j] if j < 3 else np.degrees(pose[j]):.4g}{' m' if j < 3 else ' deg'}"
+        for name, j in zip(controlled_pose_names(controlled), controlled)
+    )
+
+
+@dataclass(frozen=True)
+class SingularPoses:
+    """Poses of a survey at which J~ loses rank on the controlled DOFs (singular poses).
+
+    Attributes
+    ----------
+    what : str
+        The poses surveyed, as a reader would name them (``"steps of the trajectory"``,
+        ``"level poses across the frame"``).
+    n_poses, n_singular : int
+        Poses surveyed, and singular among them.
+    first : str or None
+        The first singular pose, described (:func:`describe_pose`, with its time for a
+        trajectory); None if none is.
+    scale : float or None
+        :func:`~marinecdpr.scenario.robot.scaled_copy` of the robot: the ratio of its
+        platform's anchor pattern to its frame's where it is a scaled copy (which makes
+        every level pose singular), else None.
+    level : bool
+        Are the poses surveyed all level (where a scaled copy is singular)?
+    """
+
+    what: str
+    n_poses: int
+    n_singular: int
+    first: str | None
+    scale: float | None
+    level: bool
+
+    def message(self, *, hint: bool = True) -> str | None:
+        """One line for a user: where J~ loses rank and (with ``hint``, where the robot's
+        layout is the cause) what in the robot to change, or None if no pose surveyed is
+        singular."""
+        if self.n_singular == 0:
+            return None
+        count = (f"every one of the {self.n_poses}" if self.n_singular == self.n_poses
+                 else f"{self.n_singular} of the {self.n_poses}")
+        line = (f"J~ loses rank (a singular pose) at {count} {self.what}, first at {self.first}: there the "
+                f"cables cannot give every component of the wrench, and no plan holds the platform")
+        if hint and self.scale is not None:
+            line += (f"; the platform's anchors are a scaled copy (x {self.scale:.3g}) of the frame's, so at every "
+                     f"level pose all the cables' lines meet at one point and no tensions give a moment about "
+                     f"it: give the platform's anchor pattern another shape (aspect ratio) than the frame's")
+        return line
 
 
 def _options(scenario: Scenario, method: str | None, base_model: str | None) -> tuple[str, str]:
@@ -507,7 +656,8 @@ class PlanSummary:
 
     Attributes
     ----------
-    n_steps, n_feasible : int
+    n_steps, n_feasible, n_singular : int
+        Steps; feasible ones; singular ones (:attr:`Plan.singular`).
     pinv_range, tension_range : tuple of float
         (smallest, largest) eq. 18 and planned tensions, N, NaN ignored (as ``np.nanmin``
         and ``np.nanmax`` on the whole plan; (NaN, NaN) if no tension is finite).
@@ -518,6 +668,7 @@ class PlanSummary:
     def __init__(self) -> None:
         self.n_steps = 0
         self.n_feasible = 0
+        self.n_singular = 0
         self.method: str | None = None
         self.base_model: str | None = None
         self._ranges = {"tensions_pinv": [np.inf, -np.inf, False], "tensions": [np.inf, -np.inf, False]}
@@ -542,6 +693,7 @@ class PlanSummary:
                                                 if getattr(piece, f) is not None})
         self.n_steps += piece.n_steps
         self.n_feasible += ok
+        self.n_singular += int(piece.singular.sum())
 
     def _range(self, name: str) -> tuple[float, float]:
         lo, hi, finite = self._ranges[name]

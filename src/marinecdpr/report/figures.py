@@ -150,9 +150,15 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
         ax.set_title(title, loc="left", fontsize=10)
         ax.grid(alpha=0.3)
     # (a) keeps its own range: eq. (18)'s tensions are small and may be negative
-    lo_a, hi_a = np.nanmin(plan.tensions_pinv), np.nanmax(plan.tensions_pinv)
+    finite = plan.tensions_pinv[np.isfinite(plan.tensions_pinv)]
+    lo_a, hi_a = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
     pad = 0.1 * max(hi_a - lo_a, 1.0)
     axes[0].set_ylim(min(lo_a, 0.0) - pad, max(hi_a, robot.tension_min.max()) + pad)
+    for ax, T in zip(axes, (plan.tensions_pinv, plan.tensions)):
+        if not np.isfinite(T).any():  # e.g. J~ singular at every step: say so, not an empty axis
+            why = "J~ loses rank at every step (a singular pose)" if T is plan.tensions_pinv else "no step feasible"
+            ax.text(0.5, 0.5, f"no tensions: {why}", transform=ax.transAxes, ha="center", va="center",
+                    fontsize=10, color="0.3")
     if not plan.all_feasible:
         bad = ~plan.feasible
         axes[1].fill_between(plan.t, 0, 1, where=bad, color="red", alpha=0.15,

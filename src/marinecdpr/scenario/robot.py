@@ -337,3 +337,33 @@ def _degenerate_geometry(robot: Robot) -> str | None:
             f"{len(controlled)} at every pose tried ({len(ranks)} across the frame)")
 
 
+
+
+SCALED_COPY_RELATIVE = 1e-6
+"""How close (relative to the platform's size) the platform's anchors must be to a scaled
+copy of the frame's for :func:`scaled_copy` to call them one."""
+
+
+def scaled_copy(robot: Robot) -> float | None:
+    """The ratio s if the platform's anchors are a scaled copy of the frame's, else None.
+
+    A scaled copy (p_i = s c_i + b for every cable i, to :data:`SCALED_COPY_RELATIVE` of the
+    platform's size; in the x-z plane for a planar robot) makes every level pose singular:
+    with the platform level at x, cable i runs along (1 - s) c_i - (x + b), so every cable's
+    line passes through the one point (x + b) / (1 - s) (or, for s = 1, all are parallel),
+    and no tensions give a moment about it. s < 0 (the same shape turned half a turn, the
+    cables crossed) does it too.
+    """
+    plane = [0, 2] if robot.dofs == "planar" else [0, 1, 2]
+    F = robot.frame_anchors[:, plane]
+    P = robot.platform_anchors[:, plane]
+    F = F - F.mean(axis=0)
+    P = P - P.mean(axis=0)
+    ff = float(np.sum(F * F))
+    size = _diameter(P)
+    if ff == 0.0 or size == 0.0:
+        return None
+    s = float(np.sum(P * F)) / ff
+    if float(np.abs(P - s * F).max()) > SCALED_COPY_RELATIVE * size:
+        return None
+    return s

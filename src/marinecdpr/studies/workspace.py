@@ -14,10 +14,10 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.planning.planner import DEFAULT_CHUNK_STEPS, plan_at, ship_motion_at
+from marinecdpr.planning.planner import DEFAULT_CHUNK_STEPS, SingularPoses, describe_pose, plan_at, ship_motion_at
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range"]
+__all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range", "singular_poses"]
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -85,6 +85,64 @@ def pose_range(scenario: Scenario, orientation_deg: tuple[float, float, float] =
     tol = 1e-9 * max(1.0, float(np.abs(c).max()))
     keep = (hi - lo > tol) & (in_hi > in_lo)
     return np.where(keep, in_lo, lo), np.where(keep, in_hi, hi)
+
+
+def singular_poses(scenario: Scenario, *, orientation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                   n: int | None = None) -> SingularPoses:
+    """Where over the frame, at one orientation, J~ loses rank: the poses every plan fails at.
+
+    The platform's centre is held on a grid inside :func:`pose_range` (as :func:`workspace_map`
+    lays its grid: ``n`` points along each axis the frame spans, the range's ends left out;
+    a planar robot's in its x-z plane), and J~ (over the pulleys, if any) judged at each by the
+    tension solver's rank test (:func:`~marinecdpr.model.tension.full_rank`). No dynamics are
+    solved: some milliseconds.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    orientation_deg : tuple of 3 float
+        The platform's orientation held, (rx, ry, rz) deg; default level.
+    n : int, optional
+        Grid points per axis; default 30 for a planar robot, 12 for a spatial one.
+
+    Returns
+    -------
+    SingularPoses
+    """
+    from marinecdpr.geometry.kinematics import cable_kinematics
+    from marinecdpr.geometry.rotations import matrix_from_euler
+    from marinecdpr.model.tension import full_rank
+    from marinecdpr.scenario.robot import scaled_copy
+
+    robot = scenario.robot
+    planar = robot.dofs == "planar"
+    n = n or (30 if planar else 12)
+    lo, hi = pose_range(scenario, orientation_deg)
+    spans = [0, 2] if planar else [0, 1, 2]
+    axes = [np.linspace(lo[i], hi[i], n + 2)[1:-1] if i in spans else np.array([0.0 if planar else lo[i]])
+            for i in range(3)]
+    x = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    angles = np.broadcast_to(np.radians(np.asarray(orientation_deg, dtype=float)), x.shape)
+    R = matrix_from_euler(np.ascontiguousarray(angles))
+    if robot.has_pulleys:
+        from marinecdpr.geometry.pulley import pulley_kinematics
+
+        kin = pulley_kinematics(x, R, robot.frame_anchors, robot.pulley_axes, robot.pulley_radii,
+                                robot.platform_anchors, None)
+    else:
+        kin = cable_kinematics(x, R, robot.frame_anchors, robot.platform_anchors)
+    c = list(robot.controlled)
+    J = kin.J_tilde[:, :, c]
+    bad = ~(full_rank(J) & np.isfinite(J).all(axis=(1, 2)))
+    first = None
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        first = describe_pose(np.r_[x[i], angles[i]], robot.controlled)
+    level = not np.any(orientation_deg)
+    what = ("level poses across the frame" if level
+            else f"poses across the frame at ({', '.join(f'{a:g}' for a in orientation_deg)}) deg")
+    return SingularPoses(what=what, n_poses=int(x.shape[0]), n_singular=int(bad.sum()), first=first,
+                         scale=scaled_copy(robot) if level else None, level=level)
 
 
 def workspace_map(
