@@ -79,7 +79,7 @@ class _OneLineUsage(typer.core.TyperGroup):
 
 @contextmanager
 def _usage_in_one_line():
-    # the exceptions of the click typer runs on (its own copy from typer 0.22, else click's),
+    # the exceptions of the click typer runs on (recent typers carry their own copy, older ones import click),
     # found through typer's public BadParameter
     errors = sys.modules[typer.BadParameter.__module__]
     try:

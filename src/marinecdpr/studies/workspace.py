@@ -119,7 +119,7 @@ def singular_poses(scenario: Scenario, *, orientation_deg: tuple[float, float, f
     n = n or (30 if planar else 12)
     lo, hi = pose_range(scenario, orientation_deg)
     spans = [0, 2] if planar else [0, 1, 2]
-    axes = [np.linspace(lo[i], hi[i], n + 2)[1:-1] if i in spans else np.array([0.0 if planar else lo[i]])
+    axes = [np.linspace(lo[i], hi[i], n + 2)[1:-1] if i in spans else np.array([0.0])
             for i in range(3)]
     x = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     angles = np.broadcast_to(np.radians(np.asarray(orientation_deg, dtype=float)), x.shape)
