@@ -154,9 +154,9 @@ def plot_tensions(plan: Plan, scenario: Scenario, path: Path) -> Path:
     lo_a, hi_a = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
     pad = 0.1 * max(hi_a - lo_a, 1.0)
     axes[0].set_ylim(min(lo_a, 0.0) - pad, max(hi_a, robot.tension_min.max()) + pad)
-    for ax, T in zip(axes, (plan.tensions_pinv, plan.tensions)):
+    for ax, T, why in zip(axes, (plan.tensions_pinv, plan.tensions),
+                          ("J~ loses rank at every step (a singular pose)", "no step feasible")):
         if not np.isfinite(T).any():  # e.g. J~ singular at every step: say so, not an empty axis
-            why = "J~ loses rank at every step (a singular pose)" if T is plan.tensions_pinv else "no step feasible"
             ax.text(0.5, 0.5, f"no tensions: {why}", transform=ax.transAxes, ha="center", va="center",
                     fontsize=10, color="0.3")
     if not plan.all_feasible:
