@@ -10,8 +10,8 @@ import marinecdpr
 from marinecdpr import ScenarioError
 from marinecdpr.control.controller import robot_model
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model.catenary import N_OUT, catenary_series
-from marinecdpr.prototype import parts as P
+from marinecdpr.model.catenary import catenary_series
+from marinecdpr.prototype.parts.cables import catenary_cables, catenary_part
 from marinecdpr.prototype.simulation import simulate
 
 from conftest import make_scenario
@@ -28,17 +28,17 @@ def heavy(model="catenary", w=W):
 
 
 @njit
-def _wrench(x, R, up, model, L0, w, EA_):
+def _cables(x, R, cat, L0):
     m = L0.shape[0]
-    winch = P.Winch(False, 1.0, L0, np.zeros(m))
-    cables = P.Cables(True, EA_, 0.0)
-    cat = P.Catenary(True, w, EA_, up, np.full((m, 2), np.nan), np.zeros((m, N_OUT)), np.zeros(3),
-                     np.zeros((m, 6)), np.zeros(1, dtype=np.int64))
     J, T = np.zeros((m, 6)), np.zeros(m)
     for i in range(m):
         J[i, 0] = 1.0
-    P.catenary_cables(x, R, 0, model, winch, cables, cat, np.zeros(m), J, T)
+    catenary_cables(x, R, 0, cat, L0, np.zeros(m), J, T)
     return J, T
+
+
+def _wrench(x, R, up, model, L0, w, EA_):
+    return _cables(x, R, catenary_part(model, w, EA_, 0.0, up), L0)
 
 
 def _reference_wrench(x, R, up, c_C, p_P, L0, w, EA_):

@@ -122,17 +122,22 @@ def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean):
 
 def test_the_brush_part_applies_the_loads_at_the_actual_velocity_less_the_planned_ones():
     from marinecdpr.model.brush import brush_params
-    from marinecdpr.prototype.parts import BrushContact, brush_step
+    from marinecdpr.control.records import empty_measurement
+    from marinecdpr.prototype.parts import empty_signals
+    from marinecdpr.prototype.parts.brush import BrushContact, brush_step
 
     params = brush_params(0.5, 0.1, kind=0)
     plan_f, plan_m = np.array([[1.0, 2.0, 3.0]]), np.array([[0.5, 0.0, -0.5]])
-    b = BrushContact(True, params, np.array([0.0, 1.0, 0.0]), np.array([100.0]), plan_f, plan_m,
-                     np.zeros(3), np.zeros(3), np.zeros(3))
+    b = BrushContact(params=params, n_C=np.array([0.0, 1.0, 0.0]), F_n=np.array([100.0]), f_plan=plan_f,
+                     m_plan=plan_m, v=np.zeros(3))
+    bus = empty_signals(empty_measurement(4), np.zeros(4), np.zeros(4), np.zeros(4))
     # the platform moves along +x at 0.2 m/s and turns about y: the brush at P's origin
-    brush_step(0, np.eye(3), np.array([0.2, 0.0, 0.0]), np.array([0.0, 0.3, 0.0]), b)
+    bus.v[:] = [0.2, 0.0, 0.0]
+    bus.w[:] = [0.0, 0.3, 0.0]
+    brush_step(0, 0.001, b, bus)
     drag = -0.5 * 100.0 * 0.2 / np.hypot(0.2, 1e-3)
-    np.testing.assert_allclose(b.f, [drag - 1.0, 100.0 - 2.0, -3.0], rtol=1e-12)
-    np.testing.assert_allclose(b.m, [-0.5, -2.0 / 3.0 * 0.5 * 100.0 * 0.1, 0.5], rtol=1e-12)
+    np.testing.assert_allclose(bus.f_ext, [drag - 1.0, 100.0 - 2.0, -3.0], rtol=1e-12)
+    np.testing.assert_allclose(bus.m_ext, [-0.5, -2.0 / 3.0 * 0.5 * 100.0 * 0.1, 0.5], rtol=1e-12)
 
 
 def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):

@@ -15,7 +15,8 @@ from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.pulley import pulley_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.prototype.simulation import _sensors, simulate
+from marinecdpr.prototype.parts.sensors import sensor_parts
+from marinecdpr.prototype.simulation import simulate
 from marinecdpr.studies.control import control_study
 
 from conftest import make_scenario
@@ -39,7 +40,7 @@ def test_the_mru_gives_the_latest_sample_that_has_arrived_with_its_bias():
                               "bias_deg": [1.0, 0.0, 0.0]})
     n, h = 200, sc.time.step_s
     ship_h = evaluate_base_motion(sc.base_motion, np.arange(2 * n + 1) * 0.5 * h)
-    _, mru, _, _ = _sensors(sc, "closed_loop", ship_h, n)
+    _, _, _, mru = sensor_parts(sc, "closed_loop", ship_h, n)
     for k, j in ((0, 0), (19, 0), (29, 0), (30, 1), (39, 1), (40, 2), (199, 17)):
         assert mru.latest[k] == j, k
     assert mru.t[17] == pytest.approx(0.17, abs=1e-15)
@@ -55,7 +56,7 @@ def test_a_units_data_sheet_noise_reaches_the_samples():
     sc = with_simulation(marinecdpr.load_scenario("paper"), mru={"unit": "kongsberg_mru5"})
     n, h = 4000, sc.time.step_s
     ship_h = evaluate_base_motion(sc.base_motion, np.arange(2 * n + 1) * 0.5 * h)
-    _, mru, _, _ = _sensors(sc, "closed_loop", ship_h, n)
+    _, _, _, mru = sensor_parts(sc, "closed_loop", ship_h, n)
     assert mru.t[1] == pytest.approx(0.005) and mru.latest[-1] == 799
     err = mru.eta[0] - evaluate_base_motion(sc.base_motion, mru.t).eta
     assert np.degrees(err[:, 3:5].std(axis=0)) == pytest.approx([0.02, 0.02], rel=0.1)
@@ -63,7 +64,7 @@ def test_a_units_data_sheet_noise_reaches_the_samples():
     assert np.abs(err[:, [0, 1, 5]]).max() == 0.0
     # per axis, in place of the unit's
     sc = with_simulation(sc, mru={"noise_m": [0.0, 0.1, 0.0], "noise_deg": [0.0, 0.0, 0.5]})
-    _, mru, _, _ = _sensors(sc, "closed_loop", ship_h, n)
+    _, _, _, mru = sensor_parts(sc, "closed_loop", ship_h, n)
     err = mru.eta[0] - evaluate_base_motion(sc.base_motion, mru.t).eta
     assert err[:, 1].std() == pytest.approx(0.1, rel=0.1) and np.degrees(err[:, 5].std()) == pytest.approx(0.5, rel=0.1)
     assert np.abs(err[:, [0, 2, 3, 4]]).max() == 0.0

@@ -7,7 +7,7 @@ from pathlib import Path
 import marinecdpr
 
 PACKAGE = Path(marinecdpr.__file__).parent
-LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed"), ("geometry",), ("scenario",), ("motion",), ("model",),
+LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed", "compiled_cache"), ("geometry",), ("scenario",), ("motion",), ("model",),
           ("planning",), ("control",), ("prototype",), ("studies",), ("report",), ("cli",))
 
 
@@ -88,4 +88,4 @@ def test_the_checker_sees_an_upward_import_and_a_circle():
     # the checks above would pass vacuously if the import reader saw nothing
     assert "marinecdpr.geometry.kinematics" in GRAPH["marinecdpr.scenario.robot"]
     assert _layer("marinecdpr.cli.app") > _layer("marinecdpr.report.writers") > _layer("marinecdpr.scenario")
-    assert "marinecdpr.control.step" in GRAPH["marinecdpr.prototype.simulation"]
+    assert "marinecdpr.control.step" in GRAPH["marinecdpr.prototype.parts.geometry"]

@@ -10,8 +10,12 @@ only the ones before it: geometry -> scenario -> motion -> model -> planning -> 
 shaped ``(n_steps, ...)``.
 """
 
-from marinecdpr.errors import InfeasibleError, MarineCDPRError, ScenarioError
-from marinecdpr.memory import keep_freed_memory
+from marinecdpr.compiled_cache import configure as _configure_cache
+
+_configure_cache()  # before any compiled module loads: a cache folder per version of the sources
+
+from marinecdpr.errors import InfeasibleError, MarineCDPRError, ScenarioError  # noqa: E402
+from marinecdpr.memory import keep_freed_memory  # noqa: E402
 
 __all__ = [
     "load_scenario",

@@ -12,7 +12,8 @@ machine, 2026-12-01).
 (its ``meminfo`` is null, as for an array that ``numba.carray`` makes over foreign
 memory): numba then skips the counting. The arrays' memory stays owned by the original
 arrays, which the caller holds for the whole call, so a compiled function may use
-borrowed arrays freely within the call but must not return or store them.
+borrowed arrays freely within the call but must not return or store them. Members that
+are not arrays (a typed list) keep their counting: the record returned holds a reference.
 """
 
 from __future__ import annotations
@@ -36,6 +37,9 @@ def _strip(context, builder, ty, value):
             item = builder.extract_value(value, i)
             out = builder.insert_value(out, _strip(context, builder, item_ty, item), i)
         return out
+    # anything else counted (a typed list, ...) is passed on as it is: the result is a new
+    # reference, which numba releases at the end of its scope, so it takes one
+    context.nrt.incref(builder, ty, value)
     return value
 
 

@@ -58,7 +58,7 @@ def disturbance_C(f, m, in_P, R, f_C, m_C):
             m_C[i] = m[i]
 
 
-@njit(cache=_cache, inline="always")
+@njit(cache=_cache)
 def cables_at(x, R, model, L, J):
     """The cables' lengths L (m,) and J~ (m, 6) at the pose (x, R_PC), over their pulleys
     where the robot has them (:func:`~marinecdpr.geometry.pulley.pulleys_step`), else from
@@ -220,7 +220,7 @@ def _limits(ctl):
     return at
 
 
-@njit(cache=_cache, inline="always")
+@njit(cache=_cache)
 def control_step(k, h, ctl):
     """One controller step at t_k = k h: the measurement ``ctl.meas`` in, ``ctl.cmd`` out.
 

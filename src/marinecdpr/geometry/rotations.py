@@ -23,6 +23,9 @@ __all__ = [
     "euler_kinematics",
     "euler_step",
     "skew",
+    "matrix_from_quaternion_step",
+    "euler_from_matrix_step",
+    "quaternion_from_matrix",
 ]
 
 
@@ -56,6 +59,48 @@ def euler_step(ang, rate, acc, R, omega, alpha):
             R[i, j] = v[3 * i + j]
         omega[i] = v[9 + i]
         alpha[i] = v[12 + i]
+
+
+@njit(cache=True)
+def matrix_from_quaternion_step(q, R):
+    """R (3, 3) of a unit quaternion q (4,) = (w, x, y, z), written in place."""
+    qw, qx, qy, qz = q[0], q[1], q[2], q[3]
+    R[0, 0] = 1 - 2 * (qy * qy + qz * qz)
+    R[0, 1] = 2 * (qx * qy - qz * qw)
+    R[0, 2] = 2 * (qx * qz + qy * qw)
+    R[1, 0] = 2 * (qx * qy + qz * qw)
+    R[1, 1] = 1 - 2 * (qx * qx + qz * qz)
+    R[1, 2] = 2 * (qy * qz - qx * qw)
+    R[2, 0] = 2 * (qx * qz - qy * qw)
+    R[2, 1] = 2 * (qy * qz + qx * qw)
+    R[2, 2] = 1 - 2 * (qx * qx + qy * qy)
+
+
+@njit(cache=True)
+def euler_from_matrix_step(R, out):
+    """The angles (phi, theta, psi) (rad) with R = Rz(psi) Ry(theta) Rx(phi), written to out (3,)."""
+    out[0] = np.arctan2(R[2, 1], R[2, 2])
+    out[1] = np.arcsin(min(1.0, max(-1.0, -R[2, 0])))
+    out[2] = np.arctan2(R[1, 0], R[0, 0])
+
+
+def quaternion_from_matrix(R: np.ndarray) -> np.ndarray:
+    """The unit quaternion (4,) (w, x, y, z) of a rotation matrix R (3, 3) (Shepperd's method)."""
+    tr = np.trace(R)
+    if tr > 0:
+        s = 2.0 * np.sqrt(tr + 1.0)
+        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
+    else:
+        i = int(np.argmax(np.diag(R)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
+        q = [0.0] * 4
+        q[0] = (R[k, j] - R[j, k]) / s
+        q[1 + i] = 0.25 * s
+        q[1 + j] = (R[j, i] + R[i, j]) / s
+        q[1 + k] = (R[k, i] + R[i, k]) / s
+    q = np.asarray(q)
+    return q / np.linalg.norm(q)
 
 
 @njit(cache=True)

@@ -8,8 +8,11 @@
 
 Each plant is a record (:class:`OwnPlant`, :class:`MujocoPlant` with :class:`ShipDrive`)
 and a loop over a block of steps that reads the plant's state, calls
-:func:`~marinecdpr.prototype.parts.exchange`, and advances the plant. A loop returns
-``(fallbacks, k)`` with ``k`` the step where the platform diverged, or -1.
+:func:`~marinecdpr.prototype.parts.exchange` on the assembled parts (a
+:class:`~marinecdpr.prototype.builder.System`), and advances the plant with what is on the
+bus: the applied tensions (or the cable part's law within the step) and the extra loads.
+A plant reads no part's record. A loop returns ``(fallbacks, k)`` with ``k`` the step
+where the platform diverged, or -1.
 """
 
 from __future__ import annotations
@@ -21,8 +24,9 @@ from numba import njit, types
 
 from marinecdpr.borrowed import borrowed
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
+from marinecdpr.geometry.rotations import matrix_from_quaternion_step
 from marinecdpr.model import kernels as K
-from marinecdpr.prototype.parts import catenary_cables, diverged, elastic_tension, exchange, length_rates, quat_to_R
+from marinecdpr.prototype.parts import cable_tensions, diverged, exchange, mujoco_cables
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
            "mujoco_library"]
@@ -37,7 +41,7 @@ class OwnPlant(NamedTuple):
     y : (13,) state (x, quaternion of R_PC, v, omega), in C; advanced in place.
     R_SO : (2 n + 1, 3, 3); w_s, al_s : (2 n + 1, 3) ship angular velocity and acceleration
     in S; a_SO : (2 n + 1, 3) acceleration of S's origin in O; f, m : (2 n + 1, 3) the
-    disturbance (in C, or in P if the loads are). Row j is t = j h / 2.
+    disturbance, in C, or in P if ``in_P``. Row j is t = j h / 2.
     """
 
     y: np.ndarray
@@ -47,41 +51,31 @@ class OwnPlant(NamedTuple):
     a_SO: np.ndarray
     f: np.ndarray
     m: np.ndarray
+    in_P: bool
 
 
-@njit(cache=_cache, inline="always")
-def _own_rhs(y, j, plant, parts, dy):
-    """d/dt of y = (x, quaternion of R_PC, v, omega) in C at half-step row j.
-
-    Tensions are held over the step (``parts.bus.T_app``), except elastic cables on
-    length-controlled winches: their tension follows the state, with the winch's L0 held.
-    """
-    model, cables, winch = parts.ctl.model, parts.cables, parts.winch
+@njit(cache=_cache)
+def _own_rhs(y, j, plant, system, dy):
+    """d/dt of y = (x, quaternion of R_PC, v, omega) in C at half-step row j, with the cable
+    part's tensions at this state (held over the step, or the elastic law over the held L0)
+    and the bus's extra loads held."""
+    model, bus = system.model, system.bus
     x, q, v, w = y[0:3], y[3:7], y[7:10], y[10:13]
     q = q / np.sqrt(np.sum(q * q))
     R = np.empty((3, 3))
-    quat_to_R(q, R)
+    matrix_from_quaternion_step(q, R)
     n = model.c_C.shape[0]
     L = np.empty(n)
     J = np.empty((n, 6))
     cables_at(x, R, model, L, J)
-    T = parts.bus.T_app
-    if cables.elastic and not winch.tension_controlled:
-        T = np.zeros(n)
-        Ldot = np.empty(n)
-        length_rates(J, v, w, Ldot)
-        if parts.catenary.active:  # heavy cables pull along their tangents
-            catenary_cables(x, R, j, model, winch, cables, parts.catenary, Ldot, J, T)
-        else:
-            for i in range(n):
-                T[i] = elastic_tension(L[i], winch.L0[i], Ldot[i], cables)
+    T = cable_tensions(system.cable, j, x, R, v, w, L, J, bus, np.empty(n))
     bias = np.empty(6)
     zero = np.zeros(3)
     f_j, m_j = np.empty(3), np.empty(3)
-    disturbance_C(plant.f[j], plant.m[j], parts.loads.in_P, R, f_j, m_j)
-    if parts.brush.active:  # the brush's loads at the actual velocity, held over the step
-        f_j += parts.brush.f
-        m_j += parts.brush.m
+    disturbance_C(plant.f[j], plant.m[j], plant.in_P, R, f_j, m_j)
+    for i in range(3):  # the extra loads (a brush's at the actual velocity), held over the step
+        f_j[i] += bus.f_ext[i]
+        m_j[i] += bus.m_ext[i]
     K.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
                   model.origin, model.mass, model.I_PP, model.g, f_j, m_j, bias)
     acc = np.empty(6)
@@ -97,27 +91,27 @@ def _own_rhs(y, j, plant, parts, dy):
 
 
 @njit(cache=_cache)
-def own_loop(k0, k1, h, plant, parts):
+def own_loop(k0, k1, h, plant, system):
     """Steps k0..k1-1 of the own plant (RK4). Returns (fallbacks, -1 or the diverged step)."""
-    plant, parts = borrowed(plant), borrowed(parts)  # no reference counting per step
+    plant, system = borrowed(plant), borrowed(system)  # no reference counting per step
     y = plant.y
     R = np.empty((3, 3))
     k1_, k2_, k3_, k4_ = np.empty(13), np.empty(13), np.empty(13), np.empty(13)
-    fallbacks = 0
+    fallbacks0 = system.bus.fallbacks[0]
     for k in range(k0, k1):
-        quat_to_R(y[3:7], R)
+        matrix_from_quaternion_step(y[3:7], R)
         x, v, w = y[0:3], y[7:10], y[10:13]
-        if diverged(x, parts.ctl.ref.x[k]):
-            return fallbacks, k
-        fallbacks += exchange(k, h, x.copy(), R, v.copy(), w.copy(), parts)
+        if diverged(x, system.ref_x[k]):
+            return system.bus.fallbacks[0] - fallbacks0, k
+        exchange(k, h, x, R, v, w, system.parts, system.bus)
         j = 2 * k
-        _own_rhs(y, j, plant, parts, k1_)
-        _own_rhs(y + 0.5 * h * k1_, j + 1, plant, parts, k2_)
-        _own_rhs(y + 0.5 * h * k2_, j + 1, plant, parts, k3_)
-        _own_rhs(y + h * k3_, j + 2, plant, parts, k4_)
+        _own_rhs(y, j, plant, system, k1_)
+        _own_rhs(y + 0.5 * h * k1_, j + 1, plant, system, k2_)
+        _own_rhs(y + 0.5 * h * k2_, j + 1, plant, system, k3_)
+        _own_rhs(y + h * k3_, j + 2, plant, system, k4_)
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
-    return fallbacks, -1
+    return system.bus.fallbacks[0] - fallbacks0, -1
 
 
 # ---------------------------------------------------------------------- MuJoCo plant
@@ -130,7 +124,7 @@ class MujocoPlant(NamedTuple):
     (x, z, theta_y) slides and a hinge, else a free joint. pq, pd: the platform's qpos and
     dof indices; body: its body id; ship_dofs: the ship's six dof indices.
     ship_err (1,): the largest deviation of the ship from its motion so far (m or rad).
-    x, v, w (3,), R (3, 3): the platform's state in C, read each step; R_PO (3, 3) scratch.
+    x, v, w (3,), R (3, 3): the platform's state in C, read each step; R_PO (3, 3), q (4,) scratch.
     offset (m,): each tendon's length beyond its cable's (a pulley's inlet), m.
     """
 
@@ -153,6 +147,7 @@ class MujocoPlant(NamedTuple):
     v: np.ndarray
     w: np.ndarray
     R_PO: np.ndarray
+    q: np.ndarray
     offset: np.ndarray
 
 
@@ -161,7 +156,9 @@ class ShipDrive(NamedTuple):
 
     tau_ff : (n, 6) feed-forward joint forces at mid-step; q_des, qd_des : (n, 6) the ship
     joints' positions and rates at t_k; kp, kd : (6,) servo gains; f_O, m_O : (n, 3) the
-    disturbance in O (loads given in C); R_SO : (n, 3, 3) the ship's rotation at t_k.
+    disturbance in O (loads given in C); R_SO : (n, 3, 3) the ship's rotation at t_k;
+    f_P, m_P : (n, 3) the disturbance in P where ``in_P`` (turned with the platform's
+    actual orientation at each exchange).
     """
 
     tau_ff: np.ndarray
@@ -172,9 +169,12 @@ class ShipDrive(NamedTuple):
     f_O: np.ndarray
     m_O: np.ndarray
     R_SO: np.ndarray
+    f_P: np.ndarray
+    m_P: np.ndarray
+    in_P: bool
 
 
-@njit(cache=_cache, inline="always")
+@njit(cache=_cache)
 def _mujoco_state(mj):
     """The platform's (x, R, v, w) in C from MuJoCo's qpos and qvel, into mj.x, .R, .v, .w."""
     qpos, qvel, pq, pd = mj.qpos, mj.qvel, mj.pq, mj.pd
@@ -194,61 +194,53 @@ def _mujoco_state(mj):
             v[i] = qvel[pd[i]]
         q0, q1, q2, q3 = qpos[pq[3]], qpos[pq[4]], qpos[pq[5]], qpos[pq[6]]
         norm = np.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-        quat_to_R((q0 / norm, q1 / norm, q2 / norm, q3 / norm), R)
+        q = mj.q
+        q[0], q[1], q[2], q[3] = q0 / norm, q1 / norm, q2 / norm, q3 / norm
+        matrix_from_quaternion_step(q, R)
         for i in range(3):  # the ball's angular velocity is in the platform frame
             w[i] = R[i, 0] * qvel[pd[3]] + R[i, 1] * qvel[pd[4]] + R[i, 2] * qvel[pd[5]]
     return x, R, v, w
 
 
-@njit(cache=_cache, inline="always")
-def _mujoco_inputs(k, R, mj, drive, parts):
-    """Write the cables' forces (or springs), the ship's servo and the disturbance."""
-    bus, winch, cables = parts.bus, parts.winch, parts.cables
-    n = bus.T_app.shape[0]
-    if cables.elastic and not winch.tension_controlled:
-        # the cable is a spring MuJoCo integrates: taut above L0 (dead band [0, L0])
-        mj.ctrl[:] = 0.0
-        for i in range(n):
-            mj.ten_k[i] = cables.EA / winch.L0[i]
-            mj.ten_spring[i, 0] = 0.0
-            mj.ten_spring[i, 1] = winch.L0[i] + mj.offset[i]  # a pulley cable's tendon starts behind it
-            mj.ten_c[i] = cables.damping if bus.L[i] > winch.L0[i] else 0.0
-    else:
-        mj.ctrl[:] = bus.T_app
+@njit(cache=_cache)
+def _mujoco_inputs(k, R, mj, drive, system):
+    """Write the cable part's inputs (forces or springs), the ship's servo, the disturbance
+    and the bus's extra loads."""
+    bus = system.bus
+    mujoco_cables(system.cable, mj, bus)
     for j in range(6):
         dof = mj.ship_dofs[j]
         mj.ship_err[0] = max(mj.ship_err[0], abs(mj.qpos[dof] - drive.q_des[k, j]))
         mj.qfrc[dof] = (drive.tau_ff[k, j] + drive.kp[j] * (drive.q_des[k, j] - mj.qpos[dof])
                         + drive.kd[j] * (drive.qd_des[k, j] - mj.qvel[dof]))
-    loads = parts.loads
-    if loads.in_P:  # a load fixed to the platform turns with its actual orientation
+    if drive.in_P:  # a load fixed to the platform turns with its actual orientation
         R_PO = mj.R_PO
         mm3(drive.R_SO[k], R, R_PO)
+        f, m = drive.f_P, drive.m_P
         for i in range(3):
-            mj.xfrc[mj.body, i] = R_PO[i, 0] * loads.f[k, 0] + R_PO[i, 1] * loads.f[k, 1] + R_PO[i, 2] * loads.f[k, 2]
-            mj.xfrc[mj.body, 3 + i] = (R_PO[i, 0] * loads.m[k, 0] + R_PO[i, 1] * loads.m[k, 1]
-                                       + R_PO[i, 2] * loads.m[k, 2])
+            mj.xfrc[mj.body, i] = R_PO[i, 0] * f[k, 0] + R_PO[i, 1] * f[k, 1] + R_PO[i, 2] * f[k, 2]
+            mj.xfrc[mj.body, 3 + i] = R_PO[i, 0] * m[k, 0] + R_PO[i, 1] * m[k, 1] + R_PO[i, 2] * m[k, 2]
     else:
-        mj.xfrc[mj.body, :3] = drive.f_O[k]
-        mj.xfrc[mj.body, 3:] = drive.m_O[k]
-    brush = parts.brush
-    if brush.active:  # the brush's loads at the actual velocity (in C), into O
         for i in range(3):
-            for j in range(3):
-                mj.xfrc[mj.body, i] += drive.R_SO[k, i, j] * brush.f[j]
-                mj.xfrc[mj.body, 3 + i] += drive.R_SO[k, i, j] * brush.m[j]
+            mj.xfrc[mj.body, i] = drive.f_O[k, i]
+            mj.xfrc[mj.body, 3 + i] = drive.m_O[k, i]
+    for i in range(3):  # the extra loads (in C), into O
+        for j in range(3):
+            mj.xfrc[mj.body, i] += drive.R_SO[k, i, j] * bus.f_ext[j]
+            mj.xfrc[mj.body, 3 + i] += drive.R_SO[k, i, j] * bus.m_ext[j]
 
 
 @njit(cache=_cache)
-def mujoco_exchange(k, h, mj, drive, parts):
+def mujoco_exchange(k, h, mj, drive, system):
     """Read MuJoCo's state, exchange, write MuJoCo's inputs. Returns -1 if diverged, else
     the exchange's fallback count (0 or 1)."""
     x, R, v, w = _mujoco_state(mj)
-    if diverged(x, parts.ctl.ref.x[k]):
+    if diverged(x, system.ref_x[k]):
         return -1
-    fallback = exchange(k, h, x, R, v, w, parts)
-    _mujoco_inputs(k, R, mj, drive, parts)
-    return fallback
+    before = system.bus.fallbacks[0]
+    exchange(k, h, x, R, v, w, system.parts, system.bus)
+    _mujoco_inputs(k, R, mj, drive, system)
+    return system.bus.fallbacks[0] - before
 
 
 def mujoco_library() -> bool:
@@ -272,16 +264,16 @@ _c_mj_step = types.ExternalFunction("mj_step", types.void(types.uint64, types.ui
 
 
 @njit(cache=_cache)
-def mujoco_loop(k0, k1, addresses, h, mj, drive, parts):
+def mujoco_loop(k0, k1, addresses, h, mj, drive, system):
     """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*).
     Returns (fallbacks, -1 or the diverged step)."""
-    mj, drive, parts = borrowed(mj), borrowed(drive), borrowed(parts)  # no counting per step
-    fallbacks = 0
-    for k in range(k0, k1):  # mujoco_exchange, written out: one compiled call level less
+    mj, drive, system = borrowed(mj), borrowed(drive), borrowed(system)  # no counting per step
+    fallbacks0 = system.bus.fallbacks[0]
+    for k in range(k0, k1):
         x, R, v, w = _mujoco_state(mj)
-        if diverged(x, parts.ctl.ref.x[k]):
-            return fallbacks, k
-        fallbacks += exchange(k, h, x, R, v, w, parts)
-        _mujoco_inputs(k, R, mj, drive, parts)
+        if diverged(x, system.ref_x[k]):
+            return system.bus.fallbacks[0] - fallbacks0, k
+        exchange(k, h, x, R, v, w, system.parts, system.bus)
+        _mujoco_inputs(k, R, mj, drive, system)
         _c_mj_step(addresses[0], addresses[1])
-    return fallbacks, -1
+    return system.bus.fallbacks[0] - fallbacks0, -1

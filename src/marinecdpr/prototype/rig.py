@@ -14,12 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from marinecdpr.control.controller import known_loads, plans
 from marinecdpr.errors import SimulationDivergedError
-from marinecdpr.model.brush import brush_params
-from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.prototype import parts as P
-from marinecdpr.prototype.plants import _mujoco_inputs, _mujoco_state, diverged
+from marinecdpr.prototype.parts import diverged
+from marinecdpr.prototype.plants import _mujoco_inputs, _mujoco_state
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Rig"]
@@ -45,31 +42,23 @@ class Rig:
         import mujoco
 
         from marinecdpr.prototype.mujoco_model import build_model
-        from marinecdpr.prototype.simulation import _initial_state, _mujoco_plant, _ship_drive
+        from marinecdpr.prototype.simulation import _initial_state, _mujoco_plant, _ship_drive, prototype
 
         self.scenario = scenario.with_updates("simulation", cables={"model": "ideal"})
         sc = self.scenario
         h = self.step_s = sc.time.step_s
         n = self.n_steps = sc.time.n_steps if n_steps is None else min(n_steps, sc.time.n_steps)
-        ship_h = evaluate_base_motion(sc.base_motion, np.arange(2 * n + 1) * (0.5 * h))
-        ref, ff, _ = plans(sc, n, ship_h=ship_h)
-        f_h, m_h, in_P = known_loads(sc, ship_h, None)
-        loads = P.Loads(np.ascontiguousarray(f_h[::2][:n]), np.ascontiguousarray(m_h[::2][:n]), in_P)
+        # the simulation's builder with only the cables: ideal, they apply the bus's T_app
+        # (the caller's tensions); no brush
+        ship_h, ref, _, proto = prototype(sc, "open_loop", n, include=lambda name: name == "cables",
+                                            given=("T_cmd",), brush=False)
         self._eta = np.ascontiguousarray(np.stack([ship_h.eta, ship_h.eta_dot, ship_h.eta_ddot], axis=1)[0:2 * n:2])
         self._plan_x = np.ascontiguousarray(ref.pose[:n, :3])
-        m = sc.robot.n_cables
-        # the records _mujoco_inputs reads: ideal cables apply the bus's T_app; no brush
-        self._parts = P.Parts(
-            ctl=None, sensors=None, mru=None, encoders=None, load_cells=None, loads=loads,
-            winch=P.Winch(False, 1.0, np.zeros(m), np.zeros(m)), cables=P.Cables(False, np.inf, 0.0),
-            bus=P.Bus(np.zeros(m), np.zeros(m), np.zeros((m, 6)), np.zeros(m), np.zeros(m), np.zeros(m)),
-            log=None, brush=P.BrushContact(False, brush_params(0.0, 0.0), np.zeros(3), np.zeros(1), np.zeros((1, 3)),
-                                           np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3)),
-            motor=P.no_motor(m), catenary=P.no_catenary(m))
+        self._system = proto.system
         mm = build_model(sc)
         self._model = mm.model
         self._data = mujoco.MjData(mm.model)
-        self._drive = _ship_drive(ship_h, loads, n)
+        self._drive = _ship_drive(ship_h, proto.known, n)
         self._mj = _mujoco_plant(sc, mm.model, self._data, mm, _initial_state(sc, ref), self._drive)
         self._mj_step = mujoco.mj_step
         self.k = 0
@@ -105,7 +94,7 @@ class Rig:
         x, R, _, _ = _mujoco_state(self._mj)
         if diverged(x, self._plan_x[k]):
             raise SimulationDivergedError(f"{self.scenario.name}: the rig diverged at t = {self.t:.3f} s")
-        self._parts.bus.T_app[:] = tensions
-        _mujoco_inputs(k, R, self._mj, self._drive, self._parts)
+        self._system.bus.T_app[:] = tensions
+        _mujoco_inputs(k, R, self._mj, self._drive, self._system)
         self._mj_step(self._model, self._data)
         self.k = k + 1

@@ -5,9 +5,9 @@ data once per time step (``time.step_s``, 1 ms): at t_k the controller reads the
 plant's state (with sensor noise), commands cable tensions (or a winch's unstretched
 length), the cable/actuator model turns the command into applied tensions, and the
 plant advances one step with those tensions held. The parts are records with step
-functions (:mod:`~marinecdpr.prototype.parts`); this module builds each part's record
-from the scenario (one builder per part) and runs a plant's compiled loop
-(:mod:`~marinecdpr.prototype.plants`) over blocks of steps.
+functions and declared signals (:mod:`~marinecdpr.prototype.parts`), assembled from the
+scenario by :mod:`~marinecdpr.prototype.builder`; this module runs a plant's compiled
+loop (:mod:`~marinecdpr.prototype.plants`) over blocks of steps.
 
 Plants (``simulation.plant``):
   ``mujoco``  the independent engine (:mod:`~marinecdpr.prototype.mujoco_model`), the default;
@@ -30,19 +30,21 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans, robot_model
-from marinecdpr.control.step import cables_at
+from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans
+from marinecdpr.control.records import Loads
 from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.prototype import parts as P
+from marinecdpr.prototype import builder
+from marinecdpr.prototype.parts import DIVERGENCE_M
+from marinecdpr.prototype.parts.brush import normal_force
 from marinecdpr.prototype.plants import (
     MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
 )
 from marinecdpr.errors import ScenarioError, SimulationDivergedError
-from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.geometry.rotations import matrix_from_euler, quaternion_from_matrix
 from marinecdpr.planning.planner import Plan
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
-__all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S"]
+__all__ = ["RUNS", "SimResult", "simulate", "kernels_cached", "KERNEL_COMPILE_S", "prototype", "normal_force"]
 
 RUNS = ("open_loop", "closed_loop", "fixed_base_open_loop")
 SHIP_SERVO_HZ = 10.0
@@ -96,23 +98,7 @@ class SimResult:
 
 
 # ------------------------------------------------------------------- orchestration
-def _quat_from_R(R: np.ndarray) -> np.ndarray:
-    """Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd's method)."""
-    tr = np.trace(R)
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
-    else:
-        i = int(np.argmax(np.diag(R)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
-        q = [0.0] * 4
-        q[0] = (R[k, j] - R[j, k]) / s
-        q[1 + i] = 0.25 * s
-        q[1 + j] = (R[j, i] + R[i, j]) / s
-        q[1 + k] = (R[k, i] + R[i, k]) / s
-    q = np.asarray(q)
-    return q / np.linalg.norm(q)
+_quat_from_R = quaternion_from_matrix
 
 
 def simulate(
@@ -166,169 +152,69 @@ def simulate(
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
     check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
     t = np.arange(n) * h
-    # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
-    ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
-    base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
-    ref, ff, _ = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
-    brush_h = planned_brush_loads(scenario, ref, ff, n)
-    f_h, m_h, in_P = known_loads(scenario, ship_h, brush_h)
-    m = scenario.robot.n_cables
+    ship_h, ref, ff, asm = prototype(scenario, run, n, reference=reference)
     x0, R0, v0, w0 = _initial_state(scenario, ref)
-    loads = P.Loads(np.ascontiguousarray(f_h[::2][:n]), np.ascontiguousarray(m_h[::2][:n]), in_P)
-    ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
-    sensors, mru, encoders, load_cells = _sensors(scenario, run, ship_h, n)
-    load_cells.T[:] = ctl.ref.T[0]
-    winch = _winch(scenario, ff, x0, R0)
-    parts = P.Parts(
-        ctl=ctl, sensors=sensors, mru=mru, encoders=encoders, load_cells=load_cells, loads=loads,
-        winch=winch, cables=_cables(scenario), bus=P.empty_bus(ctl), log=P.empty_log(n, m),
-        brush=_brush(scenario, ref, n, brush_h), motor=_motor(scenario, ref, winch, n),
-        catenary=_catenary(scenario, ship_h, m))
+    system = asm.system
     if plant == "own":
-        y = np.concatenate([x0, _quat_from_R(R0), v0, w0])
-        own = OwnPlant(y, *(np.ascontiguousarray(a) for a in (ship_h.R_SO, ship_h.omega_SO_S, ship_h.alpha_SO_S,
-                                                              ship_h.a_SO_O, f_h, m_h)))
-        fallbacks = _blocks(scenario, run, t, progress, lambda k0, k1: own_loop(k0, k1, h, own, parts))
+        y = np.concatenate([x0, quaternion_from_matrix(R0), v0, w0])
+        loads = asm.loads
+        own = OwnPlant(y=y, R_SO=np.ascontiguousarray(ship_h.R_SO), w_s=np.ascontiguousarray(ship_h.omega_SO_S),
+                       al_s=np.ascontiguousarray(ship_h.alpha_SO_S), a_SO=np.ascontiguousarray(ship_h.a_SO_O),
+                       f=loads[0], m=loads[1], in_P=loads[2])
+        fallbacks = _blocks(scenario, run, t, progress, lambda k0, k1: own_loop(k0, k1, h, own, system))
         ship_error = 0.0  # the own plant moves the ship exactly
     else:
-        fallbacks, ship_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), parts, progress)
-    log = parts.log
+        fallbacks, ship_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm, progress)
+    log = asm.get("Log")
     log.pose[:, 3:] = np.unwrap(log.pose[:, 3:], axis=0)
+    motor = asm.get("MotorWinch")
+    limited = motor.limited if motor is not None else (0, 0)
     return SimResult(
         run=run, plant=plant, t=t, pose_planned=np.ascontiguousarray(ref.pose[:n]), pose=log.pose,
         lengths_planned=np.ascontiguousarray(ref.lengths[:n]), lengths=log.lengths,
         tensions_commanded=log.T_cmd, tensions=log.T_app, controller_fallbacks=int(fallbacks),
-        ship_tracking_error=ship_error, winch_limited_steps=int(parts.motor.limited[0]),
-        winch_overspeed_steps=int(parts.motor.limited[1]),
+        ship_tracking_error=ship_error, winch_limited_steps=int(limited[0]),
+        winch_overspeed_steps=int(limited[1]),
     )
 
 
-# ------------------------------------------------------- the parts, from the scenario
-def _brush(scenario: Scenario, ref: Plan, n: int, brush_h) -> P.BrushContact:
-    """The cleaning brush's contact part: its planned loads at t_k (``brush_h``'s every other
-    row, what the controller's load model holds) and the normal force (:func:`normal_force`);
-    inactive without ``[cleaning]``."""
-    from marinecdpr.model.brush import brush_params, cleaning_brush
+@dataclass(frozen=True)
+class Prototype:
+    """The assembled prototype of a run: its :class:`~marinecdpr.prototype.builder.System`,
+    each part by its record's class name, and the known loads: on the half-step grid
+    ``loads`` (f, m (2 n + 1, 3) in C, or in P if ``in_P``) that the own plant applies, and
+    at t_k ``known`` (the controller's model of them, which MuJoCo's ship drive applies)."""
 
-    cleaning = scenario.cleaning
-    if cleaning is None:
-        return P.BrushContact(False, brush_params(0.0, 0.0), np.zeros(3), np.zeros(1), np.zeros((1, 3)),
-                              np.zeros((1, 3)), np.zeros(3), np.zeros(3), np.zeros(3))
-    f_b, m_b, _ = brush_h
-    return P.BrushContact(True, cleaning_brush(cleaning), np.asarray(cleaning.hull_normal, dtype=float),
-                          np.ascontiguousarray(normal_force(ref, scenario)[:n]), np.ascontiguousarray(f_b[::2][:n]),
-                          np.ascontiguousarray(m_b[::2][:n]), np.zeros(3), np.zeros(3), np.zeros(3))
+    system: builder.System
+    by_name: dict
+    loads: tuple
+    known: Loads
 
-
-def normal_force(p: Plan, scenario: Scenario) -> np.ndarray:
-    """The brush's contact force over the plan's steps, (n_steps,), N: on a planar robot the
-    plan's guide reaction along the hull normal plus twice the preload (the pusher presses
-    with the preload; the planned loads include the hull's push at the preload); on a
-    robot whose cables control the normal, the preload."""
-    cleaning = scenario.cleaning
-    P_n = cleaning.preload
-    n = np.asarray(cleaning.hull_normal, dtype=float)
-    if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
-        return np.full(p.n_steps, P_n)
-    return p.reaction[:, p.reaction_dofs.index("y")] * n[1] + 2.0 * P_n
+    def get(self, name: str):
+        """The part whose record class is ``name``, or None."""
+        return self.by_name.get(name)
 
 
-def _sensors(scenario: Scenario, run: str, ship_h, n: int) -> tuple[P.Sensors, P.Mru, P.Encoders, P.LoadCells]:
-    """The sensors' parts, their errors drawn from ``[simulation.noise]`` (seeded): the closed
-    loop measures the platform (pose sensor or encoders) and the ship (the motion reference
-    unit, ``[simulation.mru]``); the load cells measure the tensions (open and closed loop)."""
-    nz, mru, sens = scenario.simulation.noise, scenario.simulation.mru, scenario.simulation.sensors
+def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
+              given: tuple[str, ...] = (), brush: bool = True):
+    """The ship's motion on the half-step grid, the plan at t_k and at mid-step, and the run's
+    assembled :class:`Prototype` (parts built from the scenario by
+    :func:`~marinecdpr.prototype.builder.assemble`; ``include`` chooses part modules, ``given``
+    names the signals the caller writes instead)."""
     h = scenario.time.step_s
-    rng = np.random.default_rng(nz.seed)
-    deg = np.pi / 180.0
-    pose, twist = np.zeros((n, 6)), np.zeros((n, 6))
-    unit_rate, unit_angle_deg, unit_heave_m = MRU_UNITS[mru.unit]
-    rate = mru.rate_hz if mru.rate_hz is not None else unit_rate
-    if rate is None and mru.latency_s == 0.0:  # a sample at every exchange, as it happens
-        t_s, latest = np.arange(n) * h, np.arange(n)
-        eta = np.stack([ship_h.eta[::2], ship_h.eta_dot[::2], ship_h.eta_ddot[::2]])[:, :n].copy()
-    else:
-        period = h if rate is None else 1.0 / rate
-        # the latest sample j with j period + latency <= t_k (the first, until one has arrived)
-        latest = np.maximum(np.floor((np.arange(n) * h - mru.latency_s) / period + 1e-9), 0).astype(np.int64)
-        t_s = np.arange(latest[-1] + 1) * period
-        ship_s = evaluate_base_motion(scenario.base_motion, t_s)
-        eta = np.stack([ship_s.eta, ship_s.eta_dot, ship_s.eta_ddot])
-    n_s = eta.shape[1]
-    if run == "closed_loop":
-        pose[:, :3] = rng.normal(0.0, nz.pose_m, (n, 3))
-        pose[:, 3:] = rng.normal(0.0, nz.pose_deg * deg, (n, 3))
-        twist[:, :3] = rng.normal(0.0, nz.velocity_m_s, (n, 3))
-        twist[:, 3:] = rng.normal(0.0, nz.rate_deg_s * deg, (n, 3))
-        for i, (s_lin, s_ang) in enumerate(((nz.ship_position_m, nz.ship_angle_deg * deg),
-                                            (nz.ship_velocity_m_s, nz.ship_rate_deg_s * deg),
-                                            (nz.ship_acceleration_m_s2,
-                                             nz.ship_angular_acceleration_deg_s2 * deg))):
-            eta[i, :, :3] += rng.normal(0.0, s_lin, (n_s, 3))
-            eta[i, :, 3:] += rng.normal(0.0, s_ang, (n_s, 3))
-    noise = rng.normal(0.0, nz.tension_N, (n, scenario.robot.n_cables))
-    noise_m = np.array(mru.noise_m if mru.noise_m is not None else (0.0, 0.0, unit_heave_m))
-    noise_rad = np.radians(mru.noise_deg if mru.noise_deg is not None else (unit_angle_deg, unit_angle_deg, 0.0))
-    if run == "closed_loop" and (noise_m.any() or noise_rad.any()):  # the unit's own noise, after the rest
-        eta[0, :, :3] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_m
-        eta[0, :, 3:] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_rad
-    eta[0, :, :3] += np.asarray(mru.bias_m)
-    eta[0, :, 3:] += np.radians(mru.bias_deg)
-    fc = sens.load_cell_filter_hz
-    alpha = 1.0 if fc == 0.0 else float(-np.expm1(-2.0 * np.pi * fc * h))
-    return (P.Sensors(pose, twist, np.zeros(3), np.zeros((2, 3, 3))),
-            P.Mru(np.ascontiguousarray(eta), np.ascontiguousarray(t_s, dtype=float), np.ascontiguousarray(latest)),
-            P.Encoders(float(sens.encoder_resolution_m)), P.LoadCells(noise, alpha, np.zeros(scenario.robot.n_cables)))
-
-
-def _cables(scenario: Scenario) -> P.Cables:
-    cab = scenario.simulation.cables
-    return P.Cables(cab.model != "ideal", float(cab.stiffness_EA_N or np.inf), cab.damping_N_s_m)
-
-
-def _catenary(scenario: Scenario, ship_h, m: int) -> P.Catenary:
-    """Heavy cables (``simulation.cables.model = "catenary"``; else inactive): the true
-    vertical in C on the half-step grid, O's z in S (row 2 of R_SO)."""
-    cab = scenario.simulation.cables
-    if cab.model != "catenary":
-        return P.no_catenary(m)
-    return P.catenary_part(m, scenario.robot.cable_weight_N_m, cab.stiffness_EA_N, ship_h.R_SO[:, 2, :])
-
-
-def _winch(scenario: Scenario, ff: Plan, x0: np.ndarray, R0: np.ndarray) -> P.Winch:
-    """The winches at t = 0: paid out so that the plan's first tension stretches the cable to
-    its actual length, the tension loops holding the plan's first tensions."""
-    cab, robot = scenario.simulation.cables, scenario.robot
-    h = scenario.time.step_s
-    lag = 1.0 if cab.winch_time_constant_s == 0 else float(-np.expm1(-h / cab.winch_time_constant_s))
-    EA = float(cab.stiffness_EA_N or np.inf)
-    L_init = np.empty(robot.n_cables)
-    cables_at(x0, R0, robot_model(scenario), L_init, np.empty((robot.n_cables, 6)))
-    L0 = L_init / (1.0 + (ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0]) / EA)
-    if cab.model == "catenary":  # and what the sag takes
-        L0 += ff.sag_lengths[0]
-    return P.Winch(cab.winch == "tension", lag, L0, np.array(ff.tensions[0], dtype=float))
-
-
-MOTOR_LOOP_DAMPING = 0.7
-"""The damping ratio of the motor winches' tension loops, on each cable's stiffness at t = 0
-(:func:`~marinecdpr.model.winch.tension_loop_damping`, tension gain k_T = 1)."""
-
-
-def _motor(scenario: Scenario, ref: Plan, winch: P.Winch, n: int) -> P.Motor:
-    """The motor winches at t = 0 (``simulation.cables.winch = "motor"``; else inactive): the
-    drums paid out as the winch record, the motors turning with the plan's first L'."""
-    from marinecdpr.model.winch import WinchParams, tension_loop_damping, winch_drive
-
-    cab, robot = scenario.simulation.cables, scenario.robot
-    m = robot.n_cables
-    if cab.winch != "motor":
-        return P.no_motor(m)
-    params = WinchParams(**robot.winch.model_dump())
-    k_w = tension_loop_damping(params, float(cab.stiffness_EA_N) / winch.L0, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
-    omega0 = -params.gear_ratio * ref.length_rates[0] / params.drum_radius_m
-    drive = winch_drive(params, m, winch.L0.copy(), omega0=omega0, k_T=1.0, k_w=k_w)
-    return P.motor_part(drive, ref.length_rates[:n], ref.length_accelerations[:n])
+    # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
+    ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+    base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
+    ref, ff, _ = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
+    brush_h = planned_brush_loads(scenario, ref, ff, n) if brush else None
+    f_h, m_h, in_P = known_loads(scenario, ship_h, brush_h)
+    loads = Loads(np.ascontiguousarray(f_h[::2][:n]), np.ascontiguousarray(m_h[::2][:n]), in_P)
+    ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
+    x0, R0, _, _ = _initial_state(scenario, ref)
+    ctx = builder.context(scenario, run, n, plan=ref, ff=ff, ship_h=ship_h, brush_h=brush_h, loads=loads, ctl=ctl,
+                          x0=x0, R0=R0)
+    asm = builder.assemble(ctx, include=include, given=given)
+    return ship_h, ref, ff, Prototype(system=asm.system, by_name=asm.by_name, loads=(f_h, m_h, in_P), known=loads)
 
 
 def _initial_state(scenario: Scenario, ref: Plan):
@@ -379,11 +265,11 @@ def kernels_cached(plant: str) -> bool:
 
 def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
     return (f"{scenario.name}: {run} diverged at t = {t:.3f} s: the platform is more than "
-            f"{P.DIVERGENCE_M:g} m from its plan or its state is not finite")
+            f"{DIVERGENCE_M:g} m from its plan or its state is not finite")
 
 
 # ----------------------------------------------------------------------- MuJoCo plant
-def _ship_drive(ship_h, loads: P.Loads, n: int) -> ShipDrive:
+def _ship_drive(ship_h, loads: Loads, n: int) -> ShipDrive:
     """Feed-forward forces that move the (gravity-compensated, isotropic) MuJoCo ship along
     eta, evaluated at mid-step; a servo acts on the error at the step's start. Loads in C
     are applied in O (a load given in P is turned at each exchange)."""
@@ -404,10 +290,11 @@ def _ship_drive(ship_h, loads: P.Loads, n: int) -> ShipDrive:
     inertia = np.array([SHIP_MASS_KG] * 3 + [SHIP_INERTIA_KG_M2] * 3)
     R_SO = np.ascontiguousarray(ship_h.R_SO[0:2 * n:2])
     return ShipDrive(
-        tau_ff, np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm]),
-        np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm]), inertia * wn * wn, inertia * 2.0 * wn,
-        np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.f)),
-        np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.m)), R_SO)
+        tau_ff=tau_ff, q_des=np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm]),
+        qd_des=np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm]), kp=inertia * wn * wn,
+        kd=inertia * 2.0 * wn, f_O=np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.f)),
+        m_O=np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.m)), R_SO=R_SO,
+        f_P=loads.f, m_P=loads.m, in_P=bool(loads.in_P))
 
 
 def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive) -> MujocoPlant:
@@ -423,16 +310,18 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
         data.qvel[pd] = [v0[0], v0[2], w0[1]]
     else:
         data.qpos[pq[:3]] = x0
-        data.qpos[pq[3:]] = _quat_from_R(R0)
+        data.qpos[pq[3:]] = quaternion_from_matrix(R0)
         data.qvel[pd[:3]] = v0
         data.qvel[pd[3:]] = R0.T @ w0
-    return MujocoPlant(data.qpos, data.qvel, data.ctrl, data.qfrc_applied, data.xfrc_applied,
-                       model.tendon_stiffness, model.tendon_lengthspring, model.tendon_damping, planar,
-                       pq, pd, mm.platform_body, ship_dofs, np.zeros(1), np.empty(3), np.empty((3, 3)), np.empty(3),
-                       np.empty(3), np.empty((3, 3)), np.ascontiguousarray(mm.tendon_offset))
+    return MujocoPlant(qpos=data.qpos, qvel=data.qvel, ctrl=data.ctrl, qfrc=data.qfrc_applied,
+                       xfrc=data.xfrc_applied, ten_k=model.tendon_stiffness, ten_spring=model.tendon_lengthspring,
+                       ten_c=model.tendon_damping, planar=planar, pq=pq, pd=pd, body=mm.platform_body,
+                       ship_dofs=ship_dofs, ship_err=np.zeros(1), x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3),
+                       w=np.empty(3), R_PO=np.empty((3, 3)), q=np.empty(4),
+                       offset=np.ascontiguousarray(mm.tendon_offset))
 
 
-def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, parts: P.Parts, progress):
+def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm: Prototype, progress):
     """Fly on MuJoCo: the compiled loop calls mj_step itself where MuJoCo's library can be
     loaded by name, else a Python loop calls the compiled exchange and mj_step. Returns the
     fallbacks and the ship's largest deviation from its motion."""
@@ -444,17 +333,18 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, par
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, parts.loads, n)
+    drive = _ship_drive(ship_h, asm.known, n)
+    system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
 
     def loop(k0: int, k1: int) -> tuple[int, int]:
         if addresses is not None:
-            fb, bad = mujoco_loop(k0, k1, addresses, h, mj, drive, parts)
+            fb, bad = mujoco_loop(k0, k1, addresses, h, mj, drive, system)
         else:  # the same, one Python call per step
             fb, bad = 0, -1
             for k in range(k0, k1):
-                f = mujoco_exchange(k, h, mj, drive, parts)
+                f = mujoco_exchange(k, h, mj, drive, system)
                 if f < 0:
                     bad = k
                     break

@@ -1,0 +1,69 @@
+"""Where numba caches this package's machine code: a folder named by a hash of the compiled
+sources, so that an edit of any of them can never serve stale code.
+
+numba checks only the time stamp of the file that defines a cached function, not of the
+files its compiled callees come from: after an edit of a callee (or of a part the loop
+calls), a caller's cache would still hold the old code. Here every cache entry lives in
+``<base>/marinecdpr-<hash>``, the hash over the bytes of every module of the package that
+uses numba (and the package's version): any edit of one moves every entry to a new,
+empty folder. ``<base>`` is ``$MARINECDPR_CACHE_DIR``, else ``$NUMBA_CACHE_DIR``, else the
+user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/marinecdpr``.
+
+:func:`configure` runs when the package is imported, before any compiled module loads.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+from pathlib import Path
+
+__all__ = ["configure", "cache_dir", "source_hash"]
+
+_PACKAGE = Path(__file__).resolve().parent
+_configured: list[str] = []
+
+
+def source_hash() -> str:
+    """16 hex digits over the package's compiled sources: every ``.py`` file under the
+    package that mentions numba, in path order, with its relative path."""
+    digest = hashlib.sha256()
+    for path in sorted(_PACKAGE.rglob("*.py")):
+        data = path.read_bytes()
+        if b"numba" in data:
+            digest.update(str(path.relative_to(_PACKAGE)).encode() + b"\0" + data + b"\0")
+    return digest.hexdigest()[:16]
+
+
+def _base() -> Path:
+    for var in ("MARINECDPR_CACHE_DIR", "NUMBA_CACHE_DIR"):
+        value = os.environ.get(var)
+        if value:
+            if var == "NUMBA_CACHE_DIR" and Path(value).name.startswith("marinecdpr-"):
+                return Path(value).parent  # set by the process that started this one
+            return Path(value)
+    home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(home) / "marinecdpr"
+
+
+def cache_dir() -> Path:
+    """The folder this package's compiled code is cached in (see the module's docstring)."""
+    if _configured:
+        return Path(_configured[0])
+    return _base() / f"marinecdpr-{source_hash()}"
+
+
+def configure() -> Path:
+    """Point numba's cache at :func:`cache_dir` (through ``NUMBA_CACHE_DIR`` before numba is
+    imported, or numba's config after); returns the folder. Idempotent."""
+    if _configured:
+        return Path(_configured[0])
+    folder = _base() / f"marinecdpr-{source_hash()}"
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+    if "numba" in sys.modules:
+        from numba.core import config
+
+        config.CACHE_DIR = str(folder)
+    _configured.append(str(folder))
+    return folder

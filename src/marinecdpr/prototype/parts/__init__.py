@@ -1,0 +1,252 @@
+"""The virtual prototype's parts, the signals they exchange, and the one loop that wires them.
+
+Like Drake's systems framework, each part of the prototype is a small unit that declares
+its parameters and state (one ``NamedTuple`` record of arrays and numbers), the named
+signals of the bus it reads and writes (:class:`Signals`), and one compiled step; a part
+module registers its record with :func:`part` and says how to build it from a scenario
+(its ``build(context)``, called by :mod:`~marinecdpr.prototype.builder`). One exchange
+(every ``time.step_s``, 1 ms; the paper's figure 4) calls the active parts' steps in their
+declared order (:func:`exchange`), then the plant advances one step with the tensions
+and loads on the bus; a plant never reads a part's record, only the bus and, where the
+tensions follow the plant's state within the step, the cable part's law
+(:func:`cable_tensions`, :func:`mujoco_cables`).
+
+The parts, in the order of an exchange (``order``):
+
+=====  ==================================  ==========================================
+order  part (module)                       writes
+=====  ==================================  ==========================================
+0      cable geometry (``geometry``)       L, Ldot, J at the true pose
+10     pose sensor (``sensors``)           meas.x, R, v, w; its time stamp
+11     load cells (``sensors``)            meas.T, cell_noise
+12     encoders (``sensors``)              meas.L, meas.Ldot
+13     motion reference unit (``sensors``) meas.eta; its time stamp
+20     controller (``controller``)         T_cmd, L0_cmd, fallbacks
+30     winch with a lag (``winches``)      L0 (held), T_hold
+40     cables (``cables``)                 T_app (held, elastic or catenary)
+45     motor winch (``winches``)           L0 (held and drum)
+50     brush contact (``brush``)           f_ext, m_ext
+90     log (``log``)                       the run's time series
+=====  ==================================  ==========================================
+
+A new part is one new module in this package: its record (decorated with :func:`part`),
+its compiled step, and its ``build(context)``; nothing in the loop, the plants or another
+part changes. Vectors are in the robot frame C unless named otherwise; units are SI.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numba import literal_unroll, njit
+from numba.extending import overload
+
+from marinecdpr.control.records import Measurement
+
+__all__ = ["Signals", "PartSpec", "part", "specs", "part_step", "exchange", "cable_tensions", "mujoco_cables",
+           "empty_signals", "SIGNALS", "STATE_SIGNALS", "PLANT_WRITES", "DIVERGENCE_M", "diverged"]
+
+DIVERGENCE_M = 10.0
+"""A run stops as diverged when the platform is this far from its plan."""
+
+
+class Signals(NamedTuple):
+    """The bus: the signals of the current exchange, each written by one part (or by the
+    plant), read by any. ``m`` cables.
+
+    x, v, w : (3,) the platform's true position (m), velocity (m/s), angular velocity
+        (rad/s) in C, and R : (3, 3) R_PC: the plant's state at t_k (written by the loop).
+    L, Ldot : (m,) the cables' lengths (m) and rates (m/s); J : (m, 6) J~, at that pose.
+    meas : the controller's measurement (:class:`~marinecdpr.control.records.Measurement`),
+        written by the sensors.
+    T_cmd, L0_cmd : (m,) the controller's commands (N; m).
+    cell_noise : (m,) the load cells' noise on this exchange, N.
+    L0 : (m,) the unstretched lengths the winches hold over the step, m; L0_drum : (m,) what
+        the drums have paid out now (the encoders' reading), m.
+    T_hold : (m,) the tensions tension-controlled winches hold, N.
+    T_app : (m,) the tensions the cables apply over the step, N.
+    f_ext, m_ext : (3,) loads on the platform beyond the known disturbance, held over the
+        step, in C about P (a brush's), N and N m.
+    fallbacks : (1,) int64 the controller's fallbacks so far.
+    """
+
+    x: np.ndarray
+    R: np.ndarray
+    v: np.ndarray
+    w: np.ndarray
+    L: np.ndarray
+    Ldot: np.ndarray
+    J: np.ndarray
+    meas: Measurement
+    T_cmd: np.ndarray
+    L0_cmd: np.ndarray
+    cell_noise: np.ndarray
+    L0: np.ndarray
+    L0_drum: np.ndarray
+    T_hold: np.ndarray
+    T_app: np.ndarray
+    f_ext: np.ndarray
+    m_ext: np.ndarray
+    fallbacks: np.ndarray
+
+
+SIGNALS = frozenset(Signals._fields) | {f"meas.{f}" for f in Measurement._fields}
+"""Every signal a part may read or write: the bus's fields and the measurement's."""
+PLANT_WRITES = frozenset({"x", "R", "v", "w"})
+"""What the loop writes from the plant's state before the parts step."""
+STATE_SIGNALS = frozenset({"L0", "L0_drum", "T_hold", "T_app", "f_ext", "m_ext"})
+"""Signals that hold a value from t = 0 (the builder's context sets them): a part may read
+them where no part of the run writes them (e.g. no brush: f_ext stays zero)."""
+
+
+def empty_signals(meas: Measurement, T_cmd: np.ndarray, L0_cmd: np.ndarray, T_app0: np.ndarray) -> Signals:
+    """A bus for len(T_cmd) cables around the controller's measurement and commands (the same
+    arrays), the applied tensions starting at ``T_app0`` (m,), N; the other signals zero."""
+    m = T_cmd.shape[0]
+    return Signals(x=np.zeros(3), R=np.eye(3), v=np.zeros(3), w=np.zeros(3), L=np.zeros(m), Ldot=np.zeros(m),
+                   J=np.zeros((m, 6)), meas=meas, T_cmd=T_cmd, L0_cmd=L0_cmd, cell_noise=np.zeros(m),
+                   L0=np.zeros(m), L0_drum=np.zeros(m), T_hold=np.zeros(m),
+                   T_app=np.array(T_app0, dtype=float), f_ext=np.zeros(3), m_ext=np.zeros(3),
+                   fallbacks=np.zeros(1, dtype=np.int64))
+
+
+# ----------------------------------------------------------------------- the registry
+@dataclass(frozen=True)
+class PartSpec:
+    """What a part declares: its record, its compiled ``step(k, h, part, bus)``, its place
+    in the exchange, the signals it reads and writes, and (cable parts) its tension law in
+    the plant (``tensions(part, j, x, R, v, w, L, J, bus, T) -> T``, :func:`cable_tensions`)
+    and its inputs to MuJoCo (``mujoco(part, mj, bus)``, :func:`mujoco_cables`)."""
+
+    record: type
+    step: object
+    order: float
+    reads: tuple[str, ...]
+    writes: tuple[str, ...]
+    tensions: object = None
+    mujoco: object = None
+
+
+_PARTS: dict[type, PartSpec] = {}
+
+
+def part(*, step, order: float, reads: tuple[str, ...], writes: tuple[str, ...], tensions=None, mujoco=None):
+    """Register the decorated record class as a part with its compiled ``step``.
+
+    Raises
+    ------
+    ValueError
+        If a declared signal is not on the bus (:data:`SIGNALS`).
+    """
+    def register(record: type) -> type:
+        unknown = sorted((set(reads) | set(writes)) - SIGNALS)
+        if unknown:
+            raise ValueError(f"part {record.__name__}: no signal {', '.join(unknown)} on the bus")
+        _PARTS[record] = PartSpec(record, step, float(order), tuple(reads), tuple(writes), tensions, mujoco)
+        return record
+    return register
+
+
+def specs() -> dict[type, PartSpec]:
+    """Every registered part (the modules of this package imported), by record class."""
+    _import_parts()
+    return dict(_PARTS)
+
+
+def part_modules() -> list:
+    """This package's part modules (each with a ``build(context)``), imported."""
+    _import_parts()
+    return [importlib.import_module(f"{__name__}.{name}") for name in _MODULES]
+
+
+_MODULES: list[str] = []
+
+
+def _import_parts() -> None:
+    if not _MODULES:
+        names = sorted(info.name for info in pkgutil.iter_modules(__path__) if not info.name.startswith("_"))
+        for name in names:
+            importlib.import_module(f"{__name__}.{name}")
+        _MODULES.extend(names)
+
+
+def _spec(ty, what: str) -> PartSpec:
+    cls = getattr(ty, "instance_class", None)
+    if cls not in _PARTS:
+        raise TypeError(f"{what}: {ty} is not a registered part")
+    return _PARTS[cls]
+
+
+# ------------------------------------------------------- the loop's calls, by part type
+def part_step(k, h, part, bus):
+    """Advance ``part`` one exchange at t_k (compiled code only: each part's own step)."""
+    raise NotImplementedError("part_step is called from compiled code")
+
+
+@overload(part_step, jit_options={"cache": True})
+def _part_step(k, h, part, bus):
+    step = _spec(part, "part_step").step
+
+    def impl(k, h, part, bus):
+        step(k, h, part, bus)
+    return impl
+
+
+def cable_tensions(cable, j, x, R, v, w, L, J, bus, T):
+    """The tensions (m,) the cable part applies at the plant's state (x, R, v, w) at half-step
+    row j, with L, J (m,), (m, 6) the cables at that state; T (m,) scratch. May rewrite J's
+    rows (a sagging cable pulls along its tangent). Compiled code only."""
+    raise NotImplementedError("cable_tensions is called from compiled code")
+
+
+@overload(cable_tensions, jit_options={"cache": True})
+def _cable_tensions(cable, j, x, R, v, w, L, J, bus, T):
+    law = _spec(cable, "cable_tensions").tensions
+
+    def impl(cable, j, x, R, v, w, L, J, bus, T):
+        return law(cable, j, x, R, v, w, L, J, bus, T)
+    return impl
+
+
+def mujoco_cables(cable, mj, bus):
+    """Write the cable part's inputs to MuJoCo (actuator forces, or tendon springs), before
+    mj_step. Compiled code only."""
+    raise NotImplementedError("mujoco_cables is called from compiled code")
+
+
+@overload(mujoco_cables, jit_options={"cache": True})
+def _mujoco_cables(cable, mj, bus):
+    inputs = _spec(cable, "mujoco_cables").mujoco
+
+    def impl(cable, mj, bus):
+        inputs(cable, mj, bus)
+    return impl
+
+
+@njit(cache=True)
+def exchange(k, h, x, R, v, w, parts, bus):
+    """One exchange at t_k from the plant's state (x, R, v, w) in C: the state onto the bus,
+    then every part's step in order (``parts``, a tuple of part records)."""
+    for i in range(3):
+        bus.x[i] = x[i]
+        bus.v[i] = v[i]
+        bus.w[i] = w[i]
+        for j in range(3):
+            bus.R[i, j] = R[i, j]
+    for p in literal_unroll(parts):
+        part_step(k, h, p, bus)
+
+
+@njit(cache=True)
+def diverged(x, ref_x):
+    """True if the position is not finite or more than DIVERGENCE_M from the reference."""
+    d = 0.0
+    for i in range(3):
+        if not np.isfinite(x[i]):
+            return True
+        d = max(d, abs(x[i] - ref_x[i]))
+    return d > DIVERGENCE_M

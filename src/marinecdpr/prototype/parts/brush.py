@@ -1,0 +1,69 @@
+"""A cleaning brush on the hull (``[cleaning]``): its loads at the platform's actual velocity
+(:mod:`marinecdpr.model.brush`), less those along the plan that the controller's load
+model already holds, onto the bus's ``f_ext``, ``m_ext`` (in C, about P; held over the
+step by the plant)."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
+from marinecdpr.prototype.parts import part
+
+__all__ = ["BrushContact", "build"]
+
+
+@njit(cache=True)
+def brush_step(k, h, part, bus):
+    brush_velocity_step(bus.v, bus.w, bus.R, part.params.offset_P, part.v)
+    brush_wrench_step(part.v, part.n_C, part.F_n[k], bus.R, part.params, bus.f_ext, bus.m_ext)
+    for i in range(3):
+        bus.f_ext[i] -= part.f_plan[k, i]
+        bus.m_ext[i] -= part.m_plan[k, i]
+
+
+@part(step=brush_step, order=50, reads=("R", "v", "w"), writes=("f_ext", "m_ext"))
+class BrushContact(NamedTuple):
+    """params : the brush (:class:`~marinecdpr.model.brush.BrushParams`). n_C : (3,) the hull
+    normal in C. F_n : (n_steps,) the normal force, N. f_plan, m_plan : (n_steps, 3) the
+    brush's loads along the planned path, in C (what the controller's ``Loads`` hold).
+    v (3,): scratch, the brush's velocity."""
+
+    params: BrushParams
+    n_C: np.ndarray
+    F_n: np.ndarray
+    f_plan: np.ndarray
+    m_plan: np.ndarray
+    v: np.ndarray
+
+
+def normal_force(p, scenario) -> np.ndarray:
+    """The brush's contact force over the plan's steps, (n_steps,), N: on a planar robot the
+    plan's guide reaction along the hull normal plus twice the preload (the pusher presses
+    with the preload; the planned loads include the hull's push at the preload); on a
+    robot whose cables control the normal, the preload."""
+    cleaning = scenario.cleaning
+    P_n = cleaning.preload
+    n = np.asarray(cleaning.hull_normal, dtype=float)
+    if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
+        return np.full(p.n_steps, P_n)
+    return p.reaction[:, p.reaction_dofs.index("y")] * n[1] + 2.0 * P_n
+
+
+def build(context) -> list:
+    """The brush's contact part (none without ``[cleaning]``): its planned loads at t_k
+    (``context.brush_h``'s every other row) and the normal force (:func:`normal_force`)."""
+    from marinecdpr.model.brush import cleaning_brush
+
+    scenario, n = context.scenario, context.n_steps
+    cleaning = scenario.cleaning
+    if cleaning is None:
+        return []
+    f_b, m_b, _ = context.brush_h
+    return [BrushContact(params=cleaning_brush(cleaning), n_C=np.asarray(cleaning.hull_normal, dtype=float),
+                         F_n=np.ascontiguousarray(normal_force(context.plan, scenario)[:n]),
+                         f_plan=np.ascontiguousarray(f_b[::2][:n]), m_plan=np.ascontiguousarray(m_b[::2][:n]),
+                         v=np.zeros(3))]

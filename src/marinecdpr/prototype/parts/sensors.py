@@ -1,0 +1,188 @@
+"""The sensors: the pose sensor, the load cells, the winches' encoders and the motion
+reference unit (MRU), each writing its part of the controller's measurement ``meas``.
+
+Their errors are drawn in advance from ``[simulation.noise]`` (seeded, one stream in a
+fixed order: a scenario's noise is the same whatever else changes): the closed loop
+measures the platform (pose sensor, or the encoders through the controller's forward
+kinematics) and the ship (the MRU, ``[simulation.mru]``); the load cells measure the
+tensions in open and closed loop.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from marinecdpr.control.step import mm3
+from marinecdpr.geometry.rotations import euler_step
+from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.prototype.parts import part
+from marinecdpr.scenario.schema import MRU_UNITS
+
+__all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "sensor_parts", "build"]
+
+
+@njit(cache=True)
+def pose_sensor_step(k, h, part, bus):
+    meas = bus.meas
+    Rn, tmp = part.scratch[0], part.scratch[1, 0]  # the pose error's rotation
+    euler_step(part.pose[k, 3:], part.zero, part.zero, Rn, tmp, tmp)
+    mm3(Rn, bus.R, meas.R)  # the measured R = Rn R
+    for i in range(3):
+        meas.x[i] = bus.x[i] + part.pose[k, i]
+        meas.v[i] = bus.v[i] + part.twist[k, i]
+        meas.w[i] = bus.w[i] + part.twist[k, 3 + i]
+    t = k * h
+    meas.clock[0] = t
+    meas.clock[1] = t
+
+
+@part(step=pose_sensor_step, order=10, reads=("x", "R", "v", "w"),
+      writes=("meas.x", "meas.R", "meas.v", "meas.w", "meas.clock"))
+class PoseSensor(NamedTuple):
+    """What the pose sensor adds to the truth, drawn in advance (zeros when not measured).
+
+    pose : (n_steps, 6) position (m) and small rotation (rad) errors of the platform.
+    twist : (n_steps, 6) velocity (m/s) and angular velocity (rad/s) errors.
+    zero : (3,) zeros; scratch : (2, 3, 3) the sensor's working memory.
+    """
+
+    pose: np.ndarray
+    twist: np.ndarray
+    zero: np.ndarray
+    scratch: np.ndarray
+
+
+@njit(cache=True)
+def load_cells_step(k, h, part, bus):
+    meas = bus.meas
+    for i in range(bus.T_app.shape[0]):
+        part.T[i] += part.alpha * (bus.T_app[i] + part.noise[k, i] - part.T[i])
+        meas.T[i] = part.T[i]
+        bus.cell_noise[i] = part.noise[k, i]
+
+
+@part(step=load_cells_step, order=11, reads=("T_app",), writes=("meas.T", "cell_noise"))
+class LoadCells(NamedTuple):
+    """The load cells: noise (n_steps, m) on the tension each cable applied over the last
+    step, N, then a first-order low-pass (alpha: the fraction of the difference closed per
+    step; 1: none). State: T (m,) the filtered reading, N. The tension-controlled winches'
+    loops read the same noisy cells, unfiltered (``cell_noise`` on the bus)."""
+
+    noise: np.ndarray
+    alpha: float
+    T: np.ndarray
+
+
+@njit(cache=True)
+def encoders_step(k, h, part, bus):
+    meas, res = bus.meas, part.resolution
+    for i in range(bus.L.shape[0]):
+        # a winch pays out the unstretched length: the stretch of an elastic cable is the
+        # tension it carries (a drum's length where a winch holds one)
+        if part.from_stretch:
+            L0 = bus.L[i] / (1.0 + bus.T_app[i] / part.EA)
+        else:
+            L0 = bus.L0_drum[i]
+        meas.L[i] = L0 if res == 0.0 else res * np.floor(L0 / res + 0.5)
+        meas.Ldot[i] = bus.Ldot[i]
+
+
+@part(step=encoders_step, order=12, reads=("L", "Ldot", "T_app", "L0_drum"), writes=("meas.L", "meas.Ldot"))
+class Encoders(NamedTuple):
+    """The winches' encoders: the unstretched length each winch has paid out, to
+    ``resolution`` (m; 0: exact). from_stretch : no winch holds a length (ideal cables, or
+    tension-controlled winches): the length is the cable's less its stretch at the applied
+    tension, EA (N) its stiffness; else the drums' ``L0_drum``."""
+
+    resolution: float
+    from_stretch: bool
+    EA: float
+
+
+@njit(cache=True)
+def mru_step(k, h, part, bus):
+    meas = bus.meas
+    j = part.latest[k]
+    for d in range(3):
+        for i in range(6):
+            meas.eta[d, i] = part.eta[d, j, i]
+    meas.clock[2] = part.t[j]
+
+
+@part(step=mru_step, order=13, reads=(), writes=("meas.eta", "meas.clock"))
+class Mru(NamedTuple):
+    """The motion reference unit: its samples of the ship's motion, drawn in advance (the
+    ship's motion does not depend on the robot), with their errors.
+
+    eta : (3, n_samples, 6) eta, eta', eta'' as sampled (m, rad). t : (n_samples,) the
+    samples' times, s. latest : (n_steps,) int, the latest sample that has reached the
+    controller at t_k (its latency past).
+    """
+
+    eta: np.ndarray
+    t: np.ndarray
+    latest: np.ndarray
+
+
+def build(context) -> list:
+    """The four sensors (:func:`sensor_parts`), the load cells reading the plan's first tensions."""
+    return sensor_parts(context.scenario, context.run, context.ship_h, context.n_steps, T0=context.ctl.ref.T[0])
+
+
+def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
+    """The pose sensor, load cells, encoders and MRU of ``run`` over n steps, their errors
+    drawn from ``[simulation.noise]`` in one seeded stream; ``ship_h`` the ship's motion on
+    the half-step grid; T0 (m,) the load cells' first reading, N (default 0)."""
+    nz, mru, sens = scenario.simulation.noise, scenario.simulation.mru, scenario.simulation.sensors
+    h = scenario.time.step_s
+    rng = np.random.default_rng(nz.seed)
+    deg = np.pi / 180.0
+    pose, twist = np.zeros((n, 6)), np.zeros((n, 6))
+    unit_rate, unit_angle_deg, unit_heave_m = MRU_UNITS[mru.unit]
+    rate = mru.rate_hz if mru.rate_hz is not None else unit_rate
+    if rate is None and mru.latency_s == 0.0:  # a sample at every exchange, as it happens
+        t_s, latest = np.arange(n) * h, np.arange(n)
+        eta = np.stack([ship_h.eta[::2], ship_h.eta_dot[::2], ship_h.eta_ddot[::2]])[:, :n].copy()
+    else:
+        period = h if rate is None else 1.0 / rate
+        # the latest sample j with j period + latency <= t_k (the first, until one has arrived)
+        latest = np.maximum(np.floor((np.arange(n) * h - mru.latency_s) / period + 1e-9), 0).astype(np.int64)
+        t_s = np.arange(latest[-1] + 1) * period
+        ship_s = evaluate_base_motion(scenario.base_motion, t_s)
+        eta = np.stack([ship_s.eta, ship_s.eta_dot, ship_s.eta_ddot])
+    n_s = eta.shape[1]
+    if run == "closed_loop":
+        pose[:, :3] = rng.normal(0.0, nz.pose_m, (n, 3))
+        pose[:, 3:] = rng.normal(0.0, nz.pose_deg * deg, (n, 3))
+        twist[:, :3] = rng.normal(0.0, nz.velocity_m_s, (n, 3))
+        twist[:, 3:] = rng.normal(0.0, nz.rate_deg_s * deg, (n, 3))
+        for i, (s_lin, s_ang) in enumerate(((nz.ship_position_m, nz.ship_angle_deg * deg),
+                                            (nz.ship_velocity_m_s, nz.ship_rate_deg_s * deg),
+                                            (nz.ship_acceleration_m_s2,
+                                             nz.ship_angular_acceleration_deg_s2 * deg))):
+            eta[i, :, :3] += rng.normal(0.0, s_lin, (n_s, 3))
+            eta[i, :, 3:] += rng.normal(0.0, s_ang, (n_s, 3))
+    noise = rng.normal(0.0, nz.tension_N, (n, scenario.robot.n_cables))
+    noise_m = np.array(mru.noise_m if mru.noise_m is not None else (0.0, 0.0, unit_heave_m))
+    noise_rad = np.radians(mru.noise_deg if mru.noise_deg is not None else (unit_angle_deg, unit_angle_deg, 0.0))
+    if run == "closed_loop" and (noise_m.any() or noise_rad.any()):  # the unit's own noise, after the rest
+        eta[0, :, :3] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_m
+        eta[0, :, 3:] += rng.normal(0.0, 1.0, (n_s, 3)) * noise_rad
+    eta[0, :, :3] += np.asarray(mru.bias_m)
+    eta[0, :, 3:] += np.radians(mru.bias_deg)
+    fc = sens.load_cell_filter_hz
+    alpha = 1.0 if fc == 0.0 else float(-np.expm1(-2.0 * np.pi * fc * h))
+    cab = scenario.simulation.cables
+    holds_length = cab.winch == "motor" or (cab.model != "ideal" and cab.winch != "tension")
+    return [
+        PoseSensor(pose=pose, twist=twist, zero=np.zeros(3), scratch=np.zeros((2, 3, 3))),
+        LoadCells(noise=noise, alpha=alpha,
+                  T=np.zeros(scenario.robot.n_cables) if T0 is None else np.array(T0, dtype=float)),
+        Encoders(resolution=float(sens.encoder_resolution_m), from_stretch=not holds_length,
+                 EA=float(cab.stiffness_EA_N or np.inf)),
+        Mru(eta=np.ascontiguousarray(eta), t=np.ascontiguousarray(t_s, dtype=float),
+            latest=np.ascontiguousarray(latest)),
+    ]

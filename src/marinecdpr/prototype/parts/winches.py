@@ -1,0 +1,107 @@
+"""The winches: a first-order lag on the length or tension command (elastic cables), or
+the motors' dynamics behind a tension loop (``simulation.cables.winch = "motor"``).
+
+Ideal cables apply the command as it is: they have no winch part.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, winch_motor_step
+from marinecdpr.prototype.parts import part
+
+__all__ = ["LagWinch", "MotorWinch", "MOTOR_LOOP_DAMPING", "build"]
+
+
+@njit(cache=True)
+def lag_winch_step(k, h, part, bus):
+    for i in range(bus.T_cmd.shape[0]):
+        if part.tension_controlled:  # the tension loop on its noisy load cell
+            bus.T_hold[i] += part.lag * (bus.T_cmd[i] - bus.cell_noise[i] - bus.T_hold[i])
+        else:
+            bus.L0[i] += part.lag * (bus.L0_cmd[i] - bus.L0[i])
+            bus.L0_drum[i] = bus.L0[i]
+
+
+@part(step=lag_winch_step, order=30, reads=("T_cmd", "L0_cmd", "cell_noise"), writes=("L0", "L0_drum", "T_hold"))
+class LagWinch(NamedTuple):
+    """Winches that close ``lag`` = 1 - exp(-h / tau) of their command's error per step:
+    length-controlled (state: the bus's L0 they pay out) or tension-controlled (state: the
+    bus's T_hold). Elastic cables only."""
+
+    tension_controlled: bool
+    lag: float
+
+
+@njit(cache=True)
+def motor_winch_step(k, h, part, bus):
+    """The tension loop on each cable's load cell (the tension the cable applies over the
+    drum's length now, plus the cell's noise), the motor under that tension over the step;
+    the L0 the plant holds over the step is the drum's mean over it (the trapezoid of its
+    start and end: second-order in the step)."""
+    drive = part.drive
+    for i in range(bus.T_cmd.shape[0]):
+        part.T_meas[i] = bus.T_app[i] + bus.cell_noise[i]
+    tension_control_step(drive, bus.T_cmd, part.T_meas, part.Ldot_ref[k], part.Lddot_ref[k])
+    if winch_motor_step(drive, drive.tau, bus.T_app, h) > 0:
+        part.limited[0] += 1
+        for i in range(bus.T_cmd.shape[0]):
+            if drive.limited[i] == OVERSPEED:
+                part.limited[1] += 1
+                break
+    for i in range(bus.T_cmd.shape[0]):  # L0 moved by -(r_d / G) h omega over the step
+        bus.L0[i] = drive.L0[i] + 0.5 * drive.r[i] / drive.G[i] * h * drive.omega[i]
+        bus.L0_drum[i] = drive.L0[i]
+
+
+@part(step=motor_winch_step, order=45, reads=("T_cmd", "T_app", "cell_noise"), writes=("L0", "L0_drum"))
+class MotorWinch(NamedTuple):
+    """The winches' motors: each drum driven through its gearbox by a motor with torque,
+    speed and power limits, inertia and friction (:mod:`marinecdpr.model.winch`), its
+    tension loop on the load cell with feed-forward of the planned cable motion.
+
+    drive : WinchDrive (state: motor speeds, L0, torques, limit codes). Ldot_ref, Lddot_ref
+    (n_steps, m): the plan's L' (m/s) and L'' (m/s^2). T_meas (m,): scratch, the load
+    cells' readings, N. limited (2,) int64: the steps with any motor limited, and with any
+    past its speed (OVERSPEED).
+    """
+
+    drive: WinchDrive
+    Ldot_ref: np.ndarray
+    Lddot_ref: np.ndarray
+    T_meas: np.ndarray
+    limited: np.ndarray
+
+
+MOTOR_LOOP_DAMPING = 0.7
+"""The damping ratio of the motor winches' tension loops, on each cable's stiffness at t = 0
+(:func:`~marinecdpr.model.winch.tension_loop_damping`, tension gain k_T = 1)."""
+
+
+def build(context) -> list:
+    """The scenario's winches (none for ideal cables): ``context.bus``'s L0, L0_drum and
+    T_hold hold their state at t = 0 (paid out so that the plan's first tension stretches
+    each cable to its actual length; the tension loops holding the plan's first tensions)."""
+    from marinecdpr.model.winch import WinchParams, tension_loop_damping, winch_drive
+
+    scenario, bus = context.scenario, context.bus
+    cab, robot = scenario.simulation.cables, scenario.robot
+    h = scenario.time.step_s
+    if cab.winch == "motor":
+        params = WinchParams(**robot.winch.model_dump())
+        L0 = bus.L0.copy()
+        k_w = tension_loop_damping(params, float(cab.stiffness_EA_N) / L0, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
+        omega0 = -params.gear_ratio * context.plan.length_rates[0] / params.drum_radius_m
+        drive = winch_drive(params, robot.n_cables, L0, omega0=omega0, k_T=1.0, k_w=k_w)
+        n = context.n_steps
+        return [MotorWinch(drive=drive, Ldot_ref=np.ascontiguousarray(context.plan.length_rates[:n], dtype=float),
+                           Lddot_ref=np.ascontiguousarray(context.plan.length_accelerations[:n], dtype=float),
+                           T_meas=np.zeros(robot.n_cables), limited=np.zeros(2, dtype=np.int64))]
+    if cab.model == "ideal":
+        return []
+    lag = 1.0 if cab.winch_time_constant_s == 0 else float(-np.expm1(-h / cab.winch_time_constant_s))
+    return [LagWinch(tension_controlled=cab.winch == "tension", lag=lag)]
