@@ -173,7 +173,7 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     known ``loads`` at t_k."""
     m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
     res = scenario.simulation.sensors.encoder_resolution_m
-    work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res)
+    work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res, encoders=scenario.simulation.sensors.pose_from == "encoders")
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
     ref = reference(ff, sag=scenario.simulation.cables.model == "catenary")
     return ControllerParts(ref, robot_model(scenario), gains(scenario, closed=closed), loads,

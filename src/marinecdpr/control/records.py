@@ -17,10 +17,11 @@ import numpy as np
 
 from marinecdpr.geometry.forward import ForwardWork, forward_work
 from marinecdpr.model import kernels as K
-from marinecdpr.motion.prediction import Predictor, make_predictor
+from marinecdpr.motion.prediction import Predictor
 
 __all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "ControllerParts",
-           "empty_measurement", "empty_command", "empty_work", "unused_predictor", "POSE_SENSOR", "ENCODERS", "PREDICTIONS"]
+           "empty_measurement", "empty_command", "empty_work", "unused_predictor", "NoPredictor", "NoForwardWork",
+           "POSE_SENSOR", "ENCODERS", "PREDICTIONS"]
 
 POSE_SENSOR = 0
 """``Gains.pose_from``: the platform's pose and twist come from a pose sensor."""
@@ -209,16 +210,31 @@ def empty_command(m: int) -> Command:
     return Command(np.zeros(m), np.zeros(m), np.zeros(m, dtype=np.int64), np.zeros(3, dtype=np.int64))
 
 
-def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4) -> Work:
+class NoPredictor(NamedTuple):
+    """The predictor's slot of a controller that does not predict the ship (its type keeps
+    the autoregressive model's code out of the compiled step)."""
+
+    unused: int
+
+
+class NoForwardWork(NamedTuple):
+    """The forward kinematics' slot of a controller whose pose comes from a pose sensor (its
+    type keeps the encoders' forward kinematics out of the compiled step)."""
+
+    unused: int
+
+
+def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4, encoders: bool = True) -> Work:
     """The working memory of a step with m cables and k controlled DOFs; lengths from the
-    encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m)."""
+    encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m); without
+    ``encoders`` the step has no forward kinematics (:class:`NoForwardWork`)."""
     return Work(np.empty(3), np.empty((3, 3)), np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(3),
                 np.empty(3), np.empty((2, 6)), np.empty((2, 3)), np.empty((3, 3, 3)), np.zeros((4, 3)),
                 np.empty(6), np.empty((5, 6)), np.empty(m), np.empty((m, 6)), K.tension_work(m, k),
                 np.zeros((3, 6)), np.zeros(6), np.zeros(6), np.empty(m), np.empty((3, 3)), np.empty((k, k)),
-                np.empty(k), forward_work(m, k, fk_atol_m, fk_rtol))
+                np.empty(k), forward_work(m, k, fk_atol_m, fk_rtol) if encoders else NoForwardWork(0))
 
 
-def unused_predictor() -> Predictor:
-    """A minimal predictor for a controller that does not predict (the record's slot)."""
-    return make_predictor(step_s=1.0, order=1, forgetting=1.0, max_horizon_s=1.0)
+def unused_predictor() -> NoPredictor:
+    """The predictor's slot of a controller that does not predict."""
+    return NoPredictor(0)

@@ -22,11 +22,13 @@ No step allocates; every record is :mod:`marinecdpr.control.records`'.
 from __future__ import annotations
 
 from numba import njit
+from numba.extending import overload
 
 from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step
 from marinecdpr.geometry.pulley import pulleys_step
 from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.model import kernels as K
+from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
 
 __all__ = ["control_step", "estimate_state", "pose_from_encoders", "cables_at", "mm3", "disturbance_C"]
@@ -103,8 +105,7 @@ def estimate_state(k, h, ctl):
     how = ctl.gains.prediction
     if how == 2:  # the autoregressive model (the kinematic extrapolation while it warms up)
         fc = work.forecast
-        predictor_update(ctl.predictor, meas.clock[2], eta[0], eta[1], eta[2])
-        if predictor_forecast(ctl.predictor, meas.clock[0] + 0.5 * h, fc) >= 0:
+        if ship_forecast(ctl.predictor, meas.clock[2], eta, meas.clock[0] + 0.5 * h, fc) >= 0:
             for i in range(6):
                 eta_p[0, i] = fc[0, i]
                 eta_p[1, i] = fc[1, i]
@@ -119,7 +120,39 @@ def estimate_state(k, h, ctl):
     return eta[2, :3]
 
 
-@njit(cache=_cache, inline="always")
+def ship_forecast(predictor, t_sample, eta, t, fc):
+    """The predictor's forecast of the ship's motion at t into fc (3, 6) after it takes the
+    sample eta (3, 6) of t_sample; its status (< 0: none yet). A controller without a
+    predictor (:class:`~marinecdpr.control.records.NoPredictor`) has none. Compiled code only."""
+    raise NotImplementedError("ship_forecast is called from compiled code")
+
+
+@overload(ship_forecast, jit_options={"cache": True})
+def _ship_forecast(predictor, t_sample, eta, t, fc):
+    if getattr(predictor, "instance_class", None) is NoPredictor:
+        return lambda predictor, t_sample, eta, t, fc: -1
+
+    def impl(predictor, t_sample, eta, t, fc):
+        predictor_update(predictor, t_sample, eta[0], eta[1], eta[2])
+        return predictor_forecast(predictor, t, fc)
+    return impl
+
+
+def encoders_pose(fk, ctl):
+    """:func:`pose_from_encoders` where the controller has the encoders' forward kinematics;
+    0 (nothing done) where its pose comes from a sensor (:class:`NoForwardWork`). Compiled
+    code only."""
+    raise NotImplementedError("encoders_pose is called from compiled code")
+
+
+@overload(encoders_pose, jit_options={"cache": True})
+def _encoders_pose(fk, ctl):
+    if getattr(fk, "instance_class", None) is NoForwardWork:
+        return lambda fk, ctl: 0
+    return lambda fk, ctl: pose_from_encoders(ctl)
+
+
+@njit(cache=_cache)
 def pose_from_encoders(ctl):
     """The platform's pose and twist from the encoders, written to the measurement.
 
@@ -233,7 +266,7 @@ def control_step(k, h, ctl):
     cmd.flags[2] = 0
     if gains.closed:
         if gains.pose_from == 1:
-            cmd.flags[2] = pose_from_encoders(ctl) != 0
+            cmd.flags[2] = encoders_pose(ctl.work.fk, ctl) != 0
         fallback = _feedback_tensions(k, h, ctl)
     else:
         cmd.T_cmd[:] = ref.T[k]

@@ -227,7 +227,7 @@ def _mujoco_cables(cable, mj, bus):
     return impl
 
 
-@njit(cache=True)
+@njit(cache=True)  # (not IR-inlined: numba unrolls the parts only in a function of its own)
 def exchange(k, h, x, R, v, w, parts, bus):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: the state onto the bus,
     then every part's step in order (``parts``, a tuple of part records)."""
