@@ -10,6 +10,8 @@ max_bypassed_share`` of its steps (the outputs are written, complete, with the v
 
 from __future__ import annotations
 
+import enum
+
 import math
 import os
 import signal
@@ -89,6 +91,13 @@ def _usage_in_one_line():
     except errors.UsageError as exc:
         where = exc.ctx.command_path if exc.ctx is not None else "marinecdpr"
         _fail(f"{where}: {' '.join(exc.format_message().split()).rstrip('.')} (see {where} --help)", exc.exit_code)
+
+
+class Plant(str, enum.Enum):
+    """The virtual prototype's plants (``--plant``)."""
+
+    mujoco = "mujoco"
+    own = "own"
 
 
 app = typer.Typer(
@@ -1262,6 +1271,31 @@ def latency(
         console.print(f"  step from {'Python' if where == 'python' else 'a compiled loop'}: p50 {p50:.2f} us, "
                       f"p99 {p99:.2f} us, max {top:.1f} us", highlight=False)
     console.print(f"  quadprog: {qp}", highlight=False)
+
+
+@app.command()
+def warmup(
+    scenarios_: list[str] = typer.Argument(None, metavar="[SCENARIO]...",
+                                           help="Scenario files or built-in names (default: every built-in)."),
+    plant: Plant = typer.Option(None, "--plant", help="Compile for this plant (default: each scenario's)."),
+) -> None:
+    """Compile the virtual prototype for your scenarios now, once (cached for every later
+    run): use it after installing or updating, before a demonstration, a sweep or a timed
+    run, so that their first run starts at once."""
+    from marinecdpr.prototype.warmup import warm_up
+
+    names = scenarios_ or builtin_scenarios()
+    loaded = [_load(name, None, None) for name in names]
+
+    def progress(done: int, total: int, what: str) -> None:
+        if done < total:
+            err_console.print(f"compiling ({done + 1}/{total}) {_plain(what)}...", highlight=False, soft_wrap=True)
+
+    with _run_errors(", ".join(names)):
+        out = warm_up(loaded, plants=(plant.value,) if plant is not None else None, progress=progress)
+    console.print(f"compiled for {len(names)} scenario{'s' if len(names) != 1 else ''} "
+                  f"({len(out.runs)} runs) in {out.seconds:.1f} s; cached in {_plain(out.cache_dir)}",
+                  highlight=False, soft_wrap=True)
 
 
 @app.command()

@@ -433,6 +433,22 @@ class Sensors(_Model):
     """A first-order low-pass on the load cells' tensions (0: none)."""
 
 
+class Camera(_Model):
+    """A camera's estimate of the platform's position (``[simulation.camera]``; closed loop):
+    the true position as it was ``latency_s`` ago with noise, brought to now by the
+    measured velocity, and fused with the pose sensor's: the controller sees
+    (1 - weight) x_sensor + weight x_camera."""
+
+    latency_s: _ranged(0.0, 1.0, "s", "a camera's processing time, not a second or more") = 0.05
+    """How old the camera's estimate is when it reaches the controller."""
+    noise_m: _ranged(0.0, 1.0, "m", "an estimate's error, not a distance") = 0.001
+    """The standard deviation of its position error, per axis."""
+    weight: _ranged(0.0, 1.0, "", "the camera's share of the fused position") = 0.5
+    """The camera's share of the fused position (0: the pose sensor's alone; 1: the camera's)."""
+    seed: int = 1
+    """Seed of the camera's noise (its own stream: the other sensors' noise is unchanged)."""
+
+
 class Control(_Model):
     """Closed-loop computed-torque gains: a critically damped second-order error by default."""
 
@@ -452,6 +468,8 @@ class Simulation(_Model):
     control: Control = Control()
     sensors: Sensors = Sensors()
     mru: Mru = Mru()
+    camera: Camera | None = None
+    """A camera's position estimate fused with the pose sensor's (none by default)."""
     initial_error_m: _ranged_vec3(100.0, "m", "an error, not another pose") = (0.0, 0.0, 0.0)
     """Platform position error at t = 0 (actual minus planned), in C, m."""
     initial_error_deg: _ranged_vec3(90.0, "deg", "an error, not another pose",
@@ -504,6 +522,15 @@ class Scenario(_Model):
                                   f"[{_num(x)}, {_num(z)}] m is outside the frame: its anchors span x in "
                                   f"[{_num(float(lo[0]))}, {_num(float(hi[0]))}] and z in "
                                   f"[{_num(float(lo[1]))}, {_num(float(hi[1]))}] m")
+        return self
+
+    @model_validator(mode="after")
+    def _check_camera(self) -> "Scenario":
+        sim = self.simulation
+        if sim.camera is not None and sim.sensors.pose_from == "encoders":
+            raise _KeyedError("simulation.camera", "fuses with a pose sensor's position: with "
+                                                   "simulation.sensors.pose_from = \"encoders\" use \"sensor\" or "
+                                                   "remove [simulation.camera]")
         return self
 
     @model_validator(mode="after")

@@ -1,0 +1,236 @@
+"""The prototype as parts (issue 22, item 1): each part writes only the bus signals it
+declares and reads only those it declares; the builder refuses a wiring that does not
+connect; a new part (the camera) is one module; the compiled-code cache is keyed by the
+compiled sources; borrowed records keep what they do not strip alive."""
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.typed import List
+
+import marinecdpr
+from marinecdpr.prototype import builder
+from marinecdpr.prototype.parts import SIGNALS, Signals, specs
+from marinecdpr.prototype.simulation import prototype, simulate
+
+from conftest import make_scenario
+
+
+def _variants():
+    paper = marinecdpr.load_scenario("paper")
+    heavy = paper.with_updates("robot", cable_weight_N_m=3.5).with_updates("simulation", plant="own").with_updates(
+        "simulation.cables", model="catenary", stiffness_EA_N=1e5)
+    return {
+        "paper": paper,
+        "elastic_length": paper.with_updates("simulation.cables", model="elastic", stiffness_EA_N=1e5,
+                                             winch="length", winch_time_constant_s=0.01),
+        "elastic_tension": marinecdpr.load_scenario("paper_elastic"),
+        "motor": marinecdpr.load_scenario("paper_as_built"),
+        "catenary": heavy,
+        "clean": marinecdpr.load_scenario("paper_clean"),
+        "camera": paper.with_updates("simulation.camera", latency_s=0.01, noise_m=0.001, weight=0.4),
+    }
+
+
+VARIANTS = _variants()
+
+
+def _signals(bus):
+    """Every signal's array (the measurement's by 'meas.x' etc.)."""
+    out = {f: getattr(bus, f) for f in Signals._fields if f != "meas"}
+    out.update({f"meas.{f}": getattr(bus.meas, f) for f in bus.meas._fields})
+    return out
+
+
+def _fill(bus, rng):
+    for name, a in _signals(bus).items():
+        if a.dtype.kind == "f":
+            a[...] = rng.uniform(0.5, 1.5, a.shape)
+    bus.R[:] = np.eye(3)
+    bus.meas.R[:] = np.eye(3)
+
+
+def _arrays(x):
+    """Every array a part's record reaches (through records and its typed list)."""
+    if isinstance(x, np.ndarray):
+        return [x]
+    if isinstance(x, tuple):
+        return [a for item in x for a in _arrays(item)]
+    if isinstance(x, List):
+        return [a for item in x for a in _arrays(item)]
+    return []
+
+
+def _parts(name):
+    sc = VARIANTS[name]
+    _, _, _, proto = prototype(sc, "closed_loop", 40)
+    return proto.system
+
+
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_each_part_writes_only_what_it_declares_and_reads_only_what_it_declares(name):
+    system = _parts(name)
+    table = specs()
+    rng = np.random.default_rng(7)
+    for part in system.parts:
+        spec = table[type(part)]
+        # writes: from random signals, the step changes only declared ones
+        _fill(system.bus, rng)
+        before = {k: v.copy() for k, v in _signals(system.bus).items()}
+        state = [(a, a.copy()) for a in _arrays(part)]  # its own state, to run it twice from the same one
+        spec.step(20, 0.001, part, system.bus)
+        changed = {k for k, v in _signals(system.bus).items() if not np.array_equal(v, before[k])}
+        assert changed <= set(spec.writes), (type(part).__name__, changed - set(spec.writes))
+        after = {k: _signals(system.bus)[k].copy() for k in spec.writes}
+        # reads: change every undeclared signal (not the part's own outputs): same outputs
+        for k, v in _signals(system.bus).items():
+            v[...] = before[k]
+            if k not in spec.reads and k not in spec.writes and v.dtype.kind == "f" and k not in ("R", "meas.R"):
+                v[...] = before[k] * 1.7 + 0.3
+        for a, saved in state:
+            a[...] = saved
+        spec.step(20, 0.001, part, system.bus)
+        for k in spec.writes:
+            if k in spec.reads:  # an update in place (a filter, a lag): from the same start it is the same
+                continue
+            np.testing.assert_array_equal(_signals(system.bus)[k], after[k], err_msg=f"{type(part).__name__}: {k}")
+
+
+def test_every_declared_signal_is_on_the_bus_and_the_parts_run_in_their_declared_order():
+    table = specs()
+    assert {"CableGeometry", "PoseSensor", "LoadCells", "Encoders", "Mru", "ControllerPart", "LagWinch",
+            "MotorWinch", "HeldTensions", "ElasticCables", "CatenaryCables", "BrushContact", "Camera",
+            "Log"} <= {c.__name__ for c in table}
+    for spec in table.values():
+        assert set(spec.reads) | set(spec.writes) <= SIGNALS
+    for name in VARIANTS:
+        orders = [table[type(p)].order for p in _parts(name).parts]
+        assert orders == sorted(orders)
+    motor = [type(p).__name__ for p in _parts("motor").parts]
+    # the cables' stretch over the drums' length now, then the motors under that tension
+    assert motor.index("ElasticCables") < motor.index("MotorWinch")
+
+
+def test_a_part_reading_what_no_part_writes_is_refused():
+    table = specs()
+    by_name = {c.__name__: s for c, s in table.items()}
+    with pytest.raises(builder.WiringError, match="HeldTensions reads T_cmd, which no part writes"):
+        builder.check_wiring([by_name["HeldTensions"]])
+    builder.check_wiring([by_name["HeldTensions"]], given=("T_cmd",))
+    builder.check_wiring([by_name["CableGeometry"], by_name["ControllerPart"], by_name["HeldTensions"], by_name["PoseSensor"],
+                          by_name["LoadCells"], by_name["Encoders"], by_name["Mru"]])
+    with pytest.raises(ValueError, match="no signal speed on the bus"):
+        from marinecdpr.prototype.parts import part
+
+        part(step=None, order=1, reads=("speed",), writes=())(type("Odd", (), {}))
+
+
+def test_the_camera_step_by_hand():
+    """d = 3 steps late, weight 0.25: the fused position is 0.75 x_sensor + 0.25 (x(t - 3h)
+    + noise + 3 h v_meas); before 3 steps the sensor's alone."""
+    from marinecdpr.control.records import empty_measurement
+    from marinecdpr.prototype.parts import empty_signals
+    from marinecdpr.prototype.parts.camera import Camera, camera_step
+
+    h, d, w = 0.001, 3, 0.25
+    noise = np.random.default_rng(3).normal(0.0, 0.01, (10, 3))
+    cam = Camera(delay=d, weight=w, noise=noise, history=np.zeros((d + 1, 3)))
+    bus = empty_signals(empty_measurement(4), np.zeros(4), np.zeros(4), np.zeros(4))
+    truth = np.array([[0.1 * k, 2.0 - 0.05 * k, 0.3 * k * k] for k in range(10)])
+    for k in range(10):
+        bus.x[:] = truth[k]
+        sensor = truth[k] + [0.01, -0.02, 0.03]
+        bus.meas.x[:] = sensor
+        bus.meas.v[:] = [1.0, -2.0, 0.5]
+        camera_step(k, h, cam, bus)
+        if k < d:
+            np.testing.assert_array_equal(bus.meas.x, sensor)
+        else:
+            x_cam = truth[k - d] + noise[k] + d * h * np.array([1.0, -2.0, 0.5])
+            np.testing.assert_allclose(bus.meas.x, (1 - w) * sensor + w * x_cam, rtol=0, atol=1e-15)
+
+
+def test_the_camera_in_the_closed_loop_changes_the_tracking_and_nothing_else_when_its_weight_is_zero():
+    paper = VARIANTS["paper"]
+    base = simulate(paper, run="closed_loop", plant="own", n_steps=600)
+    none = simulate(paper.with_updates("simulation.camera", weight=0.0, noise_m=0.0), run="closed_loop",
+                    plant="own", n_steps=600)
+    # weight 0: (1 - 0) x + 0 x_cam is x exactly: the same run, bit for bit
+    np.testing.assert_array_equal(none.pose, base.pose)
+    cam = simulate(VARIANTS["camera"], run="closed_loop", plant="own", n_steps=600)
+    err, err0 = np.abs(cam.pose_error[:, :3]).max(), np.abs(base.pose_error[:, :3]).max()
+    assert err > 10 * err0 and err < 5e-3  # 1 mm of noise at 40 %: sub-millimetre tracking, worse than none
+
+
+def test_a_camera_with_the_encoders_pose_is_one_line():
+    from marinecdpr import ScenarioError
+
+    with pytest.raises(ScenarioError, match=r"simulation\.camera: fuses with a pose sensor's position"):
+        make_scenario(lambda d: d["simulation"].update(sensors={"pose_from": "encoders"}, camera={"weight": 0.5}))
+
+
+def test_the_cache_folder_moves_when_a_compiled_source_changes(tmp_path, monkeypatch):
+    from marinecdpr import compiled_cache
+
+    pkg = tmp_path / "pkg"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "a.py").write_text("from numba import njit\n@njit\ndef f(x):\n    return x + 1\n")
+    (pkg / "sub" / "b.py").write_text("import numba\n")
+    (pkg / "plain.py").write_text("X = 1\n")
+    monkeypatch.setattr(compiled_cache, "_PACKAGE", pkg)
+    h0 = compiled_cache.source_hash()
+    (pkg / "plain.py").write_text("X = 2\n")  # no compiled code: the same folder
+    assert compiled_cache.source_hash() == h0
+    (pkg / "sub" / "b.py").write_text("import numba  # edited\n")
+    h1 = compiled_cache.source_hash()
+    assert h1 != h0 and len(h1) == 16
+    (pkg / "sub" / "b.py").write_text("import numba\n")
+    assert compiled_cache.source_hash() == h0
+    assert compiled_cache.cache_dir().name.startswith("marinecdpr-")
+
+
+def test_a_borrowed_record_keeps_its_list_alive():
+    """borrowed() strips the arrays' counting; a typed list in the record keeps its own, so
+    a thousand calls do not free it (before the fix, the second call read freed memory)."""
+    from marinecdpr.borrowed import borrowed
+
+    @njit
+    def total(rec):
+        r = borrowed(rec)
+        return r[0].sum() + r[1][0].sum()
+
+    held = List()
+    held.append(np.arange(4.0))
+    rec = (np.ones(3), held)
+    for _ in range(1000):
+        assert total(rec) == 3.0 + 6.0
+    assert held[0].sum() == 6.0
+
+
+def test_warmup_compiles_the_scenarios_runs_and_says_where_it_caches():
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+    from marinecdpr.compiled_cache import cache_dir
+
+    res = CliRunner().invoke(app, ["warmup", "paper", "paper_clean", "--plant", "own"])
+    assert res.exit_code == 0, res.output
+    assert "compiling (1/4) paper: own open loop..." in res.stderr
+    assert "compiling (4/4) paper_clean: own closed loop..." in res.stderr
+    assert f"compiled for 2 scenarios (4 runs)" in res.stdout and str(cache_dir()) in res.stdout.replace("\n", "")
+    # the library call: the runs it flew, in order
+    from marinecdpr.prototype.warmup import warm_up
+
+    again = warm_up([VARIANTS["paper"]], plants=("own",))
+    assert [r[:3] for r in again.runs] == [("paper", "own", "open_loop"), ("paper", "own", "closed_loop")]
+
+
+def test_warmup_of_a_missing_scenario_or_plant_is_one_line():
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+
+    from conftest import one_line_exit_2
+
+    one_line_exit_2(CliRunner().invoke(app, ["warmup", "no_such_robot"]), "no_such_robot")
+    one_line_exit_2(CliRunner().invoke(app, ["warmup", "paper", "--plant", "steam"]), "--plant")
