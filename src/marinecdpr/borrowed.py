@@ -21,7 +21,7 @@ from __future__ import annotations
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-__all__ = ["borrowed"]
+__all__ = ["borrowed", "borrowed_first"]
 
 
 def _strip(context, builder, ty, value):
@@ -54,3 +54,24 @@ def borrowed(typingctx, record):
 
     return record(record), codegen
 
+
+
+@intrinsic
+def borrowed_first(typingctx, held):
+    """The first item of a typed list ``held``, borrowed (:func:`borrowed`): read in place,
+    without the reference count of each of its arrays that ``held[0]`` takes. The list must
+    hold an item and outlive the call."""
+    item_ty = held.item_type
+
+    def codegen(context, builder, signature, args):
+        from llvmlite import ir
+        from numba.typed.listobject import _container_get_data, ll_list_type
+
+        fnty = ir.FunctionType(cgutils.voidptr_t, [ll_list_type])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "numba_list_base_ptr")
+        base = builder.call(fn, [_container_get_data(context, builder, signature.args[0], args[0])])
+        ptr = builder.bitcast(base, context.get_data_type(item_ty).as_pointer())
+        item = context.data_model_manager[item_ty].load_from_data_pointer(builder, ptr)
+        return _strip(context, builder, item_ty, item)
+
+    return item_ty(held), codegen

@@ -24,6 +24,7 @@ from __future__ import annotations
 from numba import njit
 from numba.extending import overload
 
+from marinecdpr.borrowed import borrowed
 from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step
 from marinecdpr.geometry.pulley import pulleys_step
 from marinecdpr.geometry.rotations import euler_step
@@ -261,6 +262,7 @@ def control_step(k, h, ctl):
     for the step [t_k, t_k + h), and the flags (:class:`~marinecdpr.control.records.Command`).
     Returns 1 on a fallback to the plan's tensions, else 0.
     """
+    ctl = borrowed(ctl)  # no counting of its arrays' references: the caller holds them
     ref, gains, model, cmd = ctl.ref, ctl.gains, ctl.model, ctl.cmd
     fallback = 0
     cmd.flags[2] = 0

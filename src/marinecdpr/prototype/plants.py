@@ -59,6 +59,7 @@ def _own_rhs(y, j, plant, system, dy):
     """d/dt of y = (x, quaternion of R_PC, v, omega) in C at half-step row j, with the cable
     part's tensions at this state (held over the step, or the elastic law over the held L0)
     and the bus's extra loads held."""
+    plant, system = borrowed(plant), borrowed(system)
     model, bus = system.model, system.bus
     x, q, v, w = y[0:3], y[3:7], y[7:10], y[10:13]
     q = q / np.sqrt(np.sum(q * q))
@@ -206,6 +207,7 @@ def _mujoco_state(mj):
 def _mujoco_inputs(k, R, mj, drive, system):
     """Write the cable part's inputs (forces or springs), the ship's servo, the disturbance
     and the bus's extra loads."""
+    mj, drive, system = borrowed(mj), borrowed(drive), borrowed(system)
     bus = system.bus
     mujoco_cables(system.cable, mj, bus)
     for j in range(6):

@@ -45,6 +45,7 @@ import numpy as np
 from numba import literal_unroll, njit
 from numba.extending import overload
 
+from marinecdpr.borrowed import borrowed
 from marinecdpr.control.records import Measurement
 
 __all__ = ["Signals", "PartSpec", "part", "specs", "part_step", "exchange", "cable_tensions", "mujoco_cables",
@@ -191,8 +192,8 @@ def part_step(k, h, part, bus):
 def _part_step(k, h, part, bus):
     step = _spec(part, "part_step").step
 
-    def impl(k, h, part, bus):
-        step(k, h, part, bus)
+    def impl(k, h, part, bus):  # borrowed here, where the compiler can see it: no counting below
+        step(k, h, borrowed(part), borrowed(bus))
     return impl
 
 
@@ -208,7 +209,7 @@ def _cable_tensions(cable, j, x, R, v, w, L, J, bus, T):
     law = _spec(cable, "cable_tensions").tensions
 
     def impl(cable, j, x, R, v, w, L, J, bus, T):
-        return law(cable, j, x, R, v, w, L, J, bus, T)
+        return law(borrowed(cable), j, x, R, v, w, L, J, borrowed(bus), T)
     return impl
 
 
@@ -223,7 +224,7 @@ def _mujoco_cables(cable, mj, bus):
     inputs = _spec(cable, "mujoco_cables").mujoco
 
     def impl(cable, mj, bus):
-        inputs(cable, mj, bus)
+        inputs(borrowed(cable), borrowed(mj), borrowed(bus))
     return impl
 
 
@@ -231,6 +232,7 @@ def _mujoco_cables(cable, mj, bus):
 def exchange(k, h, x, R, v, w, parts, bus):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: the state onto the bus,
     then every part's step in order (``parts``, a tuple of part records)."""
+    parts, bus = borrowed(parts), borrowed(bus)
     for i in range(3):
         bus.x[i] = x[i]
         bus.v[i] = v[i]

@@ -37,7 +37,7 @@ def elastic_tension(L, L0, Ldot, EA, damping):
 
 
 # ----------------------------------------------------------------------- held tensions
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def held_step(k, h, part, bus):
     for i in range(bus.T_app.shape[0]):
         bus.T_app[i] = max(0.0, bus.T_hold[i]) if part.from_winch else bus.T_cmd[i]
@@ -64,7 +64,7 @@ class HeldTensions(NamedTuple):
 
 
 # ---------------------------------------------------------------------- elastic cables
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def elastic_step(k, h, part, bus):
     for i in range(bus.T_app.shape[0]):
         bus.T_app[i] = elastic_tension(bus.L[i], bus.L0_drum[i], bus.Ldot[i], part.EA, part.damping)

@@ -22,7 +22,7 @@ def length_rates(J, v, w, out):
                    + J[i, 3] * w[0] + J[i, 4] * w[1] + J[i, 5] * w[2])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def geometry_step(k, h, part, bus):
     cables_at(bus.x, bus.R, part.model, bus.L, bus.J)
     length_rates(bus.J, bus.v, bus.w, bus.Ldot)

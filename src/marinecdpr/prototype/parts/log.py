@@ -13,7 +13,7 @@ from marinecdpr.prototype.parts import part
 __all__ = ["Log", "build"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def log_step(k, h, part, bus):
     for i in range(3):
         part.pose[k, i] = bus.x[i]

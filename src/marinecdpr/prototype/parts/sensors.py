@@ -24,7 +24,7 @@ from marinecdpr.scenario.schema import MRU_UNITS
 __all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "sensor_parts", "build"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def pose_sensor_step(k, h, part, bus):
     meas = bus.meas
     Rn, tmp = part.scratch[0], part.scratch[1, 0]  # the pose error's rotation
@@ -55,7 +55,7 @@ class PoseSensor(NamedTuple):
     scratch: np.ndarray
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def load_cells_step(k, h, part, bus):
     meas = bus.meas
     for i in range(bus.T_app.shape[0]):
@@ -76,7 +76,7 @@ class LoadCells(NamedTuple):
     T: np.ndarray
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def encoders_step(k, h, part, bus):
     meas, res = bus.meas, part.resolution
     for i in range(bus.L.shape[0]):
@@ -102,7 +102,7 @@ class Encoders(NamedTuple):
     EA: float
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def mru_step(k, h, part, bus):
     meas = bus.meas
     j = part.latest[k]

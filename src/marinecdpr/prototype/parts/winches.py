@@ -17,7 +17,7 @@ from marinecdpr.prototype.parts import part
 __all__ = ["LagWinch", "MotorWinch", "MOTOR_LOOP_DAMPING", "build"]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
 def lag_winch_step(k, h, part, bus):
     for i in range(bus.T_cmd.shape[0]):
         if part.tension_controlled:  # the tension loop on its noisy load cell
