@@ -21,10 +21,12 @@ order  part (module)                       writes
 11     load cells (``sensors``)            meas.T, cell_noise
 12     encoders (``sensors``)              meas.L, meas.Ldot
 13     motion reference unit (``sensors``) meas.eta; its time stamp
+14     camera (``camera``)                 meas.x fused with its late estimate
 20     controller (``controller``)         T_cmd, L0_cmd, fallbacks
 30     winch with a lag (``winches``)      L0 (held), T_hold
 40     cables (``cables``)                 T_app (held, elastic or catenary)
 45     motor winch (``winches``)           L0 (held and drum)
+46     heavy cables (``cables``)           T_app from the catenaries
 50     brush contact (``brush``)           f_ext, m_ext
 90     log (``log``)                       the run's time series
 =====  ==================================  ==========================================
