@@ -7,6 +7,7 @@ calls), a caller's cache would still hold the old code. Here every cache entry l
 ``<base>/marinecdpr-<hash>``, the hash over the bytes of every module of the package that
 uses numba (and the package's version): any edit of one moves every entry to a new,
 empty folder. ``<base>`` is ``$MARINECDPR_CACHE_DIR``, else ``$NUMBA_CACHE_DIR``, else the
+package's ``__pycache__`` where it can be written (numba's own default place), else the
 user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/marinecdpr``.
 
 :func:`configure` runs when the package is imported, before any compiled module loads.
@@ -43,6 +44,13 @@ def _base() -> Path:
             if var == "NUMBA_CACHE_DIR" and Path(value).name.startswith("marinecdpr-"):
                 return Path(value).parent  # set by the process that started this one
             return Path(value)
+    beside = _PACKAGE / "__pycache__"  # beside the package, as numba's own default, where it can write
+    try:
+        beside.mkdir(exist_ok=True)
+        if os.access(beside, os.W_OK):
+            return beside
+    except OSError:
+        pass
     home = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(home) / "marinecdpr"
 
