@@ -81,6 +81,35 @@ def test_ctrl_c_that_typer_would_swallow_still_prints_its_line():
     assert res.stderr.strip().splitlines() == ["error: interrupted"]
 
 
+@pytest.mark.parametrize("where", ["weakref callback", "__del__"])
+def test_ctrl_c_that_python_would_swallow_still_interrupts(where):
+    # CI: a Ctrl-C landed in the import system's module-lock weakref callback, where Python
+    # only prints "Exception ignored in ..." and goes on; the command then ran to its end.
+    # Here the KeyboardInterrupt is raised in such a place while the scenario loads; the
+    # command is interrupted (without the fix it ends with exit 0)
+    code = (
+        "import sys, weakref\n"
+        "import marinecdpr.cli.app as app\n"
+        "real = app.load_scenario\n"
+        "class Thing:\n"
+        "    def __del__(self):\n"
+        f"        if {where == '__del__'}: raise KeyboardInterrupt\n"
+        "def ctrl_c(ref):\n"
+        "    raise KeyboardInterrupt\n"
+        "def loading(*a, **k):\n"
+        "    t = Thing()\n"
+        f"    r = weakref.ref(t, ctrl_c) if {where == 'weakref callback'} else None\n"
+        "    del t\n"
+        "    return real(*a, **k)\n"
+        "app.load_scenario = loading\n"
+        "sys.argv = ['marinecdpr', 'check', 'paper']\n"
+        "app.main()\n"
+    )
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 130, res.stderr
+    assert res.stderr.strip().splitlines() == ["error: interrupted"]
+
+
 @pytest.fixture()
 def python_sigint():
     """SIGINT raises KeyboardInterrupt in this process (pytest's workers may have it otherwise)."""

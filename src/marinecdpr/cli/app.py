@@ -1331,16 +1331,39 @@ def _interrupted_while_ending(signum, frame) -> None:  # pragma: no cover - timi
     os._exit(EXIT_INTERRUPTED)
 
 
+def _interrupt_thread_soon(thread_id: int) -> None:  # pragma: no cover - a helper thread
+    time.sleep(0.02)
+    signal.pthread_kill(thread_id, signal.SIGINT)
+
+
+def _redeliver_swallowed_interrupt(unraisable) -> None:
+    """``sys.unraisablehook`` while a command runs: a Ctrl-C whose ``KeyboardInterrupt``
+    was raised where Python can only report it (a weakref callback, e.g. the import
+    system's module locks, or a ``__del__``) is delivered again to the main thread, where
+    it interrupts the command; anything else is reported as Python would."""
+    if unraisable.exc_type is not None and issubclass(unraisable.exc_type, KeyboardInterrupt):
+        import _thread
+        import threading
+
+        # from another thread, once this hook has returned (sent from here, the handler
+        # would raise at once, inside the hook); _thread's start does not wait for the thread
+        _thread.start_new_thread(_interrupt_thread_soon, (threading.main_thread().ident,))
+        return
+    sys.__unraisablehook__(unraisable)
+
+
 def main() -> None:
     """Console entry point.
 
     Ctrl-C is one line on stderr and exit 130 at any moment: while the modules load
-    (:func:`_interrupted_while_starting`), while a command runs (``KeyboardInterrupt``:
+    (:func:`_interrupted_while_starting`), while a command runs (``KeyboardInterrupt``,
+    delivered again where Python would swallow it (:func:`_redeliver_swallowed_interrupt`):
     the library tidies up, :func:`_output` says what the output folder holds; typer turns
     one raised elsewhere into a silent exit 130, given its line here) and after it.
     """
     if signal.getsignal(signal.SIGINT) is _interrupted_while_starting:
         signal.signal(signal.SIGINT, signal.default_int_handler)
+    sys.unraisablehook = _redeliver_swallowed_interrupt
     try:
         keep_freed_memory()
         app()
