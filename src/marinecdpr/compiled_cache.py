@@ -11,6 +11,8 @@ package's ``__pycache__`` where it can be written (numba's own default place), e
 user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/marinecdpr``.
 
 :func:`configure` runs when the package is imported, before any compiled module loads.
+:func:`entry_point` and :func:`bound` find a compiled function's machine code once for
+arguments it is called with many times.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["configure", "cache_dir", "source_hash"]
+__all__ = ["configure", "cache_dir", "source_hash", "entry_point", "bound"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _configured: list[str] = []
@@ -75,3 +77,32 @@ def configure() -> Path:
         config.CACHE_DIR = str(folder)
     _configured.append(str(folder))
     return folder
+
+
+def entry_point(dispatcher, args: tuple):
+    """``dispatcher``'s machine code for the types of ``args`` (compiled, or loaded from the
+    cache, as a plain call would), to call without numba's dispatch: the dispatcher types
+    every argument at each call to pick the machine code, which for a record of records
+    such as the prototype's (about 170 arrays) costs milliseconds a call, as much as a
+    500-step block of the loop. The entry point converts no argument: each call must pass
+    the types of ``args`` (ints stay ints, arrays keep their dtype and layout). Where
+    numba's internals have changed, the dispatcher itself."""
+    try:
+        return dispatcher.compile(tuple(dispatcher.typeof_pyval(a) for a in args))
+    except (AttributeError, KeyError, TypeError):  # a private numba API: dispatch each call
+        return dispatcher
+
+
+def bound(dispatcher, *tail):
+    """``dispatcher`` with its trailing arguments ``tail`` bound: ``call(*head)`` runs
+    ``dispatcher(*head, *tail)`` through its :func:`entry_point`, found at the first call.
+    ``head`` must keep the first call's types; ``tail`` is held as it is, not copied."""
+    entry = None
+
+    def call(*head):
+        nonlocal entry
+        if entry is None:
+            entry = entry_point(dispatcher, (*head, *tail))
+        return entry(*head, *tail)
+
+    return call

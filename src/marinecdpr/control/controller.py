@@ -25,6 +25,7 @@ from numba import njit
 from numba.typed import List
 
 from marinecdpr.borrowed import borrowed
+from marinecdpr.compiled_cache import entry_point
 from marinecdpr.control.records import (
     ENCODERS, POSE_SENSOR, PREDICTIONS, ControllerParts, Gains, Loads, Reference, RobotModel, empty_command,
     empty_measurement, empty_work, unused_predictor,
@@ -225,19 +226,12 @@ _FLOAT = np.dtype(np.float64)
 
 
 def _entry_point(held):
-    """:func:`_step` compiled for these records, called without numba's dispatch (which
-    would find the types of the call's arguments at every call). The entry point is
-    compiled here, without running a step; a measurement of another dtype or layout would
-    not be converted, so :meth:`Controller.step` converts its arguments first."""
+    """:func:`_step` compiled for these records (:func:`~marinecdpr.compiled_cache.entry_point`,
+    without running a step); a measurement of another dtype or layout would not be
+    converted, so :meth:`Controller.step` converts its arguments first."""
     m = held[0].cmd.T_cmd.shape[0]
     z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
-    args = (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm)
-    try:
-        signature = tuple(_step.typeof_pyval(a) for a in args)
-        _step.compile(signature)
-        return _step.overloads[signature].entry_point
-    except (AttributeError, KeyError, TypeError):  # numba's internals changed: dispatch each call
-        return _step
+    return entry_point(_step, (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm))
 
 
 class Controller:

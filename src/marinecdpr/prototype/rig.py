@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from marinecdpr.compiled_cache import bound
 from marinecdpr.errors import SimulationDivergedError
 from marinecdpr.prototype.parts import diverged
 from marinecdpr.prototype.plants import _mujoco_inputs, _mujoco_state
@@ -61,11 +62,14 @@ class Rig:
         self._drive = _ship_drive(ship_h, proto.known, n)
         self._mj = _mujoco_plant(sc, mm.model, self._data, mm, _initial_state(sc, ref), self._drive)
         self._mj_step = mujoco.mj_step
+        # the records' types found once, not at every step (compiled_cache.bound)
+        self._read = bound(_mujoco_state, self._mj)
+        self._write = bound(_mujoco_inputs, self._mj, self._drive, self._system)
         self.k = 0
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The platform's true x, R_PC, v, w in C now (copies): m, -, m/s, rad/s."""
-        x, R, v, w = _mujoco_state(self._mj)
+        x, R, v, w = self._read()
         return x.copy(), R.copy(), v.copy(), w.copy()
 
     def ship(self) -> np.ndarray:
@@ -91,10 +95,10 @@ class Rig:
         k = self.k
         if k >= self.n_steps:
             raise IndexError(f"the rig has run its {self.n_steps} steps")
-        x, R, _, _ = _mujoco_state(self._mj)
+        x, R, _, _ = self._read()
         if diverged(x, self._plan_x[k]):
             raise SimulationDivergedError(f"{self.scenario.name}: the rig diverged at t = {self.t:.3f} s")
         self._system.bus.T_app[:] = tensions
-        _mujoco_inputs(k, R, self._mj, self._drive, self._system)
+        self._write(k, R)
         self._mj_step(self._model, self._data)
         self.k = k + 1

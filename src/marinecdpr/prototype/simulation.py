@@ -30,6 +30,8 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+
+from marinecdpr.compiled_cache import bound
 from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans
 from marinecdpr.control.records import Loads
 from marinecdpr.motion.basemotion import evaluate_base_motion
@@ -161,7 +163,7 @@ def simulate(
         own = OwnPlant(y=y, R_SO=np.ascontiguousarray(ship_h.R_SO), w_s=np.ascontiguousarray(ship_h.omega_SO_S),
                        al_s=np.ascontiguousarray(ship_h.alpha_SO_S), a_SO=np.ascontiguousarray(ship_h.a_SO_O),
                        f=loads[0], m=loads[1], in_P=loads[2])
-        fallbacks = _blocks(scenario, run, t, progress, lambda k0, k1: own_loop(k0, k1, h, own, system))
+        fallbacks = _blocks(scenario, run, t, progress, bound(own_loop, h, own, system))
         ship_error = 0.0  # the own plant moves the ship exactly
     else:
         fallbacks, ship_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm, progress)
@@ -337,14 +339,16 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
+    compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system) if addresses is not None else None
+    one_exchange = bound(mujoco_exchange, h, mj, drive, system)
 
     def loop(k0: int, k1: int) -> tuple[int, int]:
-        if addresses is not None:
-            fb, bad = mujoco_loop(k0, k1, addresses, h, mj, drive, system)
+        if compiled_loop is not None:
+            fb, bad = compiled_loop(k0, k1)
         else:  # the same, one Python call per step
             fb, bad = 0, -1
             for k in range(k0, k1):
-                f = mujoco_exchange(k, h, mj, drive, system)
+                f = one_exchange(k)
                 if f < 0:
                     bad = k
                     break
