@@ -109,7 +109,7 @@ def main() -> None:
     for method, target in (("minimum_variance", 0.5 * (lo + hi)), ("minimum_norm", np.zeros(r.n_cables))):
         def ours(method=method):
             T_s, ok = pseudo_inverse_tensions(J, w)
-            return distribute_tensions(J, w, lo, hi, method=method, T_s=T_s, ok=ok)
+            return distribute_tensions(J, w, lo, hi, method=method, ok=ok)
 
         sol = ours()
         ours_t = statistics.median(time_calls(ours, repeats))

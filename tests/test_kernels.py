@@ -91,10 +91,8 @@ def test_tensions_step_matches_distribute_tensions(seed, method, shape):
         w6[dofs] = w[i]
         ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T, work)
         assert ok == sol.feasible[i]
-        if ok:
-            np.testing.assert_allclose(T, sol.tensions[i], rtol=1e-9, atol=1e-9)
-        else:
-            assert np.isnan(T).all()
+        # one implementation: the series (blocks of steps) and the step give the same bits
+        np.testing.assert_array_equal(T, sol.tensions[i])
 
 
 def test_tensions_step_does_every_method_for_any_redundancy():

@@ -13,12 +13,15 @@ compiled loops over time series (``tests/vectorised.py`` keeps the former numpy
 implementation as the tests' reference). Frames and conventions are those of
 :mod:`~marinecdpr.model.dynamics`; every vector here is in C unless named otherwise.
 
-Every tension method is available per step (:func:`tensions_step`), for any
-redundancy: ``minimum_variance`` and ``minimum_norm`` exactly (a closed form for
-redundancy 1, else the compiled active-set QP :func:`least_distance`), and Pott's
-improved closed form (:func:`improved_closed_form`).
-:func:`marinecdpr.model.tension.distribute_tensions` runs the same compiled solvers over a
-time series (:func:`tension_series`): one implementation for planning and the loop.
+Every tension method is written once, per step (:func:`solve_tensions`), for any
+redundancy, with one rank test (:func:`gram_full_rank`): the pseudo-inverse and Pott's
+closed form, ``minimum_variance`` and ``minimum_norm`` exactly (the compiled active-set
+QP :func:`least_distance`) and Pott's improved closed form (:func:`improved_closed_form`).
+The closed loop calls it at every step (:func:`tensions_step`); planning, the workspace
+and the studies over time series (:func:`tension_series`, through
+:func:`marinecdpr.model.tension.distribute_tensions`), in blocks of steps that keep its
+order of operations: a plan and the loop get the same bits at the same step.
+``tests/tension_reference.py`` keeps the former numpy implementation as the tests' check.
 """
 
 from __future__ import annotations
@@ -49,7 +52,9 @@ __all__ = [
     "least_distance",
     "improved_closed_form",
     "tension_series",
-    "gram_solve_series",
+    "solve_tensions",
+    "gram_full_rank",
+    "RCOND",
     "forward_solve_step",
     "forward_step",
     "absolute_series",
@@ -540,14 +545,6 @@ def _pow(x, k):
 
 
 @njit(cache=_cache)
-def _max_diag(G):
-    scale = 0.0
-    for a in range(G.shape[0]):
-        scale = max(scale, G[a, a])
-    return scale
-
-
-@njit(cache=_cache)
 def _cholesky_solve(L, x):
     """x <- (L L^T)^-1 x."""
     k = L.shape[0]
@@ -563,17 +560,71 @@ def _cholesky_solve(L, x):
         x[i] = acc / L[i, i]
 
 
+RCOND = 1e-12
+"""The rank test's bound: J~ (or the free cables' A_F) has full column rank where the
+eigenvalues of its Gram matrix G = A^T A have lambda_min / lambda_max > RCOND."""
+
+
+@njit(cache=_cache)
+def _rank_bounds(det, piv, tr, dmax, k, rcond):
+    """The rank test from bounds on lambda_min / lambda_max of a k x k Gram matrix G:
+    1 (above rcond), 0 (not), -1 (the bounds do not decide). det: det G (the product of
+    the Cholesky pivots), piv: the smallest pivot, tr: trace G, dmax: the largest G_aa.
+    lambda_min / lambda_max >= det / lambda_max^k >= det / tr^k, and every pivot is at
+    least lambda_min while lambda_max >= dmax."""
+    if not piv > 0.0:
+        return 0  # a pivot <= 0 (or NaN): lambda_min is at rounding level
+    if det > rcond * _pow(tr, k):
+        return 1
+    if piv <= rcond * dmax:
+        return 0
+    return -1
+
+
+@njit(cache=_cache)
+def _eigen_ratio_above(G, rcond):
+    """lambda_min / lambda_max > rcond for a symmetric G (k, k), from its eigenvalues."""
+    eig = np.linalg.eigvalsh(G)
+    return eig[0] > rcond * max(eig[G.shape[0] - 1], 2.2250738585072014e-308)
+
+
+@njit(cache=_cache)
+def gram_full_rank(G, L, det, rcond):
+    """The rank test of every tension method, per step and over a series: is
+    lambda_min / lambda_max of the Gram matrix G (k, k) above rcond (:data:`RCOND`)?
+
+    L and det are :func:`_cholesky`'s factor and determinant of G; the pivots are
+    recomputed in the factor's own order (the same bits), the bounds of
+    :func:`_rank_bounds` decide almost every case and the eigenvalues the rest. rcond 0
+    asks only that every pivot be positive.
+    """
+    k = G.shape[0]
+    piv, tr, dmax = np.inf, 0.0, 0.0
+    for j in range(k):
+        d = G[j, j]
+        tr += d
+        dmax = max(dmax, d)
+        for c in range(j):
+            d -= L[j, c] * L[j, c]
+        piv = min(piv, d)
+        if not d > 0.0:
+            break  # _cholesky stopped here
+    decision = _rank_bounds(det, piv, tr, dmax, k, rcond)
+    if decision >= 0:
+        return decision == 1
+    return _eigen_ratio_above(G, rcond)
+
+
 @njit(cache=_cache)
 def _solve_active(A, b, target, lo, hi, state, rcond, M, y, T):
     """The equality-constrained minimiser of |T - target|^2 with the active set held at its
     limits: T_W = limits, T_F = target_F + A_F y, (A_F^T A_F) y = b - A_W^T T_W - A_F^T target_F.
-    M[0] holds A^T A. Returns False (T untouched) where A_F^T A_F is singular: a pivot not
-    positive, or det <= rcond (max diagonal)^k (the per-step kernels' rank test)."""
+    M[0] holds A^T A. Returns False (T untouched) where A_F^T A_F fails the rank test
+    (:func:`gram_full_rank` with rcond)."""
     n, k = A.shape
     G, L = M[1], M[2]
     _gram_free(A, state, M[0], G)
-    det = _cholesky(G, L)
-    if not (det > 0.0 and det > rcond * _pow(_max_diag(G), k)):
+    if not gram_full_rank(G, L, _cholesky(G, L), rcond):
         return False
     for a in range(k):
         y[a] = b[a]
@@ -897,83 +948,37 @@ def _step_matrix(Jt, wt, s, A, b):
 
 @njit(cache=_cache)
 def _rank_ok(G, j, det, piv, tr, dmax):
-    """The planning layer's rank test of J~^T J~, eigenvalue ratio lambda_min / lambda_max >
-    1e-12 (as numpy's eigvalsh decides it), for step j of a block: from bounds where they
-    suffice (lambda_min / lambda_max >= det / trace^k, and <= smallest pivot / largest
-    diagonal, every Cholesky pivot being at least lambda_min), the eigenvalues in between."""
+    """:func:`gram_full_rank` for step j of a block (:func:`_block_factor`'s G, det, piv,
+    tr, dmax): the same decision from the same numbers."""
     k = G.shape[0]
-    if not piv > 0.0:
-        return False  # a pivot <= 0: lambda_min is at rounding level
-    if det > 1e-12 * _pow(tr, k):
-        return True
-    if piv <= 1e-12 * dmax:
-        return False
+    decision = _rank_bounds(det, piv, tr, dmax, k, RCOND)
+    if decision >= 0:
+        return decision == 1
     Gs = np.empty((k, k))
     for p in range(k):
         for q in range(p, k):
             Gs[p, q] = G[p, q, j]
             Gs[q, p] = G[p, q, j]
-    eig = np.linalg.eigvalsh(Gs)
-    return eig[0] > 1e-12 * max(eig[k - 1], 2.2250738585072014e-308)
-
-
-@njit(cache=_cache)
-def gram_solve_series(Jt, B, X, ok, Tt):
-    """(J~^T J~) x = b at every step, for the planning layer's k != 3 (k = 3 has a closed form).
-
-    Jt (k, n, n_steps): J~, time last; B (k, n_steps). Writes X (k, n_steps) and, unless Tt
-    has no rows, Tt (n, n_steps) = J~ x (the pseudo-inverse tensions for b = w), NaN where
-    J~ loses rank, and ok (n_steps,): eigenvalue ratio of J~^T J~ above 1e-12
-    (:func:`_rank_ok`).
-    """
-    k, n, n_steps = Jt.shape
-    G = np.empty((k, k, _BLOCK))
-    L = np.empty((k, k, _BLOCK))
-    det, piv, tr, dmax = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
-    Y = np.empty((k, _BLOCK))
-    good = np.empty(_BLOCK, dtype=np.bool_)
-    for s0 in range(0, n_steps, _BLOCK):
-        nb = min(_BLOCK, n_steps - s0)
-        _block_factor(Jt, s0, nb, G, L, det, piv, tr, dmax)
-        for a in range(k):
-            for j in range(nb):
-                Y[a, j] = B[a, s0 + j]
-        _block_solve(L, nb, Y)
-        for j in range(nb):
-            good[j] = _rank_ok(G, j, det[j], piv[j], tr[j], dmax[j])
-            ok[s0 + j] = good[j]
-            if not good[j]:
-                for a in range(k):
-                    Y[a, j] = np.nan
-        for a in range(k):
-            ya = Y[a]
-            xa = X[a, s0:s0 + nb]
-            for j in range(nb):
-                xa[j] = ya[j]
-        if Tt.shape[0] > 0:
-            for i in range(n):
-                ti = Tt[i, s0:s0 + nb]
-                for j in range(nb):
-                    ti[j] = 0.0
-                for a in range(k):
-                    ja = Jt[a, i, s0:s0 + nb]
-                    ya = Y[a]
-                    for j in range(nb):
-                        ti[j] += ja[j] * ya[j]
+    return _eigen_ratio_above(Gs, RCOND)
 
 
 @njit(cache=_cache)
 def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
-    """The exact methods (any redundancy) or the improved closed form over a time series.
+    """Every tension method over a time series: :func:`solve_tensions` at every step.
 
-    Jt (k, n, n_steps) and wt (k, n_steps): J~_c and w_c, time last; target (n,): the
-    exact methods' target (E or 0), E for the improved closed form (method 4); lo, hi
-    (n, 1) the tension limits of every step, or (n, n_steps) each step's own; ok
-    (n_steps,): J~_c has full rank (steps without are infeasible); tol as in
-    :func:`least_distance`. Writes Tt (n, n_steps), NaN where infeasible, and feasible
-    (n_steps,). Both methods start from the same closed form on every cable (blocks of
-    steps); where it breaks a limit, the active-set method (:func:`_active_set`, from there)
-    or :func:`improved_closed_form`.
+    Jt (k, n, n_steps) and wt (k, n_steps): J~_c and w_c, time last; method: a
+    :data:`METHOD_CODES` value; target (n,): the closed forms' and exact methods' target (0
+    for the pseudo-inverse and minimum norm, E for the others); lo, hi (n, 1) the tension
+    limits of every step, or (n, n_steps) each step's own; ok (n_steps,): steps to solve
+    (the others are infeasible); tol as in :func:`least_distance`. Writes Tt (n, n_steps),
+    NaN where infeasible, and feasible (n_steps,).
+
+    The common case, the closed form on every cable within limits, runs on blocks of steps
+    with the step innermost (Gram matrices, Cholesky factors and solves vectorise across
+    steps) in the per-step solvers' own order of operations, so every step's tensions and
+    rank test are those :func:`solve_tensions` gives (the tests check it bit for bit).
+    Where the closed form breaks a limit, the step goes on as there: the active-set method
+    (:func:`_active_set`) from this optimum, or :func:`improved_closed_form`.
     """
     k, n, n_steps = Jt.shape
     G = np.empty((k, k, _BLOCK))
@@ -1022,19 +1027,17 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
             for i in range(n):
                 lo_s[i] = lo[i, c]
                 hi_s[i] = hi[i, c]
-            if ok[s]:
-                # the improved closed form's rank test on the full set is the per-step one
-                if piv[j] > 0.0 and (method != 4 or det[j] > 1e-12 * _pow(dmax[j], k)):
-                    status = 1
-                    for i in range(n):
-                        if not (Tb[i, j] >= lo_s[i] - tol and Tb[i, j] <= hi_s[i] + tol):
-                            status = 0
-                            break
+            if ok[s] and _rank_ok(G, j, det[j], piv[j], tr[j], dmax[j]):
+                status = 1
+                for i in range(n):
+                    if not (Tb[i, j] >= lo_s[i] - tol and Tb[i, j] <= hi_s[i] + tol):
+                        status = 0
+                        break
                 if status == 0 and method == 4:
                     _step_matrix(Jt, wt, s, A, b)
-                    if improved_closed_form(A, b, target, lo_s, hi_s, tol, 1e-12, T, M, v[0], state):
+                    if improved_closed_form(A, b, target, lo_s, hi_s, tol, RCOND, T, M, v[0], state):
                         status = 2
-                elif status == 0 and piv[j] > 0.0:
+                elif status == 0 and method >= 2:
                     # the active-set method from this unconstrained optimum and Gram matrix
                     _step_matrix(Jt, wt, s, A, b)
                     for p in range(k):
@@ -1051,20 +1054,43 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
             feasible[s] = status > 0
 
 
+@njit(cache=_cache)
+def solve_tensions(A, b, target, lo, hi, tol, method, T, M, v, wn, state):
+    """Tensions at one step by ``method`` (a :data:`METHOD_CODES` value), written to T (n,);
+    True if within limits (else T is NaN). The one implementation of every method.
+
+    A (n, k): J~_c; b (k,): w_c; target (n,): 0 for the pseudo-inverse and minimum norm, E
+    = (lo + hi) / 2 for the others; tol as in :func:`least_distance`. Work arrays M (3, k,
+    k), v (2, k), wn (2, n), state (n,) int64. Every method starts from the closed form
+    on every cable, T = target + A (A^T A)^-1 (b - A^T target) (eq. 18 for target 0), under
+    the one rank test (:func:`gram_full_rank`, :data:`RCOND`): the pseudo-inverse and
+    Pott's closed form keep it where it is within limits; the exact methods
+    (minimum variance, eq. 20, and minimum norm) go on to the exact QP from it
+    (:func:`least_distance`), for any redundancy; the improved closed form holds the worst
+    tension at its limit and repeats (:func:`improved_closed_form`).
+    """
+    if method == 4:
+        return improved_closed_form(A, b, target, lo, hi, tol, RCOND, T, M, v[0], state)
+    if method >= 2:
+        return least_distance(A, b, target, lo, hi, tol, RCOND, T, M, v, wn, state) == 1
+    _gram(A, M[0])
+    for i in range(A.shape[0]):
+        state[i] = 0
+    if _solve_active(A, b, target, lo, hi, state, RCOND, M, v[0], T) and _within(T, lo, hi, tol):
+        return True
+    T[:] = np.nan
+    return False
+
+
 class TensionWork(NamedTuple):
     """Working memory of :func:`tensions_step` for n cables and k controlled DOFs, allocated
     once (:func:`tension_work`) so that a loop solves every step without allocating."""
 
     A: np.ndarray  # (n, k) J~'s controlled columns
-    wc: np.ndarray  # (k,) the controlled wrench; then the solve's unknowns
+    wc: np.ndarray  # (k,) the controlled wrench
     mid: np.ndarray  # (n,) the middle of the tension range
-    zero: np.ndarray  # (n,) zeros: minimum norm's target
-    G: np.ndarray  # (k, k) Gram matrix
-    Ts: np.ndarray  # (n,) the tensions being built
-    N: np.ndarray  # (n,) null vector of A^T (r = 1)
-    sub: np.ndarray  # (k, k) a minor of A
-    rhs: np.ndarray  # (k,) zeros, for the minors' determinants
-    M: np.ndarray  # (3, k, k) the active-set solver's matrices
+    zero: np.ndarray  # (n,) zeros: the pseudo-inverse's and minimum norm's target
+    M: np.ndarray  # (3, k, k) the solvers' matrices
     v: np.ndarray  # (2, k)
     wn: np.ndarray  # (2, n)
     state: np.ndarray  # (n,) int64 active set
@@ -1072,9 +1098,9 @@ class TensionWork(NamedTuple):
 
 def tension_work(n: int, k: int) -> TensionWork:
     """A :class:`TensionWork` for n cables and k controlled DOFs."""
-    return TensionWork(np.empty((n, k)), np.empty(k), np.empty(n), np.zeros(n), np.empty((k, k)), np.empty(n),
-                       np.empty(n), np.empty((k, k)), np.zeros(k), np.zeros((3, k, k)), np.empty((2, k)),
-                       np.empty((2, n)), np.empty(n, dtype=np.int64))
+    return TensionWork(A=np.empty((n, k)), wc=np.empty(k), mid=np.empty(n), zero=np.zeros(n),
+                       M=np.zeros((3, k, k)), v=np.empty((2, k)), wn=np.empty((2, n)),
+                       state=np.empty(n, dtype=np.int64))
 
 
 @njit(cache=_cache)
@@ -1083,8 +1109,8 @@ def tensions_step(J, w, controlled, lo, hi, method, T, work):
 
     J: J~ (n, 6); w: required wrench (6,); controlled: int indices (k,); method: a
     METHOD_CODES value; work: a :class:`TensionWork` for (n, k), overwritten. Every method,
-    for any redundancy; no allocation. Returns False (and NaN tensions) where infeasible or
-    singular.
+    for any redundancy, by :func:`solve_tensions` (what planning runs over a series); no
+    allocation. Returns False (and NaN tensions) where infeasible or singular.
     """
     n = J.shape[0]
     k = controlled.shape[0]
@@ -1098,75 +1124,8 @@ def tensions_step(J, w, controlled, lo, hi, method, T, work):
         mid[i] = 0.5 * (lo[i] + hi[i])
         top = max(top, abs(hi[i]))
     tol = 1e-9 * top
-    if method == 4 or (method >= 2 and n - k != 1):
-        # the improved closed form, or an exact method with redundancy other than 1: the
-        # compiled active-set solvers (rank test as below, det G <= 1e-12 (max G_aa)^k)
-        work.M[:] = 0.0
-        if method == 4:
-            return improved_closed_form(A, wc, mid, lo, hi, tol, 1e-12, T, work.M, work.v[0], work.state)
-        target = mid if method == 2 else work.zero
-        return least_distance(A, wc, target, lo, hi, tol, 1e-12, T, work.M, work.v, work.wn, work.state) == 1
-    G = work.G
-    _gram(A, G)
-    scale = 0.0
-    for a in range(k):
-        scale = max(scale, G[a, a])
-    x = wc
-    if method == 1:
-        for a in range(k):
-            for i in range(n):
-                x[a] -= A[i, a] * mid[i]
-    if abs(_lu_det_solve(G, x)) <= 1e-12 * scale**k:
-        T[:] = np.nan
-        return False
-    Ts = work.Ts
-    for i in range(n):
-        acc = mid[i] if method == 1 else 0.0
-        for a in range(k):
-            acc += A[i, a] * x[a]
-        Ts[i] = acc
-    if method >= 2:
-        # null vector of A^T from the signed k x k minors (r = 1), then clip lambda (eq. 20)
-        N, sub, rhs = work.N, work.sub, work.rhs
-        rhs[:] = 0.0
-        for j in range(n):
-            row = 0
-            for i in range(n):
-                if i != j:
-                    sub[row, :] = A[i, :]
-                    row += 1
-            N[j] = _lu_det_solve(sub, rhs) * (1.0 if j % 2 == 0 else -1.0)
-        norm2 = 0.0
-        for i in range(n):
-            norm2 += N[i] * N[i]
-        norm = np.sqrt(norm2)
-        for i in range(n):
-            N[i] /= norm
-        lam = 0.0
-        for i in range(n):
-            lam += N[i] * ((mid[i] if method == 2 else 0.0) - Ts[i])
-        low, high = -np.inf, np.inf
-        for i in range(n):
-            if abs(N[i]) > 1e-12:
-                a_i = (lo[i] - Ts[i]) / N[i]
-                b_i = (hi[i] - Ts[i]) / N[i]
-                low = max(low, min(a_i, b_i))
-                high = min(high, max(a_i, b_i))
-            elif Ts[i] < lo[i] or Ts[i] > hi[i]:
-                T[:] = np.nan
-                return False
-        if low > high:
-            T[:] = np.nan
-            return False
-        lam = min(max(lam, low), high)
-        for i in range(n):
-            Ts[i] += lam * N[i]
-    for i in range(n):
-        if not (Ts[i] >= lo[i] - tol and Ts[i] <= hi[i] + tol):
-            T[:] = np.nan
-            return False
-    T[:] = Ts
-    return True
+    target = work.zero if (method == 0 or method == 3) else mid
+    return solve_tensions(A, wc, target, lo, hi, tol, method, T, work.M, work.v, work.wn, work.state)
 
 
 @njit(cache=_cache, inline="always")

@@ -16,11 +16,11 @@ Methods (``method=``):
     T_s alone (eq. 18). Feasible only where it happens to be within limits.
 ``minimum_variance``
     The paper's eq. (20): minimise sum_i (T_i - E_i)^2 with E_i = (T_min,i + T_max,i)/2,
-    within limits. Exact: for r = 1 the convex objective's minimiser clipped to
-    [lambda_low, lambda_high] (MODEL_NOTES' corrected bounds); for r > 1 the
-    unconstrained optimum, and where it breaks a limit the quadratic programme solved
-    exactly by a compiled dual active-set method
-    (:func:`marinecdpr.model.kernels.least_distance`, the same code the closed loop runs).
+    within limits, exactly, for any redundancy: the unconstrained optimum, and where it
+    breaks a limit the quadratic programme solved by a compiled dual active-set method
+    (:func:`marinecdpr.model.kernels.least_distance`). For r = 1 this is the convex
+    objective's minimiser clipped to [lambda_low, lambda_high] (MODEL_NOTES' corrected
+    bounds), which ``tests/tension_reference.py`` computes so as the check.
 ``closed_form``
     Pott's closed form, T = E + J~ (J~^T J~)^-1 (w - J~^T E): the unconstrained
     minimiser of the same objective; feasible only where it is within limits.
@@ -33,6 +33,12 @@ Methods (``method=``):
 
 A step where the method finds no tensions within limits is flagged infeasible and
 its tensions are NaN: out-of-range tensions are never returned silently.
+
+Every method is written once, compiled (:func:`marinecdpr.model.kernels.solve_tensions`),
+with one rank test (:func:`full_rank`): this module runs it over time series, the closed
+loop at every step (:func:`marinecdpr.model.kernels.tensions_step`), so a plan and the loop
+give the same tensions, bit for bit, at the same J~ and wrench, and agree on which poses
+are singular.
 """
 
 from __future__ import annotations
@@ -56,7 +62,6 @@ __all__ = [
 TENSION_TOLERANCE = 1e-9
 """Relative tolerance (times max T_max) within which a tension counts as within limits."""
 
-_RCOND = 1e-12
 
 
 @dataclass(frozen=True)
@@ -88,16 +93,6 @@ def _cols(Jt: np.ndarray) -> list[list[np.ndarray]]:
     return [[Jt[a, i] for a in range(Jt.shape[0])] for i in range(Jt.shape[1])]
 
 
-def _JT(cols: list, T: list) -> list:
-    """J~^T T: the wrench of tensions T (list over cables), as a list over DOFs."""
-    return [sum(cols[i][a] * T[i] for i in range(len(cols))) for a in range(len(cols[0]))]
-
-
-def _Jx(cols: list, x: list) -> list:
-    """J~ x: a list over cables."""
-    return [sum(row[a] * x[a] for a in range(len(x))) for row in cols]
-
-
 def _stack(T: list, n: int) -> np.ndarray:
     """A list over cables of (n_steps,) arrays as an (n_steps, n_cables) view."""
     out = np.empty((len(T), n))
@@ -106,72 +101,31 @@ def _stack(T: list, n: int) -> np.ndarray:
     return out.T
 
 
-def _gram_solve(cols: list, b: list, n: int, Jt: np.ndarray | None = None) -> tuple[list, np.ndarray]:
-    """Solve (J~^T J~) x = b per step.
-
-    Parameters
-    ----------
-    cols : list over cables of lists over DOFs of arrays, shape (n_steps,)
-        J~ (see :func:`_cols`).
-    b : list over DOFs of arrays, shape (n_steps,)
-    Jt : ndarray, shape (k, n_cables, n_steps), optional
-        The same J~ as one time-last array (:func:`_time_last`), if at hand (k != 3).
-
-    Returns
-    -------
-    x : list over DOFs of arrays, shape (n_steps,)
-        NaN where J~^T J~ is singular.
-    ok : ndarray of bool, shape (n_steps,)
-        J~ has full column rank (reciprocal condition above 1e-12).
-    """
-    k = len(b)
-    if k == 3:
-        G = [[sum(row[p] * row[q] for row in cols) if p <= q else None for q in range(k)]
-             for p in range(k)]
-        a, b_, c = G[0][0], G[0][1], G[0][2]
-        d, e, f = G[1][1], G[1][2], G[2][2]
-        A00, A01, A02 = d * f - e * e, c * e - b_ * f, b_ * e - c * d
-        A11, A12, A22 = a * f - c * c, b_ * c - a * e, a * d - b_ * b_
-        det = a * A00 + b_ * A01 + c * A02
-        scale = ((a + d + f) / 3.0) ** 3
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ok = np.abs(det) > _RCOND * scale
-            inv_det = np.where(ok, 1.0 / np.where(ok, det, 1.0), np.nan)
-        x = [
-            (A00 * b[0] + A01 * b[1] + A02 * b[2]) * inv_det,
-            (A01 * b[0] + A11 * b[1] + A12 * b[2]) * inv_det,
-            (A02 * b[0] + A12 * b[1] + A22 * b[2]) * inv_det,
-        ]
-        return x, ok
-    # compiled per step (Cholesky): rank test lambda_min / lambda_max > 1e-12, as numpy's
-    # eigvalsh would decide it (kernels.gram_solve_series)
+def _series(J: np.ndarray, w: np.ndarray, method: int, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+            ok: np.ndarray | None, tol: float) -> TensionSolution:
+    """The compiled solver of every method over the steps
+    (:func:`marinecdpr.model.kernels.tension_series`, the code the closed loop runs per step).
+    ``lo``, ``hi``: (m,), or (m, n_steps) each step's own."""
     from marinecdpr.model import kernels
 
-    if Jt is None:
-        Jt = np.array([[row[a] for row in cols] for a in range(k)])
-    x = np.empty((k, n))
-    ok = np.empty(n, dtype=bool)
-    kernels.gram_solve_series(Jt, np.array(b, dtype=float), x, ok, np.empty((0, 0)))
-    return [x[a] for a in range(k)], ok
+    n, m, k = J.shape
+    Jt = _time_last(J)
+    wt = w.T if w.T.flags.c_contiguous else np.ascontiguousarray(w.T)
+    T = np.empty((m, n))
+    feasible = np.empty(n, dtype=bool)
+    if ok is None:
+        ok = np.ones(n, dtype=bool)
 
+    def columns(a: np.ndarray) -> np.ndarray:  # (m, 1) or (m, n_steps), as the kernel takes them
+        return np.ascontiguousarray(a.reshape(m, -1), dtype=float)
 
-def _pinv_cols(cols: list, w: np.ndarray, n: int, Jt: np.ndarray | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
-    if Jt is not None and Jt.shape[0] != 3:
-        # compiled, T_s = J~ x formed in the same loop (kernels.gram_solve_series)
-        from marinecdpr.model import kernels
-
-        k, m = Jt.shape[:2]
-        T = np.empty((m, n))
-        ok = np.empty(n, dtype=bool)
-        kernels.gram_solve_series(Jt, np.ascontiguousarray(w.T), np.empty((k, n)), ok, T)
-        return T.T, ok
-    x, ok = _gram_solve(cols, [w[:, a] for a in range(w.shape[1])], n, Jt)
-    return _stack(_Jx(cols, x), n), ok
+    kernels.tension_series(Jt, np.asarray(wt, dtype=float), np.ascontiguousarray(target, dtype=float), columns(lo),
+                           columns(hi), np.ascontiguousarray(ok, dtype=bool), method, tol, T, feasible)
+    return TensionSolution(T.T, feasible)
 
 
 def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Minimum-norm solution of J~^T T = w (eq. 18): T_s = J~ (J~^T J~)^-1 w.
+    """Minimum-norm solution of J~^T T = w (eq. 18): T_s = J~ (J~^T J~)^-1 w, whatever the limits.
 
     Parameters
     ----------
@@ -185,15 +139,19 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
     T_s : ndarray, shape (n_steps, n_cables)
         N; NaN where J~ loses rank (a singular pose).
     ok : ndarray of bool, shape (n_steps,)
-        J~ has full column rank.
+        J~ has full column rank (:func:`full_rank`).
     """
-    Jt = _time_last(np.asarray(J, dtype=float))
-    return _pinv_cols(_cols(Jt), np.asarray(w, dtype=float), J.shape[0], Jt)
+    J = np.asarray(J, dtype=float)
+    m = J.shape[1]
+    unlimited = np.full(m, np.inf)
+    sol = _series(J, np.asarray(w, dtype=float), 0, np.zeros(m), -unlimited, unlimited, None, 0.0)
+    return sol.tensions, sol.feasible
 
 
 def full_rank(J: np.ndarray) -> np.ndarray:
-    """Where J~ has full column rank, by the rank test of :func:`pseudo_inverse_tensions`
-    (the one the planner's tensions rest on): False at a singular pose.
+    """Where J~ has full column rank: the one rank test of every tension method, in the
+    plan and in the closed loop (:func:`marinecdpr.model.kernels.gram_full_rank`: the
+    eigenvalues of J~^T J~ with lambda_min / lambda_max > 1e-12). False at a singular pose.
 
     Parameters
     ----------
@@ -250,94 +208,8 @@ def _null_vector(cols: list, n: int) -> list:
         return [Nj * inv for Nj in N]
 
 
-def _tol(hi: np.ndarray) -> float:
-    return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
-
-
-def _within(T: list, lo: np.ndarray, hi: np.ndarray, tol: float) -> np.ndarray:
-    """Every tension (a list over cables) within its limits, per step: lo[i], hi[i] a
-    cable's limit (a number) or its limit at each step (n_steps,)."""
-    with np.errstate(invalid="ignore"):
-        inside = [(Ti >= lo[i] - tol) & (Ti <= hi[i] + tol) for i, Ti in enumerate(T)]
-    return np.logical_and.reduce(inside)
-
-
-def _finish(T: list, feasible: np.ndarray, n: int) -> TensionSolution:
-    out = _stack(T, n)
-    out[~feasible] = np.nan
-    return TensionSolution(out, feasible)
-
-
-def _least_distance(
-    J: np.ndarray,
-    Jt: np.ndarray,
-    w: np.ndarray,
-    target: np.ndarray,
-    lo: np.ndarray,
-    hi: np.ndarray,
-    T_s: np.ndarray,
-    ok: np.ndarray,
-    tol: float,
-) -> TensionSolution:
-    """Exactly minimise |T - target|^2 subject to J~^T T = w and lo <= T <= hi (lo, hi
-    (m,), or (m, n_steps): each step's own)."""
-    n, m, k = J.shape
-    r = m - k
-    Ts = [T_s[:, i] for i in range(m)]
-    if r == 0:
-        return _finish(Ts, ok & _within(Ts, lo, hi, tol), n)
-    if r == 1:
-        N = _null_vector(_cols(Jt), n)
-        # lambda* = N^T (target - T_s) / N^T N, with N^T N = 1
-        lam = sum(N[i] * (target[i] - Ts[i]) for i in range(m))
-        # Corrected bounds of eq. (20) (MODEL_NOTES): a_i, b_i per cable with N_i != 0.
-        low, high = np.full(n, -np.inf), np.full(n, np.inf)
-        fixed_ok = np.ones(n, dtype=bool)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            for i in range(m):
-                absN = np.abs(N[i])
-                if absN.min() > 1e-12:  # the usual case: every step's N_i is nonzero
-                    inv = 1.0 / N[i]
-                    a = (lo[i] - Ts[i]) * inv
-                    b = (hi[i] - Ts[i]) * inv
-                    np.maximum(low, np.minimum(a, b), out=low)
-                    np.minimum(high, np.maximum(a, b), out=high)
-                    continue
-                nz = absN > 1e-12
-                inv = 1.0 / np.where(nz, N[i], 1.0)
-                a = (lo[i] - Ts[i]) * inv
-                b = (hi[i] - Ts[i]) * inv
-                low = np.where(nz, np.maximum(low, np.minimum(a, b)), low)
-                high = np.where(nz, np.minimum(high, np.maximum(a, b)), high)
-                # a cable the null space cannot change must already be within its limits
-                fixed_ok &= nz | ((Ts[i] >= lo[i]) & (Ts[i] <= hi[i]))
-        lam = np.minimum(np.maximum(lam, low), high)
-        T = [Ts[i] + lam * N[i] for i in range(m)]
-        # lambda in [low, high] puts every cable within its limits (to rounding)
-        feasible = ok & fixed_ok & (low <= high)
-        return _finish(T, feasible, n)
-    # r > 1: the unconstrained optimum, else the exact QP, compiled (kernels.least_distance)
-    return _compiled(J, w, target, lo, hi, ok, 2, tol)
-
-
-def _compiled(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-              ok: np.ndarray, method: int, tol: float) -> TensionSolution:
-    """The compiled per-step solvers over the steps (:func:`marinecdpr.model.kernels.tension_series`):
-    ``method`` 2 the exact least-distance QP to ``target``, 4 the improved closed form."""
-    from marinecdpr.model import kernels
-
-    n, m, k = J.shape
-    Jt = _time_last(J)
-    wt = w.T if w.T.flags.c_contiguous else np.ascontiguousarray(w.T)
-    T = np.empty((m, n))
-    feasible = np.empty(n, dtype=bool)
-
-    def columns(a: np.ndarray) -> np.ndarray:  # (m, 1) or (m, n_steps), as the kernel takes them
-        return np.ascontiguousarray(a.reshape(m, -1), dtype=float)
-
-    kernels.tension_series(Jt, wt, np.ascontiguousarray(target, dtype=float), columns(lo), columns(hi),
-                           np.ascontiguousarray(ok, dtype=bool), method, tol, T, feasible)
-    return TensionSolution(T.T, feasible)
+_METHODS = ("pseudo_inverse", "closed_form", "minimum_variance", "minimum_norm", "improved_closed_form")
+"""The methods by their code in :data:`marinecdpr.model.kernels.METHOD_CODES`."""
 
 
 def distribute_tensions(
@@ -347,7 +219,6 @@ def distribute_tensions(
     t_max: np.ndarray,
     *,
     method: str = "minimum_variance",
-    T_s: np.ndarray | None = None,
     ok: np.ndarray | None = None,
     lower: np.ndarray | None = None,
     upper: np.ndarray | None = None,
@@ -365,8 +236,9 @@ def distribute_tensions(
     method : str
         One of ``pseudo_inverse``, ``minimum_variance``, ``closed_form``,
         ``improved_closed_form``, ``minimum_norm`` (see the module docstring).
-    T_s, ok : ndarray, optional
-        :func:`pseudo_inverse_tensions` of ``(J, w)`` if already computed.
+    ok : ndarray of bool, shape (n_steps,), optional
+        Steps to solve (the others are infeasible), e.g. :func:`full_rank` of J if already
+        computed; every step is tested for rank in any case.
     lower, upper : ndarray, shape (n_steps, n_cables), optional
         Each step's own tension bounds, N, within which the tensions must also lie (e.g.
         what the winches can give: :func:`~marinecdpr.model.winch.winch_tension_bounds`).
@@ -380,41 +252,28 @@ def distribute_tensions(
         NaN tensions and ``feasible = False`` where no tensions within limits
         were found.
     """
+    if method not in _METHODS:
+        raise ValueError(
+            f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
+            "closed_form, improved_closed_form or minimum_norm)"
+        )
     J = np.asarray(J, dtype=float)
     w = np.asarray(w, dtype=float)
     lo = np.asarray(t_min, dtype=float)
     hi = np.asarray(t_max, dtype=float)
-    Jt = _time_last(J)
-    cols = _cols(Jt)
     n = J.shape[0]
-    if T_s is None or ok is None:
-        T_s, ok = _pinv_cols(cols, w, n, Jt)
+    ok = np.ones(n, dtype=bool) if ok is None else np.asarray(ok, dtype=bool)
     mid = 0.5 * (lo + hi)
-    tol = _tol(hi)
+    tol = TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
     if lower is not None or upper is not None:  # each step's own bounds, (m, n_steps): lo[i] a row
         lo = (lo[:, None] if lower is None else np.maximum(lo[:, None], np.asarray(lower, dtype=float).T))
         hi = (hi[:, None] if upper is None else np.minimum(hi[:, None], np.asarray(upper, dtype=float).T))
         lo, hi = np.broadcast_arrays(lo, np.broadcast_to(hi, (hi.shape[0], n)))
         with np.errstate(invalid="ignore"):
             ok = ok & np.all(lo <= hi, axis=0)  # an empty (or NaN) range holds nothing
-    m = T_s.shape[1]
-    if method == "pseudo_inverse":
-        Ts = [T_s[:, i] for i in range(m)]
-        return _finish(Ts, ok & _within(Ts, lo, hi, tol), n)
-    if method == "minimum_variance":
-        return _least_distance(J, Jt, w, mid, lo, hi, T_s, ok, tol)
-    if method == "minimum_norm":
-        return _least_distance(J, Jt, w, np.zeros_like(mid), lo, hi, T_s, ok, tol)
-    if method == "closed_form":
-        x, _ = _gram_solve(cols, [w[:, a] - Jm for a, Jm in enumerate(_JT(cols, list(mid)))], n, Jt)
-        T = [mid[i] + Jx for i, Jx in enumerate(_Jx(cols, x))]
-        return _finish(T, ok & _within(T, lo, hi, tol), n)
-    if method == "improved_closed_form":
-        return _compiled(J, w, mid, lo, hi, ok, 4, tol)
-    raise ValueError(
-        f"unknown tension method {method!r} (expected pseudo_inverse, minimum_variance, "
-        "closed_form, improved_closed_form or minimum_norm)"
-    )
+    code = _METHODS.index(method)
+    target = np.zeros_like(mid) if method in ("pseudo_inverse", "minimum_norm") else mid
+    return _series(J, w, code, target, lo, hi, ok, tol)
 
 
 _VERTEX_BUDGET = 4096

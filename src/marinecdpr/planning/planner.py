@@ -447,7 +447,7 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     if winch:  # a winch that cannot turn as fast as its cable moves holds no tension
         lower = np.where(winch["winch_limit"] == WINCH_OVERSPEED, np.nan, lower)
     sol = distribute_tensions(
-        J, w[:, c], robot.tension_min, robot.tension_max, method=method, T_s=T_s, ok=ok,
+        J, w[:, c], robot.tension_min, robot.tension_max, method=method, ok=ok,
         lower=lower, upper=upper,
     )
     u = list(uncontrolled(robot.controlled))
