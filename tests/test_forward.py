@@ -8,10 +8,10 @@ from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
 import marinecdpr
-from marinecdpr.geometry.forward import (angle_rate_matrix, forward_work, pose_from_lengths, pose_from_lengths_step,
-                                         residuals_and_jacobian, stretched_lengths)
+from marinecdpr.geometry.forward import (forward_work, pose_from_lengths, pose_from_lengths_step, residuals_and_jacobian,
+                                         stretched_lengths)
 from marinecdpr.geometry.kinematics import cable_kinematics
-from marinecdpr.geometry.rotations import euler_kinematics, matrix_from_euler
+from marinecdpr.geometry.rotations import angle_rate_matrix, euler_kinematics, matrix_from_euler
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 # workspace boxes (x, y, z, rx, ry, rz) well inside each frame: paper 1.9 x 1.4 m (x-z plane),

@@ -25,9 +25,10 @@ from numba import njit
 from numba.extending import overload
 
 from marinecdpr.borrowed import borrowed
-from marinecdpr.geometry.forward import angle_rate_matrix, pose_from_lengths_step
+from marinecdpr.geometry.elastic import stretched_length, unstretched_length
+from marinecdpr.geometry.forward import pose_from_lengths_step
 from marinecdpr.geometry.pulley import pulleys_step
-from marinecdpr.geometry.rotations import euler_step
+from marinecdpr.geometry.rotations import angle_rate_matrix, euler_step
 from marinecdpr.model import kernels as K
 from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
@@ -165,7 +166,7 @@ def pose_from_encoders(ctl):
     """
     meas, model, work, gains = ctl.meas, ctl.model, ctl.work, ctl.gains
     for i in range(meas.L.shape[0]):
-        work.Lg[i] = meas.L[i] * (1.0 + meas.T[i] / model.EA)
+        work.Lg[i] = stretched_length(meas.L[i], meas.T[i], model.EA)
     q = work.q
     if model.pulleys:  # the lengths over the pulleys
         status = pose_from_lengths_step(work.Lg, model.c_C, model.p_P, model.controlled, q, gains.fk_tol_m,
@@ -234,7 +235,7 @@ def _feedback_tensions(k, h, ctl):
 @njit(cache=_cache, inline="always")
 def _unstretched(ref, k, model, i):
     """The winch length of cable i that holds the plan's length at the plan's tension, m."""
-    return ref.L[k, i] / (1.0 + (ref.T[k, i] - model.damping * ref.Ldot[k, i]) / model.EA) + ref.sag[k, i]
+    return unstretched_length(ref.L[k, i], ref.T[k, i] - model.damping * ref.Ldot[k, i], model.EA) + ref.sag[k, i]
 
 
 @njit(cache=_cache, inline="always")
@@ -277,7 +278,7 @@ def control_step(k, h, ctl):
     # (the cable's damping adds c L' of the plan: the stretch makes the rest), plus what a
     # heavy cable's sag takes at the planned tension
     for i in range(cmd.L0_cmd.shape[0]):
-        cmd.L0_cmd[i] = (ref.L[k, i] / (1.0 + (cmd.T_cmd[i] - model.damping * ref.Ldot[k, i]) / model.EA)
+        cmd.L0_cmd[i] = (unstretched_length(ref.L[k, i], cmd.T_cmd[i] - model.damping * ref.Ldot[k, i], model.EA)
                          + ref.sag[k, i])
     if gains.closed and gains.lead_s > 0.0:
         # the controller knows its winches' lag: it leads the planned part of the command

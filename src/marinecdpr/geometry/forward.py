@@ -13,7 +13,7 @@ over the controlled DOFs only (the others stay as given), with the analytic Jaco
 
 u_i = l_i / |l_i| (J~'s rows, eq. 6, with a minus sign since l' = -J~ (v, omega), eq. 5)
 and, for R = Rz Ry Rx, E's columns R e_x (for rx'), Rz e_y (for ry'), e_z (for rz')
-(:func:`angle_rate_matrix`). The first step is Gauss-Newton's; a step that does not lower
+(:func:`~marinecdpr.geometry.rotations.angle_rate_matrix`). The first step is Gauss-Newton's; a step that does not lower
 the sum of squares is rejected and the damping raised (Marquardt's scaling, diag(J^T J);
 Nielsen's update from the ratio of actual to predicted decrease), so a warm start near the
 pose converges quadratically. The k x k normal equations (k <= 6) are solved by Cholesky.
@@ -44,10 +44,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from marinecdpr.geometry.elastic import stretched_length
 from marinecdpr.geometry.pulley import pulleys_step
+from marinecdpr.geometry.rotations import rotation_and_rates
 
 __all__ = ["ForwardKinematics", "ForwardWork", "forward_work", "pose_from_lengths", "pose_from_lengths_step",
-           "residuals_and_jacobian", "pulley_residuals_and_jacobian", "angle_rate_matrix", "stretched_lengths",
+           "residuals_and_jacobian", "pulley_residuals_and_jacobian", "stretched_lengths",
            "CONVERGED", "NOT_CONVERGED", "INCONSISTENT"]
 
 CONVERGED, NOT_CONVERGED, INCONSISTENT = 0, 1, 2
@@ -101,44 +103,6 @@ def forward_work(m: int, k: int, atol_m: float = 1e-6, rtol: float = 1e-6) -> Fo
 # ------------------------------------------------------------------- one step, compiled
 
 
-@njit(cache=_cache, inline="always")
-def _angle_rate_columns(cy, sy, cz, sz):
-    """E's columns (rx', ry', rz' -> omega in C) for R = Rz(rz) Ry(ry) Rx(rx), from the
-    cosines and sines of ry and rz: R e_x, Rz e_y, e_z (E does not depend on rx)."""
-    return (cz * cy, sz * cy, -sy), (-sz, cz, 0.0), (0.0, 0.0, 1.0)
-
-
-@njit(cache=_cache, inline="always")
-def _rotation_and_rates(q):
-    """R = Rz(rz) Ry(ry) Rx(rx) of the pose q's angles (as in rotations._euler_values), by
-    rows, and E's columns (:func:`_angle_rate_columns`)."""
-    c1, s1 = np.cos(q[3]), np.sin(q[3])
-    c2, s2 = np.cos(q[4]), np.sin(q[4])
-    c3, s3 = np.cos(q[5]), np.sin(q[5])
-    R = ((c3 * c2, c3 * s2 * s1 - s3 * c1, c3 * s2 * c1 + s3 * s1),
-         (s3 * c2, s3 * s2 * s1 + c3 * c1, s3 * s2 * c1 - c3 * s1),
-         (-s2, c2 * s1, c2 * c1))
-    return R, _angle_rate_columns(c2, s2, c3, s3)
-
-
-@njit(cache=_cache)
-def angle_rate_matrix(angles, E):
-    """E(angles) such that omega = E angles' for R = Rz(rz) Ry(ry) Rx(rx), written in place.
-
-    Parameters
-    ----------
-    angles : ndarray, shape (3,)
-        (rx, ry, rz), rad.
-    E : ndarray, shape (3, 3)
-        Written: columns R e_x, Rz(rz) e_y, e_z; maps the angles' rates (rad/s) to the
-        angular velocity in the reference frame (C for the platform), rad/s.
-    """
-    cols = _angle_rate_columns(np.cos(angles[1]), np.sin(angles[1]), np.cos(angles[2]), np.sin(angles[2]))
-    for j in range(3):
-        for a in range(3):
-            E[a, j] = cols[j][a]
-
-
 @njit(cache=_cache)
 def residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J):
     """Residuals r_i = |c_i - x - R p_i| - L_i and their analytic Jacobian, written in place.
@@ -166,7 +130,7 @@ def residuals_and_jacobian(L, c_C, p_P, controlled, q, r, J):
     float
         sum_i r_i^2 / 2, m^2.
     """
-    rows, E = _rotation_and_rates(q)
+    rows, E = rotation_and_rates(q[3], q[4], q[5])
     (R00, R01, R02), (R10, R11, R12), (R20, R21, R22) = rows
     cost = 0.0
     for i in range(c_C.shape[0]):
@@ -208,7 +172,7 @@ def pulley_residuals_and_jacobian(L, c_C, z_C, radius, p_P, controlled, q, r, J,
     gives the scratch. A pose with a platform anchor on a pulley's axis or inside it gives
     NaN (the solver rejects it). Returns sum_i r_i^2 / 2, m^2.
     """
-    rows, E = _rotation_and_rates(q)
+    rows, E = rotation_and_rates(q[3], q[4], q[5])
     R = work.R
     (R[0, 0], R[0, 1], R[0, 2]), (R[1, 0], R[1, 1], R[1, 2]), (R[2, 0], R[2, 1], R[2, 2]) = rows
     if pulleys_step(q[:3], R, c_C, z_C, radius, p_P, work.Lq, work.J6, work.exits, work.wraps) != 0:
@@ -431,7 +395,7 @@ def stretched_lengths(L0, T, EA):
     ndarray, m
         Broadcast shape of the arguments.
     """
-    return np.asarray(L0, dtype=float) * (1.0 + np.asarray(T, dtype=float) / np.asarray(EA, dtype=float))
+    return stretched_length(np.asarray(L0, dtype=float), np.asarray(T, dtype=float), np.asarray(EA, dtype=float))
 
 
 @dataclass(frozen=True)

@@ -24,18 +24,65 @@ __all__ = [
     "euler_step",
     "skew",
     "matrix_from_quaternion_step",
+    "matrix_about_y_step",
     "euler_from_matrix_step",
     "quaternion_from_matrix",
+    "angle_rate_matrix",
+    "rotation_and_rates",
 ]
+
+
+@njit(cache=True, inline="always")
+def _matrix_values(cph, sph, cth, sth, cps, sps):
+    """R = Rz(psi) Ry(theta) Rx(phi) (9 entries, row by row) from the angles' cosines and
+    sines: the one implementation of the rotation matrix."""
+    return (cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph,
+            sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph,
+            -sth, cth * sph, cth * cph)
+
+
+@njit(cache=True, inline="always")
+def _angle_rate_columns(cy, sy, cz, sz):
+    """E's columns (rx', ry', rz' -> omega in the reference frame) for R = Rz(rz) Ry(ry)
+    Rx(rx), from the cosines and sines of ry and rz: R e_x, Rz e_y, e_z (E does not
+    depend on rx)."""
+    return (cz * cy, sz * cy, -sy), (-sz, cz, 0.0), (0.0, 0.0, 1.0)
+
+
+@njit(cache=True, inline="always")
+def rotation_and_rates(rx, ry, rz):
+    """R = Rz(rz) Ry(ry) Rx(rx) by rows (three 3-tuples) and the columns of E (omega = E
+    angles', :func:`angle_rate_matrix`), from the angles (rad)."""
+    c1, s1 = np.cos(rx), np.sin(rx)
+    c2, s2 = np.cos(ry), np.sin(ry)
+    c3, s3 = np.cos(rz), np.sin(rz)
+    v = _matrix_values(c1, s1, c2, s2, c3, s3)
+    return ((v[0], v[1], v[2]), (v[3], v[4], v[5]), (v[6], v[7], v[8])), _angle_rate_columns(c2, s2, c3, s3)
+
+
+@njit(cache=True)
+def angle_rate_matrix(angles, E):
+    """E(angles) such that omega = E angles' for R = Rz(rz) Ry(ry) Rx(rx), written in place.
+
+    Parameters
+    ----------
+    angles : ndarray, shape (3,)
+        (rx, ry, rz), rad.
+    E : ndarray, shape (3, 3)
+        Written: columns R e_x, Rz(rz) e_y, e_z; maps the angles' rates (rad/s) to the
+        angular velocity in the reference frame (C for the platform), rad/s.
+    """
+    cols = _angle_rate_columns(np.cos(angles[1]), np.sin(angles[1]), np.cos(angles[2]), np.sin(angles[2]))
+    for j in range(3):
+        for a in range(3):
+            E[a, j] = cols[j][a]
 
 
 @njit(cache=True, inline="always")
 def _euler_values(cph, sph, cth, sth, cps, sps, dph, dth, dps, ddph, ddth, ddps):
     """R (9 entries, row by row), omega_b (3) and alpha_b (3) from the angles' cosines and
     sines and their rates: the one implementation of :func:`euler_kinematics`' formulas."""
-    return (cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph,
-            sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph,
-            -sth, cth * sph, cth * cph,
+    return _matrix_values(cph, sph, cth, sth, cps, sps) + (
             dph - sth * dps,
             cph * dth + sph * cth * dps,
             -sph * dth + cph * cth * dps,
@@ -59,6 +106,15 @@ def euler_step(ang, rate, acc, R, omega, alpha):
             R[i, j] = v[3 * i + j]
         omega[i] = v[9 + i]
         alpha[i] = v[12 + i]
+
+
+@njit(cache=True, inline="always")
+def matrix_about_y_step(theta, R):
+    """R (3, 3) = Ry(theta) (a planar robot's orientation, theta_y in rad), written in place."""
+    c, s = np.cos(theta), np.sin(theta)
+    R[0, 0], R[0, 1], R[0, 2] = c, 0.0, s
+    R[1, 0], R[1, 1], R[1, 2] = 0.0, 1.0, 0.0
+    R[2, 0], R[2, 1], R[2, 2] = -s, 0.0, c
 
 
 @njit(cache=True)

@@ -100,6 +100,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
+from marinecdpr.geometry.elastic import axial_stiffness, unstretched_length
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler, skew
 from marinecdpr.model.dynamics import spatial_inertia
@@ -240,7 +241,7 @@ def cable_stiffness(
         if reference_length == "stretched":
             k = ea / L  # T = T0 + EA (L - L_ref) / L_ref about L_ref = L
         elif reference_length == "unstretched":
-            k = (ea + T) / L  # EA / L0 with L0 = L / (1 + T / EA)
+            k = axial_stiffness(unstretched_length(L, T, ea), ea)  # EA / L0
         else:
             raise ValueError(f"reference_length must be 'stretched' or 'unstretched', not {reference_length!r}")
         K_axial = np.einsum("nm,nma,nmb->nab", k, J, J)  # sum_i k_i J~_i^T J~_i

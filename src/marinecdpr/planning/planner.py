@@ -16,6 +16,7 @@ from typing import Iterator
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
@@ -403,7 +404,7 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
         T = tensions[ok]
         cat = catenary_series(h[ok], v[ok], scenario.robot.cable_weight_N_m, EA, T_B=T)
         good = cat.status == 0
-        sag[ok] = np.where(good, cat.L0 - np.sqrt(chord2[ok]) / (1.0 + T / EA), np.nan)
+        sag[ok] = np.where(good, cat.L0 - unstretched_length(np.sqrt(chord2[ok]), T, EA), np.nan)
         T_A[ok] = np.where(good, cat.T_A, np.nan)
     return dict(sag_lengths=sag, winch_tensions=T_A)
 

@@ -19,6 +19,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from marinecdpr.control.records import ControllerParts, Loads, RobotModel
+from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.prototype import parts as parts_pkg
 from marinecdpr.prototype.parts import PLANT_WRITES, STATE_SIGNALS, Signals, empty_signals
 
@@ -87,7 +88,7 @@ def context(scenario, run: str, n: int, *, plan, ff, ship_h, brush_h, loads: Loa
     EA = float(cab.stiffness_EA_N or np.inf)
     L_init = np.empty(m)
     cables_at(x0, R0, ctl.model, L_init, np.empty((m, 6)))
-    L0 = L_init / (1.0 + (ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0]) / EA)
+    L0 = unstretched_length(L_init, ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0], EA)
     if cab.model == "catenary":
         L0 += ff.sag_lengths[0]
     bus.L0[:] = L0

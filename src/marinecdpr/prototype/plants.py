@@ -24,7 +24,7 @@ from numba import njit, types
 
 from marinecdpr.borrowed import borrowed
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
-from marinecdpr.geometry.rotations import matrix_from_quaternion_step
+from marinecdpr.geometry.rotations import matrix_about_y_step, matrix_from_quaternion_step
 from marinecdpr.model import kernels as K
 from marinecdpr.prototype.parts import cable_tensions, diverged, exchange, mujoco_cables
 
@@ -182,11 +182,7 @@ def _mujoco_state(mj):
     x, R, v, w = mj.x, mj.R, mj.v, mj.w
     if mj.planar:
         x[0], x[1], x[2] = qpos[pq[0]], 0.0, qpos[pq[1]]
-        th = qpos[pq[2]]
-        c, s = np.cos(th), np.sin(th)
-        R[0, 0], R[0, 1], R[0, 2] = c, 0.0, s
-        R[1, 0], R[1, 1], R[1, 2] = 0.0, 1.0, 0.0
-        R[2, 0], R[2, 1], R[2, 2] = -s, 0.0, c
+        matrix_about_y_step(qpos[pq[2]], R)
         v[0], v[1], v[2] = qvel[pd[0]], 0.0, qvel[pd[1]]
         w[0], w[1], w[2] = 0.0, qvel[pd[2]], 0.0
     else:

@@ -4,7 +4,7 @@ for the plant, at its state within the step (the part's tension law):
 ``HeldTensions``    ideal cables apply the command (T = T_cmd); tension-controlled winches
                     the tension their loop holds. Held over the step.
 ``ElasticCables``   straight elastic cables over the winch's unstretched length: EA strain
-                    plus damping when taut, 0 when slack (:func:`elastic_tension`, the
+                    plus damping when taut, 0 when slack (:func:`~marinecdpr.geometry.elastic.elastic_tension`, the
                     one implementation of the law); the plant's state sets the tension.
 ``CatenaryCables``  heavy cables (``simulation.cables.model = "catenary"``, own plant):
                     each an elastic catenary (:mod:`marinecdpr.model.catenary`) from its
@@ -20,20 +20,12 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.control.records import RobotModel
+from marinecdpr.geometry.elastic import axial_stiffness, elastic_tension
 from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_VB, catenary_forces
 from marinecdpr.prototype.parts import part
 from marinecdpr.prototype.parts.geometry import length_rates
 
-__all__ = ["HeldTensions", "ElasticCables", "CatenaryCables", "elastic_tension", "catenary_cables", "build"]
-
-
-@njit(cache=True)
-def elastic_tension(L, L0, Ldot, EA, damping):
-    """An elastic cable's tension at length L (m) and rate Ldot (m/s) over its unstretched
-    length L0 (m): EA (L - L0) / L0 + damping Ldot when taut (at least 0), 0 when slack, N."""
-    if L > L0:
-        return max(0.0, EA * (L - L0) / L0 + damping * Ldot)
-    return 0.0
+__all__ = ["HeldTensions", "ElasticCables", "CatenaryCables", "catenary_cables", "build"]
 
 
 # ----------------------------------------------------------------------- held tensions
@@ -83,7 +75,7 @@ def elastic_mujoco(part, mj, bus):
     # the cable is a spring MuJoCo integrates: taut above L0 (dead band [0, L0])
     for i in range(bus.T_app.shape[0]):
         mj.ctrl[i] = 0.0
-        mj.ten_k[i] = part.EA / bus.L0[i]
+        mj.ten_k[i] = axial_stiffness(bus.L0[i], part.EA)
         mj.ten_spring[i, 0] = 0.0
         mj.ten_spring[i, 1] = bus.L0[i] + mj.offset[i]  # a pulley cable's tendon starts behind it
         mj.ten_c[i] = part.damping if bus.L[i] > bus.L0[i] else 0.0

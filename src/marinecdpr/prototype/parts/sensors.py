@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from marinecdpr.control.step import mm3
+from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.geometry.rotations import euler_step
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype.parts import part
@@ -83,7 +84,7 @@ def encoders_step(k, h, part, bus):
         # a winch pays out the unstretched length: the stretch of an elastic cable is the
         # tension it carries (a drum's length where a winch holds one)
         if part.from_stretch:
-            L0 = bus.L[i] / (1.0 + bus.T_app[i] / part.EA)
+            L0 = unstretched_length(bus.L[i], bus.T_app[i], part.EA)
         else:
             L0 = bus.L0_drum[i]
         meas.L[i] = L0 if res == 0.0 else res * np.floor(L0 / res + 0.5)
