@@ -777,7 +777,8 @@ def operability(
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
     try:  # the largest cell's run: the highest sea and the shortest period that occur
         tp_min = float(diagram.tp[(diagram.probability > 0).any(axis=0)].min())
-        probe = cell_scenario(sc, Cell(0, float(diagram.hs.max()), tp_min, heads[0], 1.0), duration, step)
+        probe = cell_scenario(sc, Cell(index=0, hs=float(diagram.hs.max()), tp=tp_min, heading_deg=heads[0],
+                                       probability=1.0), duration, step)
         check_run_size(probe, "operability", cells=n_cells * realisations, grid=grid,
                        closed_loop=max_error is not None, workers=1 if serial else (workers or 2))
         from marinecdpr.planning.planner import check_trajectory
@@ -788,7 +789,8 @@ def operability(
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
     executor = _sea_executor(serial, workers, scheduler, study_steps(n_cells * realisations, duration_s=duration,
-                                                                     step_s=step, workspace=grid, max_error_m=max_error))
+                                                                     step_s=step, workspace=grid,
+                                                                     max_error_m=max_error))
     n_workers = workers or 2
     t0 = time.perf_counter()
     with _output(out) as folder:

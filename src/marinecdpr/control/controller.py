@@ -78,22 +78,23 @@ def reference(ff: Plan, *, sag: bool = False) -> Reference:
     c = np.ascontiguousarray  # every array C-ordered: one compiled loop for every plan length
     sag = (np.nan_to_num(ff.sag_lengths, nan=0.0) if sag and ff.sag_lengths is not None
            else np.zeros_like(ff.lengths))
-    return Reference(c(ff.pose[:, :3]), c(matrix_from_euler(ff.pose[:, 3:])), c(ff.twist[:, :3]), c(ff.twist[:, 3:]),
-                     c(ff.twist_dot[:, :3]), c(ff.twist_dot[:, 3:]), c(ff.tensions), c(ff.lengths), c(ff.length_rates),
-                     c(sag))
+    return Reference(x=c(ff.pose[:, :3]), R=c(matrix_from_euler(ff.pose[:, 3:])), v=c(ff.twist[:, :3]),
+                     w=c(ff.twist[:, 3:]), a=c(ff.twist_dot[:, :3]), al=c(ff.twist_dot[:, 3:]), T=c(ff.tensions),
+                     L=c(ff.lengths), Ldot=c(ff.length_rates), sag=c(sag))
 
 
 def robot_model(scenario: Scenario) -> RobotModel:
     """The controller's model of the scenario's robot, ship layout and cables."""
     robot, cables = scenario.robot, scenario.simulation.cables
     return RobotModel(
-        np.ascontiguousarray(robot.frame_anchors), np.ascontiguousarray(robot.platform_anchors),
-        robot.mass_kg, np.ascontiguousarray(robot.inertia), scenario.environment.gravity_m_s2,
-        np.asarray(scenario.ship.frame_origin_m, dtype=float), np.asarray(robot.controlled, dtype=np.int64),
-        robot.tension_min, robot.tension_max, K.METHOD_CODES[scenario.planning.method],
-        float(cables.stiffness_EA_N or np.inf), cables.damping_N_s_m, robot.has_pulleys,
-        np.ascontiguousarray(robot.pulley_axes), np.ascontiguousarray(robot.pulley_radii),
-        np.zeros((robot.n_cables, 3)), np.zeros(robot.n_cables))
+        c_C=np.ascontiguousarray(robot.frame_anchors), p_P=np.ascontiguousarray(robot.platform_anchors),
+        mass=robot.mass_kg, I_PP=np.ascontiguousarray(robot.inertia), g=scenario.environment.gravity_m_s2,
+        origin=np.asarray(scenario.ship.frame_origin_m, dtype=float),
+        controlled=np.asarray(robot.controlled, dtype=np.int64), lo=robot.tension_min, hi=robot.tension_max,
+        method=K.METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
+        damping=cables.damping_N_s_m, pulleys=robot.has_pulleys, z_C=np.ascontiguousarray(robot.pulley_axes),
+        radius=np.ascontiguousarray(robot.pulley_radii), exits=np.zeros((robot.n_cables, 3)),
+        wraps=np.zeros(robot.n_cables))
 
 
 FK_TOL_M = 1e-10
@@ -110,9 +111,10 @@ def gains(scenario: Scenario, *, closed: bool) -> Gains:
     sim = scenario.simulation
     control, cables = sim.control, sim.cables
     wn = 2.0 * np.pi * control.bandwidth_hz
-    return Gains(bool(closed), wn * wn, 2.0 * control.damping_ratio * wn, float(cables.winch_time_constant_s),
-                 cables.winch != "length", ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,
-                 PREDICTIONS[sim.mru.prediction], FK_TOL_M, FK_ITER)
+    return Gains(closed=bool(closed), kp=wn * wn, kd=2.0 * control.damping_ratio * wn,
+                 lead_s=float(cables.winch_time_constant_s), tension_winches=cables.winch != "length",
+                 pose_from=ENCODERS if sim.sensors.pose_from == "encoders" else POSE_SENSOR,
+                 prediction=PREDICTIONS[sim.mru.prediction], fk_tol_m=FK_TOL_M, fk_iter=FK_ITER)
 
 
 def predictor_options(mru) -> dict:
@@ -177,8 +179,8 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res, encoders=scenario.simulation.sensors.pose_from == "encoders")
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
     ref = reference(ff, sag=scenario.simulation.cables.model == "catenary")
-    return ControllerParts(ref, robot_model(scenario), gains(scenario, closed=closed), loads,
-                           empty_measurement(m), empty_command(m), work, predictor(scenario))
+    return ControllerParts(ref=ref, model=robot_model(scenario), gains=gains(scenario, closed=closed), loads=loads,
+                           meas=empty_measurement(m), cmd=empty_command(m), work=work, predictor=predictor(scenario))
 
 
 @njit(cache=True)
@@ -265,7 +267,8 @@ class Controller:
         self.n_steps = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
         ref, ff, ship_h = plans(scenario, self.n_steps, reference=plan)
         f, m, in_P = known_loads(scenario, ship_h, planned_brush_loads(scenario, ref, ff, self.n_steps))
-        loads = Loads(np.ascontiguousarray(f[::2][:self.n_steps]), np.ascontiguousarray(m[::2][:self.n_steps]), in_P)
+        loads = Loads(f=np.ascontiguousarray(f[::2][:self.n_steps]), m=np.ascontiguousarray(m[::2][:self.n_steps]),
+                      in_P=in_P)
         self.parts = controller_parts(scenario, ff, loads, closed=closed)
         self._clock = np.zeros(3)
         self._m = scenario.robot.n_cables

@@ -202,12 +202,13 @@ class ControllerParts(NamedTuple):
 
 def empty_measurement(m: int) -> Measurement:
     """A zeroed measurement for m cables (R the identity)."""
-    return Measurement(np.zeros(3), np.eye(3), np.zeros(3), np.zeros(3), np.zeros(m), np.zeros(m), np.zeros(m),
-                       np.zeros((3, 6)), np.zeros(3))
+    return Measurement(x=np.zeros(3), R=np.eye(3), v=np.zeros(3), w=np.zeros(3), L=np.zeros(m), Ldot=np.zeros(m),
+                       T=np.zeros(m), eta=np.zeros((3, 6)), clock=np.zeros(3))
 
 
 def empty_command(m: int) -> Command:
-    return Command(np.zeros(m), np.zeros(m), np.zeros(m, dtype=np.int64), np.zeros(3, dtype=np.int64))
+    return Command(T_cmd=np.zeros(m), L0_cmd=np.zeros(m), at_limit=np.zeros(m, dtype=np.int64),
+                   flags=np.zeros(3, dtype=np.int64))
 
 
 class NoPredictor(NamedTuple):
@@ -228,13 +229,14 @@ def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4
     """The working memory of a step with m cables and k controlled DOFs; lengths from the
     encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m); without
     ``encoders`` the step has no forward kinematics (:class:`NoForwardWork`)."""
-    return Work(np.empty(3), np.empty((3, 3)), np.empty(3), np.empty(3), np.empty((3, 3)), np.empty(3),
-                np.empty(3), np.empty((2, 6)), np.empty((2, 3)), np.empty((3, 3, 3)), np.zeros((4, 3)),
-                np.empty(6), np.empty((5, 6)), np.empty(m), np.empty((m, 6)), K.tension_work(m, k),
-                np.zeros((3, 6)), np.zeros(6), np.zeros(6), np.empty(m), np.empty((3, 3)), np.empty((k, k)),
-                np.empty(k), forward_work(m, k, fk_atol_m, fk_rtol) if encoders else NoForwardWork(0))
+    return Work(x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3), w=np.empty(3), R_SO=np.empty((3, 3)),
+                w_s=np.empty(3), al_s=np.empty(3), eta=np.empty((2, 6)), a_cmd=np.empty((2, 3)),
+                m3=np.empty((3, 3, 3)), v3=np.zeros((4, 3)), wrench=np.empty(6), wrench_parts=np.empty((5, 6)),
+                L=np.empty(m), J=np.empty((m, 6)), tension=K.tension_work(m, k), forecast=np.zeros((3, 6)),
+                q=np.zeros(6), qdot=np.zeros(6), Lg=np.empty(m), E=np.empty((3, 3)), Gk=np.empty((k, k)),
+                bk=np.empty(k), fk=forward_work(m, k, fk_atol_m, fk_rtol) if encoders else NoForwardWork(unused=0))
 
 
 def unused_predictor() -> NoPredictor:
     """The predictor's slot of a controller that does not predict."""
-    return NoPredictor(0)
+    return NoPredictor(unused=0)

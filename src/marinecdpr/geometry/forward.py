@@ -94,10 +94,10 @@ def forward_work(m: int, k: int, atol_m: float = 1e-6, rtol: float = 1e-6) -> Fo
         iteration stops satisfy |r_i| <= atol_m + rtol L_i for every cable (m; rtol
         dimensionless). Raise it to the encoders' noise for measured lengths.
     """
-    return ForwardWork(np.empty(m), np.empty((m, k)), np.empty(m), np.empty((m, k)), np.empty(6),
-                       np.empty((k, k)), np.empty((k, k)), np.empty(k), np.empty(k),
-                       np.array([atol_m, rtol], dtype=float), np.zeros(2), np.empty((3, 3)), np.empty(m),
-                       np.empty((m, 6)), np.empty((m, 3)), np.empty(m))
+    return ForwardWork(r=np.empty(m), J=np.empty((m, k)), rt=np.empty(m), Jt=np.empty((m, k)), qt=np.empty(6),
+                       A=np.empty((k, k)), M=np.empty((k, k)), g=np.empty(k), step=np.empty(k),
+                       consistency=np.array([atol_m, rtol], dtype=float), info=np.zeros(2), R=np.empty((3, 3)),
+                       Lq=np.empty(m), J6=np.empty((m, 6)), exits=np.empty((m, 3)), wraps=np.empty(m))
 
 
 # ------------------------------------------------------------------- one step, compiled

@@ -123,8 +123,9 @@ def brush_params(mu: float, radius_m: float, kind: int = KIND_DISC, spin: float 
     offset = np.array(offset_P, dtype=float)
     if offset.shape != (3,) or not np.all(np.isfinite(offset)):
         raise ValueError(f"brush: offset_P must be 3 finite numbers (m), got {offset_P!r}")
-    return BrushParams(mu, radius_m, int(kind), float(spin), v_smooth_m_s, jet_N,
-                       np.ascontiguousarray(offset))
+    return BrushParams(mu=mu, radius_m=radius_m, kind=int(kind), spin=float(spin), v_smooth_m_s=v_smooth_m_s,
+                       jet_N=jet_N,
+                       offset_P=np.ascontiguousarray(offset))
 
 
 def _checked(params: BrushParams) -> BrushParams:

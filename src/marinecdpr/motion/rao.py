@@ -345,7 +345,7 @@ def _read_csv_table(path: str | PathLike, fail: _Fail) -> _CsvTable:
         fail(f"row {reader.line_num}: not readable as CSV ({exc})")
     if header is None:
         fail(f"empty file: expected a header row {_CSV_EXPECTED}")
-    return _CsvTable(header, header_row, rows, row_numbers)
+    return _CsvTable(header=header, header_row=header_row, rows=rows, row_numbers=row_numbers)
 
 
 def _check_field_lengths(table: _CsvTable, fail: _Fail) -> None:
@@ -386,7 +386,8 @@ def _parse_rows(table: _CsvTable, col: dict[str, int], fail: _Fail) -> _RaoRows:
     dof_names = np.char.lower(np.asarray(_column(table, col, "dof"), dtype=str))
     names, inverse = np.unique(dof_names, return_inverse=True)
     known = np.array([DOFS.index(n) if n in DOFS else -1 for n in names.tolist()])
-    return _RaoRows(lines, omega, heading, known[inverse.ravel()], amplitude, phase)
+    return _RaoRows(lines=lines, omega=omega, heading=heading, dof=known[inverse.ravel()], amplitude=amplitude,
+                    phase=phase)
 
 
 def _column(table: _CsvTable, col: dict[str, int], name: str) -> list[str]:
@@ -453,7 +454,7 @@ def _grid_of(rows: _RaoRows) -> _Grid:
     headings, ih = np.unique(rows.heading, return_inverse=True)
     io, ih = io.ravel(), ih.ravel()
     key = (ih * omegas.size + io) * 6 + rows.dof
-    return _Grid(omegas, headings, io, ih, key)
+    return _Grid(omegas=omegas, headings=headings, io=io, ih=ih, key=key)
 
 
 def _check_duplicates(rows: _RaoRows, grid: _Grid, fail: _Fail) -> None:
@@ -731,7 +732,7 @@ def _stored_rao(ds: Any, fail: _Fail) -> _Response:
     freq = _frequencies(ds, rao, "RAO", fail)
     dofs = _labels(rao, "radiating_dof", "RAO", fail)
     X = _arranged(rao, (freq.dim, "wave_direction", "radiating_dof"), "RAO", fail)[freq.keep]
-    return _Response(freq.omega[freq.keep], dofs, X, _coordinate(rao, "wave_direction", fail))
+    return _Response(omega=freq.omega[freq.keep], dofs=dofs, X=X, directions=_coordinate(rao, "wave_direction", fail))
 
 
 def _computed_rao(ds: Any, fail: _Fail) -> _Response:
@@ -741,7 +742,8 @@ def _computed_rao(ds: Any, fail: _Fail) -> _Response:
     dofs = _labels(ds["added_mass"], "radiating_dof", "added_mass", fail)
     terms = _select_dofs(ds, F_da, dofs, fail)
     X = _solve_rao(freq.omega[freq.keep], _arranged_terms(terms, freq, fail), fail)
-    return _Response(freq.omega[freq.keep], dofs, X, _coordinate(terms.force, "wave_direction", fail))
+    return _Response(omega=freq.omega[freq.keep], dofs=dofs, X=X,
+                     directions=_coordinate(terms.force, "wave_direction", fail))
 
 
 def _excitation_force(ds: Any, fail: _Fail) -> Any:
@@ -771,7 +773,7 @@ def _select_dofs(ds: Any, F_da: Any, dofs: list[str], fail: _Fail) -> _Terms:
         F_da = F_da.sel(influenced_dof=dofs)
     except (KeyError, ValueError) as exc:
         fail(f"the radiating and influenced DOFs do not match: {exc}")
-    return _Terms(A, B, M, K, F_da)
+    return _Terms(added_mass=A, damping=B, inertia=M, stiffness=K, force=F_da)
 
 
 def _arranged_terms(terms: _Terms, freq: _Frequencies, fail: _Fail) -> _Terms:
@@ -779,11 +781,11 @@ def _arranged_terms(terms: _Terms, freq: _Frequencies, fail: _Fail) -> _Terms:
     mat = ("influenced_dof", "radiating_dof")
     fdim, keep = freq.dim, freq.keep
     return _Terms(
-        _arranged(terms.added_mass, (fdim,) + mat, "added_mass", fail)[keep],
-        _arranged(terms.damping, (fdim,) + mat, "radiation_damping", fail)[keep],
-        _arranged(terms.inertia, mat, "inertia_matrix", fail),
-        _arranged(terms.stiffness, mat, "hydrostatic_stiffness", fail),
-        _arranged(terms.force, (fdim, "wave_direction", "influenced_dof"), "excitation_force", fail)[keep],
+        added_mass=_arranged(terms.added_mass, (fdim,) + mat, "added_mass", fail)[keep],
+        damping=_arranged(terms.damping, (fdim,) + mat, "radiation_damping", fail)[keep],
+        inertia=_arranged(terms.inertia, mat, "inertia_matrix", fail),
+        stiffness=_arranged(terms.stiffness, mat, "hydrostatic_stiffness", fail),
+        force=_arranged(terms.force, (fdim, "wave_direction", "influenced_dof"), "excitation_force", fail)[keep],
     )
 
 
@@ -831,7 +833,7 @@ def _sorted_axes(omega: np.ndarray, directions: np.ndarray, fail: _Fail) -> _Axe
         fail(f"two wave directions give the same heading {headings[1:][np.diff(headings) == 0.0][0]:g} deg")
     if np.any(np.diff(omega) == 0.0):
         fail(f"omega {omega[1:][np.diff(omega) == 0.0][0]:g} rad/s appears twice")
-    return _Axes(omega, headings, o_order, h_order)
+    return _Axes(omega=omega, headings=headings, o_order=o_order, h_order=h_order)
 
 
 def _six_dof_values(X: np.ndarray, rows: list[tuple[int, int]], axes: _Axes) -> np.ndarray:

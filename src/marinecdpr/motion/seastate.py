@@ -249,7 +249,8 @@ def sea_record(
     coeff = np.zeros((6, omega.size), dtype=complex)
     for d, beta in enumerate(headings):
         coeff += rao.at(omega, float(beta)) * (amplitude[:, d] * np.exp(1j * phase[:, d]))[None, :]
-    return SeaRecord(omega, float(record_s), amplitude, phase, headings, coeff)
+    return SeaRecord(omega=omega, record_s=float(record_s), amplitude=amplitude, phase=phase, heading_deg=headings,
+                     coeff=coeff)
 
 
 HARMONIC_BLOCK = 2**21

@@ -55,8 +55,9 @@ class ShipMotion:
     def take(self, rows) -> "ShipMotion":
         """The motion at some of the samples: ``rows`` indexes the time axis (a slice, an
         integer array or a mask)."""
-        return ShipMotion(self.eta[rows], self.eta_dot[rows], self.eta_ddot[rows], self.R_SO[rows],
-                          self.omega_SO_S[rows], self.alpha_SO_S[rows])
+        return ShipMotion(eta=self.eta[rows], eta_dot=self.eta_dot[rows], eta_ddot=self.eta_ddot[rows],
+                          R_SO=self.R_SO[rows],
+                          omega_SO_S=self.omega_SO_S[rows], alpha_SO_S=self.alpha_SO_S[rows])
 
     @property
     def is_still(self) -> bool:
@@ -80,7 +81,7 @@ def ship_motion(eta: np.ndarray, eta_dot: np.ndarray, eta_ddot: np.ndarray) -> S
     eta_dot = np.asarray(eta_dot, dtype=float)
     eta_ddot = np.asarray(eta_ddot, dtype=float)
     R, omega, alpha = euler_kinematics(eta[:, 3:], eta_dot[:, 3:], eta_ddot[:, 3:])
-    return ShipMotion(eta, eta_dot, eta_ddot, R, omega, alpha)
+    return ShipMotion(eta=eta, eta_dot=eta_dot, eta_ddot=eta_ddot, R_SO=R, omega_SO_S=omega, alpha_SO_S=alpha)
 
 
 def still_ship(n_steps: int) -> ShipMotion:

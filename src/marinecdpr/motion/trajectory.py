@@ -91,7 +91,7 @@ def platform_motion(pose: np.ndarray, pose_dot: np.ndarray, pose_ddot: np.ndarra
     n = pose.shape[0]
     omega = vec.pack(vec.matvec(R, vec.comps(omega_b)), n)
     alpha = vec.pack(vec.matvec(R, vec.comps(alpha_b)), n)
-    return PlatformMotion(pose, pose_dot, pose_ddot, R, omega, alpha)
+    return PlatformMotion(pose=pose, pose_dot=pose_dot, pose_ddot=pose_ddot, R_PC=R, omega_PC_C=omega, alpha_PC_C=alpha)
 
 
 def _quintic(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -380,8 +380,9 @@ def estimate_run(
     runs *= max(int(repeat), 1)
     samples *= max(int(repeat), 1)
     memory = BASE_BYTES + working + series + sea_bytes + pose_bytes
-    return RunSize(command, n, m, poses, runs, int(memory), int(series), int(sea_bytes), int(pose_bytes),
-                   int(components), int(samples))
+    return RunSize(command=command, n_steps=n, n_cables=m, poses=poses, runs=runs, memory_bytes=int(memory),
+                   series_bytes=int(series), sea_bytes=int(sea_bytes), pose_bytes=int(pose_bytes),
+                   wave_components=int(components), wave_samples=int(samples))
 
 
 def describe_run(size: RunSize, grid: tuple[int, int] | None = None) -> str:
@@ -545,8 +546,9 @@ def estimate_bem(*, shape: str, length_m: float, beam_m: float, draught_m: float
     n = bem_panels(shape=shape, length_m=length_m, beam_m=beam_m, draught_m=draught_m, panel_m=panel_m)
     pairs = float(n) * float(n)
     per_frequency = BEM_PAIR_S * pairs + BEM_LU_S * pairs * n + BEM_SOLVE_S * pairs * (6 + headings)
-    return BemSize(n, int(frequencies), int(headings), BASE_BYTES + BEM_MATRIX_BYTES * pairs,
-                   frequencies * per_frequency)
+    return BemSize(panels=n, frequencies=int(frequencies), headings=int(headings),
+                   memory_bytes=BASE_BYTES + BEM_MATRIX_BYTES * pairs,
+                   seconds=frequencies * per_frequency)
 
 
 def _duration(s: float) -> str:

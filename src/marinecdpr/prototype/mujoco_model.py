@@ -193,4 +193,5 @@ def build_model(scenario: Scenario) -> MujocoModel:
                                      model.jnt_dofadr[jid(n)] + (3 if n == "pball" else 1)) for n in names])
     body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "platform")
     offset = np.where(scenario.robot.pulley_radii > 0, PULLEY_INLET_M, 0.0)
-    return MujocoModel(model, xml, ship, qpos, dofs, body, offset)
+    return MujocoModel(model=model, xml=xml, ship_dofs=ship, platform_qpos=qpos, platform_dofs=dofs,
+                       platform_body=body, tendon_offset=offset)

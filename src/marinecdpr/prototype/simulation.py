@@ -210,7 +210,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     ref, ff, _ = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
     brush_h = planned_brush_loads(scenario, ref, ff, n) if brush else None
     f_h, m_h, in_P = known_loads(scenario, ship_h, brush_h)
-    loads = Loads(np.ascontiguousarray(f_h[::2][:n]), np.ascontiguousarray(m_h[::2][:n]), in_P)
+    loads = Loads(f=np.ascontiguousarray(f_h[::2][:n]), m=np.ascontiguousarray(m_h[::2][:n]), in_P=in_P)
     ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
     x0, R0, _, _ = _initial_state(scenario, ref)
     ctx = builder.context(scenario, run, n, plan=ref, ff=ff, ship_h=ship_h, brush_h=brush_h, loads=loads, ctl=ctl,

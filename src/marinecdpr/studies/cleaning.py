@@ -159,7 +159,8 @@ def cleaning_job(
     cov = coverage_map(np.asarray(cleaning.panel_m), [np.asarray(h) for h in cleaning.holes_m],
                        brush[:, [0, 2]], in_band, width_m=cleaning.brush_diameter_m)
     summary = _summary(scenario, p, res, F_n, in_band, cross, cov)
-    return CleaningJob(scenario, p, res, brush, planned, F_n, in_band, cross, cov, summary)
+    return CleaningJob(scenario=scenario, plan=p, result=res, brush=brush, brush_planned=planned, normal_force=F_n,
+                       in_band=in_band, cross_track=cross, coverage=cov, summary=summary)
 
 
 def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.ndarray, in_band: np.ndarray,
@@ -381,10 +382,14 @@ def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pc
     try:
         job = cleaning_job(sc, plant=plant)
     except InfeasibleError:
-        return CleaningCellResult(cell, False, "no tensions within the limits at some step of the plan",
-                                  nan, nan, nan, nan, nan, nan, nan)
+        return CleaningCellResult(cell=cell, operable=False,
+                                  reason="no tensions within the limits at some step of the plan",
+                                  coverage_pct=nan, reachable_coverage_pct=nan, in_band_pct=nan, tension_min_N=nan,
+                                  tension_max_N=nan, job_time_s=nan, hours=nan)
     except SimulationDivergedError:
-        return CleaningCellResult(cell, False, "the closed loop diverged", nan, nan, nan, nan, nan, nan, nan)
+        return CleaningCellResult(cell=cell, operable=False, reason="the closed loop diverged", coverage_pct=nan,
+                                  reachable_coverage_pct=nan, in_band_pct=nan, tension_min_N=nan, tension_max_N=nan,
+                                  job_time_s=nan, hours=nan)
     s = job.summary
     reasons = []
     if s["controller_verdict"] == "bypassed":
@@ -402,9 +407,11 @@ def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pc
         hours = ship_side(s, hull_area_m2=hull_area_m2, move_time_s=move_time_s)["hours"]
     else:  # nothing cleaned: the hull never gets done
         hours = float("inf")
-    return CleaningCellResult(cell, not reasons, "; ".join(reasons), s["coverage_pct"], s["reachable_coverage_pct"],
-                              s["normal_force_in_band_pct"], s["tension_min_N"], s["tension_max_N"], s["job_time_s"],
-                              float(hours))
+    return CleaningCellResult(cell=cell, operable=not reasons, reason="; ".join(reasons),
+                              coverage_pct=s["coverage_pct"], reachable_coverage_pct=s["reachable_coverage_pct"],
+                              in_band_pct=s["normal_force_in_band_pct"], tension_min_N=s["tension_min_N"],
+                              tension_max_N=s["tension_max_N"], job_time_s=s["job_time_s"],
+                              hours=float(hours))
 
 
 @dataclass(frozen=True)
@@ -499,5 +506,7 @@ def cleaning_seas(
     hours = np.array([r.hours for r in results])
     expected = float(np.sum(weight[works] * hours[works]) / np.sum(weight[works])) if works.any() else float("nan")
     with_weather = expected / sea.operability if sea.operability > 0 else float("nan")
-    return CleaningSeas(sea, float(coverage_target_pct), float(in_band_target_pct),
-                        None if hull_area_m2 is None else float(hull_area_m2), expected, with_weather)
+    return CleaningSeas(sea=sea, coverage_target_pct=float(coverage_target_pct),
+                        in_band_target_pct=float(in_band_target_pct),
+                        hull_area_m2=None if hull_area_m2 is None else float(hull_area_m2), expected_hours=expected,
+                        expected_hours_with_weather=with_weather)

@@ -91,41 +91,48 @@ def _held_share(scenario: Scenario, grid: tuple[int, int], progress=None) -> flo
 def _pulleys(scenario: Scenario, p: Plan) -> Effect:
     robot = scenario.robot
     if not robot.has_pulleys:
-        return Effect("pulleys", None, None, "no pulleys (robot.cables[].pulley_radius_m)")
+        return Effect(name="pulleys", length_change_m=None, tension_change_N=None,
+                      note="no pulleys (robot.cables[].pulley_radius_m)")
     point = plan(_point_robot(scenario, winch=True))
     dL = float(np.nanmax(np.abs(p.lengths - point.lengths)))
     dT = float(np.nanmax(np.abs(p.tensions - point.tensions)))
-    return Effect("pulleys", dL, dT, f"largest radius {robot.pulley_radii.max() * 1e3:.3g} mm")
+    return Effect(name="pulleys", length_change_m=dL, tension_change_N=dT,
+                  note=f"largest radius {robot.pulley_radii.max() * 1e3:.3g} mm")
 
 
 def _stretch(scenario: Scenario, p: Plan) -> Effect:
     cab = scenario.simulation.cables
     if cab.model == "ideal":
-        return Effect("stretch", None, None, "ideal cables (simulation.cables.model = \"elastic\" with EA)")
+        return Effect(name="stretch", length_change_m=None, tension_change_N=None,
+                      note="ideal cables (simulation.cables.model = \"elastic\" with EA)")
     stretch = p.tensions * p.lengths / (cab.stiffness_EA_N + p.tensions)  # L - L0 with T = EA (L - L0) / L0
-    return Effect("stretch", float(np.nanmax(stretch)), 0.0, f"EA {cab.stiffness_EA_N:.4g} N")
+    return Effect(name="stretch", length_change_m=float(np.nanmax(stretch)), tension_change_N=0.0,
+                  note=f"EA {cab.stiffness_EA_N:.4g} N")
 
 
 def _sag(scenario: Scenario, p: Plan) -> Effect:
     w = scenario.robot.cable_weight_N_m
     if w == 0.0 or p.sag_lengths is None:
-        return Effect("sag", None, None, "weightless cables (robot.cable_weight_N_m)")
+        return Effect(name="sag", length_change_m=None, tension_change_N=None,
+                      note="weightless cables (robot.cable_weight_N_m)")
     ok = np.isfinite(p.sag_lengths)
     if not ok.any():
-        return Effect("sag", float("nan"), float("nan"), f"{w:g} N/m; no step solved")
+        return Effect(name="sag", length_change_m=float("nan"), tension_change_N=float("nan"),
+                      note=f"{w:g} N/m; no step solved")
     dL = float(np.max(np.abs(p.sag_lengths[ok])))
     dT = float(np.max(np.abs(p.winch_tensions[ok] - p.tensions[ok])))
     note = f"{w:g} N/m"
     unsolved = int((~ok & np.isfinite(p.tensions)).sum())
     if unsolved:
         note += f"; {unsolved} cable-steps slack or unsolved"
-    return Effect("sag", dL, dT, note)
+    return Effect(name="sag", length_change_m=dL, tension_change_N=dT, note=note)
 
 
 def _winches(scenario: Scenario, p: Plan):
     robot = scenario.robot
     if robot.winch is None or p.winch_limit is None:
-        return Effect("winch limits", None, None, "no winch described (robot.winch)"), None
+        return Effect(name="winch limits", length_change_m=None, tension_change_N=None,
+                      note="no winch described (robot.winch)"), None
     params = WinchParams(**robot.winch.model_dump())
     free = plan(_point_robot(scenario, pulleys=True), method=p.method, base_model=p.base_model)
     both = p.feasible & free.feasible
@@ -144,7 +151,7 @@ def _winches(scenario: Scenario, p: Plan):
         note = "the winches' limits bind: the plan keeps within what each can give"
     else:
         note = "every step within the winches' torque, speed and power"
-    return Effect("winch limits", None, dT, note), report
+    return Effect(name="winch limits", length_change_m=None, tension_change_N=dT, note=note), report
 
 
 def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: tuple[int, int] | None = WORKSPACE_GRID,

@@ -282,8 +282,10 @@ def evaluate_cell(template: Scenario, cell: Cell, *, margin_N: float, duration_s
     ok = [run[0] for run in runs]
     errors = np.array([run[4] for run in runs])
     error = float("nan") if np.isnan(errors).all() else float(np.nanmax(errors))
-    return CellResult(cell, all(ok), float(np.mean([run[1] for run in runs])), min(run[2] for run in runs),
-                      runs[0][3], error, realisations, int(sum(ok)), int(sum(run[5] for run in runs)))
+    return CellResult(cell=cell, operable=all(ok), fraction_feasible=float(np.mean([run[1] for run in runs])),
+                      min_margin_N=min(run[2] for run in runs),
+                      n_steps=runs[0][3], max_error_m=error, realisations=realisations, successes=int(sum(ok)),
+                      controller_bypassed=int(sum(run[5] for run in runs)))
 
 
 def _evaluate_record(sc: Scenario, *, margin_N: float, max_error_m: float | None,
@@ -480,8 +482,8 @@ def scatter_cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[
         for i, hs in enumerate(scatter.hs):
             for j, tp in enumerate(scatter.tp):
                 if scatter.probability[i, j] > 0:
-                    cells.append(Cell(len(cells), float(hs), float(tp), float(heading),
-                                      float(scatter.probability[i, j])))
+                    cells.append(Cell(index=len(cells), hs=float(hs), tp=float(tp), heading_deg=float(heading),
+                                      probability=float(scatter.probability[i, j])))
     return cells
 
 
@@ -732,8 +734,9 @@ def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: lis
     k = len(headings)
     total = math.fsum(per_heading[h] for h in headings) / k
     interval = _normal_interval(total, math.fsum(variances[h] for h in headings) / (k * k))
-    return Operability(scatter, headings, results, total, per_heading, limiting, float(margin_N), executor,
-                       interval, intervals)
+    return Operability(scatter=scatter, headings_deg=headings, results=results, operability=total,
+                       per_heading=per_heading, limiting_hs=limiting, margin_N=float(margin_N), executor=executor,
+                       interval=interval, per_heading_interval=intervals)
 
 
 def _cell_variance(r) -> float:

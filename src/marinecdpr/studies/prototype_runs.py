@@ -286,5 +286,6 @@ def virtual_prototype(
     results = {run: results[run] for run in runs}
     # the error budget's workspace maps (a scenario with pulleys or winches) take a while: told as "error_budget"
     maps = None if progress is None else (lambda done, total: progress("error_budget", done, total))
-    return VirtualPrototype(scenario, p, results, summary(p, results, scenario, max_error_m=max_error_m,
+    return VirtualPrototype(scenario=scenario, plan=p, results=results,
+                            summary=summary(p, results, scenario, max_error_m=max_error_m,
                                                           progress=maps))

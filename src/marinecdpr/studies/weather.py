@@ -288,4 +288,5 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
     wait[found] = np.maximum(first[k[found]], t0[found]) - t0[found]
     can = np.isfinite(wait)
     mean = float(wait[can].mean()) if can.any() else float("nan")
-    return Windows(ok, limit, windows, wait, float(duration_h), float(alpha), mean, float(can.mean()))
+    return Windows(workable=ok, limit_m=limit, windows=windows, wait_h=wait, duration_h=float(duration_h),
+                   alpha=float(alpha), mean_wait_h=mean, can_start=float(can.mean()))

@@ -232,4 +232,5 @@ def workspace_map(
     pinv = np.where(inside, pinv_ok / n_steps, np.nan).reshape(shape)
     margin = np.where(inside, np.where(ok == n_steps, np.maximum(worst, 0.0), -np.inf), np.nan).reshape(shape)
     fixed = {"axis": "xyz"[i_w], "value_m": float(fixed_m), "orientation_deg": list(orientation_deg)}
-    return WorkspaceMap((axes[0], axes[1]), grid[0], grid[1], frac, margin, pinv, fixed, n_steps)
+    return WorkspaceMap(axes=(axes[0], axes[1]), u=grid[0], v=grid[1], fraction_feasible=frac, min_margin_N=margin,
+                        pinv_fraction_feasible=pinv, fixed=fixed, n_steps=n_steps)

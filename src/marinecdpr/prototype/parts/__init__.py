@@ -149,7 +149,8 @@ def part(*, step, order: float, reads: tuple[str, ...], writes: tuple[str, ...],
         unknown = sorted((set(reads) | set(writes)) - SIGNALS)
         if unknown:
             raise ValueError(f"part {record.__name__}: no signal {', '.join(unknown)} on the bus")
-        _PARTS[record] = PartSpec(record, step, float(order), tuple(reads), tuple(writes), tensions, mujoco)
+        _PARTS[record] = PartSpec(record=record, step=step, order=float(order), reads=tuple(reads),
+                                  writes=tuple(writes), tensions=tensions, mujoco=mujoco)
         return record
     return register
 
