@@ -81,7 +81,7 @@ def test_the_pose_from_the_encoders_commands_what_a_pose_sensor_would(source):
     sc = with_simulation(sc, cables={"model": "elastic", "stiffness_EA_N": EA})
     enc = with_simulation(sc, sensors={"pose_from": "encoders"})
     h, n = sc.time.step_s, 60
-    ref, _, _ = plans(sc, n)
+    ref = plans(sc, n).ref
     ship = evaluate_base_motion(sc.base_motion, np.arange(n) * h)
     eta = np.stack([ship.eta, ship.eta_dot, ship.eta_ddot], axis=1)
     by_sensor, by_encoders = Controller(sc, n_steps=n), Controller(enc, n_steps=n)
@@ -111,7 +111,7 @@ def test_the_pose_from_the_encoders_commands_what_a_pose_sensor_would(source):
 def test_lengths_no_pose_has_are_flagged():
     sc = with_simulation(marinecdpr.load_scenario("paper"), sensors={"pose_from": "encoders"})
     ctl = Controller(sc, n_steps=10)
-    ref, _, _ = plans(sc, 10)
+    ref = plans(sc, 10).ref
     L = cable_kinematics(ref.pose[None, 0, :3], matrix_from_euler(ref.pose[None, 0, 3:]),
                          sc.robot.frame_anchors, sc.robot.platform_anchors).lengths[0]
     cmd = ctl.step(0.0, eta=np.zeros((3, 6)), lengths=L * [1.0, 1.0, 1.3, 1.0], length_rates=np.zeros(4),

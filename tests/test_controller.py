@@ -55,7 +55,7 @@ def on_the_plan(scenario, n=N):
     """The plan at mid-step as the controller's measurements: pose, twist and the ship's
     motion, time-stamped at t_k + h/2."""
     h = scenario.time.step_s
-    _, ff, _ = plans(scenario, n)
+    ff = plans(scenario, n).ff
     ship = evaluate_base_motion(scenario.base_motion, (np.arange(n) + 0.5) * h)
     eta = np.stack([ship.eta, ship.eta_dot, ship.eta_ddot], axis=1)  # (n, 3, 6)
     return ff, matrix_from_euler(ff.pose[:, 3:]), eta

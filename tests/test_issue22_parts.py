@@ -63,7 +63,7 @@ def _arrays(x):
 
 def _parts(name):
     sc = VARIANTS[name]
-    _, _, _, proto = prototype(sc, "closed_loop", 40)
+    proto = prototype(sc, "closed_loop", 40)
     return proto.system
 
 

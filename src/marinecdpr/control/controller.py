@@ -19,6 +19,8 @@ Example (a plain Python loop; ``read_*`` and ``send`` are the robot's own)::
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -42,15 +44,37 @@ from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajecto
 from marinecdpr.planning.planner import Plan, plan_at
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Controller", "controller_parts", "plans", "planned_brush_loads", "known_loads", "reference",
-           "predictor_options"]
+__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "plans", "planned_brush_loads", "known_loads",
+           "step_loads", "reference", "predictor_options"]
 
 
-def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_model: str = "moving", ship_h=None):
+@dataclass(frozen=True)
+class Plans:
+    """The plans a run flies (:func:`plans`): ``ref`` at t_k (what the run is judged against),
+    ``ff`` at mid-step t_k + h/2 (what the controller flies), and the ship's motion on the
+    half-step grid ``ship_h`` (:class:`~marinecdpr.motion.basemotion.BaseMotion`; row 2k:
+    t_k, 2k + 1: t_k + h/2)."""
+
+    ref: Plan
+    ff: Plan
+    ship_h: Any
+
+
+@dataclass(frozen=True)
+class BrushLoads:
+    """The cleaning brush's planned loads on the half-step grid (:func:`planned_brush_loads`):
+    f, m (2 n + 1, 3), N and N m, in C about P, and the planned R_PC (2 n + 1, 3, 3)."""
+
+    f: np.ndarray
+    m: np.ndarray
+    R_PC: np.ndarray
+
+
+def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_model: str = "moving",
+          ship_h=None) -> Plans:
     """The plan at t_k (what a run is judged against) and the plan to fly at mid-step,
     t_k + h/2, for the first n steps, with the ship's motion from its half-step grid
-    ``ship_h`` (rows 2k: t_k; 2k + 1: t_k + h/2; computed if not given). Returns
-    (ref, ff, ship_h).
+    ``ship_h`` (rows 2k: t_k; 2k + 1: t_k + h/2; computed if not given), as :class:`Plans`.
 
     Raises
     ------
@@ -68,7 +92,7 @@ def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_mod
     for p in (ref, ff):
         if not p.feasible[:n].all():
             raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: {p.infeasibility()}")
-    return ref, ff, ship_h
+    return Plans(ref=ref, ff=ff, ship_h=ship_h)
 
 
 def reference(ff: Plan, *, sag: bool = False) -> Reference:
@@ -133,11 +157,10 @@ def predictor(scenario: Scenario):
                           **predictor_options(mru))
 
 
-def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):
+def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int) -> BrushLoads | None:
     """The cleaning brush's loads along the planned path at the preload, on the half-step
     grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
-    t_n): f, m (2 n + 1, 3) in C about P, and R_PC (2 n + 1, 3, 3) planned; None without
-    ``[cleaning]``."""
+    t_n), as :class:`BrushLoads`; None without ``[cleaning]``."""
     if scenario.cleaning is None:
         return None
     last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
@@ -146,11 +169,12 @@ def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int):
     twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
     R_PC = matrix_from_euler(pose[:, 3:])
     f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
-    return f_b, m_b, R_PC
+    return BrushLoads(f=f_b, m=m_b, R_PC=R_PC)
 
 
-def known_loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.ndarray, bool]:
-    """The disturbance on the half-step grid, in C, or in P (then ``in_P``), with the brush's
+def known_loads(scenario: Scenario, ship_h, brush_h: BrushLoads | None) -> Loads:
+    """The disturbance on the half-step grid (2 n + 1 rows), as :class:`~marinecdpr.control.
+    records.Loads`: in C, or in P (then ``in_P``), with the brush's
     planned loads ``brush_h`` (:func:`planned_brush_loads`) if any: the controller's load
     model (the prototype's plant replaces the brush's by those at the actual velocity).
 
@@ -164,11 +188,18 @@ def known_loads(scenario: Scenario, ship_h, brush_h) -> tuple[np.ndarray, np.nda
     if not in_P:
         f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
     if brush_h is not None:
-        f_b, m_b, R_PC = brush_h
+        f_b, m_b = brush_h.f, brush_h.m
         if in_P:  # into P with the planned orientation
-            f_b, m_b = (np.einsum("nji,nj->ni", R_PC, x) for x in (f_b, m_b))
+            f_b, m_b = (np.einsum("nji,nj->ni", brush_h.R_PC, x) for x in (f_b, m_b))
         f, m = f + f_b, m + m_b
-    return np.ascontiguousarray(f, dtype=float), np.ascontiguousarray(m, dtype=float), in_P
+    return Loads(f=np.ascontiguousarray(f, dtype=float), m=np.ascontiguousarray(m, dtype=float), in_P=in_P)
+
+
+def step_loads(loads_h: Loads, n: int) -> Loads:
+    """The half-step grid's loads ``loads_h`` (:func:`known_loads`) at t_k, k < n: the
+    controller's model of the known loads."""
+    return Loads(f=np.ascontiguousarray(loads_h.f[::2][:n]), m=np.ascontiguousarray(loads_h.m[::2][:n]),
+                 in_P=loads_h.in_P)
 
 
 def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool) -> ControllerParts:
@@ -265,11 +296,9 @@ class Controller:
                  plan: Plan | None = None) -> None:
         self.step_s = scenario.time.step_s
         self.n_steps = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
-        ref, ff, ship_h = plans(scenario, self.n_steps, reference=plan)
-        f, m, in_P = known_loads(scenario, ship_h, planned_brush_loads(scenario, ref, ff, self.n_steps))
-        loads = Loads(f=np.ascontiguousarray(f[::2][:self.n_steps]), m=np.ascontiguousarray(m[::2][:self.n_steps]),
-                      in_P=in_P)
-        self.parts = controller_parts(scenario, ff, loads, closed=closed)
+        p = plans(scenario, self.n_steps, reference=plan)
+        loads_h = known_loads(scenario, p.ship_h, planned_brush_loads(scenario, p.ref, p.ff, self.n_steps))
+        self.parts = controller_parts(scenario, p.ff, step_loads(loads_h, self.n_steps), closed=closed)
         self._clock = np.zeros(3)
         self._m = scenario.robot.n_cables
         self._encoders = self.parts.gains.pose_from == ENCODERS

@@ -109,8 +109,9 @@ class Gains(NamedTuple):
 
 
 class Loads(NamedTuple):
-    """The known disturbance on the platform at t_k: f, m (n_steps, 3), N and N m; in C, or
-    in P (turned with the platform's orientation) if ``in_P``."""
+    """The known disturbance on the platform: f, m (n_steps, 3) at t_k (what the controller
+    and the MuJoCo ship drive read), or (2 n + 1, 3) on the half-step grid (what the own plant
+    reads), N and N m; in C, or in P (turned with the platform's orientation) if ``in_P``."""
 
     f: np.ndarray
     m: np.ndarray

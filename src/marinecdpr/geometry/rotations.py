@@ -15,6 +15,8 @@ rates: no small-angle approximation (MODEL_NOTES, "Frames and conventions").
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -180,9 +182,18 @@ def _euler_series(ang, rate, acc, Rt, wt, at):
             at[i, k] = v[12 + i]
 
 
+class EulerKinematics(NamedTuple):
+    """:func:`euler_kinematics`'s result: R (..., 3, 3), and omega_b, alpha_b (..., 3) in the
+    body frame, rad/s and rad/s^2 (None without rates)."""
+
+    R: np.ndarray
+    omega_b: np.ndarray | None
+    alpha_b: np.ndarray | None
+
+
 def euler_kinematics(
     angles: np.ndarray, rates: np.ndarray | None = None, accels: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+) -> EulerKinematics:
     """Rotation matrix and body-frame angular velocity and acceleration from Euler angles.
 
     ``R = Rz(psi) Ry(theta) Rx(phi)`` maps body-frame vectors to the reference
@@ -207,8 +218,8 @@ def euler_kinematics(
 
     Returns
     -------
-    R : ndarray, shape (..., 3, 3)
-    omega_b, alpha_b : ndarray, shape (..., 3), or None without rates
+    EulerKinematics
+        R : ndarray, shape (..., 3, 3); omega_b, alpha_b : ndarray, shape (..., 3), or None without rates:
         rad/s and rad/s^2, in the body frame. Views of time-last buffers (R[..., i, j] is
         contiguous).
     """
@@ -226,8 +237,9 @@ def euler_kinematics(
     _euler_series(rows(angles), rows(rates), rows(accels), Rt, wt, at)
     R = np.moveaxis(Rt.reshape((3, 3) + shape), (0, 1), (-2, -1))
     if not with_rates:
-        return R, None, None
-    return R, np.moveaxis(wt.reshape((3,) + shape), 0, -1), np.moveaxis(at.reshape((3,) + shape), 0, -1)
+        return EulerKinematics(R=R, omega_b=None, alpha_b=None)
+    return EulerKinematics(R=R, omega_b=np.moveaxis(wt.reshape((3,) + shape), 0, -1),
+                           alpha_b=np.moveaxis(at.reshape((3,) + shape), 0, -1))
 
 
 def matrix_from_euler(angles: np.ndarray) -> np.ndarray:
@@ -243,7 +255,7 @@ def matrix_from_euler(angles: np.ndarray) -> np.ndarray:
     R : ndarray, shape (..., 3, 3)
         Maps body-frame vectors to the reference frame.
     """
-    return euler_kinematics(angles)[0]
+    return euler_kinematics(angles).R
 
 
 def skew(v: np.ndarray) -> np.ndarray:

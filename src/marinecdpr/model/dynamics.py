@@ -32,6 +32,7 @@ like), reading and writing time-last buffers: the arrays they return are views o
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -141,10 +142,18 @@ def absolute_motion(
     return AbsoluteMotion(*(out[p].T for p in range(5)))
 
 
+class InertialTerms(NamedTuple):
+    """:func:`inertial_frame_terms`' result: M, C (n_steps, 6, 6) and G (n_steps, 6) of eq. (13), in O."""
+
+    M: np.ndarray
+    C: np.ndarray
+    G: np.ndarray
+
+
 def inertial_frame_terms(
     R_SO: np.ndarray, R_PC: np.ndarray, omega_PO_O: np.ndarray, *, mass: float,
     I_PP: np.ndarray, gravity: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> InertialTerms:
     """M, C and G of eq. (13): M X'' + C X' - G - F_r = J^T T, all in O.
 
     Parameters
@@ -161,19 +170,17 @@ def inertial_frame_terms(
 
     Returns
     -------
-    M : ndarray, shape (n_steps, 6, 6)
-        diag(m E, I) with I = R_SO R_PC I_PP R_PC^T R_SO^T.
-    C : ndarray, shape (n_steps, 6, 6)
-        diag(0, [omega_PO x] I).
-    G : ndarray, shape (n_steps, 6)
-        (m g, 0) with g = (0, 0, -g): the paper's "G = [0 0 mg 0 0 0]" with its g = -9.8.
+    InertialTerms
+        M (n_steps, 6, 6): diag(m E, I) with I = R_SO R_PC I_PP R_PC^T R_SO^T;
+        C (n_steps, 6, 6): diag(0, [omega_PO x] I);
+        G (n_steps, 6): (m g, 0) with g = (0, 0, -g): the paper's "G = [0 0 mg 0 0 0]" with its g = -9.8.
     """
     wt = _time_last(omega_PO_O)
     n = wt.shape[1]
     Mt, Ct, Gt = np.empty((6, 6, n)), np.empty((6, 6, n)), np.empty((6, n))
     K.inertial_series(_time_last(R_SO), _time_last(R_PC), wt, float(mass), _const(I_PP), float(gravity),
                       Mt, Ct, Gt)  # eq. (13)
-    return Mt.transpose(2, 0, 1), Ct.transpose(2, 0, 1), Gt.T
+    return InertialTerms(M=Mt.transpose(2, 0, 1), C=Ct.transpose(2, 0, 1), G=Gt.T)
 
 
 def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarray:

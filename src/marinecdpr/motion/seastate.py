@@ -24,6 +24,8 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
+from typing import NamedTuple
+
 import numpy as np
 
 __all__ = [
@@ -293,7 +295,16 @@ def _grid_record(coeff_bytes: bytes, k_index_bytes: bytes, m: int) -> np.ndarray
     return _irfft_rows(coeff, np.frombuffer(k_index_bytes, dtype=np.int64), m)
 
 
-def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+class ShipCoordinates(NamedTuple):
+    """:func:`synthesize`'s result: the ship's eta (n_steps, 6), m and rad, and its first and
+    second time derivatives."""
+
+    eta: np.ndarray
+    eta_dot: np.ndarray
+    eta_ddot: np.ndarray
+
+
+def synthesize(rec: SeaRecord, t: np.ndarray) -> ShipCoordinates:
     """The ship's coordinates eta and their exact derivatives at times t.
 
     Times on the record's uniform grid (t = n record_s / m for an integer m up to
@@ -309,8 +320,9 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
 
     Returns
     -------
-    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
-        m and rad, and their first and second time derivatives.
+    ShipCoordinates
+        eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6): m and rad, and their first and
+        second time derivatives.
     """
     t = np.asarray(t, dtype=float)
     w = rec.omega
@@ -336,7 +348,7 @@ def synthesize(rec: SeaRecord, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, n
                         vals = grid = _irfft_rows(coeff, k_index, m, idx)
     if grid is None:
         vals = _harmonic(coeff, w, t)
-    return vals[0:6].T, vals[6:12].T, vals[12:18].T
+    return ShipCoordinates(eta=vals[0:6].T, eta_dot=vals[6:12].T, eta_ddot=vals[12:18].T)
 
 
 def wave_elevation(rec: SeaRecord, t: np.ndarray) -> np.ndarray:

@@ -190,7 +190,7 @@ def _coverage_motion(config: CoverageTrajectory, cleaning: Cleaning | None, t: n
         raise ScenarioError("missing: a coverage trajectory cleans the [cleaning] section's panel", key="cleaning")
     p, v, a = cleaning_path(cleaning).evaluate(t - config.start_time_s)
     angles = np.radians(config.orientation_deg)
-    R = euler_kinematics(angles[None], np.zeros((1, 3)), np.zeros((1, 3)))[0][0]
+    R = euler_kinematics(angles[None], np.zeros((1, 3)), np.zeros((1, 3))).R[0]
     r_C = R @ np.asarray(cleaning.brush_offset_m, dtype=float)  # brush centre from P's origin, in C
     n = t.size
     pose, pose_dot, pose_ddot = np.zeros((n, 6)), np.zeros((n, 6)), np.zeros((n, 6))

@@ -42,7 +42,7 @@ class Context:
     plan: Any  # the plan at t_k (what the run is judged against)
     ff: Any  # the plan at mid-step the controller flies
     ship_h: Any
-    brush_h: Any
+    brush_h: Any  # BrushLoads on the half-step grid, or None
     loads: Loads
     ctl: ControllerParts
     model: RobotModel

@@ -51,8 +51,8 @@ class Rig:
         n = self.n_steps = sc.time.n_steps if n_steps is None else min(n_steps, sc.time.n_steps)
         # the simulation's builder with only the cables: ideal, they apply the bus's T_app
         # (the caller's tensions); no brush
-        ship_h, ref, _, proto = prototype(sc, "open_loop", n, include=lambda name: name == "cables",
-                                            given=("T_cmd",), brush=False)
+        proto = prototype(sc, "open_loop", n, include=lambda name: name == "cables", given=("T_cmd",), brush=False)
+        ship_h, ref = proto.ship_h, proto.ref
         self._eta = np.ascontiguousarray(np.stack([ship_h.eta, ship_h.eta_dot, ship_h.eta_ddot], axis=1)[0:2 * n:2])
         self._plan_x = np.ascontiguousarray(ref.pose[:n, :3])
         self._system = proto.system

@@ -27,12 +27,12 @@ them over the step is second-order accurate.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
 from marinecdpr.compiled_cache import bound
-from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans
+from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans, step_loads
 from marinecdpr.control.records import Loads
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import builder
@@ -154,15 +154,16 @@ def simulate(
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
     check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
     t = np.arange(n) * h
-    ship_h, ref, ff, asm = prototype(scenario, run, n, reference=reference)
+    asm = prototype(scenario, run, n, reference=reference)
+    ship_h, ref = asm.ship_h, asm.ref
     x0, R0, v0, w0 = _initial_state(scenario, ref)
     system = asm.system
     if plant == "own":
         y = np.concatenate([x0, quaternion_from_matrix(R0), v0, w0])
-        loads = asm.loads
+        loads = asm.loads_h
         own = OwnPlant(y=y, R_SO=np.ascontiguousarray(ship_h.R_SO), w_s=np.ascontiguousarray(ship_h.omega_SO_S),
                        al_s=np.ascontiguousarray(ship_h.alpha_SO_S), a_SO=np.ascontiguousarray(ship_h.a_SO_O),
-                       f=loads[0], m=loads[1], in_P=loads[2])
+                       f=loads.f, m=loads.m, in_P=loads.in_P)
         fallbacks = _blocks(scenario, run, t, progress, bound(own_loop, h, own, system))
         ship_error = 0.0  # the own plant moves the ship exactly
     else:
@@ -181,42 +182,43 @@ def simulate(
 
 
 @dataclass(frozen=True)
-class Prototype:
-    """The assembled prototype of a run: its :class:`~marinecdpr.prototype.builder.System`,
-    each part by its record's class name, and the known loads: on the half-step grid
-    ``loads`` (f, m (2 n + 1, 3) in C, or in P if ``in_P``) that the own plant applies, and
-    at t_k ``known`` (the controller's model of them, which MuJoCo's ship drive applies)."""
+class Prototype(builder.Assembly):
+    """The assembled prototype of a run (:class:`~marinecdpr.prototype.builder.Assembly`: its
+    system and each part by its record's class name) with what it was built from: the ship's
+    motion on the half-step grid ``ship_h``, the plans ``ref`` (at t_k) and ``ff`` (at
+    mid-step), and the known loads: on the half-step grid ``loads_h`` (f, m (2 n + 1, 3) in C,
+    or in P if ``in_P``) that the own plant applies, and at t_k ``known`` (the controller's
+    model of them, which MuJoCo's ship drive applies)."""
 
-    system: builder.System
-    by_name: dict
-    loads: tuple
+    ship_h: Any
+    ref: Plan
+    ff: Plan
+    loads_h: Loads
     known: Loads
-
-    def get(self, name: str):
-        """The part whose record class is ``name``, or None."""
-        return self.by_name.get(name)
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
               given: tuple[str, ...] = (), brush: bool = True):
-    """The ship's motion on the half-step grid, the plan at t_k and at mid-step, and the run's
-    assembled :class:`Prototype` (parts built from the scenario by
+    """The run's assembled :class:`Prototype` with the ship's motion on the half-step grid and
+    the plans at t_k and at mid-step (parts built from the scenario by
     :func:`~marinecdpr.prototype.builder.assemble`; ``include`` chooses part modules, ``given``
     names the signals the caller writes instead)."""
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
-    ref, ff, _ = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
+    p = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
+    ref, ff = p.ref, p.ff
     brush_h = planned_brush_loads(scenario, ref, ff, n) if brush else None
-    f_h, m_h, in_P = known_loads(scenario, ship_h, brush_h)
-    loads = Loads(f=np.ascontiguousarray(f_h[::2][:n]), m=np.ascontiguousarray(m_h[::2][:n]), in_P=in_P)
+    loads_h = known_loads(scenario, ship_h, brush_h)
+    loads = step_loads(loads_h, n)
     ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
     x0, R0, _, _ = _initial_state(scenario, ref)
     ctx = builder.context(scenario, run, n, plan=ref, ff=ff, ship_h=ship_h, brush_h=brush_h, loads=loads, ctl=ctl,
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
-    return ship_h, ref, ff, Prototype(system=asm.system, by_name=asm.by_name, loads=(f_h, m_h, in_P), known=loads)
+    return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
+                     known=loads)
 
 
 def _initial_state(scenario: Scenario, ref: Plan):

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator, NamedTuple
 
 import numpy as np
 
@@ -268,13 +268,22 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
 
 
 # ------------------------------------------------------------------------ RAOs, windows
-def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "box approximation"):
+class RaoFiles(NamedTuple):
+    """:func:`write_rao`'s result: the RAOs read back from rao.nc, the box approximation
+    (both :class:`~marinecdpr.motion.rao.RAO`) and the paths written."""
+
+    bem: Any
+    approx: Any
+    paths: list
+
+
+def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "box approximation") -> RaoFiles:
     """A BEM solution's files (:func:`~marinecdpr.motion.bem.hull_bem`): ``rao.nc``
     (Capytaine's dataset, ``source = "capytaine"``), the same table as ``rao.csv``
     (``source = "csv"``, read without the bem extra; its first lines say how it was made)
     and ``rao.png`` beside the box approximation of ``box`` (box_hull_rao's arguments),
     dashed and named ``box_label`` in the legend.
-    Returns (the RAOs read back from rao.nc, the box approximation, the paths)."""
+    Returns :class:`RaoFiles`."""
     import capytaine as cpt
 
     from marinecdpr.motion.rao import box_hull_rao, read_capytaine, write_rao_csv
@@ -291,7 +300,7 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "bo
                           omega=bem.omega, heading_deg=bem.heading_deg)
     figure = plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=approx,
                        beside_label=box_label)
-    return bem, approx, [nc, table, figure]
+    return RaoFiles(bem=bem, approx=approx, paths=[nc, table, figure])
 
 
 def write_windows(series, windows, folder: Path, *, series_name: str, design_limit: str,

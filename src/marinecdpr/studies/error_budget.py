@@ -31,7 +31,7 @@ change it (they change the lengths a winch pays out, not the tensions that hold 
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Any, Callable, NamedTuple
 
 from dataclasses import dataclass, replace
 
@@ -154,8 +154,18 @@ def _winches(scenario: Scenario, p: Plan):
     return Effect(name="winch limits", length_change_m=None, tension_change_N=dT, note=note), report
 
 
+class ErrorBudget(NamedTuple):
+    """:func:`error_budget`'s result: the effects (a tuple of :class:`Effect`), the winches'
+    :class:`~marinecdpr.model.winch.WinchReport` (None without ``robot.winch``), and the share
+    of the point model's workspace map held at every step (None if no map was made)."""
+
+    effects: tuple
+    report: Any
+    held_share: float | None
+
+
 def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: tuple[int, int] | None = WORKSPACE_GRID,
-                 progress: Callable[[int, int], None] | None = None):
+                 progress: Callable[[int, int], None] | None = None) -> ErrorBudget:
     """The effects of pulleys, stretch, sag and winch limits on the scenario's plan.
 
     Parameters
@@ -172,10 +182,7 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
 
     Returns
     -------
-    (effects, winch report, held share)
-        A tuple of :class:`Effect`, the winches' :class:`~marinecdpr.model.winch.WinchReport`
-        (None without ``robot.winch``), and the share of the point model's workspace map held
-        at every step (None if no map was made).
+    ErrorBudget
     """
     p = plan(scenario) if p is None else p
     winch, report = _winches(scenario, p)
@@ -201,7 +208,7 @@ def error_budget(scenario: Scenario, p: Plan | None = None, *, workspace_grid: t
                 kept = dict(pulleys=e.name == "pulleys", winch=e.name == "winch limits")
                 change = share(_point_robot(scenario, **kept), 1 + mapped.index(i)) - base
             effects[i] = replace(e, workspace_change=change)
-    return tuple(effects), report, base
+    return ErrorBudget(effects=tuple(effects), report=report, held_share=base)
 
 
 def budget_summary(effects, report, held_share=None) -> dict:

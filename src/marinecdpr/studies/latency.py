@@ -170,7 +170,7 @@ def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     check_latency_calls(int(calls))  # at most MAX_LATENCY_CALLS, and what memory holds
     h = scenario.time.step_s
     n = min(calls, scenario.time.n_steps)
-    ref, _, _ = plans(scenario, n)
+    ref = plans(scenario, n).ref
     ship = evaluate_base_motion(scenario.base_motion, np.arange(n) * h)
     c = np.ascontiguousarray
     x, v, w = c(ref.pose[:, :3]), c(ref.twist[:, :3]), c(ref.twist[:, 3:])

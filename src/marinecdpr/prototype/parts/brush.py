@@ -62,7 +62,7 @@ def build(context) -> list:
     cleaning = scenario.cleaning
     if cleaning is None:
         return []
-    f_b, m_b, _ = context.brush_h
+    f_b, m_b = context.brush_h.f, context.brush_h.m
     return [BrushContact(params=cleaning_brush(cleaning), n_C=np.asarray(cleaning.hull_normal, dtype=float),
                          F_n=np.ascontiguousarray(normal_force(context.plan, scenario)[:n]),
                          f_plan=np.ascontiguousarray(f_b[::2][:n]), m_plan=np.ascontiguousarray(m_b[::2][:n]),
