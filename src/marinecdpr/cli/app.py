@@ -1338,15 +1338,22 @@ def _interrupt_thread_soon(thread_id: int) -> None:  # pragma: no cover - a help
     signal.pthread_kill(thread_id, signal.SIGINT)
 
 
+_swallowed_interrupt = False
+"""Set once a Ctrl-C was swallowed (:func:`_redeliver_swallowed_interrupt`): a command that
+ends before its redelivery reaches it still exits 130."""
+
+
 def _redeliver_swallowed_interrupt(unraisable) -> None:
     """``sys.unraisablehook`` while a command runs: a Ctrl-C whose ``KeyboardInterrupt``
     was raised where Python can only report it (a weakref callback, e.g. the import
     system's module locks, or a ``__del__``) is delivered again to the main thread, where
     it interrupts the command; anything else is reported as Python would."""
+    global _swallowed_interrupt
     if unraisable.exc_type is not None and issubclass(unraisable.exc_type, KeyboardInterrupt):
         import _thread
         import threading
 
+        _swallowed_interrupt = True  # main() ends with exit 130 if the command ends first
         # from another thread, once this hook has returned (sent from here, the handler
         # would raise at once, inside the hook); _thread's start does not wait for the thread
         _thread.start_new_thread(_interrupt_thread_soon, (threading.main_thread().ident,))
@@ -1372,8 +1379,11 @@ def main() -> None:
     except KeyboardInterrupt:
         _fail("interrupted", EXIT_INTERRUPTED)
     except SystemExit as exc:
-        if exc.code == EXIT_INTERRUPTED and not _interruption_said:
+        code = EXIT_INTERRUPTED if _swallowed_interrupt and exc.code in (0, None) else exc.code
+        if code == EXIT_INTERRUPTED and not _interruption_said:
             err_console.print(_styled("error:", "bold red", "interrupted"), highlight=False)
+        if code != exc.code:  # the Ctrl-C came back only after the command had ended
+            raise SystemExit(code) from None
         raise
     finally:
         if signal.getsignal(signal.SIGINT) is signal.default_int_handler:

@@ -52,7 +52,7 @@ __all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "plans", "pl
 class Plans:
     """The plans a run flies (:func:`plans`): ``ref`` at t_k (what the run is judged against),
     ``ff`` at mid-step t_k + h/2 (what the controller flies), and the ship's motion on the
-    half-step grid ``ship_h`` (:class:`~marinecdpr.motion.basemotion.BaseMotion`; row 2k:
+    half-step grid ``ship_h`` (:class:`~marinecdpr.motion.ship.ShipMotion`; row 2k:
     t_k, 2k + 1: t_k + h/2)."""
 
     ref: Plan
