@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 from numba.typed import List
 
-from marinecdpr.borrowed import borrowed
+from marinecdpr.borrowed import borrowed_first
 from marinecdpr.compiled_cache import entry_point
 from marinecdpr.control.records import (
     ENCODERS, POSE_SENSOR, PREDICTIONS, ControllerParts, Gains, Loads, Reference, RobotModel, empty_command,
@@ -227,7 +227,7 @@ def _held(parts):
 def _step(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
     """:func:`control_step` on a measurement given as arrays (copied into the measurement
     record); ``held``: :func:`_held`'s list of the controller's records."""
-    ctl = borrowed(held[0])  # the list holds the records: no reference counting of their arrays
+    ctl = borrowed_first(held)  # the records read in place from their list: no reference counting of their arrays
     meas = ctl.meas
     for i in range(L.shape[0]):
         meas.L[i] = L[i]
@@ -243,7 +243,7 @@ def _step(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
     for j in range(3):
         for i in range(6):
             meas.eta[j, i] = eta[j, i]
-    return control_step(k, h, ctl)
+    return control_step(k, h, held)
 
 
 def _array(a, name: str, shape: tuple) -> np.ndarray:
@@ -258,11 +258,10 @@ def _array(a, name: str, shape: tuple) -> np.ndarray:
 _FLOAT = np.dtype(np.float64)
 
 
-def _entry_point(held):
+def _entry_point(held, m: int):
     """:func:`_step` compiled for these records (:func:`~marinecdpr.compiled_cache.entry_point`,
     without running a step); a measurement of another dtype or layout would not be
     converted, so :meth:`Controller.step` converts its arguments first."""
-    m = held[0].cmd.T_cmd.shape[0]
     z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
     return entry_point(_step, (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm))
 
@@ -304,7 +303,7 @@ class Controller:
         self._encoders = self.parts.gains.pose_from == ENCODERS
         self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(self._m)
         self._held = _held(self.parts)
-        self._call = _entry_point(self._held)
+        self._call = _entry_point(self._held, self._m)  # m given: a typed list read from Python compiles its getitem
 
     @property
     def command(self):

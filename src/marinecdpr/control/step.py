@@ -24,7 +24,7 @@ from __future__ import annotations
 from numba import njit
 from numba.extending import overload
 
-from marinecdpr.borrowed import borrowed
+from marinecdpr.borrowed import borrowed_first
 from marinecdpr.geometry.elastic import stretched_length, unstretched_length
 from marinecdpr.geometry.forward import pose_from_lengths_step
 from marinecdpr.geometry.pulley import pulleys_step
@@ -74,14 +74,14 @@ def cables_at(x, R, model, L, J):
 
 
 @njit(cache=_cache, inline="always")
-def estimate_state(k, h, ctl):
+def estimate_state(k, h, meas, ref, work, how, predictor):
     """The platform's and the ship's state at mid-step, t_k + h/2, from the measurement.
 
     Writes x, R, v, w of the platform in C and the ship's R_SO, omega and alpha in S to
-    ``ctl.work``; returns the acceleration of S's origin in O (3,). Each is predicted from
-    its measurement's time stamp to mid-step, first order in the plan's accelerations.
+    ``work``; returns the acceleration of S's origin in O (3,). Each is predicted from its
+    measurement's time stamp to mid-step, first order in the plan's accelerations. ``how``
+    is the gains' ``prediction``.
     """
-    meas, ref, work = ctl.meas, ctl.ref, ctl.work
     x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
     WR = work.m3[1]
     hh = (meas.clock[0] - meas.clock[1]) + 0.5 * h  # the pose's age plus half a step
@@ -104,10 +104,9 @@ def estimate_state(k, h, ctl):
         for j in range(3):
             R_m[i, j] = R_m[i, j] + hh * WR[i, j]
     eta, eta_p = meas.eta, work.eta
-    how = ctl.gains.prediction
     if how == 2:  # the autoregressive model (the kinematic extrapolation while it warms up)
         fc = work.forecast
-        if ship_forecast(ctl.predictor, meas.clock[2], eta, meas.clock[0] + 0.5 * h, fc) >= 0:
+        if ship_forecast(predictor, meas.clock[2], eta, meas.clock[0] + 0.5 * h, fc) >= 0:
             for i in range(6):
                 eta_p[0, i] = fc[0, i]
                 eta_p[1, i] = fc[1, i]
@@ -140,7 +139,7 @@ def _ship_forecast(predictor, t_sample, eta, t, fc):
     return impl
 
 
-def encoders_pose(fk, ctl):
+def encoders_pose(fk, meas, model, work, gains):
     """:func:`pose_from_encoders` where the controller has the encoders' forward kinematics;
     0 (nothing done) where its pose comes from a sensor (:class:`NoForwardWork`). Compiled
     code only."""
@@ -148,14 +147,14 @@ def encoders_pose(fk, ctl):
 
 
 @overload(encoders_pose, jit_options={"cache": True})
-def _encoders_pose(fk, ctl):
+def _encoders_pose(fk, meas, model, work, gains):
     if getattr(fk, "instance_class", None) is NoForwardWork:
-        return lambda fk, ctl: 0
-    return lambda fk, ctl: pose_from_encoders(ctl)
+        return lambda fk, meas, model, work, gains: 0
+    return lambda fk, meas, model, work, gains: pose_from_encoders(meas, model, work, gains)
 
 
 @njit(cache=_cache)
-def pose_from_encoders(ctl):
+def pose_from_encoders(meas, model, work, gains):
     """The platform's pose and twist from the encoders, written to the measurement.
 
     The encoders' unstretched lengths are stretched by the measured tensions (L = L0 (1 +
@@ -164,7 +163,6 @@ def pose_from_encoders(ctl):
     squares on l' = (dl/dq) q'. Returns the forward kinematics' status (0: converged; see
     :func:`~marinecdpr.geometry.forward.pose_from_lengths_step`).
     """
-    meas, model, work, gains = ctl.meas, ctl.model, ctl.work, ctl.gains
     for i in range(meas.L.shape[0]):
         work.Lg[i] = stretched_length(meas.L[i], meas.T[i], model.EA)
     q = work.q
@@ -203,12 +201,11 @@ def pose_from_encoders(ctl):
 
 
 @njit(cache=_cache, inline="always")
-def _feedback_tensions(k, h, ctl):
+def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predictor):
     """Computed torque on the mid-step reference, the wrench it needs (eq. 15) and the
     tension method: T_cmd. Returns 1 where the method has no solution within limits (then
     the plan's tensions are commanded)."""
-    ref, model, gains, cmd, work = ctl.ref, ctl.model, ctl.gains, ctl.cmd, ctl.work
-    a_SO = estimate_state(k, h, ctl)
+    a_SO = estimate_state(k, h, meas, ref, work, gains.prediction, predictor)
     x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
     E = work.m3[2]
     mm3(ref.R[k], R_m, E, True)
@@ -219,7 +216,7 @@ def _feedback_tensions(k, h, ctl):
         al_cmd[i] = (ref.al[k, i] + gains.kd * (ref.w[k, i] - w_m[i])
                      + gains.kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
     f_k, m_k = work.v3[2], work.v3[3]
-    disturbance_C(ctl.loads.f[k], ctl.loads.m[k], ctl.loads.in_P, R_m, f_k, m_k)
+    disturbance_C(loads.f[k], loads.m[k], loads.in_P, R_m, f_k, m_k)
     K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
                         model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
     K.sum_wrench_parts(work.wrench_parts, work.wrench)
@@ -239,9 +236,8 @@ def _unstretched(ref, k, model, i):
 
 
 @njit(cache=_cache, inline="always")
-def _limits(ctl):
+def _limits(model, cmd):
     """Which commanded tensions are at a limit (``cmd.at_limit``); their number."""
-    model, cmd = ctl.model, ctl.cmd
     at = 0
     for i in range(cmd.T_cmd.shape[0]):
         tol = 1e-9 * max(1.0, abs(model.hi[i]))
@@ -256,21 +252,24 @@ def _limits(ctl):
 
 
 @njit(cache=_cache)
-def control_step(k, h, ctl):
+def control_step(k, h, held):
     """One controller step at t_k = k h: the measurement ``ctl.meas`` in, ``ctl.cmd`` out.
 
     T_cmd (tension-controlled winches, ideal cables) and L0_cmd (length-controlled winches)
     for the step [t_k, t_k + h), and the flags (:class:`~marinecdpr.control.records.Command`).
     Returns 1 on a fallback to the plan's tensions, else 0.
     """
-    ctl = borrowed(ctl)  # no counting of its arrays' references: the caller holds them
+    ctl = borrowed_first(held)  # no counting of its arrays' references: the caller holds them
+    # its records are taken apart once, here: a helper is handed the records it reads, never
+    # all of ctl (each copy of a record of ~90 arrays costs seconds of compiling)
     ref, gains, model, cmd = ctl.ref, ctl.gains, ctl.model, ctl.cmd
+    meas, work = ctl.meas, ctl.work
     fallback = 0
     cmd.flags[2] = 0
     if gains.closed:
         if gains.pose_from == 1:
-            cmd.flags[2] = encoders_pose(ctl.work.fk, ctl) != 0
-        fallback = _feedback_tensions(k, h, ctl)
+            cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
+        fallback = _feedback_tensions(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor)
     else:
         cmd.T_cmd[:] = ref.T[k]
     # a length-controlled winch pays out the reference length less the stretch the
@@ -294,5 +293,5 @@ def control_step(k, h, ctl):
             for i in range(cmd.L0_cmd.shape[0]):
                 cmd.L0_cmd[i] += gains.lead_s * (_unstretched(ref, kf, model, i) - _unstretched(ref, kb, model, i)) / dt
     cmd.flags[0] = fallback
-    cmd.flags[1] = _limits(ctl)
+    cmd.flags[1] = _limits(model, cmd)
     return fallback

@@ -21,7 +21,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from marinecdpr.borrowed import borrowed
+from marinecdpr.borrowed import borrowed_first
 from marinecdpr.control import Controller
 from marinecdpr.control.controller import plans
 from marinecdpr.control.step import control_step
@@ -71,9 +71,10 @@ def _counter():
 
 
 @njit(cache=True)
-def _timed_steps(h, ctl, x, R, v, w, eta, ticks):
-    """control_step over the measurements (rows cycled over the plan), each call's ticks."""
-    ctl = borrowed(ctl)  # as the prototype's loops: no reference counting per step
+def _timed_steps(h, held, x, R, v, w, eta, ticks):
+    """control_step over the measurements (rows cycled over the plan), each call's ticks;
+    ``held``: the controller's records in their one-item list (as the prototype holds them)."""
+    ctl = borrowed_first(held)  # as the prototype's loops: no reference counting per step
     meas = ctl.meas
     n = x.shape[0]
     for c in range(ticks.shape[0]):
@@ -89,7 +90,7 @@ def _timed_steps(h, ctl, x, R, v, w, eta, ticks):
             for i in range(6):
                 meas.eta[j, i] = eta[k, j, i]
         t0 = _cycles()
-        control_step(k, h, ctl)
+        control_step(k, h, held)
         ticks[c] = _cycles() - t0
 
 
@@ -178,8 +179,8 @@ def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     eta = c(np.stack([ship.eta, ship.eta_dot, ship.eta_ddot], axis=1))
     ctl = Controller(scenario, n_steps=n, plan=ref)
     ticks = np.empty(calls, dtype=np.uint64)
-    _timed_steps(h, ctl.parts, x[:1], R[:1], v[:1], w[:1], eta[:1], ticks[:1])  # compile
-    _timed_steps(h, ctl.parts, x, R, v, w, eta, ticks)
+    _timed_steps(h, ctl._held, x[:1], R[:1], v[:1], w[:1], eta[:1], ticks[:1])  # compile
+    _timed_steps(h, ctl._held, x, R, v, w, eta, ticks)
     compiled = ticks.astype(float) / _ticks_per_us()
     python = np.empty(calls)
     step, clock = ctl.step, time.perf_counter_ns
