@@ -244,7 +244,7 @@ def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, block: 
     return fallbacks
 
 
-KERNEL_COMPILE_S = 50.0
+KERNEL_COMPILE_S = 30.0
 """About how long the first simulation compiles its loop on a fresh install, s (README)."""
 
 

@@ -13,7 +13,7 @@ import time
 from dataclasses import dataclass
 from typing import Callable
 
-__all__ = ["WarmUp", "warm_up", "WARMUP_STEPS"]
+__all__ = ["WarmUp", "warm_up", "compile_apart", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
 """Steps flown per run: enough to run every part's step once."""
@@ -67,3 +67,35 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     if progress is not None:
         progress(len(jobs), len(jobs), "done")
     return WarmUp(runs=tuple(done), seconds=time.perf_counter() - t0, cache_dir=str(cache_dir()))
+
+
+def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
+    """Compile the scenario's prototype on two cores: its controller's step in a forked copy
+    of this process (:func:`~marinecdpr.forked.Forked`), the loop here (flying
+    :data:`WARMUP_STEPS` steps with a stand-in controller of the same type,
+    :func:`~marinecdpr.prototype.parts.controller.stand_in`). Both land in numba's cache,
+    where the next build of the prototype finds the controller and this process holds the
+    loop. Returns False (nothing done) where work cannot go to a forked process.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    reference : Plan
+        The moving-base plan (its types are the prototype's).
+    plant : {"mujoco", "own"}, optional
+        Default ``scenario.simulation.plant``.
+    """
+    from marinecdpr import forked
+    from marinecdpr.prototype.parts.controller import stand_in
+    from marinecdpr.prototype.simulation import prototype, simulate
+
+    if not forked.can_fork():
+        return False
+    apart = forked.Forked(lambda: prototype(scenario, "open_loop", WARMUP_STEPS, reference=reference) and None)
+    try:
+        with stand_in():
+            simulate(scenario, run="open_loop", reference=reference, plant=plant, n_steps=WARMUP_STEPS)
+        apart.result()
+    finally:
+        apart.stop()
+    return True
