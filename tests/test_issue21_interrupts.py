@@ -192,6 +192,15 @@ def _cpu_s(process) -> float:
         return float("inf")
 
 
+def _cmdline(psutil, child) -> str:
+    """A child's command line; empty for one that has ended (a zombie not yet reaped, or
+    gone): the suite's load found one while Dask started its processes."""
+    try:
+        return " ".join(child.cmdline())
+    except (psutil.ZombieProcess, psutil.NoSuchProcess, psutil.AccessDenied):
+        return ""
+
+
 OPERABILITY_ON_DASK = ["operability", "paper_sea", "--workers", "2", "--duration", "1800", "--step", "0.005",
                        "--realisations", "1", "--headings", "180,150,90"]
 
@@ -212,7 +221,7 @@ def test_ctrl_c_to_the_process_group_on_dask_is_one_line(tmp_path, moment):
             break
         time.sleep(0.05)
         workers = [c for c in psutil.Process(proc.pid).children(recursive=True)
-                   if "spawn_main" in " ".join(c.cmdline()) and "resource_tracker" not in " ".join(c.cmdline())]
+                   if "spawn_main" in _cmdline(psutil, c) and "resource_tracker" not in _cmdline(psutil, c)]
     assert workers
     for _ in range(600 if moment == "while they work" else 0):
         if min(_cpu_s(w) for w in workers) >= 10.0:  # both at their cells (started: a few s of CPU)

@@ -10,7 +10,11 @@ only the ones before it: geometry -> scenario -> motion -> model -> planning -> 
 shaped ``(n_steps, ...)``.
 """
 
-from marinecdpr.compiled_cache import configure as _configure_cache
+from marinecdpr.starting import catch_while_starting as _catch_while_starting
+
+_catch_while_starting()  # first: a Ctrl-C while the command starts is one line (marinecdpr.starting)
+
+from marinecdpr.compiled_cache import configure as _configure_cache  # noqa: E402
 
 _configure_cache()  # before any compiled module loads: a cache folder per version of the sources
 

@@ -32,11 +32,21 @@ def source_hash() -> str:
     """16 hex digits over the package's compiled sources: every ``.py`` file under the
     package that mentions numba, in path order, with its relative path."""
     digest = hashlib.sha256()
-    for path in sorted(_PACKAGE.rglob("*.py")):
+    for path in sorted(_sources()):
         data = path.read_bytes()
         if b"numba" in data:
             digest.update(str(path.relative_to(_PACKAGE)).encode() + b"\0" + data + b"\0")
     return digest.hexdigest()[:16]
+
+
+def _sources() -> list[Path]:
+    """The package's ``.py`` files, without descending into ``__pycache__`` (where numba's
+    cache folders hold thousands of files: walking them made every start slower)."""
+    found = []
+    for folder, subfolders, files in os.walk(_PACKAGE):
+        subfolders[:] = [d for d in subfolders if d != "__pycache__"]
+        found += [Path(folder) / f for f in files if f.endswith(".py")]
+    return found
 
 
 def _base() -> Path:

@@ -17,30 +17,12 @@ import os
 import signal
 import sys
 
-
-def _interrupted_while_starting(signum, frame) -> None:  # pragma: no cover - timing
-    """Ctrl-C while the command loads (its imports, before :func:`main`): one line, exit 130.
-    Nothing has been written yet, and nothing needs tidying."""
-    os.write(2, b"error: interrupted\n")
-    os._exit(130)
-
-
-def _run_as_the_command() -> bool:
-    """Is this process the ``marinecdpr`` command (its console script, ``python -m
-    marinecdpr`` or ``python -m marinecdpr.cli``), not a program that imports this module
-    (a test, or a worker multiprocessing spawned, which runs its parent's script under
-    another name)?"""
-    main_module = sys.modules.get("__main__")
-    spec = getattr(main_module, "__spec__", None)
-    if spec is not None:
-        return spec.name in ("marinecdpr.__main__", "marinecdpr.cli.__main__")
-    return os.path.basename(getattr(main_module, "__file__", None) or "") == "marinecdpr"
-
+from marinecdpr.starting import catch_while_starting
+from marinecdpr.starting import interrupted_while_starting as _interrupted_while_starting
 
 # first, before the heavy imports below (typer, rich, numpy, pydantic: about a second on a
-# loaded machine)
-if _run_as_the_command() and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-    signal.signal(signal.SIGINT, _interrupted_while_starting)
+# loaded machine); the package set it already where the console script imported it
+catch_while_starting()
 
 import time  # noqa: E402
 from contextlib import contextmanager
