@@ -47,7 +47,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     WarmUp
     """
     from marinecdpr.compiled_cache import cache_dir
-    from marinecdpr.prototype.simulation import simulate
+    from marinecdpr.prototype.simulation import kernels_cached, simulate
 
     jobs = []
     for sc in scenarios:
@@ -62,6 +62,8 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
         if progress is not None:
             progress(i, len(jobs), f"{sc.name}: {plant} {run.replace('_', ' ')}")
         t1 = time.perf_counter()
+        if run == "open_loop" and not kernels_cached(plant):  # a cold cache: the controller and the loop side by side
+            compile_apart(sc, reference=None, plant=plant)
         simulate(sc, run=run, plant=plant, n_steps=WARMUP_STEPS)
         done.append((sc.name, plant, run, time.perf_counter() - t1))
     if progress is not None:
@@ -80,8 +82,9 @@ def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
     Parameters
     ----------
     scenario : Scenario
-    reference : Plan
-        The moving-base plan (its types are the prototype's).
+    reference : Plan or None
+        The moving-base plan (its types are the prototype's); None: each half plans the
+        few steps it flies.
     plant : {"mujoco", "own"}, optional
         Default ``scenario.simulation.plant``.
     """
@@ -91,7 +94,10 @@ def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
 
     if not forked.can_fork():
         return False
-    apart = forked.Forked(lambda: prototype(scenario, "open_loop", WARMUP_STEPS, reference=reference) and None)
+    def build() -> None:  # every part built: the controller's step compiled (and cached), no flight
+        prototype(scenario, "open_loop", WARMUP_STEPS, reference=reference)
+
+    apart = forked.Forked(build)
     try:
         with stand_in():
             simulate(scenario, run="open_loop", reference=reference, plant=plant, n_steps=WARMUP_STEPS)
