@@ -33,7 +33,8 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import brush_velocity
 from marinecdpr.motion.trajectory import cleaning_path
 from marinecdpr.planning.planner import Plan, plan
-from marinecdpr.prototype.simulation import SimResult, normal_force, simulate
+from marinecdpr.prototype.simulation import SimResult, kernels_cached, normal_force, simulate
+from marinecdpr.prototype.warmup import compile_apart
 from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
@@ -145,6 +146,8 @@ def cleaning_job(
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                             key="cleaning", source=scenario.name)
     p = plan(scenario)
+    if not kernels_cached(plant or scenario.simulation.plant):
+        compile_apart(scenario, reference=p, plant=plant)  # the controller on the second core meanwhile
     res = simulate(scenario, run="closed_loop", reference=p, plant=plant, n_steps=n_steps, progress=progress)
     n = res.t.size
     brush = brush_positions(res.pose, cleaning.brush_offset_m)
