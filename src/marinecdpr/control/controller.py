@@ -306,6 +306,12 @@ class Controller:
         self._call = _entry_point(self._held, self._m)  # m given: a typed list read from Python compiles its getitem
 
     @property
+    def held(self):
+        """The controller's records in their one-item typed list: what the compiled step
+        (:func:`~marinecdpr.control.step.control_step`) takes, in a user's compiled loop."""
+        return self._held
+
+    @property
     def command(self):
         """The last step's :class:`~marinecdpr.control.records.Command` (overwritten by the next)."""
         return self.parts.cmd

@@ -94,6 +94,7 @@ def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
 
     if not forked.can_fork():
         return False
+
     def build() -> None:  # every part built: the controller's step compiled (and cached), no flight
         prototype(scenario, "open_loop", WARMUP_STEPS, reference=reference)
 

@@ -179,8 +179,8 @@ def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     eta = c(np.stack([ship.eta, ship.eta_dot, ship.eta_ddot], axis=1))
     ctl = Controller(scenario, n_steps=n, plan=ref)
     ticks = np.empty(calls, dtype=np.uint64)
-    _timed_steps(h, ctl._held, x[:1], R[:1], v[:1], w[:1], eta[:1], ticks[:1])  # compile
-    _timed_steps(h, ctl._held, x, R, v, w, eta, ticks)
+    _timed_steps(h, ctl.held, x[:1], R[:1], v[:1], w[:1], eta[:1], ticks[:1])  # compile
+    _timed_steps(h, ctl.held, x, R, v, w, eta, ticks)
     compiled = ticks.astype(float) / _ticks_per_us()
     python = np.empty(calls)
     step, clock = ctl.step, time.perf_counter_ns
