@@ -13,7 +13,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import NamedTuple
 
-from numba import cfunc, njit, types
+from numba import cfunc, njit, typeof, types
 
 from marinecdpr.control.step import control_step
 from marinecdpr.prototype.parts import part
@@ -55,9 +55,7 @@ def pointer_step(held):
     """:func:`~marinecdpr.control.step.control_step` for ``held``'s type as a C function
     (``int64(int64, float64, held)``), compiled once per type and cached on disk; within
     :func:`stand_in`, a step of that type that does nothing."""
-    import numba
-
-    sig = types.int64(types.int64, types.float64, numba.typeof(held))
+    sig = types.int64(types.int64, types.float64, typeof(held))
     fn, made = (_no_step, _STAND_INS) if _standing_in else (_control_step, _POINTER_STEPS)
     if sig not in made:
         made[sig] = cfunc(sig, cache=True)(fn)
