@@ -48,8 +48,10 @@ def test_a_run_after_compiling_apart_is_the_run_without_it():
     # in a process of its own (no other thread: the copy is forked), compile apart, then fly
     script = """
 import hashlib, numpy as np, marinecdpr
+from marinecdpr.prototype import simulation
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.prototype.warmup import compile_apart
+simulation.kernels_cached = lambda plant: False  # as on a cold cache, whatever this one holds
 sc = marinecdpr.load_scenario("paper")
 p = marinecdpr.plan(sc)
 print(compile_apart(sc, reference=p))
@@ -75,3 +77,13 @@ def test_the_readme_gives_the_first_compile_the_notice_gives():
 
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     assert f"compiles the per-step kernels (about {KERNEL_COMPILE_S:g} s, once)" in readme
+
+
+def test_compiling_apart_does_nothing_where_the_loop_is_cached():
+    from marinecdpr.prototype.simulation import kernels_cached
+    from marinecdpr.prototype.warmup import compile_apart
+
+    sc = marinecdpr.load_scenario("paper")
+    simulate(sc, run="open_loop", n_steps=3)  # compiled or loaded: the loop is cached now
+    assert kernels_cached("mujoco")
+    assert compile_apart(sc, reference=None) is False

@@ -47,7 +47,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     WarmUp
     """
     from marinecdpr.compiled_cache import cache_dir
-    from marinecdpr.prototype.simulation import kernels_cached, simulate
+    from marinecdpr.prototype.simulation import simulate
 
     jobs = []
     for sc in scenarios:
@@ -62,7 +62,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
         if progress is not None:
             progress(i, len(jobs), f"{sc.name}: {plant} {run.replace('_', ' ')}")
         t1 = time.perf_counter()
-        if run == "open_loop" and not kernels_cached(plant):  # a cold cache: the controller and the loop side by side
+        if run == "open_loop":  # on a cold cache, the controller and the loop side by side
             compile_apart(sc, reference=None, plant=plant)
         simulate(sc, run=run, plant=plant, n_steps=WARMUP_STEPS)
         done.append((sc.name, plant, run, time.perf_counter() - t1))
@@ -77,7 +77,9 @@ def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
     :data:`WARMUP_STEPS` steps with a stand-in controller of the same type,
     :func:`~marinecdpr.prototype.parts.controller.stand_in`). Both land in numba's cache,
     where the next build of the prototype finds the controller and this process holds the
-    loop. Returns False (nothing done) where work cannot go to a forked process.
+    loop. Returns False (nothing done) where the loop is cached already
+    (:func:`~marinecdpr.prototype.simulation.kernels_cached`) or work cannot go to a forked
+    process.
 
     Parameters
     ----------
@@ -90,9 +92,9 @@ def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
     """
     from marinecdpr import forked
     from marinecdpr.prototype.parts.controller import stand_in
-    from marinecdpr.prototype.simulation import prototype, simulate
+    from marinecdpr.prototype.simulation import kernels_cached, prototype, simulate
 
-    if not forked.can_fork():
+    if kernels_cached(plant or scenario.simulation.plant) or not forked.can_fork():
         return False
 
     def build() -> None:  # every part built: the controller's step compiled (and cached), no flight

@@ -33,7 +33,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import brush_velocity
 from marinecdpr.motion.trajectory import cleaning_path
 from marinecdpr.planning.planner import Plan, plan
-from marinecdpr.prototype.simulation import SimResult, kernels_cached, normal_force, simulate
+from marinecdpr.prototype.simulation import SimResult, normal_force, simulate
 from marinecdpr.prototype.warmup import compile_apart
 from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
@@ -146,8 +146,7 @@ def cleaning_job(
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                             key="cleaning", source=scenario.name)
     p = plan(scenario)
-    if not kernels_cached(plant or scenario.simulation.plant):
-        compile_apart(scenario, reference=p, plant=plant)  # the controller on the second core meanwhile
+    compile_apart(scenario, reference=p, plant=plant)  # on a cold cache: the controller on the second core meanwhile
     res = simulate(scenario, run="closed_loop", reference=p, plant=plant, n_steps=n_steps, progress=progress)
     n = res.t.size
     brush = brush_positions(res.pose, cleaning.brush_offset_m)

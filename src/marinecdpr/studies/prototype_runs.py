@@ -9,7 +9,7 @@ from typing import Callable
 
 from marinecdpr import forked
 from marinecdpr.planning.planner import Plan, plan
-from marinecdpr.prototype.simulation import RUNS, SimResult, kernels_cached, simulate
+from marinecdpr.prototype.simulation import RUNS, SimResult, simulate
 from marinecdpr.prototype.warmup import compile_apart
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.error_budget import budget_summary, error_budget
@@ -264,8 +264,7 @@ def virtual_prototype(
     InfeasibleError, SimulationDivergedError
     """
     p = plan(scenario)
-    if len(runs) > 1 and not kernels_cached(plant or scenario.simulation.plant):
-        compile_apart(scenario, reference=p, plant=plant)  # the controller on the second core meanwhile
+    compile_apart(scenario, reference=p, plant=plant)  # on a cold cache: the controller on the second core meanwhile
     results = {}
     apart, here = None, list(runs)
     if len(runs) > 1 and forked.can_fork():
