@@ -11,6 +11,11 @@ package's ``__pycache__`` where it can be written (numba's own default place), e
 user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/marinecdpr``.
 
 :func:`configure` runs when the package is imported, before any compiled module loads.
+It also makes numba's saves of cache entries take a file lock (:func:`lock_saves`): where
+processes compile side by side (:func:`~marinecdpr.prototype.warmup.compile_apart`), two of
+them adding different entries of one function at once would otherwise both name their
+entry's file by the same free number, and the index could end up pointing one signature's
+entry at the other's machine code.
 :func:`entry_point` and :func:`bound` find a compiled function's machine code once for
 arguments it is called with many times.
 """
@@ -22,7 +27,7 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["configure", "cache_dir", "source_hash", "entry_point", "bound"]
+__all__ = ["configure", "cache_dir", "source_hash", "entry_point", "bound", "lock_saves"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _configured: list[str] = []
@@ -86,7 +91,44 @@ def configure() -> Path:
 
         config.CACHE_DIR = str(folder)
     _configured.append(str(folder))
+    lock_saves()
     return folder
+
+
+def lock_saves() -> bool:
+    """Make numba's cache saves hold an exclusive lock on a file of the entry's folder
+    (``fcntl.flock``) while it reads the index, adds its entry and writes it, so that saves
+    from processes compiling at once come one after the other, each reading the index as
+    the last one left it. Idempotent; False where it cannot be done (no ``fcntl``: Windows,
+    where nothing here compiles side by side; or numba's cache internals changed)."""
+    try:
+        import fcntl
+
+        from numba.core.caching import IndexDataCacheFile
+    except ImportError:
+        return False
+    save = getattr(IndexDataCacheFile, "save", None)
+    if save is None or not hasattr(IndexDataCacheFile, "_load_index"):
+        return False
+    if getattr(save, "_marinecdpr_locked", False):
+        return True
+
+    def locked_save(self, key, data):
+        folder = getattr(self, "_cache_path", None)
+        if folder is None:
+            return save(self, key, data)
+        os.makedirs(folder, exist_ok=True)
+        with open(os.path.join(folder, ".marinecdpr-save.lock"), "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                return save(self, key, data)
+            finally:
+                fcntl.flock(lock, fcntl.LOCK_UN)
+
+    locked_save._marinecdpr_locked = True
+    locked_save.__doc__ = save.__doc__
+    IndexDataCacheFile.save = locked_save
+    return True
 
 
 def entry_point(dispatcher, args: tuple):

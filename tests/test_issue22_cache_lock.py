@@ -1,0 +1,51 @@
+"""Issue 22: numba's cache saves from processes compiling side by side keep every entry.
+
+numba's ``IndexDataCacheFile.save`` reads a function's index, names a new entry's file by
+the first free number, and writes both: two processes adding different entries of one
+function at once can both take the same number, and the index then points one
+signature's entry at the other's data. :func:`marinecdpr.compiled_cache.lock_saves`
+(applied when the package is imported) makes each save hold a file lock.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+
+import pytest
+
+import marinecdpr  # noqa: F401 - configures the cache, and with it the lock
+from marinecdpr.compiled_cache import lock_saves
+
+WRITERS, SAVES = 4, 40
+
+
+def _writer(folder: str, who: int, start) -> None:
+    from numba.core.caching import IndexDataCacheFile
+
+    cache = IndexDataCacheFile(folder, "kernel", source_stamp=("stamp", 1))
+    start.wait()
+    for i in range(SAVES):
+        cache.save((who, i), f"code of {who}/{i}")
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_entries_saved_at_once_by_several_processes_each_keep_their_own_data(tmp_path):
+    from numba.core.caching import IndexDataCacheFile
+
+    assert lock_saves()  # idempotent: the package already applied it
+    ctx = multiprocessing.get_context("fork")
+    start = ctx.Barrier(WRITERS)
+    procs = [ctx.Process(target=_writer, args=(str(tmp_path), who, start)) for who in range(WRITERS)]
+    for p in procs:
+        p.start()
+    for p in procs:
+        p.join(60)
+        assert p.exitcode == 0
+    cache = IndexDataCacheFile(str(tmp_path), "kernel", source_stamp=("stamp", 1))
+    index = cache._load_index()
+    assert len(index) == WRITERS * SAVES
+    assert len(set(index.values())) == WRITERS * SAVES  # one data file per entry
+    for who in range(WRITERS):
+        for i in range(SAVES):
+            assert cache.load((who, i)) == f"code of {who}/{i}"
