@@ -4,8 +4,8 @@ Run:  .venv/bin/python benchmarks/bench_cold_start.py [--repeats N]
 
 Each repeat runs the command as a subprocess of this checkout with a fresh, empty cache
 folder (``MARINECDPR_CACHE_DIR``), three ways:
-  * on every core: where it can fork, the controller's step compiles in a forked copy
-    while the loop compiles in the main process
+  * on every core: where it can fork, the planner's kernels and the controller's step
+    compile in two forked copies while the loop compiles in the main process
     (:func:`~marinecdpr.prototype.warmup.compile_apart`);
   * on one core (``taskset -c 0``): everything compiles in turn, what a one-core machine
     (or the code before the split) pays;

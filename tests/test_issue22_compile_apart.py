@@ -29,6 +29,8 @@ def test_the_stand_in_has_the_controllers_type_and_steps_nothing():
     with controller_part.stand_in():
         stand_in = prototype(sc, "closed_loop", 3, reference=p).get("ControllerPart")
     assert numba.typeof(stand_in.step) == numba.typeof(real.step)  # the loop compiled for it is the real loop
+    assert numba.typeof(stand_in.held) == numba.typeof(real.held)
+    assert len(stand_in.held) == 0 and len(real.held) == 1
     assert stand_in.step is not real.step
     with controller_part.stand_in():
         held = simulate(sc, run="closed_loop", reference=p, n_steps=20)
@@ -54,7 +56,7 @@ from marinecdpr.prototype.warmup import compile_apart
 simulation.kernels_cached = lambda plant: False  # as on a cold cache, whatever this one holds
 sc = marinecdpr.load_scenario("paper")
 p = marinecdpr.plan(sc)
-print(compile_apart(sc, reference=p))
+print(compile_apart(sc))
 res = simulate(sc, run="closed_loop", reference=p, n_steps=300)
 h = hashlib.sha256()
 for a in (res.pose, res.lengths, res.tensions_commanded, res.tensions):
@@ -86,4 +88,4 @@ def test_compiling_apart_does_nothing_where_the_loop_is_cached():
     sc = marinecdpr.load_scenario("paper")
     simulate(sc, run="open_loop", n_steps=3)  # compiled or loaded: the loop is cached now
     assert kernels_cached("mujoco")
-    assert compile_apart(sc, reference=None) is False
+    assert compile_apart(sc) is False

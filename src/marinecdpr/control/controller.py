@@ -41,7 +41,7 @@ from marinecdpr.model.dynamics import disturbance_in_C
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
-from marinecdpr.planning.planner import Plan, plan_at
+from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "plans", "planned_brush_loads", "known_loads",
@@ -93,6 +93,18 @@ def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_mod
         if not p.feasible[:n].all():
             raise InfeasibleError(f"{scenario.name}: cannot simulate the {p.base_model}-base plan: {p.infeasibility()}")
     return Plans(ref=ref, ff=ff, ship_h=ship_h)
+
+
+def stand_in_plans(scenario: Scenario, n: int, *, base_model: str = "moving", ship_h=None) -> Plans:
+    """:func:`plans`' plans with their fields, shapes and types but without their dynamics
+    (:func:`~marinecdpr.planning.planner.stand_in_plan`, at t_k and at mid-step): to build
+    a prototype that compiles a real run's parts without compiling the planner's kernels."""
+    h = scenario.time.step_s
+    t = np.arange(n) * h
+    if ship_h is None:
+        ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+    return Plans(ref=stand_in_plan(scenario, t), ff=stand_in_plan(scenario, t + 0.5 * h, base_model=base_model),
+                 ship_h=ship_h)
 
 
 def reference(ff: Plan, *, sag: bool = False) -> Reference:

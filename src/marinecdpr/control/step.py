@@ -225,7 +225,8 @@ def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predicto
     if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
                        work.tension):
         return 0
-    cmd.T_cmd[:] = ref.T[k]
+    for i in range(cmd.T_cmd.shape[0]):  # element by element: a slice copy compiles numba's shape-error text (1.4 s)
+        cmd.T_cmd[i] = ref.T[k, i]
     return 1
 
 
@@ -271,7 +272,8 @@ def control_step(k, h, held):
             cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
         fallback = _feedback_tensions(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor)
     else:
-        cmd.T_cmd[:] = ref.T[k]
+        for i in range(cmd.T_cmd.shape[0]):
+            cmd.T_cmd[i] = ref.T[k, i]
     # a length-controlled winch pays out the reference length less the stretch the
     # commanded tension needs: the cable's stiffness holds the plan, T_cmd corrects it
     # (the cable's damping adds c L' of the plan: the stretch makes the rest), plus what a

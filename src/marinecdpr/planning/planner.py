@@ -32,7 +32,7 @@ from marinecdpr.planning.budget import ship_at_once
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
-           "describe_pose", "DEFAULT_CHUNK_STEPS",
+           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -465,6 +465,42 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
         C_s=terms.C_s, F_s=terms.F_s, tensions_pinv=T_s, tensions=sol.tensions,
         feasible=sol.feasible, reaction=reaction, **winch, **sag, **extra,
     )
+
+
+def stand_in_plan(scenario: Scenario, t: np.ndarray, *, base_model: str | None = None) -> Plan:
+    """A plan with the fields, shapes and dtypes :func:`plan_at` gives the scenario at t, made
+    without its dynamics: the trajectory's poses and twists and the straight cables'
+    lengths and rates, every wrench zero, every tension (and each winch's bound) at the
+    middle of the cables' limits, every step feasible, no sag. Its one use: to build a
+    prototype whose compiled parts have the types of a real run's, and so compile them
+    while the plan's own kernels compile in another process
+    (:func:`~marinecdpr.prototype.warmup.compile_apart`). Not a plan to fly or to judge.
+
+    Parameters
+    ----------
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    base_model : {"moving", "fixed"}, optional
+        Default the scenario's ``planning.base_model``.
+    """
+    method, base_model = _options(scenario, None, base_model)
+    robot = scenario.robot
+    t = np.asarray(t, dtype=float)
+    n, m, k = t.size, robot.n_cables, len(robot.controlled)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
+                           platform.twist)
+    middle = np.full((n, m), 0.5 * (robot.tension_min + robot.tension_max))
+    arrays = dict(t=t, pose=platform.pose, twist=platform.twist, twist_dot=platform.twist_dot,
+                  lengths=kin.lengths, length_rates=kin.length_rates, wrench=np.zeros((n, 6)),
+                  C_s=np.zeros((n, 6)), F_s=np.zeros((n, 6)), tensions_pinv=middle.copy(), tensions=middle,
+                  feasible=np.ones(n, dtype=bool), reaction=np.zeros((n, 6 - k)))
+    if robot.winch is not None:
+        arrays.update(length_accelerations=np.zeros((n, m)), tension_lower=middle.copy(),
+                      tension_upper=middle.copy(), winch_limit=np.zeros((n, m), dtype=np.int8))
+    if robot.cable_weight_N_m != 0.0:
+        arrays.update(sag_lengths=np.zeros((n, m)), winch_tensions=middle.copy())
+    return _make_plan(scenario, arrays, method, base_model)
 
 
 def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> "SingularPoses":

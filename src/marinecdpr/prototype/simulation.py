@@ -32,7 +32,9 @@ from typing import Any, Callable
 import numpy as np
 
 from marinecdpr.compiled_cache import bound
-from marinecdpr.control.controller import controller_parts, known_loads, planned_brush_loads, plans, step_loads
+from marinecdpr.control.controller import (
+    controller_parts, known_loads, planned_brush_loads, plans, stand_in_plans, step_loads,
+)
 from marinecdpr.control.records import Loads
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.prototype import builder
@@ -111,6 +113,7 @@ def simulate(
     plant: str | None = None,
     n_steps: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    stand_in: bool = False,
 ) -> SimResult:
     """Fly the scenario's plan on a physics plant.
 
@@ -126,6 +129,11 @@ def simulate(
         Simulate only the first steps (short horizons in tests).
     progress : callable(done, total), optional
         Called every few hundred steps.
+    stand_in : bool
+        Fly stand-in plans (:func:`~marinecdpr.control.controller.stand_in_plans`) instead
+        of the scenario's: the run has a real run's types, so it compiles the loop a real
+        run takes, without the planner's kernels; its result means nothing
+        (:func:`~marinecdpr.prototype.warmup.compile_apart`). Not with ``reference``.
 
     Returns
     -------
@@ -147,6 +155,8 @@ def simulate(
     plant = plant or scenario.simulation.plant
     if plant not in ("mujoco", "own"):
         raise ValueError(f"plant must be 'mujoco' or 'own', not {plant!r}")
+    if stand_in and reference is not None:
+        raise ValueError("a stand-in run flies no reference plan")
     if plant == "mujoco" and scenario.simulation.cables.model == "catenary":
         raise ScenarioError("simulation.cables.model: catenary cables need the own plant (--plant own): "
                             "MuJoCo's tendons are straight", source=scenario.name)
@@ -154,7 +164,7 @@ def simulate(
     n = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
     check_run_size(scenario, "simulate", n_steps=n)  # before any array of n steps
     t = np.arange(n) * h
-    asm = prototype(scenario, run, n, reference=reference)
+    asm = prototype(scenario, run, n, reference=reference, stand_in=stand_in)
     ship_h, ref = asm.ship_h, asm.ref
     x0, R0, v0, w0 = _initial_state(scenario, ref)
     system = asm.system
@@ -198,16 +208,21 @@ class Prototype(builder.Assembly):
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
-              given: tuple[str, ...] = (), brush: bool = True):
+              given: tuple[str, ...] = (), brush: bool = True, stand_in: bool = False):
     """The run's assembled :class:`Prototype` with the ship's motion on the half-step grid and
     the plans at t_k and at mid-step (parts built from the scenario by
     :func:`~marinecdpr.prototype.builder.assemble`; ``include`` chooses part modules, ``given``
-    names the signals the caller writes instead)."""
+    names the signals the caller writes instead). With ``stand_in``, the plans are
+    :func:`~marinecdpr.control.controller.stand_in_plans`: every part has a real run's
+    types, nothing of the planner is compiled, and the prototype is only to compile."""
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
-    p = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
+    if stand_in:
+        p = stand_in_plans(scenario, n, base_model=base_model, ship_h=ship_h)
+    else:
+        p = plans(scenario, n, reference=reference, base_model=base_model, ship_h=ship_h)
     ref, ff = p.ref, p.ff
     brush_h = planned_brush_loads(scenario, ref, ff, n) if brush else None
     loads_h = known_loads(scenario, ship_h, brush_h)

@@ -10,10 +10,12 @@ a sweep's workers, a CI job) starts at once. What a run compiles depends on its 
 from __future__ import annotations
 
 import time
+
+import numpy as np
 from dataclasses import dataclass
 from typing import Callable
 
-__all__ = ["WarmUp", "warm_up", "compile_apart", "WARMUP_STEPS"]
+__all__ = ["WarmUp", "warm_up", "compile_apart", "tension_solver_args", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
 """Steps flown per run: enough to run every part's step once."""
@@ -63,7 +65,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
             progress(i, len(jobs), f"{sc.name}: {plant} {run.replace('_', ' ')}")
         t1 = time.perf_counter()
         if run == "open_loop":  # on a cold cache, the controller and the loop side by side
-            compile_apart(sc, reference=None, plant=plant)
+            compile_apart(sc, plant=plant)
         simulate(sc, run=run, plant=plant, n_steps=WARMUP_STEPS)
         done.append((sc.name, plant, run, time.perf_counter() - t1))
     if progress is not None:
@@ -71,40 +73,82 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     return WarmUp(runs=tuple(done), seconds=time.perf_counter() - t0, cache_dir=str(cache_dir()))
 
 
-def compile_apart(scenario, *, reference, plant: str | None = None) -> bool:
-    """Compile the scenario's prototype on two cores: its controller's step in a forked copy
-    of this process (:func:`~marinecdpr.forked.Forked`), the loop here (flying
-    :data:`WARMUP_STEPS` steps with a stand-in controller of the same type,
-    :func:`~marinecdpr.prototype.parts.controller.stand_in`). Both land in numba's cache,
-    where the next build of the prototype finds the controller and this process holds the
-    loop. Returns False (nothing done) where the loop is cached already
-    (:func:`~marinecdpr.prototype.simulation.kernels_cached`) or work cannot go to a forked
-    process.
+def tension_solver_args(scenario) -> tuple:
+    """Arguments of the controller's per-step tension solver
+    (:func:`~marinecdpr.model.kernels.tensions_step`) with the types its step passes: J~,
+    the wrench, the controlled DOFs, the limits, the method, the tensions and their working
+    memory, as :func:`~marinecdpr.control.controller.controller_parts` makes them."""
+    from marinecdpr.control.controller import robot_model
+    from marinecdpr.model import kernels as K
+
+    model = robot_model(scenario)
+    m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
+    return (np.zeros((m, 6)), np.zeros(6), model.controlled, model.lo, model.hi, model.method, np.zeros(m),
+            K.tension_work(m, k))
+
+
+def compile_apart(scenario, *, plant: str | None = None) -> bool:
+    """Compile the scenario's first run in three processes at once: the planner's kernels
+    in a forked copy of this process, the controller's step in a second copy, and the loop
+    here. Each builds what it compiles on stand-in plans where it needs plans
+    (:func:`~marinecdpr.control.controller.stand_in_plans`: a real run's types, no
+    planner kernel run), so none waits for a plan:
+
+    * the planner's copy first compiles the per-step tension solver for the controller's
+      types (:func:`tension_solver_args`), whose solvers the plan's series shares, then
+      plans a few steps, moving and fixed base;
+    * the controller's copy waits for the tension solver to be in numba's cache, then
+      builds a prototype (its step compiled, loading the solver rather than compiling it
+      a second time);
+    * here, :data:`WARMUP_STEPS` steps are flown on stand-in plans with a stand-in
+      controller of the controller's type
+      (:func:`~marinecdpr.prototype.parts.controller.stand_in`): the loop compiled.
+
+    The copies' code lands in numba's cache (saves under a lock:
+    :func:`~marinecdpr.compiled_cache.lock_saves`), where the run's plan and prototype
+    find it; this process holds the loop. Returns False (nothing done) where the loop is
+    cached already (:func:`~marinecdpr.prototype.simulation.kernels_cached`) or work
+    cannot go to a forked process.
 
     Parameters
     ----------
     scenario : Scenario
-    reference : Plan or None
-        The moving-base plan (its types are the prototype's); None: each half plans the
-        few steps it flies.
     plant : {"mujoco", "own"}, optional
         Default ``scenario.simulation.plant``.
     """
+    import multiprocessing
+
     from marinecdpr import forked
+    from marinecdpr.compiled_cache import entry_point
+    from marinecdpr.model.kernels import tensions_step
+    from marinecdpr.planning.planner import plan_at
     from marinecdpr.prototype.parts.controller import stand_in
     from marinecdpr.prototype.simulation import kernels_cached, prototype, simulate
 
     if kernels_cached(plant or scenario.simulation.plant) or not forked.can_fork():
         return False
+    n = min(WARMUP_STEPS, scenario.time.n_steps)
+    solver_ready = multiprocessing.get_context("fork").Event()
 
-    def build() -> None:  # every part built: the controller's step compiled (and cached), no flight
-        prototype(scenario, "open_loop", WARMUP_STEPS, reference=reference)
+    def planner() -> None:  # the planner's kernels compiled (and cached): their types do not depend on n
+        try:
+            entry_point(tensions_step, tension_solver_args(scenario))
+        finally:
+            solver_ready.set()  # even if it failed: the controller's copy then compiles it itself
+        for base_model in ("moving", "fixed"):
+            plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
 
-    apart = forked.Forked(build)
+    def controller() -> None:  # every part built: the controller's step compiled (and cached), no flight
+        solver_ready.wait(600.0)
+        prototype(scenario, "open_loop", n, stand_in=True)
+
+    apart = [forked.Forked(planner), forked.Forked(controller)]
     try:
         with stand_in():
-            simulate(scenario, run="open_loop", reference=reference, plant=plant, n_steps=WARMUP_STEPS)
-        apart.result()
+            simulate(scenario, run="open_loop", plant=plant, n_steps=n, stand_in=True)
+        for job in apart:
+            job.result()
     finally:
-        apart.stop()
+        for job in apart:
+            job.stop()
     return True

@@ -145,8 +145,8 @@ def cleaning_job(
     if cleaning is None or not isinstance(scenario.trajectory, CoverageTrajectory):
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                             key="cleaning", source=scenario.name)
+    compile_apart(scenario, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
     p = plan(scenario)
-    compile_apart(scenario, reference=p, plant=plant)  # on a cold cache: the controller on the second core meanwhile
     res = simulate(scenario, run="closed_loop", reference=p, plant=plant, n_steps=n_steps, progress=progress)
     n = res.t.size
     brush = brush_positions(res.pose, cleaning.brush_offset_m)

@@ -263,8 +263,8 @@ def virtual_prototype(
     ------
     InfeasibleError, SimulationDivergedError
     """
+    compile_apart(scenario, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
     p = plan(scenario)
-    compile_apart(scenario, reference=p, plant=plant)  # on a cold cache: the controller on the second core meanwhile
     results = {}
     apart, here = None, list(runs)
     if len(runs) > 1 and forked.can_fork():

@@ -14,6 +14,7 @@ from contextlib import contextmanager
 from typing import NamedTuple
 
 from numba import cfunc, njit, typeof, types
+from numba.typed import List
 
 from marinecdpr.control.step import control_step
 from marinecdpr.prototype.parts import part
@@ -64,9 +65,9 @@ def pointer_step(held):
 
 @contextmanager
 def stand_in():
-    """Within this, a built controller part steps nothing: its ``step`` has the controller's
-    type, so a loop compiled for it is the loop the real controller runs in, but costs no
-    compiling of the controller (:func:`~marinecdpr.prototype.warmup.compile_apart`)."""
+    """Within this, a built controller part steps nothing: its ``step`` and ``held`` (an empty
+    list) have the controller's types, so a loop compiled for it is the loop the real
+    controller runs in, but costs no compiling of the controller (:func:`~marinecdpr.prototype.warmup.compile_apart`)."""
     _standing_in.append(True)
     try:
         yield
@@ -77,5 +78,8 @@ def stand_in():
 def build(context) -> ControllerPart:
     from marinecdpr.control.controller import _held
 
-    held = _held(context.ctl)
+    if _standing_in:  # a step that reads nothing: an empty list of the records' type (no compiling of their unboxing)
+        held = List.empty_list(typeof(context.ctl))
+    else:
+        held = _held(context.ctl)
     return ControllerPart(held=held, step=pointer_step(held))
