@@ -44,7 +44,7 @@ from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajecto
 from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "plans", "planned_brush_loads", "known_loads",
+__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "stand_in_plans", "plans", "planned_brush_loads", "known_loads",
            "step_loads", "reference", "predictor_options"]
 
 
@@ -226,6 +226,13 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
                            meas=empty_measurement(m), cmd=empty_command(m), work=work, predictor=predictor(scenario))
 
 
+def controller_records(scenario: Scenario, p: Plans, n: int, *, closed: bool) -> ControllerParts:
+    """The controller's records for flying the plans ``p`` (:func:`plans`) over n steps, with
+    the known loads at t_k (the brush's planned ones included): :func:`controller_parts`."""
+    loads_h = known_loads(scenario, p.ship_h, planned_brush_loads(scenario, p.ref, p.ff, n))
+    return controller_parts(scenario, p.ff, step_loads(loads_h, n), closed=closed)
+
+
 @njit(cache=True)
 def _held(parts):
     """The records in a one-item typed list: passed to a compiled function, the list is
@@ -308,8 +315,7 @@ class Controller:
         self.step_s = scenario.time.step_s
         self.n_steps = scenario.time.n_steps if n_steps is None else min(n_steps, scenario.time.n_steps)
         p = plans(scenario, self.n_steps, reference=plan)
-        loads_h = known_loads(scenario, p.ship_h, planned_brush_loads(scenario, p.ref, p.ff, self.n_steps))
-        self.parts = controller_parts(scenario, p.ff, step_loads(loads_h, self.n_steps), closed=closed)
+        self.parts = controller_records(scenario, p, self.n_steps, closed=closed)
         self._clock = np.zeros(3)
         self._m = scenario.robot.n_cables
         self._encoders = self.parts.gains.pose_from == ENCODERS

@@ -96,10 +96,12 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
 
     * the planner's copy first compiles the per-step tension solver for the controller's
       types (:func:`tension_solver_args`), whose solvers the plan's series shares, then
-      plans a few steps, moving and fixed base;
+      plans a few steps, moving and fixed base, and puts the controller's records in their
+      list (:func:`~marinecdpr.control.controller.controller_records`);
     * the controller's copy waits for the tension solver to be in numba's cache, then
-      builds a prototype (its step compiled, loading the solver rather than compiling it
-      a second time);
+      compiles the controller's step for its records' type
+      (:func:`~marinecdpr.prototype.parts.controller.pointer_step`, on an empty list of
+      that type), loading the solver rather than compiling it a second time;
     * here, :data:`WARMUP_STEPS` steps are flown on stand-in plans with a stand-in
       controller of the controller's type
       (:func:`~marinecdpr.prototype.parts.controller.stand_in`): the loop compiled.
@@ -122,8 +124,12 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
     from marinecdpr.compiled_cache import entry_point
     from marinecdpr.model.kernels import tensions_step
     from marinecdpr.planning.planner import plan_at
-    from marinecdpr.prototype.parts.controller import stand_in
-    from marinecdpr.prototype.simulation import kernels_cached, prototype, simulate
+    from numba import typeof
+    from numba.typed import List
+
+    from marinecdpr.control.controller import _held, controller_records, stand_in_plans
+    from marinecdpr.prototype.parts.controller import pointer_step, stand_in
+    from marinecdpr.prototype.simulation import kernels_cached, simulate
 
     if kernels_cached(plant or scenario.simulation.plant) or not forked.can_fork():
         return False
@@ -137,10 +143,13 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
             solver_ready.set()  # even if it failed: the controller's copy then compiles it itself
         for base_model in ("moving", "fixed"):
             plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
+        # and the records' list (its unboxing of ~90 arrays), which the controller's copy does not need
+        entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
 
-    def controller() -> None:  # every part built: the controller's step compiled (and cached), no flight
+    def controller() -> None:  # the controller's step compiled (and cached) for its records' type
         solver_ready.wait(600.0)
-        prototype(scenario, "open_loop", n, stand_in=True)
+        records = controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)
+        pointer_step(List.empty_list(typeof(records)))
 
     apart = [forked.Forked(planner), forked.Forked(controller)]
     try:
