@@ -64,7 +64,7 @@ class Rig:
         self._mj_step = mujoco.mj_step
         # the records' types found once, not at every step (compiled_cache.bound)
         self._read = bound(_mujoco_state, self._mj)
-        self._write = bound(_mujoco_inputs, self._mj, self._drive, self._system)
+        self._write = bound(_mujoco_inputs, self._mj, self._drive, self._system.cable, self._system.bus)
         self.k = 0
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
