@@ -8,7 +8,9 @@ Prints, for the built-in ``paper`` scenario (15 s at 1 ms, 15 001 exchanges):
     tensions and the cable model at every exchange, ship driven along its motion;
   * the same for open loop, and the own plant (RK4) for both;
 with the real-time factor of each and the closed loop's ratio to bare stepping. Targets:
->= 20x real time; issue 10 asks the closed loop within 1.3x bare MuJoCo.
+>= 20x real time; issue 10 asks the closed loop within 1.3x bare MuJoCo. For MuJoCo, the
+time of building the run's prototype (the mid-step plan, the sensors' errors drawn for
+every step, the records), which bare stepping has no counterpart of, is shown apart.
 
 Then the whole main job, each repeat beside a bare MuJoCo loop timed in the same repeat:
   * in this process: ``virtual_prototype`` (plan, three runs) plus ``write_virtual_prototype``
@@ -36,7 +38,7 @@ import numpy as np
 
 import marinecdpr
 from marinecdpr.prototype.mujoco_model import build_model
-from marinecdpr.prototype.simulation import simulate
+from marinecdpr.prototype.simulation import prototype, simulate
 
 
 def best(fn, repeats: int) -> float:
@@ -81,6 +83,11 @@ def main() -> None:
             extra = f"   {t_run / t_bare:.2f}x bare MuJoCo (issue 10 asks <= 1.3x)" if plant == "mujoco" else ""
             print(f"simulate {run:12s} on {plant:6s}: {t_run:6.3f} s  ({duration / t_run:5.0f}x real time,"
                   f" target >= 20x){extra}")
+            if plant == "mujoco":  # what bare stepping has no counterpart of: the run's own setup
+                t_build = best(lambda: prototype(sc, run, n, reference=p), 5)
+                print(f"    of which building the prototype (the mid-step plan, the sensors' errors, the records)"
+                      f" {t_build:.3f} s; the rest (MuJoCo's model, the ship's drive, the loop) {t_run - t_build:.3f} s"
+                      f" = {(t_run - t_build) / t_bare:.2f}x bare MuJoCo")
     t_main = best(lambda: marinecdpr.virtual_prototype(sc), 3)
     print(f"virtual_prototype (plan + three runs on MuJoCo, no files): {t_main:.3f} s")
     main_job(sc, bare, repeats=3 if "--quick" in sys.argv else 7)
