@@ -44,8 +44,8 @@ from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajecto
 from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "stand_in_plans", "plans", "planned_brush_loads", "known_loads",
-           "step_loads", "reference", "predictor_options"]
+__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "plans", "stand_in_plans",
+           "planned_brush_loads", "known_loads", "step_loads", "reference", "predictor_options"]
 
 
 @dataclass(frozen=True)

@@ -10,10 +10,10 @@ a sweep's workers, a CI job) starts at once. What a run compiles depends on its 
 from __future__ import annotations
 
 import time
-
-import numpy as np
 from dataclasses import dataclass
 from typing import Callable
+
+import numpy as np
 
 __all__ = ["WarmUp", "warm_up", "compile_apart", "tension_solver_args", "WARMUP_STEPS"]
 
@@ -64,7 +64,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
         if progress is not None:
             progress(i, len(jobs), f"{sc.name}: {plant} {run.replace('_', ' ')}")
         t1 = time.perf_counter()
-        if run == "open_loop":  # on a cold cache, the controller and the loop side by side
+        if run == "open_loop":  # on a cold cache, the planner, the controller and the loop at once
             compile_apart(sc, plant=plant)
         simulate(sc, run=run, plant=plant, n_steps=WARMUP_STEPS)
         done.append((sc.name, plant, run, time.perf_counter() - t1))
@@ -120,14 +120,14 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
     """
     import multiprocessing
 
-    from marinecdpr import forked
-    from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.model.kernels import tensions_step
-    from marinecdpr.planning.planner import plan_at
     from numba import typeof
     from numba.typed import List
 
+    from marinecdpr import forked
+    from marinecdpr.compiled_cache import entry_point
     from marinecdpr.control.controller import _held, controller_records, stand_in_plans
+    from marinecdpr.model.kernels import tensions_step
+    from marinecdpr.planning.planner import plan_at
     from marinecdpr.prototype.parts.controller import pointer_step, stand_in
     from marinecdpr.prototype.simulation import kernels_cached, simulate
 

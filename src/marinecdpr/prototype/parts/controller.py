@@ -67,7 +67,8 @@ def pointer_step(held):
 def stand_in():
     """Within this, a built controller part steps nothing: its ``step`` and ``held`` (an empty
     list) have the controller's types, so a loop compiled for it is the loop the real
-    controller runs in, but costs no compiling of the controller (:func:`~marinecdpr.prototype.warmup.compile_apart`)."""
+    controller runs in, but costs no compiling of the controller
+    (:func:`~marinecdpr.prototype.warmup.compile_apart`)."""
     _standing_in.append(True)
     try:
         yield
