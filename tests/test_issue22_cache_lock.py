@@ -49,3 +49,32 @@ def test_entries_saved_at_once_by_several_processes_each_keep_their_own_data(tmp
     for who in range(WRITERS):
         for i in range(SAVES):
             assert cache.load((who, i)) == f"code of {who}/{i}"
+
+
+def test_old_versions_cache_folders_go_but_the_newest_and_the_recently_used_stay(tmp_path):
+    from marinecdpr.compiled_cache import prune_old_versions
+
+    now = 1.0e9
+    day = 86400.0
+    ages = {"marinecdpr-a": 5 * day, "marinecdpr-b": 2 * day, "marinecdpr-c": 3 * day,
+            "marinecdpr-d": 4 * day, "marinecdpr-e": 0.5 * day}
+    for name, age in ages.items():
+        folder = tmp_path / name
+        (folder / "kernels").mkdir(parents=True)
+        (folder / "kernels" / "f.nbi").write_bytes(b"index")
+        os.utime(folder, (now - age, now - age))
+    (tmp_path / "other").mkdir()  # not a cache folder of this package: never touched
+    os.utime(tmp_path / "other", (now - 9 * day, now - 9 * day))
+    current = tmp_path / "marinecdpr-new"  # not made yet: the first start of new sources
+    removed = prune_old_versions(current, keep=2, unused_s=day, now=now)
+    # newest two kept (e: 0.5 day, b: 2 days); of the rest, all unused for over a day
+    assert sorted(p.name for p in removed) == ["marinecdpr-a", "marinecdpr-c", "marinecdpr-d"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["marinecdpr-b", "marinecdpr-e", "other"]
+    # one written to within the hour stays even beyond the newest two
+    os.utime(tmp_path / "marinecdpr-b", (now - 3 * day, now - 3 * day))
+    (tmp_path / "marinecdpr-f").mkdir()
+    os.utime(tmp_path / "marinecdpr-f", (now - 0.1 * day, now - 0.1 * day))
+    (tmp_path / "marinecdpr-g").mkdir()
+    os.utime(tmp_path / "marinecdpr-g", (now - 0.01 * day, now - 0.01 * day))
+    assert [p.name for p in prune_old_versions(current, keep=1, unused_s=day, now=now)] == ["marinecdpr-b"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["marinecdpr-e", "marinecdpr-f", "marinecdpr-g", "other"]

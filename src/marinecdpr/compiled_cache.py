@@ -10,7 +10,9 @@ empty folder. ``<base>`` is ``$MARINECDPR_CACHE_DIR``, else ``$NUMBA_CACHE_DIR``
 package's ``__pycache__`` where it can be written (numba's own default place), else the
 user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/marinecdpr``.
 
-:func:`configure` runs when the package is imported, before any compiled module loads.
+:func:`configure` runs when the package is imported, before any compiled module loads;
+on the first start of new sources it removes the folders of old ones that have gone
+unused (:func:`prune_old_versions`).
 It also makes numba's saves of cache entries take a file lock (:func:`lock_saves`): where
 processes compile side by side (:func:`~marinecdpr.prototype.warmup.compile_apart`), two of
 them adding different entries of one function at once would otherwise both name their
@@ -27,7 +29,7 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["configure", "cache_dir", "source_hash", "entry_point", "bound", "lock_saves"]
+__all__ = ["configure", "cache_dir", "source_hash", "entry_point", "bound", "lock_saves", "prune_old_versions"]
 
 _PACKAGE = Path(__file__).resolve().parent
 _configured: list[str] = []
@@ -85,6 +87,8 @@ def configure() -> Path:
     if _configured:
         return Path(_configured[0])
     folder = _base() / f"marinecdpr-{source_hash()}"
+    if not folder.exists():  # the first start of these sources: the folders of old ones may go
+        prune_old_versions(folder)
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     if "numba" in sys.modules:
         from numba.core import config
@@ -93,6 +97,42 @@ def configure() -> Path:
     _configured.append(str(folder))
     lock_saves()
     return folder
+
+
+KEEP_VERSIONS = 2
+"""Cache folders of other source versions :func:`prune_old_versions` always keeps (the newest)."""
+UNUSED_S = 86400.0
+"""How long another version's cache folder must have gone unwritten before it may go, s."""
+
+
+def prune_old_versions(current: Path, *, keep: int = KEEP_VERSIONS, unused_s: float = UNUSED_S,
+                       now: float | None = None) -> list[Path]:
+    """Remove the cache folders of other source versions beside ``current``
+    (``marinecdpr-<hash>``, about 75 MB each): every edit of a compiled source moves the
+    cache to a new folder, and the old ones would pile up. The ``keep`` newest (by their
+    last write) stay, and so does any written to within ``unused_s`` seconds (a run of
+    another checkout may still use it). Removing a folder a process still reads costs it
+    only a compile. :func:`configure` calls this when it first makes a folder. Returns the
+    folders removed."""
+    import shutil
+    import time
+
+    now = time.time() if now is None else now
+    try:
+        others = [p for p in current.parent.glob("marinecdpr-*") if p.is_dir() and p.name != current.name]
+        others.sort(key=lambda p: p.stat().st_mtime, reverse=True)
+    except OSError:
+        return []
+    removed = []
+    for folder in others[keep:]:
+        try:
+            if now - folder.stat().st_mtime < unused_s:
+                continue
+        except OSError:
+            continue
+        shutil.rmtree(folder, ignore_errors=True)
+        removed.append(folder)
+    return removed
 
 
 def lock_saves() -> bool:
