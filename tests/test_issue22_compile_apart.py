@@ -81,6 +81,15 @@ def test_the_readme_gives_the_first_compile_the_notice_gives():
     assert f"compiles the per-step kernels (about {KERNEL_COMPILE_S:g} s, once)" in readme
 
 
+def test_the_readme_gives_latencys_first_compile_the_notice_gives():
+    from pathlib import Path
+
+    from marinecdpr.studies.latency import LATENCY_COMPILE_S
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    assert f"`latency` first compiles the controller's step for about {LATENCY_COMPILE_S:g} s" in readme
+
+
 def test_compiling_apart_does_nothing_where_the_loop_is_cached():
     from marinecdpr.prototype.simulation import kernels_cached
     from marinecdpr.prototype.warmup import compile_apart

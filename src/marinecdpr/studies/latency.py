@@ -135,9 +135,10 @@ def _quadprog_p50_us(ctl: Controller, calls: int) -> float | None:
     return float(np.percentile(times, 50)) / 1e3
 
 
-LATENCY_COMPILE_S = 60.0
+LATENCY_COMPILE_S = 26.0
 """About how long ``marinecdpr latency`` first compiles the controller's step and its timed
-loop on a fresh install, s (measured: 62 s for ``latency paper`` on a fresh copy, 2-core CI machine, 2026-12-03)."""
+loop on a fresh install, s (measured: 26.1 s for ``latency paper`` with an empty cache, 2-core
+CI machine, 2026-12-04; 62 s on 2026-12-03, before the controller's records were passed by list)."""
 
 
 def latency_kernels_cached() -> bool:
