@@ -90,6 +90,30 @@ def test_the_readme_gives_latencys_first_compile_the_notice_gives():
     assert f"`latency` first compiles the controller's step for about {LATENCY_COMPILE_S:g} s" in readme
 
 
+def test_latency_compiled_apart_on_stand_in_records_is_what_its_run_takes():
+    # the stand-in records' list has the real Controller's type (its entry point compiled
+    # for it in a copy is the one the run loads) ...
+    from marinecdpr.control.controller import Controller, controller_records, stand_in_plans
+    from numba.typed import List
+
+    sc = marinecdpr.load_scenario("paper")
+    stand_in = List.empty_list(numba.typeof(controller_records(sc, stand_in_plans(sc, 3), 3, closed=True)))
+    assert numba.typeof(stand_in) == numba.typeof(Controller(sc, n_steps=3).held)
+    # ... and in a process of its own, compiling apart leaves the run nothing to compile
+    script = """
+import marinecdpr
+from marinecdpr.studies import latency
+latency.latency_kernels_cached = lambda: False  # as on a cold cache, whatever this one holds
+sc = marinecdpr.load_scenario("paper")
+print(latency.compile_apart(sc), len(latency._timed_steps.signatures))
+lat = latency.controller_latency(sc, calls=50)
+print(len(latency._timed_steps.signatures), lat.compiled_p50_us > 0.0)
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True", "1", "1", "True"]
+
+
 def test_compiling_apart_does_nothing_where_the_loop_is_cached():
     from marinecdpr.prototype.simulation import kernels_cached
     from marinecdpr.prototype.warmup import compile_apart

@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["WarmUp", "warm_up", "compile_apart", "tension_solver_args", "WARMUP_STEPS"]
+__all__ = ["WarmUp", "warm_up", "compile_apart", "planner_copy", "tension_solver_args", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
 """Steps flown per run: enough to run every part's step once."""
@@ -87,6 +87,28 @@ def tension_solver_args(scenario) -> tuple:
             K.tension_work(m, k))
 
 
+def planner_copy(scenario, n: int, solver_ready) -> None:
+    """The planner's share of compiling a first run at once (:func:`compile_apart`): the
+    per-step tension solver for the controller's types (:func:`tension_solver_args`), then
+    ``solver_ready`` set (a ``multiprocessing`` event: a copy compiling the controller's
+    step waits for it, to load the solver from the cache rather than compile it again; set
+    even if that failed), then the plan of n steps on moving and fixed bases (the planner's
+    kernels, whose types do not depend on n, sharing the solver's), and the controller's
+    records put in their list on stand-in plans (its unboxing of ~90 arrays)."""
+    from marinecdpr.compiled_cache import entry_point
+    from marinecdpr.control.controller import _held, controller_records, stand_in_plans
+    from marinecdpr.model.kernels import tensions_step
+    from marinecdpr.planning.planner import plan_at
+
+    try:
+        entry_point(tensions_step, tension_solver_args(scenario))
+    finally:
+        solver_ready.set()
+    for base_model in ("moving", "fixed"):
+        plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
+    entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
+
+
 def compile_apart(scenario, *, plant: str | None = None) -> bool:
     """Compile the scenario's first run in three processes at once: the planner's kernels
     in a forked copy of this process, the controller's step in a second copy, and the loop
@@ -124,10 +146,7 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
     from numba.typed import List
 
     from marinecdpr import forked
-    from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import _held, controller_records, stand_in_plans
-    from marinecdpr.model.kernels import tensions_step
-    from marinecdpr.planning.planner import plan_at
+    from marinecdpr.control.controller import controller_records, stand_in_plans
     from marinecdpr.prototype.parts.controller import pointer_step, stand_in
     from marinecdpr.prototype.simulation import kernels_cached, simulate
 
@@ -136,22 +155,12 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
     n = min(WARMUP_STEPS, scenario.time.n_steps)
     solver_ready = multiprocessing.get_context("fork").Event()
 
-    def planner() -> None:  # the planner's kernels compiled (and cached): their types do not depend on n
-        try:
-            entry_point(tensions_step, tension_solver_args(scenario))
-        finally:
-            solver_ready.set()  # even if it failed: the controller's copy then compiles it itself
-        for base_model in ("moving", "fixed"):
-            plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
-        # and the records' list (its unboxing of ~90 arrays), which the controller's copy does not need
-        entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
-
     def controller() -> None:  # the controller's step compiled (and cached) for its records' type
         solver_ready.wait(600.0)
         records = controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)
         pointer_step(List.empty_list(typeof(records)))
 
-    apart = [forked.Forked(planner), forked.Forked(controller)]
+    apart = [forked.Forked(lambda: planner_copy(scenario, n, solver_ready)), forked.Forked(controller)]
     try:
         with stand_in():
             simulate(scenario, run="open_loop", plant=plant, n_steps=n, stand_in=True)
