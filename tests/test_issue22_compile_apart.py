@@ -93,11 +93,12 @@ def test_the_readme_gives_latencys_first_compile_the_notice_gives():
 def test_latency_compiled_apart_on_stand_in_records_is_what_its_run_takes():
     # the stand-in records' list has the real Controller's type (its entry point compiled
     # for it in a copy is the one the run loads) ...
-    from marinecdpr.control.controller import Controller, controller_records, stand_in_plans
-    from numba.typed import List
+    from marinecdpr.control.controller import Controller
+    from marinecdpr.prototype.warmup import stand_in_held
 
     sc = marinecdpr.load_scenario("paper")
-    stand_in = List.empty_list(numba.typeof(controller_records(sc, stand_in_plans(sc, 3), 3, closed=True)))
+    stand_in = stand_in_held(sc, 3)
+    assert len(stand_in) == 0
     assert numba.typeof(stand_in) == numba.typeof(Controller(sc, n_steps=3).held)
     # ... and in a process of its own, compiling apart leaves the run nothing to compile
     script = """

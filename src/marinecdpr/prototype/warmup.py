@@ -15,7 +15,8 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["WarmUp", "warm_up", "compile_apart", "planner_copy", "tension_solver_args", "WARMUP_STEPS"]
+__all__ = ["WarmUp", "warm_up", "compile_apart", "compile_at_once", "planner_copy", "stand_in_held",
+           "tension_solver_args", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
 """Steps flown per run: enough to run every part's step once."""
@@ -109,6 +110,43 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
     entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
 
 
+def stand_in_held(scenario, n: int):
+    """An empty typed list of the type of the controller's records' list
+    (:func:`~marinecdpr.control.controller._held`) for n steps, from stand-in plans: what a
+    step is compiled for, without compiling the records' unboxing."""
+    from numba import typeof
+    from numba.typed import List
+
+    from marinecdpr.control.controller import controller_records, stand_in_plans
+
+    return List.empty_list(typeof(controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)))
+
+
+def compile_at_once(scenario, n: int, *, step: Callable[[], None], here: Callable[[], None]) -> None:
+    """Run :func:`planner_copy` in a forked copy, ``step`` (compiling a controller's step)
+    in a second copy once the tension solver is in the cache, and ``here`` in this process,
+    all at once; wait for both copies (their exceptions raised here), and end them in any
+    case. The caller has checked :func:`~marinecdpr.forked.can_fork`."""
+    import multiprocessing
+
+    from marinecdpr import forked
+
+    solver_ready = multiprocessing.get_context("fork").Event()
+
+    def after_solver() -> None:
+        solver_ready.wait(600.0)
+        step()
+
+    apart = [forked.Forked(lambda: planner_copy(scenario, n, solver_ready)), forked.Forked(after_solver)]
+    try:
+        here()
+        for job in apart:
+            job.result()
+    finally:
+        for job in apart:
+            job.stop()
+
+
 def compile_apart(scenario, *, plant: str | None = None) -> bool:
     """Compile the scenario's first run in three processes at once: the planner's kernels
     in a forked copy of this process, the controller's step in a second copy, and the loop
@@ -140,33 +178,17 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
     plant : {"mujoco", "own"}, optional
         Default ``scenario.simulation.plant``.
     """
-    import multiprocessing
-
-    from numba import typeof
-    from numba.typed import List
-
     from marinecdpr import forked
-    from marinecdpr.control.controller import controller_records, stand_in_plans
     from marinecdpr.prototype.parts.controller import pointer_step, stand_in
     from marinecdpr.prototype.simulation import kernels_cached, simulate
 
     if kernels_cached(plant or scenario.simulation.plant) or not forked.can_fork():
         return False
     n = min(WARMUP_STEPS, scenario.time.n_steps)
-    solver_ready = multiprocessing.get_context("fork").Event()
 
-    def controller() -> None:  # the controller's step compiled (and cached) for its records' type
-        solver_ready.wait(600.0)
-        records = controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)
-        pointer_step(List.empty_list(typeof(records)))
-
-    apart = [forked.Forked(lambda: planner_copy(scenario, n, solver_ready)), forked.Forked(controller)]
-    try:
+    def here() -> None:
         with stand_in():
             simulate(scenario, run="open_loop", plant=plant, n_steps=n, stand_in=True)
-        for job in apart:
-            job.result()
-    finally:
-        for job in apart:
-            job.stop()
+
+    compile_at_once(scenario, n, step=lambda: pointer_step(stand_in_held(scenario, n)), here=here)
     return True

@@ -159,36 +159,18 @@ def compile_apart(scenario: Scenario) -> bool:
     controller's Python entry point in a second copy once the tension solver is cached, and
     the timed loop here. Returns False (nothing done) where they are cached
     (:func:`latency_kernels_cached`) or work cannot go to a forked process."""
-    import multiprocessing
-
-    from numba import typeof
-    from numba.typed import List
-
     from marinecdpr import forked
     from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import _entry_point, controller_records, stand_in_plans
-    from marinecdpr.prototype.warmup import WARMUP_STEPS, planner_copy
+    from marinecdpr.control.controller import _entry_point
+    from marinecdpr.prototype.warmup import WARMUP_STEPS, compile_at_once, stand_in_held
 
     if latency_kernels_cached() or not forked.can_fork():
         return False
     n, m = min(WARMUP_STEPS, scenario.time.n_steps), scenario.robot.n_cables
-    held = List.empty_list(typeof(controller_records(scenario, stand_in_plans(scenario, n), n, closed=True)))
-    solver_ready = multiprocessing.get_context("fork").Event()
-
-    def python_entry() -> None:
-        solver_ready.wait(600.0)
-        _entry_point(held, m)
-
-    apart = [forked.Forked(lambda: planner_copy(scenario, n, solver_ready)), forked.Forked(python_entry)]
-    try:
-        z3, z33 = np.zeros((1, 3)), np.zeros((1, 3, 3))
-        entry_point(_timed_steps, (scenario.time.step_s, held, z3, z33, z3, z3, np.zeros((1, 3, 6)),
-                                   np.zeros(1, dtype=np.uint64)))
-        for job in apart:
-            job.result()
-    finally:
-        for job in apart:
-            job.stop()
+    held = stand_in_held(scenario, n)
+    z3, z33 = np.zeros((1, 3)), np.zeros((1, 3, 3))
+    timed = (scenario.time.step_s, held, z3, z33, z3, z3, np.zeros((1, 3, 6)), np.zeros(1, dtype=np.uint64))
+    compile_at_once(scenario, n, step=lambda: _entry_point(held, m), here=lambda: entry_point(_timed_steps, timed))
     return True
 
 
