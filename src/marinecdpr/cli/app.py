@@ -163,7 +163,8 @@ def plan(
         False, "--fixed-base", help="Plan as if the ship were still (the traditional model)."
     ),
     allow_infeasible: bool = typer.Option(
-        False, help="Exit 0 even where the cables cannot hold the platform."
+        False, help="Exit 0 even where the cables cannot hold the platform, or come closer than "
+                    "robot.clearance_m to each other, the platform or an obstacle."
     ),
 ) -> None:
     """Plan cable tensions along the scenario's trajectory on its moving ship."""
@@ -196,14 +197,18 @@ def plan(
         table.add_row("singular steps (J~ loses rank)", f"{result.n_singular} of {result.n_steps}")
     for name, (lo, hi) in (("eq. 18 tensions (N)", result.pinv_range), ("planned tensions (N)", result.tension_range)):
         table.add_row(name, "none" if math.isnan(lo) else f"{lo:.2f} .. {hi:.2f}")
+    if sc.robot.clearance_m is not None:
+        table.add_row(f"steps closer than {sc.robot.clearance_m:g} m (interference)",
+                      f"{result.n_interfering} of {result.n_steps}")
     table.add_row("written", f"{csv_path}\n{fig_path}")
     console.print(table)
-    problem = result.infeasibility()
-    if problem is not None:
-        err_console.print(_styled("infeasible:", "bold yellow", f"{_plain(sc.name)}: {_plain(problem)}"), highlight=False,
-                          soft_wrap=True)
-        if not allow_infeasible:
-            raise typer.Exit(EXIT_INFEASIBLE)
+    problem, close = result.infeasibility(), result.interference()
+    for label, text in (("infeasible:", problem), ("interference:", close)):
+        if text is not None:
+            err_console.print(_styled(label, "bold yellow", f"{_plain(sc.name)}: {_plain(text)}"), highlight=False,
+                              soft_wrap=True)
+    if (problem is not None or close is not None) and not allow_infeasible:
+        raise typer.Exit(EXIT_INFEASIBLE)
 
 
 def _scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleaning: bool = False):
@@ -348,6 +353,9 @@ def clean(
         paths = write_cleaning(job, folder)
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
+    close = job.summary.get("interference")
+    if close is not None and close["first"] is not None:
+        err_console.print(_plain(f"warning: plan: {close['first']}"), highlight=False, soft_wrap=True)
     if guarantee:
         g = job.summary["guarantee"]
         console.print(_plain(f"guarantee: {g['reason']}; lanes {g['lane_spacing_m']:.4g} m apart; "
@@ -706,7 +714,10 @@ def workspace(
 
     inside = np.isfinite(ws.fraction_feasible)
     always = int((ws.fraction_feasible[inside] == 1.0).sum())
-    console.print(f"{_plain(sc.name)}: {always} of {int(inside.sum())} poses feasible throughout "
+    clear = ("" if ws.interference_free is None else
+             f", {int(ws.interference_free[inside].sum())} free of interference (clearance {ws.clearance_m:g} m), "
+             f"{int((ws.interference_free & (ws.fraction_feasible == 1.0))[inside].sum())} both")
+    console.print(f"{_plain(sc.name)}: {always} of {int(inside.sum())} poses feasible throughout{clear} "
                   f"({ws.n_steps} steps each, {_seconds(elapsed)}); written: "
                   + ", ".join(_plain(p) for p in paths), highlight=False)
 
@@ -964,6 +975,11 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
     from marinecdpr.studies.workspace import singular_poses
 
     _warn_singular(scenario, (singular_poses(sc), along))  # valid, but the robot is singular there
+    from marinecdpr.planning.planner import trajectory_interference
+
+    close = trajectory_interference(sc)  # valid, but the cables come too close there
+    if close is not None:
+        err_console.print(_plain(f"warning: {scenario}: {close}"), highlight=False, soft_wrap=True)
     r = sc.robot
     console.print(
         f"{_plain(scenario)}: ok: '{_plain(sc.name)}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "

@@ -1,5 +1,6 @@
 """Planning: a scenario's trajectory turned into cable tensions, step by step.
 
 - :mod:`.planner`  :func:`plan`, :func:`iter_plan` (bounded memory), :class:`Plan`;
-- :mod:`.budget`   how much memory and time a run needs, and refusal of runs that do not fit.
+- :mod:`.budget`   how much memory and time a run needs, and refusal of runs that do not fit;
+- :mod:`.interference` how close the cables come to each other, the platform and the obstacles.
 """

@@ -29,10 +29,11 @@ from marinecdpr.motion.ship import ShipMotion, still_ship
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 from marinecdpr.scenario.robot import Robot, scaled_copy
 from marinecdpr.planning.budget import ship_at_once
+from marinecdpr.planning.interference import Clearances, clearances, describe_clearances, obstacle_labels
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
-           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan",
+           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -94,6 +95,13 @@ class Plan:
         for ideal cables) in the true vertical, carrying the planned tension at the platform:
         the extra unstretched length the winch pays out against a straight cable at that
         tension (m), and the tension at the winch end (N). NaN where infeasible. None without.
+    clearance_cables, clearance_platform, clearance_obstacles : ndarray, optional
+        With ``robot.clearance_m``: the cables' least distances to each other (shape
+        (n_steps, n_pairs), the pairs of :func:`~marinecdpr.geometry.interference.cable_pairs`),
+        to the platform's body (n_steps, n_cables) and to each obstacle (n_steps, n_cables,
+        n_obstacles), m (:mod:`~marinecdpr.planning.interference`). None without.
+    obstacle_labels : tuple of str
+        How :meth:`interference` names the obstacles.
     tension_headroom : ndarray, shape (n_steps,), optional
         Asked for (:func:`iter_plan`'s ``headroom``): at each step the largest headroom to
         the robot's tension limits that any tensions producing the wrench could keep
@@ -125,10 +133,66 @@ class Plan:
     sag_lengths: np.ndarray | None = None
     winch_tensions: np.ndarray | None = None
     tension_headroom: np.ndarray | None = None
+    clearance_cables: np.ndarray | None = None
+    clearance_platform: np.ndarray | None = None
+    clearance_obstacles: np.ndarray | None = None
+    obstacle_labels: tuple[str, ...] = ()
 
     @property
     def n_steps(self) -> int:
         return self.t.size
+
+    @property
+    def clearances(self) -> Clearances | None:
+        """The cables' distances (:class:`~marinecdpr.planning.interference.Clearances`);
+        None unless the robot has a ``clearance_m``."""
+        if self.clearance_platform is None:
+            return None
+        from marinecdpr.geometry.interference import cable_pairs
+
+        return Clearances(pairs=cable_pairs(self.robot.frame_anchors, self.robot.platform_anchors),
+                          cable_cable=self.clearance_cables, cable_platform=self.clearance_platform,
+                          cable_obstacle=self.clearance_obstacles)
+
+    @property
+    def clearance(self) -> np.ndarray | None:
+        """Each cable's least distance to another cable, the platform or an obstacle, shape
+        (n_steps, n_cables), m; None unless the robot has a ``clearance_m``."""
+        c = self.clearances
+        return None if c is None else c.per_cable
+
+    @property
+    def interfering(self) -> np.ndarray:
+        """Steps at which a cable comes closer than ``robot.clearance_m`` to another cable,
+        the platform or an obstacle, shape (n_steps,) (all False without a clearance)."""
+        gap = self.clearance
+        if gap is None:
+            return np.zeros(self.n_steps, dtype=bool)
+        return (gap < self.robot.clearance_m).any(axis=1)
+
+    def interference(self) -> str | None:
+        """One line naming the steps and cables that come closer than ``robot.clearance_m``,
+        the first such step's time, pose and what is too close there; None if none does."""
+        bad = np.flatnonzero(self.interfering)
+        if bad.size == 0:
+            return None
+        return self._interference_at(int(bad[0]), bad.size, self.n_steps)
+
+    def interference_summary(self) -> dict | None:
+        """``summary.json``'s ``interference``: the clearance asked for, the steps that come
+        closer, each cable's least distance over the plan (m) and :meth:`interference`'s line;
+        None without ``robot.clearance_m``."""
+        gap = self.clearance
+        if gap is None:
+            return None
+        least = gap.min(axis=0, initial=np.inf)
+        return {"clearance_m": self.robot.clearance_m, "steps_closer": int(self.interfering.sum()),
+                "least_clearance_m": [float(v) for v in least], "first": self.interference()}
+
+    def _interference_at(self, i: int, n_bad: int, n_steps: int) -> str:
+        what = describe_clearances(self.clearances, i, self.robot.clearance_m, list(self.obstacle_labels))
+        return _closer_text(self.robot.clearance_m, n_bad, n_steps,
+                            f"t = {self.t[i]:.4g} s ({describe_pose(self.pose[i], self.controlled)}): {what}")
 
     @property
     def all_feasible(self) -> bool:
@@ -318,6 +382,7 @@ _ARRAY_FIELDS = (
     "length_accelerations", "tension_lower", "tension_upper", "winch_limit",  # with winches only
     "sag_lengths", "winch_tensions",  # with heavy cables only
     "tension_headroom",  # when asked for (iter_plan(headroom=True))
+    "clearance_cables", "clearance_platform", "clearance_obstacles",  # with robot.clearance_m only
 )
 WINCH_OVERSPEED, WINCH_NO_TENSION = 1, 2
 """Codes of :attr:`Plan.winch_limit`."""
@@ -459,6 +524,10 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                                                          sol.tensions)
     # the largest headroom any tensions could keep, within the cables' own limits
     extra = {"tension_headroom": largest_headroom(J, T_s, robot.tension_min, robot.tension_max)} if headroom else {}
+    if robot.clearance_m is not None:  # how close the cables come to each other, the platform, obstacles
+        gaps = clearances(robot, scenario.obstacles, platform.x_PC_C, platform.R_PC, spans_from, anchors)
+        extra.update(clearance_cables=gaps.cable_cable, clearance_platform=gaps.cable_platform,
+                     clearance_obstacles=gaps.cable_obstacle)
     return dict(
         t=t, pose=platform.pose, twist=twist, twist_dot=platform.twist_dot,
         lengths=kin.lengths, length_rates=kin.length_rates, wrench=w,
@@ -542,6 +611,36 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
                 first = f"t = {t[i]:.4g} s ({describe_pose(platform.pose[i], robot.controlled)})"
     return SingularPoses(what="steps of the trajectory", n_poses=n, n_singular=n_singular, first=first,
                          scale=scaled_copy(robot), level=False)
+
+
+def trajectory_interference(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> str | None:
+    """Where along the trajectory a cable comes closer than ``robot.clearance_m`` to another
+    cable, the platform's body or an obstacle (no dynamics solved): :meth:`Plan.interference`'s
+    line, or None if nowhere (or the robot has no clearance)."""
+    from marinecdpr.planning.interference import pose_clearances
+
+    robot = scenario.robot
+    if robot.clearance_m is None:
+        return None
+    n, step = scenario.time.n_steps, scenario.time.step_s
+    labels = obstacle_labels(scenario.obstacles)
+    n_close, first = 0, None
+    for start in range(0, n, chunk_steps):
+        t = np.arange(start, min(start + chunk_steps, n)) * step
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+        gaps = pose_clearances(robot, scenario.obstacles, platform.x_PC_C, platform.R_PC)
+        close = (gaps.per_cable < robot.clearance_m).any(axis=1)
+        if close.any() and first is None:
+            i = int(np.flatnonzero(close)[0])
+            first = (f"t = {t[i]:.4g} s ({describe_pose(platform.pose[i], robot.controlled)}): "
+                     + describe_clearances(gaps, i, robot.clearance_m, labels))
+        n_close += int(close.sum())
+    return None if first is None else _closer_text(robot.clearance_m, n_close, n, first)
+
+
+def _closer_text(clearance_m: float, n_close: int, n_steps: int, first: str) -> str:
+    return (f"the cables come closer than robot.clearance_m = {clearance_m:g} m at {n_close} of {n_steps} steps, "
+            f"first at {first}")
 
 
 def describe_pose(pose: np.ndarray, controlled: tuple[int, ...]) -> str:
@@ -639,7 +738,8 @@ def ship_motion_at(scenario: Scenario, t: np.ndarray, base_model: str | None = N
 
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
     names = tuple(TWIST_NAMES[i] for i in uncontrolled(scenario.robot.controlled))
-    return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model, robot=scenario.robot)
+    return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model, robot=scenario.robot,
+                obstacle_labels=tuple(obstacle_labels(scenario.obstacles)))
 
 
 def iter_plan(
@@ -693,8 +793,9 @@ class PlanSummary:
 
     Attributes
     ----------
-    n_steps, n_feasible, n_singular : int
-        Steps; feasible ones; singular ones (:attr:`Plan.singular`).
+    n_steps, n_feasible, n_singular, n_interfering : int
+        Steps; feasible ones; singular ones (:attr:`Plan.singular`); those where a cable comes
+        closer than ``robot.clearance_m`` to something (:attr:`Plan.interfering`).
     pinv_range, tension_range : tuple of float
         (smallest, largest) eq. 18 and planned tensions, N, NaN ignored (as ``np.nanmin``
         and ``np.nanmax`` on the whole plan; (NaN, NaN) if no tension is finite).
@@ -710,6 +811,8 @@ class PlanSummary:
         self.base_model: str | None = None
         self._ranges = {"tensions_pinv": [np.inf, -np.inf, False], "tensions": [np.inf, -np.inf, False]}
         self._first_bad: Plan | None = None  # the first infeasible step, as a one-step plan
+        self.n_interfering = 0
+        self._first_close: Plan | None = None  # the first step a cable comes too close, likewise
 
     def add(self, piece: Plan) -> None:
         """Count one piece of the plan (the next in time)."""
@@ -723,11 +826,17 @@ class PlanSummary:
             if not np.isnan(a).all():
                 acc[0] = min(acc[0], float(np.nanmin(a)))
                 acc[1] = max(acc[1], float(np.nanmax(a)))
+        def step(i: int) -> Plan:
+            return replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS
+                                     if getattr(piece, f) is not None})
+
         ok = int(piece.feasible.sum())
         if self._first_bad is None and ok < piece.n_steps:
-            i = int(np.flatnonzero(~piece.feasible)[0])
-            self._first_bad = replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS
-                                                if getattr(piece, f) is not None})
+            self._first_bad = step(int(np.flatnonzero(~piece.feasible)[0]))
+        close = piece.interfering
+        if self._first_close is None and close.any():
+            self._first_close = step(int(np.flatnonzero(close)[0]))
+        self.n_interfering += int(close.sum())
         self.n_steps += piece.n_steps
         self.n_feasible += ok
         self.n_singular += int(piece.singular.sum())
@@ -753,6 +862,12 @@ class PlanSummary:
         if self._first_bad is None:
             return None
         return self._first_bad._infeasibility_at(0, self.n_steps - self.n_feasible, self.n_steps)
+
+    def interference(self) -> str | None:
+        """:meth:`Plan.interference` of the whole plan."""
+        if self._first_close is None:
+            return None
+        return self._first_close._interference_at(0, self.n_interfering, self.n_steps)
 
 
 def _chunks(scenario: Scenario, t: np.ndarray, method: str, base_model: str, chunk_steps: int,

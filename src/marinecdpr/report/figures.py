@@ -443,19 +443,29 @@ def plot_workspace(ws, scenario: Scenario, path: Path) -> Path:
     the fraction of time feasible, the smallest tension margin, and the fraction of time
     eq. (18) alone is feasible, with the frame anchors."""
     plt = _pyplot()
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), constrained_layout=True)
-    extent = (ws.u[0], ws.u[-1], ws.v[0], ws.v[-1])
-    panels = (
+    panels = [
         (ws.fraction_feasible, "fraction of time feasible", "RdYlGn", (0, 1)),
         (np.where(np.isfinite(ws.min_margin_N), ws.min_margin_N, np.nan),
          "smallest tension margin (N), poses feasible throughout", "viridis", (None, None)),
         (ws.pinv_fraction_feasible, "fraction of time eq. (18) alone is feasible", "RdYlGn", (0, 1)),
-    )
+    ]
+    if ws.least_clearance_m is not None:  # the interference layer: red below the clearance
+        from matplotlib.colors import TwoSlopeNorm
+
+        gap = np.where(np.isfinite(ws.least_clearance_m), ws.least_clearance_m, np.nan)
+        top = float(np.nanmax(gap)) if np.isfinite(gap).any() else 1.0
+        panels.append((gap, f"least cable clearance (m); red below {ws.clearance_m:g} m", "RdYlGn",
+                       TwoSlopeNorm(vcenter=ws.clearance_m, vmin=min(float(np.nanmin(gap)) if np.isfinite(gap).any()
+                                                                     else 0.0, ws.clearance_m - 1e-9),
+                                    vmax=max(top, ws.clearance_m + 1e-9))))
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4.8), constrained_layout=True)
+    extent = (ws.u[0], ws.u[-1], ws.v[0], ws.v[-1])
     c = scenario.robot.frame_anchors
     i_u, i_v = "xyz".index(ws.axes[0]), "xyz".index(ws.axes[1])
-    for ax, (data, title, cmap, (vmin, vmax)) in zip(axes, panels):
-        im = ax.imshow(data.T, origin="lower", extent=extent, cmap=cmap, vmin=vmin, vmax=vmax,
-                       aspect="equal", interpolation="nearest")
+    for ax, (data, title, cmap, scale) in zip(axes, panels):
+        limits = {"norm": scale} if not isinstance(scale, tuple) else {"vmin": scale[0], "vmax": scale[1]}
+        im = ax.imshow(data.T, origin="lower", extent=extent, cmap=cmap, aspect="equal", interpolation="nearest",
+                       **limits)
         ax.plot(c[:, i_u], c[:, i_v], "ks", ms=6, label="frame anchors")
         ax.set_title(title, fontsize=9)
         ax.set_xlabel(f"{ws.axes[0]} in C (m)")

@@ -51,7 +51,9 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     ``T1..Tn`` (the method's tensions, N; empty where infeasible); with winches
     (``robot.winch``) ``Tlo1..Tlon``, ``Thi1..Thin`` (the tensions each winch can give at that
     step, N); with heavy cables (``robot.cable_weight_N_m``) ``sag1..sagn`` (the extra length
-    paid out for the sag, m) and ``Twinch1..Twinchn`` (the tension at the winch, N);
+    paid out for the sag, m) and ``Twinch1..Twinchn`` (the tension at the winch, N); with
+    ``robot.clearance_m``, ``gap1..gapn`` (each cable's least distance to another cable, the
+    platform's body or an obstacle, m: :attr:`Plan.clearance`);
     ``feasible`` (1/0).
 
     Returns
@@ -68,7 +70,7 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
     )
     columns = [plan.t, pose, plan.lengths, plan.tensions_pinv, plan.tensions]
     for prefix, field in (("Tlo", "tension_lower"), ("Thi", "tension_upper"), ("sag", "sag_lengths"),
-                          ("Twinch", "winch_tensions")):
+                          ("Twinch", "winch_tensions"), ("gap", "clearance")):
         if getattr(plan, field) is not None:
             names += [f"{prefix}{i}" for i in range(1, n + 1)]
             columns.append(getattr(plan, field))
@@ -214,14 +216,20 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
 
 # ------------------------------------------------------------ workspace, operability
 def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
-    """``workspace.csv`` (one row per grid pose) and ``workspace.png`` (the maps, :func:`plot_workspace`)."""
+    """``workspace.csv`` (one row per grid pose; with ``robot.clearance_m`` also
+    ``least_clearance_m`` and ``interference_free`` (1/0)) and ``workspace.png`` (the maps,
+    :func:`plot_workspace`)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     U, V = np.meshgrid(ws.u, ws.v, indexing="ij")
     names = [f"{ws.axes[0]}_m", f"{ws.axes[1]}_m", "fraction_feasible", "min_margin_N",
              "pinv_fraction_feasible"]
-    values = np.column_stack([U.ravel(), V.ravel(), ws.fraction_feasible.ravel(),
-                              ws.min_margin_N.ravel(), ws.pinv_fraction_feasible.ravel()])
+    columns = [U.ravel(), V.ravel(), ws.fraction_feasible.ravel(), ws.min_margin_N.ravel(),
+               ws.pinv_fraction_feasible.ravel()]
+    if ws.least_clearance_m is not None:  # the interference layer
+        names += ["least_clearance_m", "interference_free"]
+        columns += [ws.least_clearance_m.ravel(), ws.interference_free.ravel().astype(float)]
+    values = np.column_stack(columns)
     csv_path = _write_csv(names, values, folder / "workspace.csv", int_last=False)
     return [csv_path, plot_workspace(ws, scenario, folder / "workspace.png")]
 

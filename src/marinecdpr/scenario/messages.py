@@ -76,7 +76,7 @@ def _union_tags(root: type[BaseModel], loc: list) -> str:
             stack.extend(getattr(ann, "__args__", ()))
             if hasattr(ann, "__metadata__"):
                 stack.append(ann.__origin__)
-    return ", ".join(f"'{t}'" for t in sorted(tags))
+    return ", ".join(f"'{t}'" for t in sorted(set(tags)))
 
 
 def _strip_tags(data: Any, loc: list) -> list:
@@ -87,7 +87,7 @@ def _strip_tags(data: Any, loc: list) -> list:
     for part in loc:
         if isinstance(part, int):
             node = node[part] if isinstance(node, list) and part < len(node) else None
-            after_field = False
+            after_field = True  # a list's item may be a union too (``[[obstacles]]``)
         elif after_field and isinstance(node, dict) and node.get("type") == part:
             after_field = False  # the tag: skip it, once
             continue

@@ -79,6 +79,10 @@ class Robot(_Model):
     cables: list[Cable] = Field(min_length=1)
     cable_weight_N_m: _ranged(0.0, 1e4, "N/m", "a rope's weight per metre") = 0.0
     """The cables' weight per metre (their sag: ``marinecdpr.model.catenary``), N/m."""
+    clearance_m: _ranged(0.0, 100.0, "m", "a gap to keep, not a distance across the ship") | None = None
+    """The least distance a cable may keep to another cable, the platform's body and the
+    ``[[obstacles]]`` (``marinecdpr.geometry.interference``), m; 0 flags contact only. The
+    plan flags the steps and cables that come closer. None (the default): not checked."""
     winch: Winch | None = None
     """The winches' design: the tension each can give at each step, and its torque, speed,
     power and energy."""

@@ -19,6 +19,7 @@ from pydantic import (
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
 from marinecdpr.scenario.messages import scenario_error
+from marinecdpr.scenario.obstacles import Obstacle
 from marinecdpr.scenario.robot import Robot
 # ---------------------------------------------------------------------- ship, sea
 class Ship(_Model):
@@ -506,6 +507,15 @@ class Scenario(_Model):
     simulation: Simulation = Simulation()
     environment: Environment = Environment()
     cleaning: Cleaning | None = None
+    obstacles: list[Obstacle] = Field(default=[], max_length=1000)
+    """What the cables must keep ``robot.clearance_m`` from, fixed to the frame, in C."""
+
+    @model_validator(mode="after")
+    def _check_obstacles(self) -> "Scenario":
+        if self.obstacles and self.robot.clearance_m is None:
+            raise _KeyedError("robot.clearance_m", "missing: [[obstacles]] are checked against the cables at "
+                                                   "this clearance (0 to flag contact only)")
+        return self
 
     @model_validator(mode="after")
     def _check_cleaning(self) -> "Scenario":

@@ -211,6 +211,7 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
         "controller_fallbacks": int(res.controller_fallbacks),
         **controller_verdict(res, scenario),
         "controller_bypassed_share_max": float(scenario.simulation.max_bypassed_share),
+        **({} if p.clearance is None else {"interference": p.interference_summary()}),
     }
 
 

@@ -165,6 +165,11 @@ def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
     out["runs_controller_bypassed"] = [name for name in results
                                        if out[name].get("controller_verdict") == "bypassed"]
     out["warnings"] = run_warnings(results, scenario)
+    close = plan.interference_summary()
+    if close is not None:
+        out["interference"] = close
+        if close["first"] is not None:
+            out["warnings"].append(f"plan: {close['first']}")
     return out
 
 

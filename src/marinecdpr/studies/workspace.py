@@ -47,6 +47,14 @@ class WorkspaceMap:
         The other coordinate and the orientation held, m and deg.
     n_steps : int
         Time steps per pose.
+    least_clearance_m : ndarray, shape (n_u, n_v), optional
+        With ``robot.clearance_m``: the least distance of any cable to another cable, the
+        platform's body or an obstacle at the held pose, m (the pose is held in C and the
+        obstacles are fixed to the frame, so the ship's motion does not change it; NaN where
+        the platform would leave the frame). The pose is interference-free where it is at
+        least the clearance (:attr:`interference_free`). None without.
+    clearance_m : float, optional
+        ``robot.clearance_m``.
     """
 
     axes: tuple[str, str]
@@ -57,6 +65,18 @@ class WorkspaceMap:
     pinv_fraction_feasible: np.ndarray
     fixed: dict
     n_steps: int
+    least_clearance_m: np.ndarray | None = None
+    clearance_m: float | None = None
+
+    @property
+    def interference_free(self) -> np.ndarray | None:
+        """Poses at which no cable comes closer than the clearance to anything, shape
+        (n_u, n_v) of bool (False where the platform would leave the frame); None without a
+        clearance."""
+        if self.least_clearance_m is None:
+            return None
+        with np.errstate(invalid="ignore"):
+            return self.least_clearance_m >= self.clearance_m
 
 
 def tension_margin(T: np.ndarray, t_min: np.ndarray, t_max: np.ndarray) -> np.ndarray:
@@ -232,5 +252,17 @@ def workspace_map(
     pinv = np.where(inside, pinv_ok / n_steps, np.nan).reshape(shape)
     margin = np.where(inside, np.where(ok == n_steps, np.maximum(worst, 0.0), -np.inf), np.nan).reshape(shape)
     fixed = {"axis": "xyz"[i_w], "value_m": float(fixed_m), "orientation_deg": list(orientation_deg)}
+    least = None
+    robot = scenario.robot
+    if robot.clearance_m is not None:  # one pose each: held still in C, as the obstacles are
+        from marinecdpr.geometry.rotations import matrix_from_euler
+        from marinecdpr.planning.interference import pose_clearances
+
+        x = np.zeros((total, 3))
+        x[:, i_u], x[:, i_v], x[:, i_w] = np.repeat(grid[0], grid[1].size), np.tile(grid[1], grid[0].size), fixed_m
+        R = np.broadcast_to(matrix_from_euler(np.radians(np.asarray(orientation_deg, dtype=float))), (total, 3, 3))
+        gaps = pose_clearances(robot, scenario.obstacles, x, R).per_cable.min(axis=1)
+        least = np.where(inside, gaps, np.nan).reshape(shape)
     return WorkspaceMap(axes=(axes[0], axes[1]), u=grid[0], v=grid[1], fraction_feasible=frac, min_margin_N=margin,
-                        pinv_fraction_feasible=pinv, fixed=fixed, n_steps=n_steps)
+                        pinv_fraction_feasible=pinv, fixed=fixed, n_steps=n_steps, least_clearance_m=least,
+                        clearance_m=robot.clearance_m)
