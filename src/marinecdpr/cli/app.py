@@ -1007,32 +1007,58 @@ MAX_RAO_FREQUENCIES = 2000
 
 @app.command()
 def rao(
-    length: float = typer.Option(..., help="The hull's length, m."),
-    beam: float = typer.Option(..., help="Its beam, m."),
-    draught: float = typer.Option(..., help="Its draught, m."),
-    gm: float = typer.Option(..., help="Its transverse metacentric height GM, m."),
+    length: Optional[float] = typer.Option(None, help="The hull's length, m."),
+    beam: Optional[float] = typer.Option(None, help="Its beam, m."),
+    draught: Optional[float] = typer.Option(None, help="Its draught, m."),
+    gm: Optional[float] = typer.Option(None, help="Its transverse metacentric height GM, m."),
+    mesh: Optional[Path] = typer.Option(None, help="A hull mesh instead (GDF, STL, Nemoh, HST, PNL): its RAOs, and "
+                                        "its hydrostatics from its panels."),
+    kg: Optional[float] = typer.Option(None, help="With --mesh: the centre of gravity's height above the keel, m "
+                                       "(GM = KB + BM - KG)."),
+    mesh_units: str = typer.Option("m", help="With --mesh: its length unit: m, cm, mm or ft."),
+    waterline: float = typer.Option(0.0, help="With --mesh: the waterline's z in the mesh, in its units."),
     roll_damping: float = typer.Option(0.05, help="Viscous roll damping, a fraction of critical (BEM has none)."),
     headings: str = typer.Option("90,120,150,180", help="Wave headings, deg, comma-separated."),
     omega: str = typer.Option("0.2:1.8:33", help="Wave frequencies first:last:count, rad/s."),
-    panel: float = typer.Option(2.5, help="About the panels' size, m."),
-    hull: str = typer.Option("box", help="The hull's form: box, or wigley (the analytic ship form, fine ends)."),
+    panel: Optional[float] = typer.Option(None, help="About the panels' size, m (default 2.5; not with --mesh)."),
+    hull: Optional[str] = typer.Option(None, help="The hull's form: box (default), or wigley (the analytic ship form, "
+                                       "fine ends); not with --mesh."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for rao.nc and rao.png."),
 ) -> None:
-    """A box or Wigley hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'):
-    writes rao.nc ([base_motion.rao] source = "capytaine"), the same table as rao.csv
-    (source = "csv", read without the extra) and rao.png, beside the built-in box
-    approximation (of the same main dimensions, for the Wigley hull)."""
+    """A hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'): a box or
+    Wigley hull of given main dimensions, or a hull mesh (--mesh, with --kg). Writes rao.nc
+    ([base_motion.rao] source = "capytaine"), the same table as rao.csv (source = "csv",
+    read without the extra) and rao.png, beside the built-in box approximation (of the same
+    main dimensions)."""
     import numpy as np
 
     from marinecdpr import __version__
     from marinecdpr.motion.bem import HULL_SHAPES, hull_bem
     from marinecdpr.report.writers import write_rao
 
-    if hull not in HULL_SHAPES:
-        _fail(f"--hull {hull}: expected one of {', '.join(HULL_SHAPES)}")
-    for name, value in (("--length", length), ("--beam", beam), ("--draught", draught), ("--gm", gm),
-                        ("--panel", panel)):
-        _number(name, value)
+    if mesh is not None:
+        given = [f"--{n}" for n, v in (("length", length), ("beam", beam), ("draught", draught), ("gm", gm),
+                                       ("panel", panel), ("hull", hull)) if v is not None]
+        if given:
+            _fail(f"--mesh {mesh}: {', '.join(given)} cannot go with it: the mesh gives the hull "
+                  "(its GM from --kg)")
+        if kg is None:
+            _fail(f"--mesh {mesh}: give --kg, the centre of gravity's height above the keel, m")
+        _number("--kg", kg)
+    else:
+        missing = [f"--{n}" for n, v in (("length", length), ("beam", beam), ("draught", draught), ("gm", gm))
+                   if v is None]
+        if missing:
+            _fail(f"missing {', '.join(missing)}: give the hull's main dimensions and GM, or --mesh FILE --kg KG")
+        if kg is not None:
+            _fail("--kg goes with --mesh (a box or Wigley hull takes --gm)")
+        hull = hull or "box"
+        panel = 2.5 if panel is None else panel
+        if hull not in HULL_SHAPES:
+            _fail(f"--hull {hull}: expected one of {', '.join(HULL_SHAPES)}")
+        for name, value in (("--length", length), ("--beam", beam), ("--draught", draught), ("--gm", gm),
+                            ("--panel", panel)):
+            _number(name, value)
     _number("--roll-damping", roll_damping, zero_ok=True)
     if roll_damping > 1.0:
         _fail(f"--roll-damping {roll_damping:g}: expected a fraction of critical damping from 0 to 1")
@@ -1054,6 +1080,9 @@ def rao(
         _fail(f"--omega {omega}: expected first:last:count with 0 < first < last and 2 <= count <= "
               f"{MAX_RAO_FREQUENCIES}")
     w = np.linspace(first, last, count)
+    if mesh is not None:
+        return _rao_mesh(mesh, kg=kg, units=mesh_units, waterline=waterline, roll_damping=roll_damping, heads=heads,
+                         w=w, omega=omega, out=out)
     try:  # before any work: a BEM the machine cannot hold or finish is one line
         check_bem_size(shape=hull, length_m=length, beam_m=beam, draught_m=draught, panel_m=panel,
                        frequencies=count, headings=len(heads))
@@ -1081,6 +1110,53 @@ def rao(
     peak = float(np.degrees(np.abs(bem.values[3])).max())
     console.print(_plain(f"{ds.attrs['hull']}: roll peaks at {peak:.3g} deg/m ({box_label} "
                          f"{float(np.degrees(np.abs(box.values[3])).max()):.3g}); written to {out}/: "
+                         f"{', '.join(p.name for p in paths)} ({time.perf_counter() - t0:.1f} s)"),
+                  highlight=False, soft_wrap=True)
+
+
+def _rao_mesh(mesh: Path, *, kg: float, units: str, waterline: float, roll_damping: float, heads: tuple, w,
+              omega: str, out: Path) -> None:
+    """``rao --mesh``: the mesh read and checked, its size and run time said, then the BEM."""
+    import numpy as np
+
+    from marinecdpr import __version__
+    from marinecdpr.motion.bem import mesh_bem
+    from marinecdpr.motion.hullmesh import load_hull_mesh
+    from marinecdpr.planning.budget import check_bem_size
+    from marinecdpr.report.writers import write_rao
+
+    try:
+        hull = load_hull_mesh(mesh, units=units, waterline_m=waterline)
+        size = check_bem_size(panels=hull.panels, frequencies=len(w), headings=len(heads), what=f"the mesh {mesh}")
+    except (ScenarioError, ValueError) as exc:
+        _fail(str(exc))
+    err_console.print(_plain(f"mesh: {mesh}: {hull.panels} panels below the waterline, {hull.length_m:.4g} x "
+                             f"{hull.beam_m:.4g} x {hull.draught_m:.4g} m; the BEM at {len(w)} frequencies takes "
+                             f"about {_seconds(size.seconds)}"), highlight=False, soft_wrap=True)
+    t0 = time.perf_counter()
+    with _output(out) as folder:
+        try:
+            ds = mesh_bem(hull, kg_m=kg, roll_damping_ratio=roll_damping, omega=w, heading_deg=heads,
+                          label=f"mesh {mesh.name}")
+        except (ScenarioError, ValueError) as exc:
+            _fail(f"--mesh {mesh}: {exc}")
+        made = (f"marinecdpr rao --mesh {mesh} --kg {kg:g} --mesh-units {units} --waterline {waterline:g} "
+                f"--roll-damping {roll_damping:g} --headings {','.join(f'{h:g}' for h in heads)} --omega {omega} "
+                f"(marinecdpr {__version__})")
+        box = dict(length_m=hull.length_m, beam_m=hull.beam_m, draught_m=hull.draught_m, gm_m=float(ds.attrs["gm_m"]),
+                   roll_damping_ratio=roll_damping)
+        try:
+            bem, approx, paths = write_rao(ds, folder, made_by=made, box=box,
+                                           box_label="box approximation of the same main dimensions and GM")
+        except (ScenarioError, ValueError) as exc:
+            _fail(f"the BEM's RAOs for this mesh cannot be written: {exc}")
+    a = ds.attrs
+    console.print(_plain(f"hydrostatics from the mesh: displacement {a['volume_m3']:.5g} m3, waterplane "
+                         f"{a['waterplane_area_m2']:.5g} m2, KB {a['kb_m']:.4g} m, BM {a['bm_m']:.4g} m, GM "
+                         f"{a['gm_m']:.4g} m (KG {kg:g} m)"), highlight=False, soft_wrap=True)
+    peak = float(np.degrees(np.abs(bem.values[3])).max())
+    console.print(_plain(f"{a['hull']}: roll peaks at {peak:.3g} deg/m (box approximation "
+                         f"{float(np.degrees(np.abs(approx.values[3])).max()):.3g}); written to {out}/: "
                          f"{', '.join(p.name for p in paths)} ({time.perf_counter() - t0:.1f} s)"),
                   highlight=False, soft_wrap=True)
 
@@ -1296,6 +1372,49 @@ def warmup(
     console.print(f"compiled for {len(names)} scenario{'s' if len(names) != 1 else ''} "
                   f"({len(out.runs)} runs) in {out.seconds:.1f} s; cached in {_plain(out.cache_dir)}",
                   highlight=False, soft_wrap=True)
+
+
+@app.command("import")
+def import_(
+    source: Path = typer.Argument(..., help="A CASPR model's *_bodies.xml or a WireX robot (.wcrfx)."),
+    out: Path = typer.Option(..., "--out", "-o", help="The scenario file to write (.toml)."),
+    cables: Optional[Path] = typer.Option(None, help="CASPR: the cables file (default: X_cables.xml beside "
+                                          "X_bodies.xml)."),
+    trajectories: Optional[Path] = typer.Option(None, help="CASPR: the trajectories file (default: "
+                                                "X_trajectories.xml beside it, if there)."),
+    cable_set: Optional[str] = typer.Option(None, help="CASPR: the cable set (default: the file's default)."),
+    trajectory: Optional[str] = typer.Option(None, help="CASPR: the trajectory's id (default: the first)."),
+    hold: bool = typer.Option(False, "--hold", help="CASPR: hold the platform at the joint's q_initial, "
+                              "whatever trajectories the model has."),
+    pulleys: bool = typer.Option(False, "--pulleys", help="WireX: carry over each chain's pulley."),
+) -> None:
+    """Write a scenario from a robot model of CASPR or WireX, saying what it could not carry over."""
+    from marinecdpr.scenario.importing import import_robot, scenario_toml
+    from marinecdpr.textfiles import atomic_path
+
+    if out.suffix != ".toml":
+        _fail(f"--out {out}: expected a scenario file name ending in .toml")
+    if out.is_dir():
+        _fail(f"--out {out}: a folder; expected a scenario file name")
+    try:
+        imported = import_robot(source, cables=cables, trajectories=trajectories, cable_set=cable_set,
+                                trajectory=trajectory, hold=hold, pulleys=pulleys)
+        text = scenario_toml(imported)
+        if not out.parent.is_dir():
+            _fail(f"--out {out}: no folder {out.parent}")
+        with atomic_path(out) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+            load_scenario(tmp)  # reads back as it will be read
+    except ScenarioError as exc:
+        _fail(str(exc))
+    except OSError as exc:
+        _fail(f"--out {out}: cannot write ({exc.strerror or exc})")
+    r = imported.data["robot"]
+    console.print(_plain(f"{out}: '{imported.data['name']}' from {imported.source}, a {r['dofs']} robot with "
+                         f"{len(r['cables'])} cables, {r['mass_kg']:g} kg; trajectory "
+                         f"{imported.data['trajectory']['type']}"), highlight=False, soft_wrap=True)
+    for note in imported.notes:
+        console.print(_plain(f"note: {note}"), highlight=False, soft_wrap=True)
 
 
 @app.command()

@@ -309,18 +309,71 @@ def hull_bem(
     if KG <= 0:
         raise ValueError(f"gm_m {GM:g} m is more than KB + BM = {KB + BM:.3g} m: no centre of gravity gives it")
     omega = np.asarray(omega, dtype=float)
-    if not (omega.ndim == 1 and omega.size >= 1 and np.all(np.isfinite(omega)) and np.all(omega > 0)):
-        raise ValueError("omega must be finite wave frequencies > 0 rad/s")
     heading = np.asarray(heading_deg, dtype=float)
-    if not (heading.ndim == 1 and heading.size >= 1 and np.all(np.isfinite(heading))):
-        raise ValueError("heading_deg must be finite wave headings, deg")
-    directions = np.radians(heading)
     if shape == "box":
         size = (L, B, 2.0 * T)  # a box about the waterline; its immersed half is the hull
         resolution = _box_resolution(L, B, T, panel_m)
         mesh = cpt.mesh_parallelepiped(size=size, center=(0.0, 0.0, 0.0), resolution=resolution, name="box")
     else:
         mesh = wigley_mesh(length_m=L, beam_m=B, draught_m=T, panel_m=panel_m)
+    name = "box" if shape == "box" else "Wigley hull"
+    return _solve(cpt, xr, mesh, hydro, shape, L, B, T, GM, KG, roll_damping_ratio, omega, heading, rho, g,
+                  f"{name} {L:g} x {B:g} x {T:g} m, GM {GM:g} m")
+
+
+def mesh_bem(hull, *, kg_m: float, roll_damping_ratio: float, omega: np.ndarray, heading_deg: np.ndarray,
+             rho: float = 1025.0, g: float = 9.81, label: str = "mesh"):
+    """A hull mesh's RAOs from Capytaine (:func:`hull_bem`'s solve), its hydrostatics from the
+    mesh's panels (``hull.hydrostatics``: :func:`~marinecdpr.motion.hullmesh.mesh_hydrostatics`) and its centre of
+    gravity KG above the keel: GM = KB + BM - KG.
+
+    Parameters
+    ----------
+    hull : marinecdpr.motion.hullmesh.HullMesh
+        The wetted surface, checked (:func:`~marinecdpr.motion.hullmesh.load_hull_mesh`),
+        its frame's origin on the waterline above the centre of buoyancy (G is put there,
+        KG above the keel).
+    kg_m : float
+        KG, m (> 0, below KB + BM: a stable hull).
+    label : str
+        How the dataset's ``hull`` attribute names it (the file).
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`hull_bem`'s, with the mesh's hydrostatics as attributes.
+    """
+    cpt, xr = _capytaine()
+    check_positive(kg_m=kg_m, rho=rho, g=g)
+    if not (math.isfinite(roll_damping_ratio) and 0.0 <= roll_damping_ratio <= ROLL_DAMPING_MAX):
+        raise ValueError(f"roll_damping_ratio must be a fraction of critical damping from 0 to {ROLL_DAMPING_MAX:g}, "
+                         f"got {roll_damping_ratio:g}")
+    omega, heading = np.asarray(omega, dtype=float), np.asarray(heading_deg, dtype=float)
+    mh = hull.hydrostatics
+    hydro = Hydrostatics(volume_m3=mh.volume_m3, waterplane_area_m2=mh.waterplane_area_m2, kb_m=mh.kb_m,
+                         bm_m=mh.bm_m, bml_m=mh.bml_m)
+    GM = hydro.kb_m + hydro.bm_m - float(kg_m)
+    if GM <= 0:
+        raise ValueError(f"KG {kg_m:g} m is at or above the metacentre (KB + BM = {hydro.kb_m + hydro.bm_m:.4g} m "
+                         f"from the mesh): the hull would capsize")
+    ds = _solve(cpt, xr, hull.mesh, hydro, "mesh", hull.length_m, hull.beam_m, hull.draught_m, GM, float(kg_m),
+                roll_damping_ratio, omega, heading, rho, g,
+                f"{label} ({hull.length_m:.4g} x {hull.beam_m:.4g} x {hull.draught_m:.4g} m), KG {kg_m:g} m, "
+                f"GM {GM:.4g} m")
+    ds.attrs.update(volume_m3=hydro.volume_m3, waterplane_area_m2=hydro.waterplane_area_m2, kb_m=hydro.kb_m,
+                    bm_m=hydro.bm_m, bml_m=hydro.bml_m, gm_m=GM)
+    return ds
+
+
+def _solve(cpt, xr, mesh, hydro: Hydrostatics, shape: str, L: float, B: float, T: float, GM: float, KG: float,
+           roll_damping_ratio: float, omega: np.ndarray, heading: np.ndarray, rho: float, g: float, what: str):
+    """The BEM and the RAOs of a hull mesh with its hydrostatics (:func:`hull_bem`'s steps)."""
+    if not (omega.ndim == 1 and omega.size >= 1 and np.all(np.isfinite(omega)) and np.all(omega > 0)):
+        raise ValueError("omega must be finite wave frequencies > 0 rad/s")
+    if not (heading.ndim == 1 and heading.size >= 1 and np.all(np.isfinite(heading))):
+        raise ValueError("heading_deg must be finite wave headings, deg")
+    directions = np.radians(heading)
+    KB = hydro.kb_m
     volume = hydro.volume_m3
     mass = rho * volume
     body = cpt.FloatingBody(mesh=mesh, dofs=cpt.rigid_body_dofs(rotation_center=(0.0, 0.0, 0.0)),
@@ -358,8 +411,7 @@ def hull_bem(
     dissipation[dofs.index("Roll"), dofs.index("Roll")] = b44
     problems["RAO"] = cpt.post_pro.rao(problems, dissipation=body.add_dofs_labels_to_matrix(dissipation))
     problems["roll_damping"] = b44
-    name = "box" if shape == "box" else "Wigley hull"
-    problems.attrs.update(hull=f"{name} {L:g} x {B:g} x {T:g} m, GM {GM:g} m, roll damping {roll_damping_ratio:g} "
+    problems.attrs.update(hull=f"{what}, roll damping {roll_damping_ratio:g} "
                                f"of critical (at {w_n:.3g} rad/s), {body.mesh.nb_faces} panels, Capytaine "
                                f"{cpt.__version__}")
     return problems

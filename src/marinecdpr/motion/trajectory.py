@@ -16,6 +16,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.geometry import _vec as vec
 from marinecdpr.geometry.rotations import euler_kinematics
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
+from marinecdpr.scenario.robot import frame_axes
 from marinecdpr.scenario.schema import CircleTrajectory, Disturbance, LineTrajectory, WaypointsTrajectory
 
 __all__ = [
@@ -231,8 +232,10 @@ def check_in_frame(x_PC: np.ndarray, anchors_C: np.ndarray, c_C: np.ndarray, t: 
     """Raise if the platform's centre or an anchor leaves the frame.
 
     The frame is the axis-aligned box of the frame anchors in C; an axis along
-    which all frame anchors share one coordinate (a suspended robot's height, a
-    planar robot's y) is not checked.
+    which the anchors span at most :data:`~marinecdpr.scenario.fields.FLAT_FRAME_SHARE`
+    of the frame's largest extent (a suspended robot's anchors, all near one height,
+    as CoGiRo's; a planar robot's y) is not checked
+    (:func:`~marinecdpr.scenario.robot.frame_axes`).
 
     Parameters
     ----------
@@ -252,8 +255,9 @@ def check_in_frame(x_PC: np.ndarray, anchors_C: np.ndarray, c_C: np.ndarray, t: 
     """
     lo, hi = c_C.min(axis=0), c_C.max(axis=0)
     tol = 1e-9 * max(1.0, float(np.abs(c_C).max()))
+    spanned = frame_axes(c_C)
     for axis in range(3):
-        if hi[axis] - lo[axis] <= tol:
+        if not spanned[axis]:
             continue
         x = x_PC[:, axis]
         ext = anchors_C[:, :, axis]

@@ -544,6 +544,13 @@ def estimate_bem(*, shape: str, length_m: float, beam_m: float, draught_m: float
     from marinecdpr.motion.bem import bem_panels
 
     n = bem_panels(shape=shape, length_m=length_m, beam_m=beam_m, draught_m=draught_m, panel_m=panel_m)
+    return bem_size(n, frequencies=frequencies, headings=headings)
+
+
+def bem_size(panels: int, *, frequencies: int, headings: int) -> BemSize:
+    """The memory and time of a BEM of ``panels`` panels (dense matrices of every panel pair,
+    factored once per frequency)."""
+    n = int(panels)
     pairs = float(n) * float(n)
     per_frequency = BEM_PAIR_S * pairs + BEM_LU_S * pairs * n + BEM_SOLVE_S * pairs * (6 + headings)
     return BemSize(panels=n, frequencies=int(frequencies), headings=int(headings),
@@ -586,17 +593,23 @@ def check_bem_size(*, memory_bytes: int | None = None, max_seconds: float = MAX_
         One line: the panels, the estimated memory or time and what to change (a larger
         ``--panel``, fewer frequencies).
     """
-    size = estimate_bem(**hull)
+    if "panels" in hull:  # a mesh's: its panels counted
+        size = bem_size(hull["panels"], frequencies=hull["frequencies"], headings=hull["headings"])
+        what = f"a BEM of {_count(size.panels)} panels ({hull.get('what', 'a mesh')})"
+        coarser = "a coarser mesh"
+    else:
+        size = estimate_bem(**hull)
+        what = (f"a BEM of {_count(size.panels)} panels ({hull['shape']} hull of {hull['length_m']:g} x "
+                f"{hull['beam_m']:g} x {hull['draught_m']:g} m at {hull['panel_m']:g} m panels)")
+        coarser = "a larger --panel"
     total = machine_memory_bytes() if memory_bytes is None else int(memory_bytes)
-    what = (f"a BEM of {_count(size.panels)} panels ({hull['shape']} hull of {hull['length_m']:g} x "
-            f"{hull['beam_m']:g} x {hull['draught_m']:g} m at {hull['panel_m']:g} m panels)")
     if size.memory_bytes > MEMORY_FRACTION * total:
         raise ScenarioError(f"{what} would need about {human_bytes(size.memory_bytes)} in memory (this machine: "
-                            f"{_gib(total)}, a run may use {MEMORY_FRACTION:.0%}); use a larger --panel")
+                            f"{_gib(total)}, a run may use {MEMORY_FRACTION:.0%}); use {coarser}")
     if size.seconds > max_seconds:
         raise ScenarioError(f"{what} at {size.frequencies} frequencies and {size.headings} heading"
                             f"{'s' if size.headings != 1 else ''} would take about {_duration(size.seconds)}, "
-                            f"more than the {_duration(max_seconds)} a run may take; use a larger --panel or "
+                            f"more than the {_duration(max_seconds)} a run may take; use {coarser} or "
                             "fewer --omega frequencies")
     return size
 

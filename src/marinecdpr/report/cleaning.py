@@ -13,6 +13,7 @@ from marinecdpr.report.figures import (
 )
 from marinecdpr.report.files import _write_csv, atomic_path, write_json
 from marinecdpr.report.text import _fmt_length, describe_base_motion
+from marinecdpr.report.view3d import view_section
 from marinecdpr.textfiles import strip_control
 
 __all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
@@ -237,7 +238,8 @@ text-align: left; }} img {{ max-width: 100%; }} figcaption {{ color: #555; font-
 </head><body><h1>Cleaning job, scenario: {esc(sc.name)}</h1><p>{esc(sc.description)}</p>
 <h2>Scenario</h2><table>{rows}</table><h2>The job</h2><table>{numbers}</table><ul>{notes}</ul>
 {_comparison_table(s.get("comparison", {}), esc)}
-<h2>Figures</h2>{imgs}</body></html>
+<h2>Figures</h2>{imgs}
+{view_section(sc, job.plan)}</body></html>
 """
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -8,6 +8,7 @@ from pathlib import Path
 from marinecdpr.planning.planner import TWIST_NAMES
 from marinecdpr.report.figures import RUN_TITLES, _pose_names, length_unit
 from marinecdpr.report.files import atomic_path
+from marinecdpr.report.view3d import view_section
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.textfiles import strip_control
 
@@ -177,9 +178,12 @@ def _budget_cell(value: float | None, scale: float, unit: str) -> str:
     return "–" if value is None else f"{value * scale:.3g} {unit}"
 
 
-def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path) -> Path:
+def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path], path: Path, *,
+                      plan=None) -> Path:
     """One self-contained page: the scenario, the error table (beside the paper's for the
-    paper's experiment), what the numbers say, and every figure."""
+    paper's experiment), what the numbers say, every figure, and the robot on the ship in 3D
+    (:func:`~marinecdpr.report.view3d.view_section`, at ``plan``'s poses, else the scenario's
+    trajectory's)."""
     import base64
     import html
 
@@ -268,7 +272,7 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 {budget}
 <h2>Figures</h2>
 {''.join(imgs)}
-</body></html>
+{view_section(scenario, plan)}</body></html>
 """
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -52,6 +52,10 @@ RADIUS_OF_GYRATION_RANGE_M = (1e-4, POSITION_MAX_M)
 DEGENERATE_RELATIVE = 1e-4
 """Anchors within this fraction of the robot's size of one point (or, spatial, one line)
 make a degenerate robot."""
+FLAT_FRAME_SHARE = 0.05
+"""An axis along which the frame anchors span at most this share of the frame's largest
+extent is the frame's thin axis (a suspended robot's anchors, all near one height, or a
+planar robot's y): the platform is not kept within the anchors' range along it."""
 RANK_TOLERANCE = 1e-9
 """Singular values of J~ (moment columns over the robot's size) below this fraction of the
 largest count as zero."""

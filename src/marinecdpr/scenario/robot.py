@@ -8,7 +8,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
-from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, CONTROLLED_DOFS, DEGENERATE_RELATIVE, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged, UNIT_TOLERANCE, normalised_unit
+from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, FLAT_FRAME_SHARE, CONTROLLED_DOFS, DEGENERATE_RELATIVE, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged, UNIT_TOLERANCE, normalised_unit
 
 # --------------------------------------------------------------------------- robot
 class Cable(_Model):
@@ -145,15 +145,14 @@ class Robot(_Model):
                     f"cables[{i}]",
                     f"tension_min_N ({lo:g}) must be below tension_max_N ({hi:g})",
                 )
-        for attr, what in (("frame_anchor_m", "frame"), ("platform_anchor_m", "platform")):
-            pts = np.array([getattr(c, attr) for c in self.cables])
-            d = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=-1)
-            i, j = np.nonzero(np.triu(d <= ANCHOR_TOLERANCE_M, k=1))
-            if i.size:
-                raise _KeyedError(
-                    f"cables[{j[0] + 1}].{attr}",
-                    f"same {what} anchor as cable {i[0] + 1} ({pts[i[0]].tolist()} m)",
-                )
+        # two cables may share a platform point (IPAnema 1's pairs do), not a frame anchor (each
+        # leaves its own winch or pulley)
+        pts = np.array([c.frame_anchor_m for c in self.cables])
+        d = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=-1)
+        i, j = np.nonzero(np.triu(d <= ANCHOR_TOLERANCE_M, k=1))
+        if i.size:
+            raise _KeyedError(f"cables[{j[0] + 1}].frame_anchor_m",
+                              f"same frame anchor as cable {i[0] + 1} ({pts[i[0]].tolist()} m)")
         return self
 
     @model_validator(mode="after")
@@ -245,6 +244,21 @@ class Robot(_Model):
 
 
 DOF_NAMES = ("x", "y", "z", "theta_x", "theta_y", "theta_z")
+
+
+def frame_axes(c_C: np.ndarray) -> np.ndarray:
+    """The axes of C the frame spans, shape (3,) of bool: those along which the frame
+    anchors' range is more than :data:`~marinecdpr.scenario.fields.FLAT_FRAME_SHARE` of the
+    frame's largest (and more than 1e-9 of its coordinates' size).
+
+    Parameters
+    ----------
+    c_C : ndarray, shape (n_cables, 3)
+        Frame anchors in C, m.
+    """
+    extent = np.ptp(c_C, axis=0)
+    tol = 1e-9 * max(1.0, float(np.abs(c_C).max()))
+    return (extent > tol) & (extent > FLAT_FRAME_SHARE * float(extent.max()))
 
 
 def _diameter(points: np.ndarray) -> float:

@@ -102,8 +102,9 @@ def pose_range(scenario: Scenario, orientation_deg: tuple[float, float, float] =
                                                                                         dtype=float))).T
     in_lo = lo - np.minimum(anchors.min(axis=0), 0.0)
     in_hi = hi - np.maximum(anchors.max(axis=0), 0.0)
-    tol = 1e-9 * max(1.0, float(np.abs(c).max()))
-    keep = (hi - lo > tol) & (in_hi > in_lo)
+    from marinecdpr.scenario.robot import frame_axes
+
+    keep = frame_axes(c) & (in_hi > in_lo)
     return np.where(keep, in_lo, lo), np.where(keep, in_hi, hi)
 
 
