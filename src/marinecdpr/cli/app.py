@@ -284,6 +284,8 @@ def clean(
     hull_area: Optional[float] = typer.Option(None, "--hull-area", help="Estimate a hull of this many m2 (e.g. "
                                               "one side: length x draught), panel after panel."),
     move_time: float = typer.Option(600.0, "--move-time", help="Seconds to move the frame to its next place."),
+    surface: bool = typer.Option(False, "--surface", help="Clean the scenario's [cleaning.surface] band of the hull: "
+                                 "the frame's placements on the curved surface, and their hours."),
     seas: bool = typer.Option(False, "--seas", help="Fly the job in every sea state of a scatter diagram (the "
                               "scenario's sea_state with each Hs, Tp and heading) and say where it works."),
     scatter: Optional[Path] = typer.Option(None, help="With --seas: the scatter diagram CSV (hs_m,tp_s,"
@@ -318,6 +320,20 @@ def clean(
         except ValueError as exc:
             _fail(f"--hull-area {hull_area:g} / --move-time {move_time:g}: {exc}")
     sc = _scenario_to_fly(scenario, duration, "simulate", cleaning=True)
+    if surface:
+        if hull_area is not None:
+            _fail("--surface and --hull-area: choose one (--surface has the hull's real placements)")
+        if seas or scatter is not None:
+            _fail("--surface cannot go with --seas yet: its hours are for the scenario's sea")
+        if sc.cleaning.surface is None:
+            _fail(f"{_plain(scenario)}: cleaning.surface: missing: --surface cleans the [cleaning.surface] band of "
+                  "the hull")
+        from marinecdpr.studies.surface import surface_job
+
+        try:  # before the job: a surface that cannot be tiled is one line
+            placed = surface_job(sc, move_time_s=move_time)
+        except ScenarioError as exc:
+            _fail_scenario(exc, scenario)
     if seas or scatter is not None:
         if guarantee:
             _fail("--guarantee cannot go with --seas: it sets the lanes from one sea state's run")
@@ -350,9 +366,23 @@ def clean(
                 job.summary["hull"] = ship_side(job.summary, hull_area_m2=hull_area, move_time_s=move_time)
             except ValueError as exc:
                 _fail(f"--hull-area: {exc}")
-        paths = write_cleaning(job, folder)
+        if surface:
+            from marinecdpr.report.cleaning import write_surface
+
+            job.summary["surface"] = placed.summary()
+            surface_paths = write_surface(placed, folder)
+        paths = write_cleaning(job, folder) + (surface_paths if surface else [])
     for sentence in cleaning_findings(job.summary):
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
+    if surface:
+        u = job.summary["surface"]
+        console.print(_plain(f"surface: {u['surface']}: {u['placements']} placements of the "
+                             f"{u['frame_panel_m'][0]:g} x {u['frame_panel_m'][1]:g} m frame, {u['area_m2']:.4g} m2: "
+                             f"{u['hours']:.4g} h ({u['cleaning_hours']:.4g} h cleaning, moves of {move_time:g} s; "
+                             f"{u['area_rate_m2_h']:.3g} m2/h)"
+                             + (f"; {u['uncleanable_patches']} patches ({u['uncleanable_area_m2']:.3g} m2) curved "
+                                "beyond the stand-off tolerance" if u["uncleanable_patches"] else "")),
+                      highlight=False, soft_wrap=True)
     close = job.summary.get("interference")
     if close is not None and close["first"] is not None:
         err_console.print(_plain(f"warning: plan: {close['first']}"), highlight=False, soft_wrap=True)

@@ -27,7 +27,7 @@ import numpy as np
 
 from marinecdpr.errors import ScenarioError
 
-__all__ = ["HullMesh", "load_hull_mesh", "mesh_hydrostatics", "write_gdf", "write_wigley_gdf", "shipped_mesh",
+__all__ = ["HullMesh", "read_mesh", "load_hull_mesh", "mesh_hydrostatics", "write_gdf", "write_wigley_gdf", "shipped_mesh",
            "MESH_UNITS", "MESH_FORMATS", "SHIPPED_WIGLEY"]
 
 MESH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048}
@@ -181,29 +181,24 @@ def _orientation(tri: np.ndarray) -> np.ndarray:
     return np.where(even, 1.0, -1.0)
 
 
-def load_hull_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0.0, file_format: str | None = None,
-                   max_panels: int | None = None) -> HullMesh:
-    """A hull mesh from a file, in metres with its waterline at z = 0, checked before any BEM.
+def read_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0.0, file_format: str | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """A mesh file's vertices in metres, its waterline at z = 0, and its faces (all of them,
+    above the waterline too): what :func:`load_hull_mesh` checks, and what a surface to clean
+    is read from.
 
-    Parameters
-    ----------
-    path : str or Path
-        A mesh Capytaine reads (:data:`MESH_FORMATS`: GDF, STL, Nemoh, HST, PNL).
-    units : str
-        The mesh's length unit (:data:`MESH_UNITS`).
-    waterline_m : float
-        The waterline's z in the mesh, in its units.
-    file_format : str, optional
-        Capytaine's name of the format (default: from the file's ending).
-    max_panels : int, optional
-        The most wetted panels the run may have (checked before the mesh is clipped further).
+    Returns
+    -------
+    vertices : ndarray, shape (n_vertices, 3)
+        m.
+    faces : ndarray of int, shape (n_faces, 4)
+        Capytaine's: quadrilaterals, a triangle repeating a corner.
 
     Raises
     ------
     ScenarioError
-        One line, naming the file: unreadable; nothing below the waterline; dimensions no
-        ship has (wrong units); open below the waterline (edges of one panel); normals that
-        point into the hull or disagree; more panels than the run can afford.
+        One line: an unknown unit or ending, no such file, a file the reader cannot parse,
+        vertices that are not finite.
     """
     from marinecdpr.motion.bem import _capytaine
 
@@ -233,6 +228,40 @@ def load_hull_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0
     faces = np.asarray(mesh.faces)
     if not np.isfinite(vertices).all():
         raise ScenarioError("the mesh has vertices that are not finite numbers", source=src)
+    return vertices, faces
+
+
+def load_hull_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0.0, file_format: str | None = None,
+                   max_panels: int | None = None) -> HullMesh:
+    """A hull mesh from a file, in metres with its waterline at z = 0, checked before any BEM.
+
+    Parameters
+    ----------
+    path : str or Path
+        A mesh Capytaine reads (:data:`MESH_FORMATS`: GDF, STL, Nemoh, HST, PNL).
+    units : str
+        The mesh's length unit (:data:`MESH_UNITS`).
+    waterline_m : float
+        The waterline's z in the mesh, in its units.
+    file_format : str, optional
+        Capytaine's name of the format (default: from the file's ending).
+    max_panels : int, optional
+        The most wetted panels the run may have (checked before the mesh is clipped further).
+
+    Raises
+    ------
+    ScenarioError
+        One line, naming the file: unreadable; nothing below the waterline; dimensions no
+        ship has (wrong units); open below the waterline (edges of one panel); normals that
+        point into the hull or disagree; more panels than the run can afford.
+    """
+    from marinecdpr.motion.bem import _capytaine
+
+    cpt, _ = _capytaine()
+    path = Path(path)
+    src = str(path)
+    vertices, faces = read_mesh(path, units=units, waterline_m=waterline_m, file_format=file_format)
+    scale = MESH_UNITS[units]
     whole = cpt.Mesh(vertices, faces, name=path.stem)
     wet = whole.immersed_part()
     if wet.nb_faces == 0:

@@ -314,3 +314,49 @@ def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
         f"the cleaning job works: >= {cs.coverage_target_pct:g} % of reach cleaned, force in band "
         f">= {cs.in_band_target_pct:g} % of the time")))
     return paths
+
+
+def write_surface(sj, folder: Path) -> list[Path]:
+    """``placements.csv`` (one row per frame placement on ``[cleaning.surface]``: its patch's
+    stations and heights, the plane's centre and normal in S, the surface's offsets from the
+    plane, the patch's extent in the plane, its area and cleaning time; the patches too curved
+    for the tolerance last, with ``cleanable`` 0) and ``surface.png`` (the side, x along the
+    ship and z up, each placement coloured by its minutes, and by its stand-off deviation).
+
+    Parameters
+    ----------
+    sj : marinecdpr.studies.surface.SurfaceJob
+    """
+    folder = Path(folder)
+    names = ["x0_m", "x1_m", "z0_m", "z1_m", "centre_x_m", "centre_y_m", "centre_z_m", "normal_x", "normal_y",
+             "normal_z", "offset_min_m", "offset_max_m", "extent_x_m", "extent_z_m", "area_m2", "job_s", "cleanable"]
+    rows = [[*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2, t, 1.0]
+            for p, t in zip(sj.placements, sj.job_s)]
+    rows += [[*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2,
+              float("nan"), 0.0] for p in sj.uncleanable]
+    csv = _write_csv(names, np.array(rows, dtype=float).reshape(-1, len(names)), folder / "placements.csv",
+                     int_last=True)
+    plt = _pyplot()
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Rectangle
+
+    fig, axes = plt.subplots(2, 1, figsize=(12, 6.4), constrained_layout=True, sharex=True)
+    for ax, values, label, cmap in ((axes[0], sj.job_s / 60.0, "cleaning time per placement (min)", "viridis"),
+                                    (axes[1], np.array([p.deviation_m for p in sj.placements]) * 1e3,
+                                     "stand-off deviation from the frame's plane (mm)", "magma")):
+        rects = [Rectangle((p.x_range[0], p.z_range[0]), p.x_range[1] - p.x_range[0], p.z_range[1] - p.z_range[0])
+                 for p in sj.placements]
+        coll = PatchCollection(rects, cmap=cmap, edgecolor="white", linewidth=0.2)
+        coll.set_array(np.asarray(values, dtype=float))
+        ax.add_collection(coll)
+        if sj.uncleanable:
+            ax.add_collection(PatchCollection(
+                [Rectangle((p.x_range[0], p.z_range[0]), p.x_range[1] - p.x_range[0], p.z_range[1] - p.z_range[0])
+                 for p in sj.uncleanable], facecolor="0.6", edgecolor="none"))
+        ax.autoscale_view()
+        ax.set_ylabel("z in S (m)")
+        fig.colorbar(coll, ax=ax, label=label, shrink=0.9)
+    axes[1].set_xlabel("x in S (m, from amidships)")
+    fig.suptitle(_plain(f"{len(sj.placements)} placements of a {sj.frame_panel_m[0]:g} x {sj.frame_panel_m[1]:g} m "
+                        f"frame: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); {sj.surface}"), fontsize=9)
+    return [csv, _save(fig, folder / "surface.png")]

@@ -12,15 +12,15 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, StrictBool, StrictFloat, field_validator, model_validator
+from pydantic import AfterValidator, Field, StrictBool, StrictFloat, StrictStr, ValidationInfo, field_validator, model_validator
 
 from marinecdpr.geometry.polygons import inside_or_on, polygon_area
 from marinecdpr.scenario.fields import (
     POSITION_MAX_M, UNIT_TOLERANCE, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
-    normalised_unit,
+    _resolve_file, normalised_unit,
 )
 
-__all__ = ["Cleaning", "CoverageTrajectory"]
+__all__ = ["Cleaning", "CoverageTrajectory", "Surface"]
 
 Coordinate = _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions on a ship, in metres")
 
@@ -31,6 +31,70 @@ def _point(value: list) -> tuple[float, float]:
 
 Point = Annotated[tuple[Coordinate, Coordinate], AfterValidator(_point)]
 Polygon = Annotated[list[Point], Field(min_length=3, max_length=10_000)]
+
+
+class Surface(_Model):
+    """``[cleaning.surface]``: the hull surface the job cleans, placement after placement
+    (``marinecdpr clean --surface``): a band of one side of the hull, between two stations
+    and two heights, in S (x forward from amidships, z up from the waterline).
+
+    The side is a Wigley hull's (``form = "wigley"``: half-breadth (B/2)(1 - (2x/L)^2)
+    (1 - (z/T)^2) below the waterline and (B/2)(1 - (2x/L)^2)(1 + flare (z/T)^2) above it) or a
+    mesh's (``form = "mesh"``: any format ``rao --mesh`` reads, its topsides included).
+    """
+
+    form: Literal["wigley", "mesh"]
+    mesh: StrictStr | None = None
+    """form = "mesh": the mesh file (relative paths from the scenario's folder)."""
+    mesh_units: Literal["m", "cm", "mm", "ft"] = "m"
+    waterline_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "a height on a ship") = 0.0
+    """form = "mesh": the waterline's z in the mesh, in its units."""
+    length_m: _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship") | None = None
+    beam_m: _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform") | None = None
+    draught_m: _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker") | None = None
+    flare: _ranged(-1.0, 1.0, "", "the half-breadth's growth per draught of height, a share") = 0.0
+    """form = "wigley": how the topside flares out (> 0) or tumbles home (< 0) above the waterline
+    (the half-breadth's share gained at a draught's height)."""
+    side: Literal["port", "starboard"] = "port"
+    stations_m: tuple[Coordinate, Coordinate]
+    """The band's ends along the ship, [aft, forward], m from amidships."""
+    heights_m: tuple[Coordinate, Coordinate]
+    """The band's [lower, upper] heights above the waterline, m."""
+    stand_off_tolerance_m: _ranged(0.0, 1.0, "m", "a tool's stand-off range", above=True)
+    """The most the surface may depart from the frame's plane over one placement, m."""
+
+    @field_validator("mesh")
+    @classmethod
+    def _check_mesh(cls, value: str | None, info: ValidationInfo) -> str | None:
+        return None if value is None else _resolve_file(value, info)
+
+    @model_validator(mode="after")
+    def _check(self) -> "Surface":
+        for key in ("stations_m", "heights_m"):
+            lo, hi = getattr(self, key)
+            if not lo < hi:
+                raise _KeyedError(key, f"must be [low, high] with low < high, got [{_num(lo)}, {_num(hi)}]")
+        if self.form == "mesh":
+            if self.mesh is None:
+                raise _KeyedError("mesh", "missing: form = \"mesh\" cleans a mesh's side")
+            for key in ("length_m", "beam_m", "draught_m"):
+                if getattr(self, key) is not None:
+                    raise _KeyedError(key, "is for form = \"wigley\": a mesh gives its own dimensions")
+            return self
+        for key in ("length_m", "beam_m", "draught_m"):
+            if getattr(self, key) is None:
+                raise _KeyedError(key, "missing: the Wigley hull needs its length, beam and draught")
+        if self.mesh is not None:
+            raise _KeyedError("mesh", "is for form = \"mesh\"")
+        half = 0.5 * self.length_m
+        lo, hi = self.stations_m
+        if lo <= -half or hi >= half:
+            raise _KeyedError("stations_m", f"must lie within the hull's length, between {_num(-half)} and "
+                                            f"{_num(half)} m (its ends have no breadth), got [{_num(lo)}, {_num(hi)}]")
+        if self.heights_m[0] < -self.draught_m:
+            raise _KeyedError("heights_m", f"must be above the keel ({_num(-self.draught_m)} m), got "
+                                           f"{_num(self.heights_m[0])}")
+        return self
 
 
 class Cleaning(_Model):
@@ -63,6 +127,9 @@ class Cleaning(_Model):
     """A water jet's reaction on the tool, N, positive away from the hull."""
     brush_offset_m: Position = (0.0, 0.0, 0.0)
     """The brush's centre in the platform frame P, m."""
+    surface: Surface | None = None
+    """The hull surface the whole job cleans, placement after placement of this panel's frame
+    (``clean --surface``); none by default."""
     hull_normal: tuple[StrictFloat, StrictFloat, StrictFloat] = (0.0, 1.0, 0.0)
     """The hull's normal in C, pointing from the hull towards the robot (the frame's y); a unit
     vector within ``UNIT_TOLERANCE`` (1e-6), normalised."""

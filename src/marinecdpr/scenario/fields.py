@@ -15,6 +15,7 @@ planar robot) by validators on the models. Every failure surfaces as one
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Annotated, Any
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, StrictFloat
@@ -148,6 +149,19 @@ TensionMax = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN", above=True
 TimeOfDay = _ranged(0.0, TIME_MAX_S, "s", "11.6 days")
 Force = _ranged_vec3(1e8, "N", "beyond what ten cables of 10 MN can hold")
 Moment = _ranged_vec3(1e9, "N m", "beyond what ten cables of 10 MN can hold")
+
+
+def _resolve_file(value: str, info: Any) -> str:
+    """A path relative to the scenario file's folder (or the working folder), made absolute."""
+    base = (info.context or {}).get("base_dir")
+    path = Path(value).expanduser()
+    if not path.is_absolute() and base is not None:
+        path = Path(base) / path
+    if path.is_dir():
+        raise ValueError(f"a folder, not a file: {path}")
+    if not path.is_file():
+        raise ValueError(f"no such file: {path}")
+    return str(path.resolve())
 
 
 class _KeyedError(ValueError):

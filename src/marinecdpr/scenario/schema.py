@@ -17,7 +17,7 @@ from pydantic import (
 )
 
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
-from marinecdpr.scenario.fields import Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
+from marinecdpr.scenario.fields import _resolve_file, Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.obstacles import Obstacle
 from marinecdpr.scenario.robot import Robot
@@ -94,19 +94,6 @@ class SinusoidalMotion(_Model):
 
     type: Literal["sinusoidal"]
     components: list[SineComponent] = Field(min_length=1)
-
-
-def _resolve_file(value: str, info: ValidationInfo) -> str:
-    """A path relative to the scenario file's folder (or the working folder), made absolute."""
-    base = (info.context or {}).get("base_dir")
-    path = Path(value).expanduser()
-    if not path.is_absolute() and base is not None:
-        path = Path(base) / path
-    if path.is_dir():
-        raise ValueError(f"a folder, not a file: {path}")
-    if not path.is_file():
-        raise ValueError(f"no such file: {path}")
-    return str(path.resolve())
 
 
 class RAOSource(_Model):

@@ -1,0 +1,168 @@
+"""A hull surface cleaned placement after placement: the frame's placements on a curved band
+of the hull (``[cleaning.surface]``), and the hours they take.
+
+Each placement is a patch of the surface that fits the frame's panel (the bounding box of
+``[cleaning] panel_m``, along the frame's x and z) and stays within the tool's stand-off
+tolerance of its plane (:func:`~marinecdpr.geometry.surface.tile_surface`). Its cleaning
+time is the coverage path's over a panel of the patch's size in its plane, with the
+scenario's brush, lanes and speeds (:func:`~marinecdpr.motion.trajectory.cleaning_path`);
+moving the frame to the next placement takes ``move_time_s``. The hours are the sum over
+the placements, not an area division.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry.surface import Placement, tile_surface
+from marinecdpr.scenario.cleaning import Cleaning, Surface
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side"]
+
+
+def wigley_side(surface: Surface) -> Callable:
+    """The Wigley hull's half-breadth y = f(x, z) of ``[cleaning.surface]``, m: below the
+    waterline (B/2)(1 - xi^2)(1 - zeta^2), above it (B/2)(1 - xi^2)(1 + flare zeta^2) (smooth
+    at the waterline), with xi = 2x/L and zeta = z/T."""
+    L, B, T, flare = surface.length_m, surface.beam_m, surface.draught_m, surface.flare
+
+    def f(X, Z):
+        xi2 = (2.0 * np.asarray(X, dtype=float) / L) ** 2
+        zeta = np.asarray(Z, dtype=float) / T
+        return 0.5 * B * (1.0 - xi2) * np.where(zeta < 0.0, 1.0 - zeta * zeta, 1.0 + flare * zeta * zeta)
+
+    return f
+
+
+def surface_function(surface: Surface) -> tuple[Callable, str]:
+    """The side's y = f(x, z) (port: y > 0; starboard given as |y|) and how to name it."""
+    if surface.form == "wigley":
+        return wigley_side(surface), (f"Wigley hull {surface.length_m:g} x {surface.beam_m:g} x {surface.draught_m:g} m"
+                                      + (f", flare {surface.flare:g}" if surface.flare else ""))
+    from marinecdpr.geometry.surface import mesh_side
+    from marinecdpr.motion.hullmesh import read_mesh
+
+    vertices, faces = read_mesh(surface.mesh, units=surface.mesh_units, waterline_m=surface.waterline_m)
+    faces = np.asarray(faces)
+    tri = np.concatenate([faces[:, [0, 1, 2]], faces[:, [0, 2, 3]][(faces[:, 3] != faces[:, 2])
+                                                                  & (faces[:, 3] != faces[:, 0])]])
+    return mesh_side(vertices, tri, side=surface.side), f"mesh {surface.mesh}"
+
+
+def frame_panel(cleaning: Cleaning) -> tuple[float, float]:
+    """What one placement of the frame cleans: the panel's extent along C's x and z, m."""
+    panel = np.asarray(cleaning.panel_m, dtype=float)
+    return float(np.ptp(panel[:, 0])), float(np.ptp(panel[:, 1]))
+
+
+@dataclass(frozen=True)
+class SurfaceJob:
+    """The frame's placements on a surface and the time they take.
+
+    Attributes
+    ----------
+    placements : list of Placement
+    uncleanable : list of Placement
+        Patches curved beyond the tolerance even at the smallest size.
+    job_s : ndarray, shape (n_placements,)
+        Each placement's cleaning time (its coverage path), s.
+    move_time_s : float
+    frame_panel_m : tuple of float
+        The frame's panel (along x, along z), m.
+    surface : str
+        What the surface is.
+    """
+
+    placements: list
+    uncleanable: list
+    job_s: np.ndarray
+    move_time_s: float
+    frame_panel_m: tuple[float, float]
+    surface: str
+
+    @property
+    def seconds(self) -> float:
+        """All placements' cleaning and the moves between them, s."""
+        return float(self.job_s.sum()) + max(len(self.placements) - 1, 0) * self.move_time_s
+
+    @property
+    def hours(self) -> float:
+        return self.seconds / 3600.0
+
+    @property
+    def area_m2(self) -> float:
+        """The cleanable patches' curved area, m^2."""
+        return float(sum(p.area_m2 for p in self.placements))
+
+    def summary(self) -> dict:
+        """``summary.json``'s ``surface``."""
+        dev = [p.deviation_m for p in self.placements]
+        return {"surface": self.surface, "frame_panel_m": list(self.frame_panel_m), "placements": len(self.placements),
+                "uncleanable_patches": len(self.uncleanable),
+                "uncleanable_area_m2": float(sum(p.area_m2 for p in self.uncleanable)),
+                "area_m2": self.area_m2, "cleaning_hours": float(self.job_s.sum()) / 3600.0,
+                "move_time_s": self.move_time_s, "hours": self.hours,
+                "area_rate_m2_h": self.area_m2 / self.hours if self.hours > 0 else 0.0,
+                "largest_stand_off_deviation_m": float(max(dev)) if dev else 0.0}
+
+
+def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict) -> float:
+    """The coverage path's duration over a u x v panel with the scenario's tool, s."""
+    from marinecdpr.motion.trajectory import cleaning_path
+
+    key = (round(u, 3), round(v, 3))
+    if key not in cache:
+        u_, v_ = max(key[0], 1e-3), max(key[1], 1e-3)
+        rect = [[0.0, 0.0], [u_, 0.0], [u_, v_], [0.0, v_]]
+        data = cleaning.model_dump(exclude_none=True) | {"panel_m": rect, "holes_m": []}
+        data.pop("surface", None)
+        panel = Cleaning.model_validate(data)
+        try:
+            cache[key] = float(cleaning_path(panel).duration_s)
+        except (ValueError, ScenarioError):  # a patch narrower than a lane: one pass along it
+            cache[key] = max(u_, v_) / cleaning.speed_m_s
+    return cache[key]
+
+
+def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float, float] | None = None
+                ) -> SurfaceJob:
+    """The placements on ``[cleaning.surface]`` and their hours.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``[cleaning]`` and its ``surface``.
+    move_time_s : float
+        Moving the frame from one placement to the next, s.
+    panel_m : tuple of float, optional
+        The frame's panel (along x, along z), m; default the scenario's (:func:`frame_panel`).
+
+    Raises
+    ------
+    ScenarioError
+        The scenario has no ``[cleaning.surface]``, or its surface cannot be read there.
+    """
+    cleaning = scenario.cleaning
+    if cleaning is None or cleaning.surface is None:
+        raise ScenarioError("missing: clean --surface cleans the [cleaning.surface] band of the hull",
+                            key="cleaning.surface")
+    surface = cleaning.surface
+    f, label = surface_function(surface)
+    width, height = panel_m or frame_panel(cleaning)
+    probe = f(np.linspace(*surface.stations_m, 5)[:, None], np.linspace(*surface.heights_m, 5)[None, :])
+    if not np.isfinite(probe).all():
+        raise ScenarioError("the band leaves the mesh: no hull side there at some stations or heights",
+                            key="cleaning.surface.stations_m")
+    placements, bad = tile_surface(f, surface.stations_m, surface.heights_m, width_m=width, height_m=height,
+                                   tolerance_m=surface.stand_off_tolerance_m)
+    cache: dict = {}
+    job = np.array([_panel_time(cleaning, *p.extent_m, cache) for p in placements])
+    return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, move_time_s=float(move_time_s),
+                      frame_panel_m=(width, height), surface=f"{label}, {surface.side} side, stations "
+                      f"{surface.stations_m[0]:g} to {surface.stations_m[1]:g} m, heights {surface.heights_m[0]:g} "
+                      f"to {surface.heights_m[1]:g} m")
