@@ -27,8 +27,8 @@ import numpy as np
 
 from marinecdpr.errors import ScenarioError
 
-__all__ = ["HullMesh", "read_mesh", "load_hull_mesh", "mesh_hydrostatics", "write_gdf", "write_wigley_gdf", "shipped_mesh",
-           "MESH_UNITS", "MESH_FORMATS", "SHIPPED_WIGLEY"]
+__all__ = ["HullMesh", "read_mesh", "faces_to_triangles", "load_hull_mesh", "mesh_hydrostatics", "write_gdf",
+           "write_wigley_gdf", "shipped_mesh", "MESH_UNITS", "MESH_FORMATS", "SHIPPED_WIGLEY"]
 
 MESH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "ft": 0.3048}
 """The length units a mesh may be in, and their metres."""
@@ -137,7 +137,7 @@ def mesh_hydrostatics(vertices: np.ndarray, triangles: np.ndarray) -> MeshHydros
                             centre_of_buoyancy_m=(x_B, y_B, z_B), centre_of_flotation_m=(x_F, y_F))
 
 
-def _faces_to_triangles(faces: np.ndarray) -> np.ndarray:
+def faces_to_triangles(faces: np.ndarray) -> np.ndarray:
     """Quadrilaterals (a, b, c, d) as triangles (a, b, c), (a, c, d); a quad whose last corner
     repeats one (Capytaine's triangles) gives one."""
     faces = np.asarray(faces)
@@ -281,7 +281,7 @@ def load_hull_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0
                                 f"{what} from {lo_r:g} to {hi_r:g} m): are its units right (--mesh-units) and "
                                 "its waterline (--waterline)?", source=src)
     size = max(dims.values())
-    tri = _faces_to_triangles(np.asarray(wet.faces))
+    tri = faces_to_triangles(np.asarray(wet.faces))
     verts, tri = _merged(V, tri, 1e-6 * size)
     _check_closed(verts, tri, size, src)
     hydro = mesh_hydrostatics(verts, tri)

@@ -12,7 +12,9 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, StrictBool, StrictFloat, StrictStr, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    AfterValidator, Field, StrictBool, StrictFloat, StrictStr, ValidationInfo, field_validator, model_validator,
+)
 
 from marinecdpr.geometry.polygons import inside_or_on, polygon_area
 from marinecdpr.scenario.fields import (

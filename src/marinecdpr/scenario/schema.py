@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 from pydantic import (
@@ -17,7 +16,10 @@ from pydantic import (
 )
 
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
-from marinecdpr.scenario.fields import _resolve_file, Force, MOVE_MIN_S, Moment, Orientation, POSITION_MAX_M, Phase, Position, TIME_MAX_S, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3
+from marinecdpr.scenario.fields import (
+    MOVE_MIN_S, POSITION_MAX_M, TIME_MAX_S, Force, Moment, Orientation, Phase, Position, TimeOfDay, _KeyedError, _Model,
+    _num, _range_text, _ranged, _ranged_vec3, _resolve_file,
+)
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.obstacles import Obstacle
 from marinecdpr.scenario.robot import Robot

@@ -18,7 +18,7 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.geometry.surface import Placement, tile_surface
+from marinecdpr.geometry.surface import tile_surface
 from marinecdpr.scenario.cleaning import Cleaning, Surface
 from marinecdpr.scenario.schema import Scenario
 
@@ -45,13 +45,10 @@ def surface_function(surface: Surface) -> tuple[Callable, str]:
         return wigley_side(surface), (f"Wigley hull {surface.length_m:g} x {surface.beam_m:g} x {surface.draught_m:g} m"
                                       + (f", flare {surface.flare:g}" if surface.flare else ""))
     from marinecdpr.geometry.surface import mesh_side
-    from marinecdpr.motion.hullmesh import read_mesh
+    from marinecdpr.motion.hullmesh import faces_to_triangles, read_mesh
 
     vertices, faces = read_mesh(surface.mesh, units=surface.mesh_units, waterline_m=surface.waterline_m)
-    faces = np.asarray(faces)
-    tri = np.concatenate([faces[:, [0, 1, 2]], faces[:, [0, 2, 3]][(faces[:, 3] != faces[:, 2])
-                                                                  & (faces[:, 3] != faces[:, 0])]])
-    return mesh_side(vertices, tri, side=surface.side), f"mesh {surface.mesh}"
+    return mesh_side(vertices, faces_to_triangles(faces), side=surface.side), f"mesh {surface.mesh}"
 
 
 def frame_panel(cleaning: Cleaning) -> tuple[float, float]:
