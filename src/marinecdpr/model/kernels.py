@@ -54,6 +54,7 @@ __all__ = [
     "tension_series",
     "solve_tensions",
     "gram_full_rank",
+    "headroom_one_series",
     "RCOND",
     "forward_solve_step",
     "forward_step",
@@ -1197,3 +1198,37 @@ def forward_step(J, T, bias, R_PC, mass, I_PP, controlled, out):
     M = np.empty((6, 6))
     spatial_inertia_step(R_PC, mass, I_PP, M)
     forward_solve_step(J, T, bias, M, controlled, out, np.empty(6 - controlled.shape[0]))
+
+
+@njit(cache=_cache)
+def headroom_one_series(N, T_s, lo, hi, out):
+    """The largest headroom tensions T = T_s + N lambda (lambda scalar: one degree of
+    redundancy) can keep from the limits, at every step (see
+    :func:`marinecdpr.model.tension._headroom_one`). N, T_s (n_steps, n_cables), lo, hi
+    (n_cables,); writes out (n_steps,)."""
+    n_steps, m = N.shape
+    a = np.empty(m)
+    c = np.empty(m)
+    top = np.empty(m)
+    for s in range(n_steps):
+        for i in range(m):
+            mid, half = 0.5 * (lo[i] + hi[i]), 0.5 * (hi[i] - lo[i])
+            a[i] = abs(N[s, i])
+            if a[i] == 0.0:
+                c[i], top[i] = 0.0, half - abs(T_s[s, i] - mid)
+            else:
+                c[i], top[i] = (mid - T_s[s, i]) / N[s, i], half
+        best = -np.inf
+        for i in range(m):
+            for j in range(-1, m):  # j = -1: cable i's apex; else where i's falling side meets j's rising one
+                if j < 0:
+                    lam = c[i]
+                elif a[i] + a[j] > 0.0:
+                    lam = (top[i] - top[j] + a[i] * c[i] + a[j] * c[j]) / (a[i] + a[j])
+                else:
+                    continue
+                h = np.inf
+                for q in range(m):
+                    h = min(h, top[q] - a[q] * abs(lam - c[q]))
+                best = max(best, h)
+        out[s] = best

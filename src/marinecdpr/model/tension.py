@@ -328,6 +328,11 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         return out
     idx = np.flatnonzero(good)
     r = m - k
+    if r == 1:  # a scalar lambda: the best of the cables' tents, in closed form
+        for s in range(0, idx.size, 16384):
+            rows = idx[s:s + 16384]
+            out[rows] = _headroom_one(null_space(J[rows])[:, :, 0], T_s[rows], lo, hi)
+        return out
     combos = np.array(list(combinations(range(2 * m), r + 1))) if comb(2 * m, r + 1) <= _VERTEX_BUDGET else None
     for s in range(0, idx.size, 2048):
         rows = idx[s:s + 2048]
@@ -348,6 +353,31 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         lam = np.linalg.solve(M, rhs[..., None])[..., :r, 0]                                  # (b, c, r)
         g = (np.einsum("bjr,bcr->bcj", A, lam) + b[:, None, :]).min(axis=-1)                  # (b, c)
         out[rows] = np.where(regular, g, -np.inf).max(axis=1)
+    return out
+
+
+def _headroom_one(N: np.ndarray, T_s: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """:func:`largest_headroom` for one degree of redundancy: T = T_s + N lambda, lambda scalar.
+
+    Cable i keeps min(T_i - lo_i, hi_i - T_i) = top_i - a_i |lambda - c_i|, a tent with apex
+    c_i = (mid_i - T_s,i) / N_i, height top_i = (hi_i - lo_i) / 2 and slopes a_i = |N_i| (flat
+    at top_i - |T_s,i - mid_i| where N_i = 0). Their minimum is concave and piecewise
+    linear: its maximum lies at an apex or where the falling side of one tent meets the
+    rising side of another, lambda = (top_i - top_j + a_i c_i + a_j c_j) / (a_i + a_j);
+    every such lambda is tried.
+
+    Parameters
+    ----------
+    N : ndarray, shape (n_steps, n_cables)
+        The null space's vector (eq. 19).
+    T_s : ndarray, shape (n_steps, n_cables)
+    lo, hi : ndarray, shape (n_cables,)
+    """
+    from marinecdpr.model.kernels import headroom_one_series
+
+    out = np.empty(N.shape[0])
+    headroom_one_series(np.ascontiguousarray(N, dtype=float), np.ascontiguousarray(T_s, dtype=float),
+                        np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float), out)
     return out
 
 

@@ -32,6 +32,7 @@ __all__ = [
     "dnv_gamma",
     "jonswap",
     "pierson_moskowitz",
+    "spread_directions",
     "spreading",
     "SeaRecord",
     "sea_record",
@@ -180,6 +181,35 @@ class SeaRecord:
         return 4.0 * math.sqrt(0.5 * float(np.sum(self.amplitude**2)))
 
 
+def spread_directions(kind: str | None, exponent: float, n_directions: int) -> tuple[np.ndarray, np.ndarray]:
+    """The directions a spread sea is discretised into, about its mean, and their shares of
+    the energy (summing to 1, so Hs is preserved).
+
+    Parameters
+    ----------
+    kind : {None, "cos2s", "cosn"}
+        None: long-crested (one direction).
+    exponent : float
+        s or n.
+    n_directions : int
+        Equal bins across the spreading function (odd numbers include the mean).
+
+    Returns
+    -------
+    rel : ndarray, shape (n_directions,)
+        The bins' centres relative to the mean direction, rad.
+    weight : ndarray, shape (n_directions,)
+    """
+    if kind is None or n_directions <= 1:
+        return np.zeros(1), np.ones(1)
+    half = np.pi if kind == "cos2s" else np.pi / 2
+    edges = np.linspace(-half, half, n_directions + 1)
+    rel = 0.5 * (edges[1:] + edges[:-1])
+    weight = spreading(rel, kind, exponent) * (edges[1] - edges[0])
+    weight /= weight.sum()  # the discrete spreading keeps all the energy: Hs is preserved
+    return rel, weight
+
+
 def sea_record(
     *,
     hs: float,
@@ -232,15 +262,7 @@ def sea_record(
         S = pierson_moskowitz(omega, hs, tp)
     else:
         raise ValueError(f"unknown spectrum {spectrum!r}")
-    if spreading_kind is None or n_directions <= 1:
-        rel = np.zeros(1)
-        weight = np.ones(1)
-    else:
-        half = np.pi if spreading_kind == "cos2s" else np.pi / 2
-        edges = np.linspace(-half, half, n_directions + 1)
-        rel = 0.5 * (edges[1:] + edges[:-1])
-        weight = spreading(rel, spreading_kind, spreading_exponent) * (edges[1] - edges[0])
-        weight /= weight.sum()  # the discrete spreading keeps all the energy: Hs is preserved
+    rel, weight = spread_directions(spreading_kind, spreading_exponent, n_directions)
     # drop components without energy, so the sums stay short
     keep = S > 1e-12 * S.max()
     omega, S = omega[keep], S[keep]

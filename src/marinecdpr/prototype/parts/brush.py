@@ -13,7 +13,7 @@ from numba import njit
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 from marinecdpr.prototype.parts import part
 
-__all__ = ["BrushContact", "build"]
+__all__ = ["BrushContact", "build", "contact_force", "normal_force"]
 
 
 @njit(cache=True)
@@ -46,11 +46,25 @@ def normal_force(p, scenario) -> np.ndarray:
     with the preload; the planned loads include the hull's push at the preload); on a
     robot whose cables control the normal, the preload."""
     cleaning = scenario.cleaning
-    P_n = cleaning.preload
     n = np.asarray(cleaning.hull_normal, dtype=float)
     if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
-        return np.full(p.n_steps, P_n)
-    return p.reaction[:, p.reaction_dofs.index("y")] * n[1] + 2.0 * P_n
+        return np.full(p.n_steps, cleaning.preload)
+    return contact_force(p.reaction[:, p.reaction_dofs.index("y")], cleaning)
+
+
+def contact_force(reaction_y, cleaning):
+    """A planar robot's brush force from the guide's reaction along y (its hull normal), N:
+    the reaction along the normal plus twice the preload (the planned wrench holds the hull's
+    push at the preload).
+
+    Parameters
+    ----------
+    reaction_y : ndarray
+        The required wrench's y force, which the guide holds, N.
+    cleaning : Cleaning
+        ``hull_normal`` along +-y.
+    """
+    return np.asarray(reaction_y) * cleaning.hull_normal[1] + 2.0 * cleaning.preload
 
 
 def build(context) -> list:
