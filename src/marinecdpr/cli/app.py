@@ -1404,6 +1404,109 @@ def warmup(
                   highlight=False, soft_wrap=True)
 
 
+def _design_path(spec: str) -> Path:
+    """A design study file, or a built-in study's name (``ship_side``)."""
+    from importlib import resources
+
+    builtin = Path(str(resources.files("marinecdpr") / "data" / "designs")) / f"{spec}.toml"
+    return builtin if builtin.is_file() and not Path(spec).exists() else Path(spec)
+
+
+@app.command()
+def design(
+    spec: str = typer.Argument("ship_side", help="A design study file (.toml), or a built-in study's name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for candidates.csv, pareto.csv and .png, "
+                             "convergence.png, designs/*.toml and summary.json."),
+    population: Optional[int] = typer.Option(None, min=4, help="Candidates a generation (default: the study's)."),
+    generations: Optional[int] = typer.Option(None, min=1, help="Generations (default: the study's)."),
+    seed: Optional[int] = typer.Option(None, min=0, help="The search's seed (default: the study's)."),
+    verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
+                                "every sea state, closed loop (the hours reported beside the screen's)."),
+    plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the template's)."),
+    serial: bool = typer.Option(False, "--serial", help="Fly the finalists' sea states one after another."),
+    workers: Optional[int] = typer.Option(None, min=1, help="Local Dask workers for the finalists' sea states."),
+    scheduler: Optional[str] = typer.Option(None, help="A running Dask scheduler's address for them."),
+) -> None:
+    """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
+    the study's surface in the fewest expected hours for the power installed, in its seas, and
+    fly the best through the cleaning job in every sea state."""
+    from marinecdpr.studies.design import load_design, search, study_cells, study_scatter
+    from marinecdpr.studies.design import verify as verify_finalists
+
+    path = _design_path(spec)
+    try:
+        import pymoo  # noqa: F401
+    except ImportError:
+        _fail("design needs pymoo: pip install 'marinecdpr[design]'")
+    try:
+        study_spec, template = load_design(path)
+    except ScenarioError as exc:
+        _fail(str(exc))
+    changes = {k: v for k, v in (("population", population), ("generations", generations), ("seed", seed))
+               if v is not None}
+    if changes:
+        study_spec = study_spec.model_copy(update=changes)
+    cells = study_cells(study_spec, path.parent)
+    _sea_study_options(",".join(f"{h:g}" for h in study_spec.sea.headings_deg), serial, workers, scheduler)
+    n_final = study_spec.finalists if verify else 0
+    from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
+
+    steps = n_final * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST  # about: each finalist's own
+    executor = _sea_executor(serial, workers, scheduler, steps) if n_final else "serial"
+    t0 = time.perf_counter()
+    with _output(out) as folder:
+        with _progress_bar("design", "candidates") as bar:
+            task = bar.add_task("", total=study_spec.population * study_spec.generations)
+
+            def progress(done: int, total: int, best: float) -> None:
+                bar.update(task, completed=done, total=total,
+                           description="best feasible: " + (f"{best:.4g} h" if best < float("inf") else "none yet"))
+
+            with _run_errors(spec):
+                study = search(study_spec, template, cells, progress=progress)
+        checked = []
+        if n_final and study.front:
+            _compile_notice(plant.value if plant is not None else template.simulation.plant)
+            with _progress_bar("finalists", "sea states") as bar:
+                task = bar.add_task("", total=min(n_final, len(study.front)) * len(cells))
+                with _run_errors(spec):
+                    checked = verify_finalists(study, template, study_scatter(study_spec, path.parent),
+                                               executor=executor, workers=workers or 2, scheduler=scheduler,
+                                               plant=plant.value if plant is not None else None,
+                                               progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+        from marinecdpr.report.design import write_design
+
+        paths = [out / p.relative_to(folder) for p in write_design(study, template, folder, checked)]
+    ev, b = study.evaluations, study.baseline
+    console.print(_plain(f"{study_spec.name}: {len(ev)} candidates ({sum(e.feasible for e in ev)} feasible) over "
+                         f"{len(cells)} sea states in {_seconds(time.perf_counter() - t0)}"), highlight=False,
+                  soft_wrap=True)
+    if study.front:
+        e = ev[study.front[0]]
+        x = e.x
+        console.print(_plain(
+            f"best: frame {x['frame_width_m']:.3g} x {x['frame_height_m']:.3g} m, platform {x['platform_width_m']:.3g} x "
+            f"{x['platform_height_m']:.3g} m ({e.mass_kg:.3g} kg), tool {x['tool_width_m']:.3g} m at "
+            f"{x['speed_m_s']:.3g} m/s, winches {x['winch']} ({e.power_kW:g} kW in all, T_max {e.tension_max_N:.4g} N), "
+            f"rope {x['rope']}: {e.placements} placements, {e.surface_hours:.4g} h on the surface, works in "
+            f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
+            f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),
+            highlight=False, soft_wrap=True)
+    else:
+        console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
+    for v in checked:
+        console.print(_plain(
+            f"finalist {v.rank} (candidate {v.index}) in the time domain: works in {100 * v.td_share:.1f} % of the "
+            f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
+            f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
+            f"passed {v.screen_works_td_fails} the time domain failed"), highlight=False, soft_wrap=True)
+    console.print(_plain(f"baseline (the template's robot): {b.placements} placements, {b.surface_hours:.4g} h on the "
+                         f"surface, works in {100 * b.sea_share:.1f} % of the seas: {b.expected_hours:.4g} expected h"),
+                  highlight=False, soft_wrap=True)
+    console.print("written: " + ", ".join(_plain(p) for p in paths if p.parent == out) + ", designs/",
+                  highlight=False, soft_wrap=True)
+
+
 @app.command("import")
 def import_(
     source: Path = typer.Argument(..., help="A CASPR model's *_bodies.xml or a WireX robot (.wcrfx)."),

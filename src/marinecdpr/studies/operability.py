@@ -663,8 +663,10 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
         # the workers that thread would start with it (see _sigint_deferred)
         resource_tracker.ensure_running()
         with _sigint_deferred():
+            # the scheduler's HTTP server on a free port (None still binds 8787: two studies at
+            # once, as the suite's two workers run them, printed distributed's "port in use")
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.CRITICAL,
+                                   dashboard_address=":0", silence_logs=logging.CRITICAL,
                                    preload=[f"{__package__}.dask_worker"])  # Ctrl-C is ours to handle
             try:
                 client = Client(cluster)

@@ -33,7 +33,8 @@ same models, linearised in the ship's motion:
    (:func:`~marinecdpr.model.tension.largest_headroom`, concave in the wrench).
 6. **The normal force** (a planar robot's pusher): F_n = preload + the sea's and the weight's
    force along the hull normal (:func:`~marinecdpr.prototype.parts.brush.contact_force`), a
-   Gaussian process: its share of time in the band is exact for its mean and sigma.
+   Gaussian process at each pose: its share of time in the band, exact for its mean and
+   sigma, averaged over the poses (which sample the panel as the path covers it).
 
 Left out (said where it matters): winch torque, speed and power, cable sag and stretch, and
 the closed loop's tracking. The time domain judges those.
@@ -126,7 +127,7 @@ class ScreenResult:
         cables' limits could be tightened with the job still holding, N (negative: by how
         much they are broken; -inf at a singular pose).
     in_band_pct : ndarray, shape (n_cells,)
-        The normal force's expected share of time in its band, %, at the worst pose (100
+        The normal force's expected share of time in its band, %, over the judged poses (100
         where the cables hold it, or there is no tool).
     in_band_target_pct : float
     """
@@ -349,7 +350,7 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         with np.errstate(divide="ignore", invalid="ignore"):
             share = np.where(s_n > 0, ndtr((hi_b - mean) / s_n) - ndtr((lo_b - mean) / s_n),
                              ((mean >= lo_b) & (mean <= hi_b)).astype(float))
-        in_band = 100.0 * share.min(axis=1)
+        in_band = 100.0 * share.mean(axis=1)  # the poses sample the panel as the path covers it
         Fn_lo, Fn_hi = np.maximum(mean - e_n, 0.0), mean + e_n
     # the sea's box (step 5) along the principal axes of the controlled components' covariance
     # (correlated components make it narrow), each half-width that coordinate's extreme, grown

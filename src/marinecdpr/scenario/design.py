@@ -1,0 +1,172 @@
+"""The design study's file (``marinecdpr design SPEC.toml``): the surface, the ship and its
+seas, the targets, the design variables and the catalogues of winches and ropes.
+
+A study designs a planar four-cable robot like the paper's (frame anchors at the corners
+of a W x H frame in the hull's plane, platform anchors at the corners of a w x h platform,
+cables uncrossed) for the ``[cleaning.surface]`` of a template scenario, which also gives
+the ship (its RAOs and sea-state base motion), the tool's contact (brush, friction, normal
+force band) and the frame's place in S. Each variable is a number (held) or ``[lo, hi]``
+(searched); the winch and the rope are chosen from the catalogues by name.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, Field, StrictInt, StrictStr, model_validator
+
+from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
+
+__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS"]
+
+
+def _bound(lo: float, hi: float, unit: str, why: str) -> Any:
+    """A number in [lo, hi], or a pair [low, high] within it with low <= high."""
+    one = _ranged(lo, hi, unit, why)
+
+    def ordered(value):
+        if isinstance(value, tuple) and not value[0] <= value[1]:
+            raise ValueError(f"must be [low, high] with low <= high, got [{_num(value[0])}, {_num(value[1])}]")
+        return value
+
+    return Annotated[one | tuple[one, one], AfterValidator(ordered)]
+
+
+CONTINUOUS = ("frame_width_m", "frame_height_m", "platform_width_m", "platform_height_m", "tool_width_m",
+              "speed_m_s", "overlap_share")
+"""The continuous design variables, in the order candidates list them."""
+
+
+class Variables(_Model):
+    """``[variables]``: each a number (held) or ``[lo, hi]`` (searched)."""
+
+    frame_width_m: _bound(0.5, 100.0, "m", "a frame along the ship")
+    frame_height_m: _bound(0.5, 100.0, "m", "a frame up the hull")
+    platform_width_m: _bound(0.05, 10.0, "m", "the platform anchors' spacing along the frame")
+    platform_height_m: _bound(0.05, 10.0, "m", "the platform anchors' spacing up the frame")
+    tool_width_m: _bound(0.02, 5.0, "m", "the brush's cleaning width")
+    speed_m_s: _bound(0.005, 5.0, "m/s", "the tool's travel speed")
+    overlap_share: _bound(0.0, 0.5, "", "the lanes' overlap, a share of the tool's width") = 0.15
+    winch: list[StrictStr] | None = None
+    """Winch names from ``[[winches]]`` to choose from (default: every one)."""
+    rope: list[StrictStr] | None = None
+    """Rope names from ``[[ropes]]`` to choose from (default: every one)."""
+
+
+class Winch(_Model):
+    """``[[winches]]``: one winch of the catalogue (four are installed, one per cable)."""
+
+    name: StrictStr
+    torque_N_m: _ranged(0.0, 1e6, "N m", "a winch's rated torque", above=True)
+    speed_rad_s: _ranged(0.0, 1e4, "rad/s", "a drum's top speed", above=True)
+    power_W: _ranged(0.0, 1e7, "W", "a winch's rated power", above=True)
+    drum_radius_m: _ranged(0.0, 5.0, "m", "a drum's radius", above=True)
+    mass_kg: _ranged(0.0, 1e5, "kg", "a winch's mass") = 0.0
+    cost: _ranged(0.0, 1e9, "", "the user's cost unit") = 0.0
+
+
+class Rope(_Model):
+    """``[[ropes]]``: one rope of the catalogue."""
+
+    name: StrictStr
+    diameter_m: _ranged(0.0, 0.5, "m", "a rope's diameter", above=True)
+    ea_N: _ranged(0.0, 1e12, "N", "a rope's axial stiffness EA", above=True)
+    weight_N_m: _ranged(0.0, 1e4, "N/m", "a rope's weight per metre")
+    breaking_N: _ranged(0.0, 1e9, "N", "a rope's breaking load", above=True)
+    safety_factor: _ranged(1.0, 100.0, "", "breaking load over the largest working tension") = 5.0
+    cost_per_m: _ranged(0.0, 1e9, "", "the user's cost unit per metre") = 0.0
+
+
+class Targets(_Model):
+    """``[targets]``."""
+
+    hours: _ranged(0.0, 1e6, "h", "the whole surface's expected hours", above=True)
+    sea_share: _ranged(0.0, 1.0, "", "a share of the sea states, in (0, 1]", above=True)
+
+
+class Sea(_Model):
+    """``[sea]``: where the ship waits."""
+
+    scatter: StrictStr = "illustrative"
+    """A scatter diagram CSV (hs_m, tp_s, probability), or "illustrative" (the package's)."""
+    headings_deg: list[_ranged(-360.0, 360.0, "deg", "a wave heading")] = Field(default=[180.0, 150.0, 90.0],
+                                                                              min_length=1, max_length=36)
+
+
+class PlatformMass(_Model):
+    """``[platform_mass]``: mass = base + per_tool_width x tool width + per_area x platform area."""
+
+    base_kg: _ranged(0.0, 1e4, "kg", "a platform's bare mass", above=True)
+    per_tool_width_kg_m: _ranged(0.0, 1e4, "kg/m", "the tool's mass per metre of width") = 0.0
+    per_area_kg_m2: _ranged(0.0, 1e4, "kg/m2", "the platform's mass per square metre") = 0.0
+
+
+class Limits(_Model):
+    """``[limits]``."""
+
+    edge_m: _ranged(0.0, 10.0, "m", "the tool's keep-off from the frame, beyond the platform's half size") = 0.15
+    tension_min_N: _ranged(0.0, 1e6, "N", "the least tension a cable keeps taut") = 10.0
+    sag_m: _ranged(0.0, 10.0, "m", "the largest sag of the longest span at the least tension", above=True) = 0.05
+    stretch_m: _ranged(0.0, 10.0, "m", "the longest span's stretch between the least and largest tension",
+                       above=True) = 0.05
+    stand_off_tolerance_m: _ranged(0.0, 1.0, "m", "the tool's stand-off range", above=True) | None = None
+    """The candidates' tool's stand-off tolerance (its pusher's stroke), which sets how large a
+    flat placement of the curved surface may be; default the template's."""
+
+
+class DesignSpec(_Model):
+    """The design study."""
+
+    name: StrictStr
+    description: StrictStr = ""
+    scenario: StrictStr
+    """The template: a scenario file (relative to the study's folder) or a built-in name, with
+    ``[cleaning]`` and its ``surface`` and a ``sea_state`` base motion."""
+    move_time_s: _ranged(0.0, 86400.0, "s", "moving the frame to its next placement") = 600.0
+    objective: Literal["power", "cost"] = "power"
+    """What the hours are traded against: the installed winch power, or the cost of winches and ropes."""
+    seed: StrictInt = Field(default=1, ge=0)
+    population: StrictInt = Field(default=24, ge=4, le=1000)
+    generations: StrictInt = Field(default=10, ge=1, le=1000)
+    finalists: StrictInt = Field(default=3, ge=0, le=20)
+    targets: Targets
+    sea: Sea = Sea()
+    platform_mass: PlatformMass
+    limits: Limits = Limits()
+    variables: Variables
+    winches: list[Winch] = Field(min_length=1)
+    ropes: list[Rope] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _check(self) -> "DesignSpec":
+        for key, catalogue in (("winches", self.winches), ("ropes", self.ropes)):
+            names = [e.name for e in catalogue]
+            for i, name in enumerate(names):
+                if name in names[:i]:
+                    raise _KeyedError(f"{key}[{i + 1}].name", f"{name!r} is listed twice")
+        for key, catalogue in (("winch", self.winches), ("rope", self.ropes)):
+            chosen = getattr(self.variables, key)
+            if chosen is None:
+                continue
+            if not chosen:
+                raise _KeyedError(f"variables.{key}", "names no entry: list at least one")
+            known = [e.name for e in catalogue]
+            for i, name in enumerate(chosen):
+                if name not in known:
+                    raise _KeyedError(f"variables.{key}[{i + 1}]", f"{name!r} is not in the catalogue "
+                                                                  f"({', '.join(known)})")
+        return self
+
+    def choices(self, key: str) -> list:
+        """The catalogue entries a variable ``key`` ("winch" or "rope") chooses from."""
+        catalogue = self.winches if key == "winch" else self.ropes
+        chosen = getattr(self.variables, key)
+        return [e for e in catalogue if chosen is None or e.name in chosen]
+
+    def bounds(self) -> dict[str, tuple[float, float]]:
+        """Every continuous variable's [lo, hi] (a held one's lo = hi)."""
+        out = {}
+        for key in CONTINUOUS:
+            v = getattr(self.variables, key)
+            out[key] = (float(v[0]), float(v[1])) if isinstance(v, tuple) else (float(v), float(v))
+        return out

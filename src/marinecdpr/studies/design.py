@@ -1,0 +1,476 @@
+"""Design a robot for a ship (``marinecdpr design``): the frame, platform, winches, rope and
+tool that clean a hull surface in the fewest expected hours for the power (or cost)
+installed, in the seas where the ship waits.
+
+Each candidate is a scenario built from the study's template (:func:`candidate_scenario`)
+and judged by the toolkit's own models (:func:`evaluate`):
+
+- **hours on the surface**: the frame's placements on ``[cleaning.surface]`` for the
+  candidate's panel, each placement's coverage path with its tool, and the moves between
+  them (:func:`~marinecdpr.studies.surface.surface_job`, paths timed to the centimetre);
+- **the sea's share**: the probability, over the scatter diagram and headings, that the job
+  holds, by the fast screen (:func:`~marinecdpr.studies.screen.screen_cells`: tensions within
+  limits over the whole panel under the sea's motion, the normal force in band);
+- **expected hours** = hours on the surface / the sea's share (the job waits for the seas it
+  works in);
+- **constraints**, each a margin that must not be negative: the sea's share against the
+  target; the winch's drum speed against the tool's speed (a cable never runs faster than
+  the platform); the winch's power against the largest tension at that speed (its torque
+  sets T_max with the rope's breaking load over its safety factor); the longest span's sag
+  at the least tension w L^2 / (8 T_min) and its stretch between the limits (T_max - T_min)
+  L / EA against the study's limits; a panel at least as wide as the tool.
+
+The search (:func:`search`) is NSGA-II over the mixed variables (pymoo), with a seed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
+           "verify", "pareto_mask", "study_cells", "study_scatter", "CONSTRAINTS"]
+
+CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m")
+"""The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
+
+
+def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
+    """A design study file and its template scenario, validated.
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the file and the key: unreadable TOML, an unknown or missing key, a
+        bound with low > high, a catalogue entry without a field, a target outside its
+        range, a template without ``[cleaning.surface]`` or a sea-state base motion.
+    """
+    import tomllib
+
+    from pydantic import ValidationError
+
+    from marinecdpr.scenario.loading import _scenario_text, builtin_scenarios, load_scenario
+    from marinecdpr.scenario.messages import scenario_error
+
+    path = Path(path)
+    src = str(path)
+    if not path.is_file():
+        raise ScenarioError("no such file", source=src)
+    try:
+        data = tomllib.loads(_scenario_text(path, src))
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"not valid TOML: {exc}", source=src) from None
+    try:
+        spec = DesignSpec.model_validate(data)
+    except ValidationError as exc:
+        raise scenario_error(exc, data, src, DesignSpec) from None
+    name = spec.scenario
+    template_path = name if name in builtin_scenarios() else str((path.parent / name).resolve())
+    template = load_scenario(template_path)
+    if template.cleaning is None or template.cleaning.surface is None:
+        raise ScenarioError(f"the template {name!r} has no [cleaning.surface]: the study designs for a surface",
+                            source=src, key="scenario")
+    if template.base_motion.type != "sea_state":
+        raise ScenarioError(f"the template {name!r} has no sea-state base motion: the study needs its RAOs",
+                            source=src, key="scenario")
+    if template.robot.dofs != "planar":
+        raise ScenarioError(f"the template {name!r} is a spatial robot: the study designs planar four-cable robots",
+                            source=src, key="scenario")
+    if spec.sea.scatter != "illustrative" and not (path.parent / spec.sea.scatter).is_file():
+        raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter}", source=src, key="sea.scatter")
+    return spec, template
+
+
+def study_scatter(spec: DesignSpec, folder: Path | None = None):
+    """The study's scatter diagram (:class:`~marinecdpr.studies.operability.ScatterDiagram`)."""
+    from importlib import resources
+
+    from marinecdpr.studies.operability import read_scatter_csv
+
+    path = (resources.files("marinecdpr") / "data" / "scatter_illustrative.csv" if spec.sea.scatter == "illustrative"
+            else Path(folder or ".") / spec.sea.scatter)
+    return read_scatter_csv(str(path))
+
+
+def study_cells(spec: DesignSpec, folder: Path | None = None) -> list:
+    """The sea states of the study: its scatter diagram at each heading (equally likely)."""
+    from marinecdpr.studies.operability import scatter_cells
+
+    return scatter_cells(study_scatter(spec, folder), tuple(float(h) for h in spec.sea.headings_deg))
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """One candidate, judged.
+
+    Attributes
+    ----------
+    x : dict
+        Its variables: the continuous ones (:data:`~marinecdpr.scenario.design.CONTINUOUS`),
+        "winch" and "rope" by name.
+    feasible : bool
+        Every constraint margin >= 0.
+    reason : str
+        Why not ("" if feasible).
+    placements : int
+    surface_hours : float
+        The placements' cleaning and moves, h.
+    sea_share : float
+        The probability that the job works in the seas.
+    expected_hours : float
+        surface_hours / sea_share (inf where no sea state works).
+    power_kW : float
+        The four winches' rated power.
+    cost : float
+        Four winches and four spans of rope (the frame's diagonal each).
+    tension_max_N : float
+    mass_kg : float
+    margins : dict
+        :data:`CONSTRAINTS`' margins.
+    """
+
+    x: dict
+    feasible: bool
+    reason: str
+    placements: int
+    surface_hours: float
+    sea_share: float
+    expected_hours: float
+    power_kW: float
+    cost: float
+    tension_max_N: float
+    mass_kg: float
+    margins: dict = field(default_factory=dict)
+
+    def objective(self, kind: str) -> float:
+        """The second objective: installed power (kW) or cost."""
+        return self.power_kW if kind == "power" else self.cost
+
+
+def _plate_inertia(mass: float, w: float, h: float) -> list[float]:
+    """A uniform plate w (along x) by h (along z) in the frame's plane: principal moments, kg m^2."""
+    return [mass * h * h / 12.0, mass * (w * w + h * h) / 12.0, mass * w * w / 12.0]
+
+
+def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenario:
+    """The template with the candidate's robot and tool: frame anchors at the corners of the
+    W x H frame and platform anchors at the corners of the w x h platform (cables uncrossed,
+    as the paper's), mass from ``[platform_mass]`` and a uniform plate's inertia, T_min from
+    ``[limits]`` and T_max the smaller of the rope's breaking load over its safety factor and
+    the winch's torque over its drum's radius; the panel the frame's inner rectangle inset
+    by the platform's half size and ``limits.edge_m``; the tool's width, speed and overlap;
+    the time the panel's coverage path takes.
+
+    Raises
+    ------
+    ScenarioError
+        The candidate is not a valid scenario (its message says why).
+    """
+    from marinecdpr.motion.trajectory import cleaning_path
+
+    W, H = x["frame_width_m"], x["frame_height_m"]
+    w, h = x["platform_width_m"], x["platform_height_m"]
+    winch = next(e for e in spec.winches if e.name == x["winch"])
+    rope = next(e for e in spec.ropes if e.name == x["rope"])
+    pm = spec.platform_mass
+    mass = pm.base_kg + pm.per_tool_width_kg_m * x["tool_width_m"] + pm.per_area_kg_m2 * w * h
+    t_max = min(rope.breaking_N / rope.safety_factor, winch.torque_N_m / winch.drum_radius_m)
+    frame = [[0.0, 0.0, H], [W, 0.0, H], [W, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    platform = [[-w / 2, 0.0, h / 2], [w / 2, 0.0, h / 2], [w / 2, 0.0, -h / 2], [-w / 2, 0.0, -h / 2]]
+    edge = spec.limits.edge_m
+    x0, x1, z0, z1 = w / 2 + edge, W - w / 2 - edge, h / 2 + edge, H - h / 2 - edge
+    if x1 - x0 <= x["tool_width_m"] or z1 - z0 <= x["tool_width_m"]:
+        raise ScenarioError(f"the panel ({max(x1 - x0, 0):.3g} x {max(z1 - z0, 0):.3g} m inside the frame, less "
+                            f"the platform and the edge) is no wider than the tool ({x['tool_width_m']:.3g} m)")
+    robot = template.robot.model_dump(exclude_none=True)
+    robot.update(mass_kg=mass, inertia_kg_m2=_plate_inertia(mass, w, h), tension_min_N=spec.limits.tension_min_N,
+                 tension_max_N=t_max, cables=[{"frame_anchor_m": c, "platform_anchor_m": p}
+                                              for c, p in zip(frame, platform)])
+    cleaning = template.cleaning.model_dump(exclude_none=True)
+    cleaning.update(panel_m=[[x0, z0], [x1, z0], [x1, z1], [x0, z1]], holes_m=[], brush_diameter_m=x["tool_width_m"],
+                    overlap_m=x["overlap_share"] * x["tool_width_m"], speed_m_s=x["speed_m_s"])
+    if spec.limits.stand_off_tolerance_m is not None:
+        cleaning["surface"] = dict(cleaning["surface"], stand_off_tolerance_m=spec.limits.stand_off_tolerance_m)
+    from marinecdpr.scenario.cleaning import Cleaning
+
+    duration = float(cleaning_path(Cleaning.model_validate({k: v for k, v in cleaning.items()
+                                                              if k != "surface"})).duration_s)
+    data = template.model_dump(exclude_none=True)
+    data.update(robot=robot, cleaning=cleaning, name=f"{spec.name}_candidate",
+                time=dict(data["time"], duration_s=duration),
+                base_motion=dict(data["base_motion"], record_s=max(data["base_motion"]["record_s"], duration)))
+    from marinecdpr.scenario.schema import _validated
+
+    return _validated(data)
+
+
+def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Evaluation:
+    """Judge one candidate (the module's objective and constraints).
+
+    Parameters
+    ----------
+    x : dict
+        The continuous variables by name, "winch" and "rope" by catalogue name.
+    cells : list of Cell
+        The study's sea states (:func:`study_cells`).
+    """
+    from marinecdpr.studies.screen import screen_cells
+    from marinecdpr.studies.surface import surface_job
+
+    winch = next(e for e in spec.winches if e.name == x["winch"])
+    rope = next(e for e in spec.ropes if e.name == x["rope"])
+    W, H = x["frame_width_m"], x["frame_height_m"]
+    span = float(np.hypot(W, H))
+    power_kW = 4.0 * winch.power_W / 1000.0
+    cost = 4.0 * (winch.cost + rope.cost_per_m * span)
+    nan = float("nan")
+    try:
+        sc = candidate_scenario(spec, template, x)
+    except ScenarioError as exc:
+        return Evaluation(x=dict(x), feasible=False, reason=str(exc), placements=0, surface_hours=nan, sea_share=0.0,
+                          expected_hours=float("inf"), power_kW=power_kW, cost=cost, tension_max_N=nan, mass_kg=nan,
+                          margins={k: nan for k in CONSTRAINTS} | {"panel_m": -1.0})
+    robot = sc.robot
+    t_min, t_max = float(robot.tension_min[0]), float(robot.tension_max[0])
+    job = surface_job(sc, move_time_s=spec.move_time_s, digits=2)
+    screen = screen_cells(sc, cells)
+    share = screen.share
+    panel = np.asarray(sc.cleaning.panel_m)
+    margins = {
+        "sea_share": share - spec.targets.sea_share,
+        "winch_speed_m_s": winch.speed_rad_s * winch.drum_radius_m - x["speed_m_s"],
+        "winch_power_W": winch.power_W - t_max * x["speed_m_s"],
+        "sag_m": spec.limits.sag_m - rope.weight_N_m * span**2 / (8.0 * max(t_min, 1e-9)),
+        "stretch_m": spec.limits.stretch_m - (t_max - t_min) * span / rope.ea_N,
+        "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))) - x["tool_width_m"],
+    }
+    short = [k for k, v in margins.items() if not v >= 0.0]
+    expected = job.hours / share if share > 0 else float("inf")
+    return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
+                      placements=len(job.placements), surface_hours=job.hours, sea_share=share,
+                      expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
+                      mass_kg=robot.mass_kg, margins=margins)
+
+
+def pareto_mask(f: np.ndarray) -> np.ndarray:
+    """Which rows of the objectives f (n, m) (to minimise) no other row dominates."""
+    f = np.asarray(f, dtype=float)
+    keep = np.ones(len(f), dtype=bool)
+    for i in range(len(f)):
+        dominated = np.all(f <= f[i], axis=1) & np.any(f < f[i], axis=1)
+        keep[i] = not dominated.any()
+    return keep
+
+
+@dataclass(frozen=True)
+class DesignStudy:
+    """A search's result.
+
+    Attributes
+    ----------
+    spec : DesignSpec
+    evaluations : list of Evaluation
+        Every candidate, in the order evaluated.
+    generation : ndarray of int, shape (n,)
+        Each one's generation.
+    front : list of int
+        Indices of the feasible candidates no other feasible one beats on both objectives,
+        by expected hours.
+    baseline : Evaluation
+        The template's own robot, judged the same way.
+    """
+
+    spec: DesignSpec
+    evaluations: list
+    generation: np.ndarray
+    front: list
+    baseline: Evaluation
+
+
+def template_x(spec: DesignSpec, template: Scenario) -> dict:
+    """The template's own robot as a candidate (its frame, platform, tool), with the
+    catalogue's first winch and rope (for its power and cost; its T_max is its own)."""
+    c = template.robot.frame_anchors
+    p = template.robot.platform_anchors
+    cl = template.cleaning
+    return {"frame_width_m": float(np.ptp(c[:, 0])), "frame_height_m": float(np.ptp(c[:, 2])),
+            "platform_width_m": float(np.ptp(p[:, 0])), "platform_height_m": float(np.ptp(p[:, 2])),
+            "tool_width_m": float(cl.brush_diameter_m), "speed_m_s": float(cl.speed_m_s),
+            "overlap_share": float(cl.overlap_m / cl.brush_diameter_m),
+            "winch": spec.choices("winch")[0].name, "rope": spec.choices("rope")[0].name}
+
+
+def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
+    """The template's robot as it is (its own mass, limits and panel), judged as a candidate is."""
+    from marinecdpr.studies.screen import screen_cells
+    from marinecdpr.studies.surface import surface_job
+
+    x = template_x(spec, template)
+    winch = next(e for e in spec.winches if e.name == x["winch"])
+    job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
+    run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template)))
+    share = screen_cells(run, cells).share
+    return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
+                      surface_hours=job.hours, sea_share=share,
+                      expected_hours=job.hours / share if share > 0 else float("inf"),
+                      power_kW=4.0 * winch.power_W / 1000.0, cost=float("nan"),
+                      tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
+                      margins={"sea_share": share - spec.targets.sea_share})
+
+
+def _path_time(scenario: Scenario) -> float:
+    from marinecdpr.motion.trajectory import cleaning_path
+
+    return float(cleaning_path(scenario.cleaning).duration_s)
+
+
+def search(spec: DesignSpec, template: Scenario, cells: list, *,
+           progress: Callable[[int, int, float], None] | None = None) -> DesignStudy:
+    """NSGA-II (pymoo) over the spec's variables: ``population`` candidates a generation for
+    ``generations`` generations from ``seed`` (the same seed, the same candidates); the held
+    variables stay at their value, the winch and rope are choices.
+
+    Parameters
+    ----------
+    progress : callable(done, total, best_hours), optional
+        Called after each candidate with the best feasible expected hours so far.
+    """
+    from pymoo.algorithms.moo.nsga2 import RankAndCrowding
+    from pymoo.core.mixed import MixedVariableGA
+    from pymoo.core.problem import ElementwiseProblem
+    from pymoo.core.variable import Choice, Real
+    from pymoo.optimize import minimize
+
+    bounds = spec.bounds()
+    free = {k: Real(bounds=b) for k, b in bounds.items() if b[0] < b[1]}
+    choices = {k: [e.name for e in spec.choices(k)] for k in ("winch", "rope")}
+    for k, names in choices.items():
+        if len(names) > 1:
+            free[k] = Choice(options=names)
+    evaluations: list[Evaluation] = []
+    generations: list[int] = []
+    total = spec.population * spec.generations
+    best = [float("inf")]
+
+    def full(xd: dict) -> dict:
+        x = {k: (float(xd[k]) if k in xd else bounds[k][0]) for k in CONTINUOUS}
+        for k, names in choices.items():
+            x[k] = str(xd[k]) if k in xd else names[0]
+        return x
+
+    class Problem(ElementwiseProblem):
+        def __init__(self):
+            super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
+
+        def _evaluate(self, xd, out, *args, **kwargs):
+            e = evaluate(spec, template, full(xd), cells)
+            evaluations.append(e)
+            generations.append((len(evaluations) - 1) // spec.population)
+            if e.feasible:
+                best[0] = min(best[0], e.expected_hours)
+            if progress is not None:
+                progress(len(evaluations), total, best[0])
+            hours = e.expected_hours if np.isfinite(e.expected_hours) else 1e9
+            out["F"] = [hours, e.objective(spec.objective)]
+            out["G"] = [-(m if np.isfinite(m) else -1e9) for m in (e.margins[k] for k in CONSTRAINTS)]
+
+    if not free:  # nothing to search: the one candidate
+        Problem()._evaluate({}, {})
+    else:
+        algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
+        minimize(Problem(), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
+    ok = [i for i, e in enumerate(evaluations) if e.feasible and np.isfinite(e.expected_hours)]
+    front = []
+    if ok:
+        f = np.array([[evaluations[i].expected_hours, evaluations[i].objective(spec.objective)] for i in ok])
+        front = sorted((ok[j] for j in np.flatnonzero(pareto_mask(f))), key=lambda i: evaluations[i].expected_hours)
+    return DesignStudy(spec=spec, evaluations=evaluations, generation=np.array(generations), front=front,
+                       baseline=baseline(spec, template, cells))
+
+
+@dataclass(frozen=True)
+class Verification:
+    """A finalist flown through the cleaning job in every sea state of the study, closed loop
+    on the prototype (:func:`~marinecdpr.studies.cleaning.cleaning_seas`), beside the screen.
+
+    Attributes
+    ----------
+    index : int
+        The candidate's index in the study.
+    rank : int
+        Its place among the finalists (1: the fewest expected hours by the screen).
+    surface_hours : float
+    screen_share, td_share : float
+        The probability that the job works, by the screen and in the time domain.
+    screen_expected_hours, td_expected_hours : float
+        surface_hours over each share (inf where it works in no sea state).
+    agree : int
+        Sea states where the two verdicts agree.
+    screen_works_td_fails, screen_fails_td_works : int
+        The two kinds of disagreement (a conservative screen has none of the first).
+    reasons : list of str
+        Why the time domain failed, per failing sea state ("Hs, Tp, heading: why").
+    """
+
+    index: int
+    rank: int
+    surface_hours: float
+    screen_share: float
+    td_share: float
+    screen_expected_hours: float
+    td_expected_hours: float
+    agree: int
+    screen_works_td_fails: int
+    screen_fails_td_works: int
+    reasons: list
+
+
+def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "serial", workers: int = 2,
+           scheduler: str | None = None, plant: str | None = None,
+           progress: Callable[[int, int], None] | None = None) -> list[Verification]:
+    """Fly the study's best ``finalists`` (the front by expected hours) through the cleaning
+    job in every sea state of its scatter diagram and headings, closed loop (``plant``), on
+    ``executor`` as ``clean --seas`` does; the time-domain hours beside the screen's.
+
+    Parameters
+    ----------
+    progress : callable(done, total), optional
+        Sea states flown over all finalists.
+    """
+    from marinecdpr.studies.cleaning import cleaning_seas
+    from marinecdpr.studies.operability import scatter_cells
+    from marinecdpr.studies.screen import screen_cells
+
+    spec = study.spec
+    heads = tuple(float(h) for h in spec.sea.headings_deg)
+    cells = scatter_cells(scatter, heads)
+    chosen = study.front[:spec.finalists]
+    total = len(chosen) * len(cells)
+    out = []
+    for rank, i in enumerate(chosen, start=1):
+        e = study.evaluations[i]
+        sc = candidate_scenario(spec, template, e.x)
+        done = (rank - 1) * len(cells)
+        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=plant, executor=executor, workers=workers,
+                           scheduler=scheduler,
+                           progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
+        td = np.array([r.operable for r in cs.sea.results], dtype=bool)
+        screened = screen_cells(sc, cells)
+        works = screened.works
+        share = cs.sea.operability
+        out.append(Verification(
+            index=i, rank=rank, surface_hours=e.surface_hours, screen_share=screened.share, td_share=share,
+            screen_expected_hours=e.expected_hours,
+            td_expected_hours=e.surface_hours / share if share > 0 else float("inf"),
+            agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
+            screen_fails_td_works=int((~works & td).sum()),
+            reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
+                     for r in cs.sea.results if not r.operable]))
+    return out

@@ -1,0 +1,262 @@
+"""The design study (issue 24, items 1, 2, 4, 6, 7): the study file, candidates built and
+judged by the toolkit's models, NSGA-II's search and its Pareto front, the outputs."""
+
+from __future__ import annotations
+
+import csv
+import json
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+pytest.importorskip("pymoo")
+
+import marinecdpr  # noqa: E402
+from marinecdpr.cli.app import app  # noqa: E402
+from marinecdpr.errors import ScenarioError  # noqa: E402
+from marinecdpr.studies.design import (  # noqa: E402
+    candidate_scenario, evaluate, load_design, pareto_mask, search, study_cells,
+)
+from marinecdpr.studies.screen import screen_cells  # noqa: E402
+from marinecdpr.studies.surface import surface_job  # noqa: E402
+from tests.conftest import one_line_exit_2  # noqa: E402
+
+runner = CliRunner()
+SHIP_SIDE = Path(str(resources.files("marinecdpr") / "data" / "designs" / "ship_side.toml"))
+
+SMALL = """name = "small"
+scenario = "paper_clean"
+move_time_s = 300.0
+seed = 3
+population = 6
+generations = 3
+finalists = 2
+
+[targets]
+hours = 100.0
+sea_share = 0.5
+
+[sea]
+scatter = "seas.csv"
+headings_deg = [90.0]
+
+[platform_mass]
+base_kg = 5.0
+per_tool_width_kg_m = 10.0
+
+[limits]
+tension_min_N = 50.0
+stand_off_tolerance_m = 0.05
+
+[variables]
+frame_width_m = 6.0
+frame_height_m = 3.0
+platform_width_m = 0.5
+platform_height_m = 0.5
+tool_width_m = 0.5
+speed_m_s = 0.2
+
+[[winches]]
+name = "small"
+torque_N_m = 20.0
+speed_rad_s = 20.0
+power_W = 400.0
+drum_radius_m = 0.05
+
+[[winches]]
+name = "medium"
+torque_N_m = 100.0
+speed_rad_s = 13.0
+power_W = 1500.0
+drum_radius_m = 0.075
+
+[[winches]]
+name = "large"
+torque_N_m = 400.0
+speed_rad_s = 10.0
+power_W = 5000.0
+drum_radius_m = 0.1
+
+[[ropes]]
+name = "light"
+diameter_m = 0.006
+ea_N = 1.7e6
+weight_N_m = 0.2
+breaking_N = 30000.0
+
+[[ropes]]
+name = "heavy"
+diameter_m = 0.006
+ea_N = 1.6e6
+weight_N_m = 1.4
+breaking_N = 25000.0
+"""
+
+
+def _study(tmp_path: Path, text: str = SMALL) -> Path:
+    (tmp_path / "seas.csv").write_text("hs_m,tp_s,probability\n1.0,8.0,0.6\n5.0,10.0,0.4\n")
+    path = tmp_path / "study.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def small_path(tmp_path_factory):
+    return _study(tmp_path_factory.mktemp("small"))
+
+
+@pytest.fixture(scope="module")
+def small(small_path):
+    spec, template = load_design(small_path)
+    return spec, template, study_cells(spec, small_path.parent)
+
+
+def _x(spec, **kw):
+    x = {k: (v[0] if isinstance(v, tuple) else v) for k, v in spec.bounds().items()}
+    return x | {"winch": "medium", "rope": "light"} | kw
+
+
+def test_a_candidate_is_built_as_worked_by_hand(small):
+    """Frame 6 x 3 m, platform 0.5 x 0.5 m, tool 0.5 m: mass 5 + 10 x 0.5 = 10 kg, a plate's
+    inertia, T_max = min(30 000 / 5, 100 / 0.075) = 1 333.3 N, the panel inset by 0.25 + 0.15 m."""
+    spec, template, _ = small
+    sc = candidate_scenario(spec, template, _x(spec))
+    r = sc.robot
+    np.testing.assert_allclose(r.frame_anchors, [[0, 0, 3], [6, 0, 3], [6, 0, 0], [0, 0, 0]], atol=0)
+    np.testing.assert_allclose(r.platform_anchors, [[-0.25, 0, 0.25], [0.25, 0, 0.25], [0.25, 0, -0.25],
+                                                    [-0.25, 0, -0.25]], atol=0)
+    assert r.mass_kg == 10.0
+    np.testing.assert_allclose(np.diag(r.inertia), [10 * 0.25 / 12, 10 * 0.5 / 12, 10 * 0.25 / 12], rtol=1e-15)
+    assert r.tension_max[0] == pytest.approx(100.0 / 0.075, rel=1e-15) and r.tension_min[0] == 50.0
+    np.testing.assert_allclose(sc.cleaning.panel_m, [[0.4, 0.4], [5.6, 0.4], [5.6, 2.6], [0.4, 2.6]], atol=1e-12)
+    assert sc.cleaning.brush_diameter_m == 0.5 and sc.cleaning.overlap_m == pytest.approx(0.075)
+    assert sc.cleaning.surface.stand_off_tolerance_m == 0.05
+    large = candidate_scenario(spec, template, _x(spec, winch="large"))
+    assert large.robot.tension_max[0] == pytest.approx(400.0 / 0.1)  # min(30 000 / 5, 4 000)
+    weak = spec.model_copy(update={"ropes": [spec.ropes[0].model_copy(update={"breaking_N": 10000.0})]})
+    assert candidate_scenario(weak, template, _x(spec, winch="large")).robot.tension_max[0] == 2000.0  # the rope
+
+
+def test_expected_hours_are_the_placements_moves_and_the_sea_s_share_by_hand(small):
+    """The hours on the surface are the placements' coverage paths (to the centimetre) and
+    (n - 1) moves of 300 s; the share is the working sea states' probability (0.6 and 0.4
+    in the study's diagram); the expected hours are their quotient; margins by hand."""
+    spec, template, cells = small
+    x = _x(spec)
+    e = evaluate(spec, template, x, cells)
+    sc = candidate_scenario(spec, template, x)
+    job = surface_job(sc, move_time_s=300.0, digits=2)
+    assert e.placements == len(job.placements)
+    assert e.surface_hours * 3600.0 == pytest.approx(job.job_s.sum() + (len(job.placements) - 1) * 300.0, rel=1e-14)
+    works = screen_cells(sc, cells).works
+    share = float(np.dot(works, [0.6, 0.4]))
+    assert e.sea_share == pytest.approx(share, abs=1e-15) and share > 0
+    assert e.expected_hours == pytest.approx(e.surface_hours / share, rel=1e-14)
+    span = np.hypot(6.0, 3.0)
+    assert e.margins["sag_m"] == pytest.approx(0.05 - 0.2 * span**2 / (8 * 50.0), rel=1e-12)
+    assert e.margins["stretch_m"] == pytest.approx(0.05 - (100 / 0.075 - 50.0) * span / 1.7e6, rel=1e-12)
+    assert e.margins["winch_speed_m_s"] == pytest.approx(13.0 * 0.075 - 0.2, rel=1e-12)
+    assert e.margins["winch_power_W"] == pytest.approx(1500.0 - 100 / 0.075 * 0.2, rel=1e-12)
+    assert e.power_kW == 6.0
+
+
+def test_pareto_mask_is_the_sorted_sweep_s_front():
+    """Random points: the mask's rows are those a sweep by the first objective keeps (each
+    strictly below every earlier second objective), and ties are kept once each."""
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        f = np.round(rng.random((40, 2)) * 10, 0)
+        mask = pareto_mask(f)
+        order = np.lexsort((f[:, 1], f[:, 0]))
+        front, best = set(), np.inf
+        for i in order:
+            if f[i, 1] < best:
+                best = f[i, 1]
+                front.add(tuple(f[i]))
+        assert {tuple(r) for r in f[mask]} == front
+
+
+def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(small):
+    """Only the winch (3) and the rope (2) are free: NSGA-II's front over 3 generations of 6 is
+    the front of all six combinations judged one by one; the same seed gives the same
+    candidates in the same order."""
+    spec, template, cells = small
+    study = search(spec, template, cells)
+    every = [evaluate(spec, template, _x(spec, winch=w, rope=r), cells) for w in ("small", "medium", "large")
+             for r in ("light", "heavy")]
+    ok = [e for e in every if e.feasible]
+    f = np.array([[e.expected_hours, e.power_kW] for e in ok])
+    brute = {(e.x["winch"], e.x["rope"]) for e, keep in zip(ok, pareto_mask(f)) if keep}
+    found = {(study.evaluations[i].x["winch"], study.evaluations[i].x["rope"]) for i in study.front}
+    assert brute and found == brute
+    again = search(spec, template, cells)
+    assert [e.x for e in again.evaluations] == [e.x for e in study.evaluations]
+
+
+def test_design_writes_its_files_and_the_finalists_run(tmp_path):
+    out = tmp_path / "o"
+    res = runner.invoke(app, ["design", str(_study(tmp_path)), "--out", str(out), "--generations", "1", "--no-verify"])
+    assert res.exit_code == 0, res.output
+    s = json.loads((out / "summary.json").read_text())
+    rows = list(csv.DictReader(open(out / "candidates.csv")))
+    front = list(csv.DictReader(open(out / "pareto.csv")))
+    assert len(rows) == 6 and s["candidates"] == 6 and len(front) == len(s["front"]) >= 1
+    assert float(front[0]["expected_hours"]) == pytest.approx(s["best"]["expected_hours"], rel=1e-9)
+    assert s["best"]["expected_hours"] == pytest.approx(min(float(r["expected_hours"]) for r in rows
+                                                            if r["feasible"] == "1"), rel=1e-9)
+    assert f"{s['best']['expected_hours']:.4g} expected h" in res.stdout
+    finalists = sorted((out / "designs").glob("*.toml"))
+    assert 1 <= len(finalists) <= 2
+    sc = marinecdpr.load_scenario(finalists[0])
+    assert sc.robot.frame_anchors[1, 0] == 6.0 and sc.cleaning.surface is not None
+    for name in ("pareto.png", "convergence.png"):
+        assert (out / name).stat().st_size > 5000
+
+
+def test_the_built_in_study_loads_and_its_baseline_is_the_paper_robot():
+    spec, template = load_design(SHIP_SIDE)
+    assert spec.name == "ship_side" and template.name == "paper_clean"
+    assert [w.name for w in spec.winches] == ["small", "medium", "large"] and len(spec.ropes) == 2
+    assert spec.targets.hours == 12.0
+
+
+@pytest.mark.parametrize("edit, words", [
+    (("frame_width_m = 6.0", "frame_width_m = [8.0, 2.0]"), ["variables.frame_width_m", "low <= high"]),
+    (("speed_m_s = 0.2", "speed_m_s = 0.2\nwing_m = 1.0"), ["variables.wing_m", "unknown key"]),
+    (("power_W = 400.0\n", ""), ["winches[1].power_W", "missing"]),
+    (("sea_share = 0.5", "sea_share = 1.5"), ["targets.sea_share", "(0, 1]"]),
+    (("sea_share = 0.5", "sea_share = 0.0"), ["targets.sea_share"]),
+    (("speed_m_s = 0.2", "speed_m_s = 0.2\nwinch = [\"huge\"]"), ["variables.winch[1]", "not in the catalogue"]),
+    (('name = "medium"', 'name = "small"'), ["winches[2].name", "listed twice"]),
+    (('scenario = "paper_clean"', 'scenario = "paper"'), ["scenario", "[cleaning.surface]"]),
+    (('scatter = "seas.csv"', 'scatter = "nowhere.csv"'), ["sea.scatter", "no such file"]),
+    (("[targets]", "[targets\n"), ["not valid TOML"]),
+])
+def test_a_bad_study_file_is_one_line_naming_the_key(tmp_path, edit, words):
+    path = _study(tmp_path, SMALL.replace(*edit, 1))
+    res = runner.invoke(app, ["design", str(path), "--out", str(tmp_path / "o")])
+    one_line_exit_2(res, str(path), *words)
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(ScenarioError):
+        load_design(path)
+
+
+def test_the_finalist_is_flown_in_every_sea_state(small, small_path):
+    """The best design of a one-generation search flown closed loop in the study's two sea
+    states: the time domain's share and hours beside the screen's, and the screen never
+    passes a sea state the time domain fails."""
+    from marinecdpr.studies.design import study_scatter, verify
+
+    spec, template, cells = small
+    spec = spec.model_copy(update={"generations": 1, "finalists": 1})
+    study = search(spec, template, cells)
+    (v,) = verify(study, template, study_scatter(spec, small_path.parent), executor="serial", plant="own")
+    e = study.evaluations[v.index]
+    assert v.index == study.front[0] and v.screen_share == e.sea_share
+    assert v.agree + v.screen_works_td_fails + v.screen_fails_td_works == len(cells)
+    assert v.screen_works_td_fails == 0
+    assert v.td_share >= v.screen_share
+    assert v.td_expected_hours == pytest.approx(e.surface_hours / v.td_share, rel=1e-14)
