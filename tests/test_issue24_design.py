@@ -260,3 +260,20 @@ def test_the_finalist_is_flown_in_every_sea_state(small, small_path):
     assert v.screen_works_td_fails == 0
     assert v.td_share >= v.screen_share
     assert v.td_expected_hours == pytest.approx(e.surface_hours / v.td_share, rel=1e-14)
+
+
+def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):
+    """designs/ of a second run replaces the first's whole (a finalist fewer is gone), and a
+    run that writes none removes it (the output folder holds one run)."""
+    from marinecdpr.report.files import StagedOutput
+
+    for k in (2, 1, 0):
+        with StagedOutput(tmp_path / "o") as stage:
+            (stage / "summary.json").write_text("{}")
+            if k:
+                (stage / "designs").mkdir()
+                for i in range(k):
+                    (stage / "designs" / f"d{i}.toml").write_text(str(k))
+        names = sorted(p.name for p in (tmp_path / "o" / "designs").iterdir()) if k else None
+        assert names == ([f"d{i}.toml" for i in range(k)] if k else None)
+        assert (tmp_path / "o" / "designs").exists() == bool(k)

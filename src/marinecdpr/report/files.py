@@ -89,7 +89,11 @@ class StagedOutput:
             stale = self.target / name
             if "/" not in name and stale.is_file():
                 stale.unlink()
+            elif "/" not in name and stale.is_dir():  # a folder of files the last run wrote
+                shutil.rmtree(stale)
         for name in new:
+            if name in old and (self.stage / name).is_dir() and (self.target / name).is_dir():
+                shutil.rmtree(self.target / name)  # the last run's folder: replaced whole
             os.replace(self.stage / name, self.target / name)
         with atomic_path(manifest) as tmp:
             tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
