@@ -277,3 +277,44 @@ def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):
         names = sorted(p.name for p in (tmp_path / "o" / "designs").iterdir()) if k else None
         assert names == ([f"d{i}.toml" for i in range(k)] if k else None)
         assert (tmp_path / "o" / "designs").exists() == bool(k)
+
+
+def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_path):
+    """A search interrupted after a few candidates exits 130 saying how many it kept; the
+    rerun with --resume judges only the rest and writes the files a run never interrupted
+    writes (the same seed asks for the same candidates)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    study = _study(tmp_path)
+    args = ["design", str(study), "--no-verify", "--population", "4", "--generations", "3"]
+    out = tmp_path / "cut"
+    env = dict(os.environ, COLUMNS="200")
+    proc = subprocess.Popen([sys.executable, "-m", "marinecdpr", *args, "--out", str(out)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.default_int_handler))
+    journal = out / "journal.jsonl"
+    for _ in range(1200):  # a hang guard by count
+        if journal.is_file() and len(journal.read_text().splitlines()) >= 4:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    last = err.strip().splitlines()[-1]
+    kept = len(journal.read_text().splitlines()) - 1
+    assert 3 <= kept < 12 and f"interrupted; {kept} candidates kept in {journal}: rerun with --resume" in last
+    assert not (out / "candidates.csv").exists()
+    res = runner.invoke(app, [*args, "--out", str(out), "--resume"])
+    assert res.exit_code == 0, res.output
+    fresh = runner.invoke(app, [*args, "--out", str(tmp_path / "fresh")])
+    assert fresh.exit_code == 0, fresh.output
+    assert (out / "candidates.csv").read_text() == (tmp_path / "fresh" / "candidates.csv").read_text()
+    rows = list(csv.DictReader(open(out / "candidates.csv")))
+    lines = journal.read_text().splitlines()[1:]
+    assert len(rows) == 12 and len(lines) == len({(r["winch"], r["rope"]) for r in rows})  # each judged once
+    other = runner.invoke(app, [*args[:-1], "4", "--out", str(out), "--resume", "--seed", "9"])
+    one_line_exit_2(other, "--resume", "another study")

@@ -1420,6 +1420,8 @@ def design(
     population: Optional[int] = typer.Option(None, min=4, help="Candidates a generation (default: the study's)."),
     generations: Optional[int] = typer.Option(None, min=1, help="Generations (default: the study's)."),
     seed: Optional[int] = typer.Option(None, min=0, help="The search's seed (default: the study's)."),
+    resume: bool = typer.Option(False, "--resume", help="Go on with the search an interrupted run kept in "
+                                "OUT/journal.jsonl (the same study, the same seed)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
                                 "every sea state, closed loop (the hours reported beside the screen's)."),
     plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the template's)."),
@@ -1462,8 +1464,14 @@ def design(
                 bar.update(task, completed=done, total=total,
                            description="best feasible: " + (f"{best:.4g} h" if best < float("inf") else "none yet"))
 
-            with _run_errors(spec):
-                study = search(study_spec, template, cells, progress=progress)
+            journal = out / "journal.jsonl"  # beside the staged files: an interrupted run keeps it
+            try:
+                with _run_errors(spec):
+                    study = search(study_spec, template, cells, progress=progress, journal=journal, resume=resume)
+            except KeyboardInterrupt:
+                kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
+                _fail(f"interrupted; {kept} candidates kept in {journal}: rerun with --resume to go on",
+                      EXIT_INTERRUPTED)
         checked = []
         if n_final and study.front:
             _compile_notice(plant.value if plant is not None else template.simulation.plant)

@@ -36,7 +36,7 @@ from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
-           "verify", "pareto_mask", "study_cells", "study_scatter", "CONSTRAINTS"]
+           "verify", "pareto_mask", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -331,8 +331,65 @@ def _path_time(scenario: Scenario) -> float:
     return float(cleaning_path(scenario.cleaning).duration_s)
 
 
+def _study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
+    """What a journal's candidates were judged under: the study, its template and its sea states."""
+    import hashlib
+
+    text = spec.model_dump_json() + template.model_dump_json() + repr([c.__dict__ for c in cells])
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _candidate_key(x: dict) -> str:
+    return repr(sorted(x.items()))
+
+
+def _to_json(e: Evaluation) -> dict:
+    def num(v):
+        return v if not isinstance(v, float) or np.isfinite(v) else repr(v)  # inf, nan as text
+
+    return {k: ({m: num(v) for m, v in val.items()} if isinstance(val, dict) else num(val))
+            for k, val in e.__dict__.items()}
+
+
+def _from_json(d: dict) -> Evaluation:
+    def num(v):
+        return float(v) if v in ("inf", "-inf", "nan") else v
+
+    return Evaluation(**{k: ({m: num(v) for m, v in val.items()} if isinstance(val, dict) else num(val))
+                         for k, val in d.items()})
+
+
+def read_journal(path: Path, key: str) -> dict:
+    """The candidates a journal holds, by their variables (a cut last line, as a Ctrl-C may
+    leave, is skipped).
+
+    Raises
+    ------
+    ScenarioError
+        No journal there, or one of another study (or of this study's file since changed).
+    """
+    import json
+
+    path = Path(path)
+    if not path.is_file():
+        raise ScenarioError(f"--resume: no {path.name} in {path.parent} to resume")
+    lines = path.read_text(encoding="utf-8").splitlines()
+    if not lines or json.loads(lines[0]).get("study") != key:
+        raise ScenarioError(f"--resume: {path} is of another study, or this study's file, template or seas "
+                            "changed since: run without --resume")
+    known = {}
+    for line in lines[1:]:
+        try:
+            e = _from_json(json.loads(line))
+        except (ValueError, TypeError):
+            continue
+        known[_candidate_key(e.x)] = e
+    return known
+
+
 def search(spec: DesignSpec, template: Scenario, cells: list, *,
-           progress: Callable[[int, int, float], None] | None = None) -> DesignStudy:
+           progress: Callable[[int, int, float], None] | None = None, journal: Path | None = None,
+           resume: bool = False) -> DesignStudy:
     """NSGA-II (pymoo) over the spec's variables: ``population`` candidates a generation for
     ``generations`` generations from ``seed`` (the same seed, the same candidates); the held
     variables stay at their value, the winch and rope are choices.
@@ -341,7 +398,23 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     ----------
     progress : callable(done, total, best_hours), optional
         Called after each candidate with the best feasible expected hours so far.
+    journal : Path, optional
+        A file each candidate is added to as a line of JSON as soon as it is judged (so an
+        interrupted search keeps them); started anew unless ``resume``.
+    resume : bool
+        Take the journal's candidates instead of judging them again: the same seed asks for
+        the same candidates, so the search goes on where it stopped.
     """
+    import json
+
+    key = _study_key(spec, template, cells)
+    known = read_journal(journal, key) if resume and journal is not None else {}
+    sink = None
+    if journal is not None:
+        sink = open(journal, "a" if resume else "w", encoding="utf-8")
+        if not resume:
+            sink.write(json.dumps({"study": key}) + "\n")
+            sink.flush()
     from pymoo.algorithms.moo.nsga2 import RankAndCrowding
     from pymoo.core.mixed import MixedVariableGA
     from pymoo.core.problem import ElementwiseProblem
@@ -370,7 +443,13 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
             super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
 
         def _evaluate(self, xd, out, *args, **kwargs):
-            e = evaluate(spec, template, full(xd), cells)
+            x = full(xd)
+            e = known.get(_candidate_key(x))
+            if e is None:  # a candidate asked for again (a held or discrete variable's) is judged once
+                e = known[_candidate_key(x)] = evaluate(spec, template, x, cells)
+                if sink is not None:
+                    sink.write(json.dumps(_to_json(e)) + "\n")
+                    sink.flush()
             evaluations.append(e)
             generations.append((len(evaluations) - 1) // spec.population)
             if e.feasible:
@@ -381,11 +460,15 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
             out["F"] = [hours, e.objective(spec.objective)]
             out["G"] = [-(m if np.isfinite(m) else -1e9) for m in (e.margins[k] for k in CONSTRAINTS)]
 
-    if not free:  # nothing to search: the one candidate
-        Problem()._evaluate({}, {})
-    else:
-        algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
-        minimize(Problem(), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
+    try:
+        if not free:  # nothing to search: the one candidate
+            Problem()._evaluate({}, {})
+        else:
+            algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
+            minimize(Problem(), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
+    finally:
+        if sink is not None:
+            sink.close()
     ok = [i for i, e in enumerate(evaluations) if e.feasible and np.isfinite(e.expected_hours)]
     front = []
     if ok:
