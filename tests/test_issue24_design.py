@@ -212,8 +212,26 @@ def test_design_writes_its_files_and_the_finalists_run(tmp_path):
     assert 1 <= len(finalists) <= 2
     sc = marinecdpr.load_scenario(finalists[0])
     assert sc.robot.frame_anchors[1, 0] == 6.0 and sc.cleaning.surface is not None
-    for name in ("pareto.png", "convergence.png"):
+    for name in ("pareto.png", "convergence.png", "finalists.png"):
         assert (out / name).stat().st_size > 5000
+    page = (out / "report.html").read_text()
+    assert "<h1>Design study: small</h1>" in page and page.count("<tr><td>front ") == len(s["front"])
+    assert "<tr><td>template&#x27;s robot</td><td>1.9 x 1.4</td>" in page and page.count("data:image/png") == 3
+
+
+def test_a_design_s_drawing_puts_the_platform_at_the_panel_s_corners(small):
+    """The 6 x 3 m frame's panel [0.4, 5.6] x [0.4, 2.6]: at its first corner the platform's
+    anchors are the corner +-0.25 m, and cable 2 runs from (6, 3) to (0.65, 0.65)."""
+    from marinecdpr.report.design import drawing_geometry
+
+    spec, template, _ = small
+    g = drawing_geometry(candidate_scenario(spec, template, _x(spec)))
+    np.testing.assert_allclose(g["frame"], [[0, 3], [6, 3], [6, 0], [0, 0]], atol=0)
+    np.testing.assert_allclose(g["platforms"][0], [[0.15, 0.65], [0.65, 0.65], [0.65, 0.15], [0.15, 0.15]],
+                               atol=1e-12)
+    np.testing.assert_allclose(g["platforms"][2], [[5.35, 2.85], [5.85, 2.85], [5.85, 2.35], [5.35, 2.35]],
+                               atol=1e-12)
+    np.testing.assert_allclose(g["cables"][0, 1], [[6.0, 3.0], [0.65, 0.65]], atol=1e-12)
 
 
 def test_the_built_in_study_loads_and_its_baseline_is_the_paper_robot():

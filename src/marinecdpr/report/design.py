@@ -12,7 +12,7 @@ from marinecdpr.report.figures import _pyplot, _save
 from marinecdpr.report.files import write_json
 from marinecdpr.textfiles import atomic_path
 
-__all__ = ["write_design", "design_summary", "CANDIDATE_COLUMNS"]
+__all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
 
 
 def _columns() -> list[str]:
@@ -153,5 +153,123 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                 w.writerow(names)
                 w.writerows([[getattr(v, k) for k in names] for v in verification])
         paths.append(path)
-    paths.append(write_json(design_summary(study, verification), folder / "summary.json"))
+    summary = design_summary(study, verification)
+    paths.append(write_json(summary, folder / "summary.json"))
+    drawn = _draw_finalists(study, template, folder / "finalists.png")
+    paths.append(drawn)
+    paths.append(_report_html(study, summary, verification, {"The Pareto front": folder / "pareto.png",
+                                                             "Convergence": folder / "convergence.png",
+                                                             "The finalists beside the template's robot": drawn},
+                              folder / "report.html"))
     return paths
+
+
+def drawing_geometry(scenario) -> dict:
+    """What a design's drawing shows, in C's x-z plane (m): the frame anchors (4, 2), the
+    panel's outline (n, 2), and the platform anchors and cables with the platform's centre
+    at each corner of the panel less the brush's offset (the poses the job's path reaches
+    first and last): ``platforms`` (4, n_cables, 2) and ``cables`` (4, n_cables, 2, 2)."""
+    c = scenario.robot.frame_anchors[:, [0, 2]]
+    p = scenario.robot.platform_anchors[:, [0, 2]]
+    panel = np.asarray(scenario.cleaning.panel_m, dtype=float)
+    offset = np.asarray(scenario.cleaning.brush_offset_m, dtype=float)[[0, 2]]
+    lo, hi = panel.min(axis=0), panel.max(axis=0)
+    corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]]) - offset
+    platforms = corners[:, None, :] + p[None]
+    cables = np.stack([np.broadcast_to(c, platforms.shape), platforms], axis=2)
+    return {"frame": c, "panel": panel, "platforms": platforms, "cables": cables}
+
+
+def _draw_finalists(study, template, path: Path) -> Path:
+    """Each finalist (and the template's robot) to one scale: frame, anchors, panel, and the
+    platform with its cables at the panel's four corners."""
+    from marinecdpr.studies.design import candidate_scenario
+
+    spec, ev = study.spec, study.evaluations
+    shown = [("the template's robot", template)] + [
+        (f"finalist {rank}: {ev[i].expected_hours:.3g} h, {ev[i].power_kW:g} kW", candidate_scenario(spec, template,
+                                                                                                      ev[i].x))
+        for rank, i in enumerate(study.front[:spec.finalists], start=1)]
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 3.6), constrained_layout=True, squeeze=False)
+    span = max(float(np.ptp(sc.robot.frame_anchors[:, [0, 2]], axis=0).max()) for _, sc in shown)
+    for ax, (label, sc) in zip(axes[0], shown):
+        g = drawing_geometry(sc)
+        ax.fill(*g["panel"].T, color="tab:green", alpha=0.25, label="panel")
+        for k in range(4):
+            for seg in g["cables"][k]:
+                ax.plot(*seg.T, color="tab:red", lw=0.6, alpha=0.6)
+            ax.fill(*g["platforms"][k].T, color="tab:blue", alpha=0.5)
+        f = g["frame"]
+        ax.plot(*np.vstack([f, f[:1]]).T, "k-", lw=1.2)
+        ax.plot(*f.T, "ko", ms=4)
+        ax.set_aspect("equal")
+        ax.set_xlim(-0.05 * span, 1.05 * span)
+        ax.set_ylim(-0.05 * span, 1.05 * span)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel("x in C (m)")
+    axes[0][0].set_ylabel("z in C (m)")
+    return _save(fig, path)
+
+
+def _report_html(study, summary: dict, verification, figures: dict, path: Path) -> Path:
+    """One page: the targets, the front beside the template's robot (the time domain's figures
+    where flown), and the figures."""
+    import base64
+    from html import escape as esc
+
+    spec = study.spec
+    td = {v.index: v for v in verification or []}
+
+    def row(label, e, v=None):
+        x = e.x
+        td_share = f"{100 * v.td_share:.1f} %" if v is not None else "–"
+        td_hours = f"{v.td_expected_hours:.4g}" if v is not None else "–"
+        return (f"<tr><td>{esc(label)}</td><td>{x['frame_width_m']:.3g} x {x['frame_height_m']:.3g}</td>"
+                f"<td>{x['platform_width_m']:.3g} x {x['platform_height_m']:.3g}, {e.mass_kg:.3g} kg</td>"
+                f"<td>{x['tool_width_m']:.3g} m at {x['speed_m_s']:.3g} m/s</td><td>{esc(x['winch'])}, "
+                f"{esc(x['rope'])}</td><td>{'–' if e.power_kW != e.power_kW else f'{e.power_kW:g}'}</td><td>{e.placements}</td><td>{e.surface_hours:.4g}</td>"
+                f"<td>{100 * e.sea_share:.1f} %</td><td>{td_share}</td><td>{e.expected_hours:.4g}</td>"
+                f"<td>{td_hours}</td></tr>")
+
+    rows = [row("template's robot", study.baseline)] + [
+        row(f"front {k}" + (" (finalist)" if i in td else ""), study.evaluations[i], td.get(i))
+        for k, i in enumerate(study.front, start=1)]
+    imgs = []
+    for caption, fig_path in figures.items():
+        data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
+        imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
+                    f"<figcaption>{esc(caption)}</figcaption></figure>")
+    best = summary["best"]
+    verdict = ("no feasible design" if best is None else
+               f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
+               + ("met" if summary["target_met"] else "not met"))
+    page = f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>marinecdpr design: {esc(spec.name)}</title>
+<style>
+body {{ font-family: system-ui, sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 1em; color: #222; }}
+table {{ border-collapse: collapse; margin: 1em 0; font-size: 0.92em; }}
+th, td {{ border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }}
+thead th {{ background: #f2f2f2; }}
+figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
+figcaption {{ color: #555; font-size: 0.9em; }}
+</style></head><body>
+<h1>Design study: {esc(spec.name)}</h1>
+<p>{esc(spec.description)}</p>
+<p>{len(study.evaluations)} candidates ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
+for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
+<h2>The Pareto front</h2>
+<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope</th><th>kW</th>
+<th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>
+<th>expected h (screen)</th><th>(time domain)</th></tr></thead>
+<tbody>{''.join(rows)}</tbody></table>
+<p>Expected hours: the placements' cleaning and moves over the share of sea states in which the job works.
+The screen judges every candidate; the finalists were also flown through the cleaning job in every sea state,
+closed loop on the prototype.</p>
+<h2>Figures</h2>
+{''.join(imgs)}
+</body></html>
+"""
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(page, encoding="utf-8")
+    return path

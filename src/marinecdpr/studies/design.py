@@ -294,9 +294,13 @@ class DesignStudy:
     baseline: Evaluation
 
 
+TEMPLATE_OWN = "the template's"
+"""The baseline's winch and rope: its own (its T_max), not the catalogue's."""
+
+
 def template_x(spec: DesignSpec, template: Scenario) -> dict:
-    """The template's own robot as a candidate (its frame, platform, tool), with the
-    catalogue's first winch and rope (for its power and cost; its T_max is its own)."""
+    """The template's own robot's variables (its frame, platform, tool; its own winches and
+    rope, :data:`TEMPLATE_OWN`)."""
     c = template.robot.frame_anchors
     p = template.robot.platform_anchors
     cl = template.cleaning
@@ -304,7 +308,7 @@ def template_x(spec: DesignSpec, template: Scenario) -> dict:
             "platform_width_m": float(np.ptp(p[:, 0])), "platform_height_m": float(np.ptp(p[:, 2])),
             "tool_width_m": float(cl.brush_diameter_m), "speed_m_s": float(cl.speed_m_s),
             "overlap_share": float(cl.overlap_m / cl.brush_diameter_m),
-            "winch": spec.choices("winch")[0].name, "rope": spec.choices("rope")[0].name}
+            "winch": TEMPLATE_OWN, "rope": TEMPLATE_OWN}
 
 
 def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
@@ -313,14 +317,13 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
     from marinecdpr.studies.surface import surface_job
 
     x = template_x(spec, template)
-    winch = next(e for e in spec.winches if e.name == x["winch"])
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
     run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template)))
     share = screen_cells(run, cells).share
     return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
                       surface_hours=job.hours, sea_share=share,
                       expected_hours=job.hours / share if share > 0 else float("inf"),
-                      power_kW=4.0 * winch.power_W / 1000.0, cost=float("nan"),
+                      power_kW=float("nan"), cost=float("nan"),
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
                       margins={"sea_share": share - spec.targets.sea_share})
 
