@@ -336,3 +336,15 @@ def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_pa
     assert len(rows) == 12 and len(lines) == len({(r["winch"], r["rope"]) for r in rows})  # each judged once
     other = runner.invoke(app, [*args[:-1], "4", "--out", str(out), "--resume", "--seed", "9"])
     one_line_exit_2(other, "--resume", "another study")
+
+
+def test_the_search_on_dask_judges_the_same_candidates(small):
+    """A local Dask cluster of two workers: the same candidates, in the same order, with the
+    same figures as the serial search (the same seed)."""
+    pytest.importorskip("dask.distributed")
+    spec, template, cells = small
+    spec = spec.model_copy(update={"generations": 2})
+    serial = search(spec, template, cells)
+    dask = search(spec, template, cells, executor="dask", workers=2)
+    assert [e.__dict__ for e in dask.evaluations] == [e.__dict__ for e in serial.evaluations]
+    assert dask.front == serial.front

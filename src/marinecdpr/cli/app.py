@@ -1425,9 +1425,12 @@ def design(
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
                                 "every sea state, closed loop (the hours reported beside the screen's)."),
     plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the template's)."),
-    serial: bool = typer.Option(False, "--serial", help="Fly the finalists' sea states one after another."),
-    workers: Optional[int] = typer.Option(None, min=1, help="Local Dask workers for the finalists' sea states."),
-    scheduler: Optional[str] = typer.Option(None, help="A running Dask scheduler's address for them."),
+    serial: bool = typer.Option(False, "--serial", help="Judge the candidates and fly the finalists' sea states "
+                                "one after another."),
+    workers: Optional[int] = typer.Option(None, min=1, help="Local Dask workers for the candidates and the "
+                                          "finalists' sea states (default: the candidates here, the sea states on "
+                                          "Dask when they are many)."),
+    scheduler: Optional[str] = typer.Option(None, help="A running Dask scheduler's address for both."),
 ) -> None:
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
@@ -1467,7 +1470,9 @@ def design(
             journal = out / "journal.jsonl"  # beside the staged files: an interrupted run keeps it
             try:
                 with _run_errors(spec):
-                    study = search(study_spec, template, cells, progress=progress, journal=journal, resume=resume)
+                    study = search(study_spec, template, cells, progress=progress, journal=journal, resume=resume,
+                                   executor="dask" if (workers is not None or scheduler) else "serial",
+                                   scheduler=scheduler, workers=workers or 2)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
                 _fail(f"interrupted; {kept} candidates kept in {journal}: rerun with --resume to go on",

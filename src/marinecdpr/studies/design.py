@@ -392,7 +392,8 @@ def read_journal(path: Path, key: str) -> dict:
 
 def search(spec: DesignSpec, template: Scenario, cells: list, *,
            progress: Callable[[int, int, float], None] | None = None, journal: Path | None = None,
-           resume: bool = False) -> DesignStudy:
+           resume: bool = False, executor: str = "serial", scheduler: str | None = None,
+           workers: int = 2) -> DesignStudy:
     """NSGA-II (pymoo) over the spec's variables: ``population`` candidates a generation for
     ``generations`` generations from ``seed`` (the same seed, the same candidates); the held
     variables stay at their value, the winch and rope are choices.
@@ -407,8 +408,21 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     resume : bool
         Take the journal's candidates instead of judging them again: the same seed asks for
         the same candidates, so the search goes on where it stopped.
+    executor : {"serial", "dask"}
+        Judge a generation's candidates here one by one, or on Dask (a local cluster of
+        ``workers`` processes, or the ``scheduler``): the same candidates and results either
+        way.
     """
     import json
+    from contextlib import nullcontext
+
+    from pymoo.algorithms.moo.nsga2 import RankAndCrowding
+    from pymoo.core.mixed import MixedVariableGA
+    from pymoo.core.problem import Problem
+    from pymoo.core.variable import Choice, Real
+    from pymoo.optimize import minimize
+
+    from marinecdpr.studies.operability import dask_client
 
     key = _study_key(spec, template, cells)
     known = read_journal(journal, key) if resume and journal is not None else {}
@@ -418,12 +432,6 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
         if not resume:
             sink.write(json.dumps({"study": key}) + "\n")
             sink.flush()
-    from pymoo.algorithms.moo.nsga2 import RankAndCrowding
-    from pymoo.core.mixed import MixedVariableGA
-    from pymoo.core.problem import ElementwiseProblem
-    from pymoo.core.variable import Choice, Real
-    from pymoo.optimize import minimize
-
     bounds = spec.bounds()
     free = {k: Real(bounds=b) for k, b in bounds.items() if b[0] < b[1]}
     choices = {k: [e.name for e in spec.choices(k)] for k in ("winch", "rope")}
@@ -441,34 +449,64 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
             x[k] = str(xd[k]) if k in xd else names[0]
         return x
 
-    class Problem(ElementwiseProblem):
-        def __init__(self):
-            super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
+    def judged(x: dict, e: Evaluation) -> None:
+        known[_candidate_key(x)] = e
+        if sink is not None:  # at once: an interrupted search keeps it
+            sink.write(json.dumps(_to_json(e)) + "\n")
+            sink.flush()
 
-        def _evaluate(self, xd, out, *args, **kwargs):
-            x = full(xd)
-            e = known.get(_candidate_key(x))
-            if e is None:  # a candidate asked for again (a held or discrete variable's) is judged once
-                e = known[_candidate_key(x)] = evaluate(spec, template, x, cells)
-                if sink is not None:
-                    sink.write(json.dumps(_to_json(e)) + "\n")
-                    sink.flush()
-            evaluations.append(e)
-            generations.append((len(evaluations) - 1) // spec.population)
-            if e.feasible:
-                best[0] = min(best[0], e.expected_hours)
-            if progress is not None:
-                progress(len(evaluations), total, best[0])
-            hours = e.expected_hours if np.isfinite(e.expected_hours) else 1e9
-            out["F"] = [hours, e.objective(spec.objective)]
-            out["G"] = [-(m if np.isfinite(m) else -1e9) for m in (e.margins[k] for k in CONSTRAINTS)]
+    def taken(e: Evaluation) -> None:
+        evaluations.append(e)
+        generations.append((len(evaluations) - 1) // spec.population)
+        if e.feasible:
+            best[0] = min(best[0], e.expected_hours)
+        if progress is not None:
+            progress(len(evaluations), total, best[0])
+
+    def judge_all(xs: list[dict], client) -> None:
+        """Judge the candidates not yet known (each once), here or on Dask."""
+        todo = list({_candidate_key(x): x for x in xs if _candidate_key(x) not in known}.values())
+        if client is None:
+            for x in todo:
+                judged(x, evaluate(spec, template, x, cells))
+            return
+        from dask.distributed import as_completed
+
+        futures = {client.submit(evaluate, *shared, x, cells_f, pure=False): x for x in todo}
+        for fut in as_completed(futures):
+            judged(futures[fut], fut.result())
+
+    class Study(Problem):
+        def __init__(self, client):
+            super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
+            self.client = client
+
+        def _evaluate(self, X, out, *args, **kwargs):
+            xs = [full(xd) for xd in X]
+            if self.client is None:  # one by one, each counted as it is judged
+                for x in xs:
+                    judge_all([x], None)
+                    taken(known[_candidate_key(x)])
+            else:
+                judge_all(xs, self.client)
+                for x in xs:
+                    taken(known[_candidate_key(x)])
+            es = [known[_candidate_key(x)] for x in xs]
+            out["F"] = np.array([[e.expected_hours if np.isfinite(e.expected_hours) else 1e9,
+                                  e.objective(spec.objective)] for e in es])
+            out["G"] = np.array([[-(m if np.isfinite(m) else -1e9) for m in (e.margins[k] for k in CONSTRAINTS)]
+                                 for e in es])
 
     try:
-        if not free:  # nothing to search: the one candidate
-            Problem()._evaluate({}, {})
-        else:
-            algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
-            minimize(Problem(), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
+        with (dask_client(scheduler, workers) if executor == "dask" else nullcontext()) as client:
+            if client is not None:
+                shared = [client.scatter(spec, broadcast=True), client.scatter(template, broadcast=True)]
+                cells_f = client.scatter(cells, broadcast=True)
+            if not free:  # nothing to search: the one candidate
+                Study(client)._evaluate(np.array([{}], dtype=object), {})
+            else:
+                algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
+                minimize(Study(client), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
     finally:
         if sink is not None:
             sink.close()

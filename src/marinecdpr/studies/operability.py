@@ -34,7 +34,7 @@ from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
-           "scatter_cells", "run_cells", "summarise", "wilson_interval", "REALISATIONS",
+           "scatter_cells", "run_cells", "dask_client", "summarise", "wilson_interval", "REALISATIONS",
            "study_steps", "AUTO_DASK_MIN_STEPS", "HS_RANGE_M", "TP_RANGE_S"]
 
 HS_RANGE_M = (0.0, 30.0)
@@ -645,9 +645,20 @@ def _sigint_deferred():
         raise KeyboardInterrupt
 
 
-def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
+@contextmanager
+def dask_client(scheduler: str | None, workers: int):
+    """A Dask client for a study's work: on the ``scheduler`` at that address, or on a local
+    cluster of ``workers`` processes started here and torn down at the end (also on Ctrl-C
+    or an error, quietly: what its scheduler logs then is no news, the error raised says
+    what happened).
+
+    Raises
+    ------
+    ScenarioError
+        Dask is not installed, or the scheduler does not answer.
+    """
     try:
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import Client, LocalCluster
     except ImportError:
         raise ScenarioError("Dask is not installed: pip install 'marinecdpr[dask]'") from None
     cluster = None
@@ -678,14 +689,7 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
         # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
         # page-fault its memory back in; the workers keep it instead (see marinecdpr.memory)
         client.run(keep_freed_memory)
-        scattered = client.scatter(template, broadcast=True)
-        futures = [client.submit(evaluate, scattered, cell, pure=False, **kwargs) for cell in cells]
-        results = []
-        for k, fut in enumerate(as_completed(futures), start=1):
-            results.append(fut.result())
-            if progress is not None:
-                progress(k, len(cells))
-        return results
+        yield client
     except BaseException:
         # stopped (Ctrl-C) or failed: our own cluster is torn down mid-work, and what its
         # scheduler logs then (comms closed while it reports a result) is no news; the
@@ -702,6 +706,20 @@ def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
         finally:
             if stopped:
                 logging.disable(logging.NOTSET)
+
+
+def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
+    with dask_client(scheduler, workers) as client:
+        from dask.distributed import as_completed
+
+        scattered = client.scatter(template, broadcast=True)
+        futures = [client.submit(evaluate, scattered, cell, pure=False, **kwargs) for cell in cells]
+        results = []
+        for k, fut in enumerate(as_completed(futures), start=1):
+            results.append(fut.result())
+            if progress is not None:
+                progress(k, len(cells))
+        return results
 
 
 def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: list, margin_N: float,
