@@ -20,7 +20,7 @@ from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
-from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
+from marinecdpr.model.dynamics import WrenchTerms, disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.model.tension import (
     TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
@@ -33,7 +33,7 @@ from marinecdpr.planning.interference import Clearances, clearances, describe_cl
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
-           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference",
+           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference", "required_wrench",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -474,6 +474,34 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
     return dict(sag_lengths=sag, winch_tensions=T_A)
 
 
+def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray,
+                    R_PC: np.ndarray, ship: ShipMotion, t: np.ndarray, F_n) -> WrenchTerms:
+    """The wrench the platform needs (eqs. 9-16), with the scenario's disturbance f_r, m_r
+    and, with ``[cleaning]``, the brush's loads pressed on with ``F_n`` (N; the planner takes
+    the pusher's preload).
+
+    Parameters
+    ----------
+    x_PC : ndarray, shape (n_steps, 3)
+    twist, twist_dot : ndarray, shape (n_steps, 6)
+        In C.
+    R_PC : ndarray, shape (n_steps, 3, 3)
+    ship : ShipMotion
+    t : ndarray, shape (n_steps,)
+        s (the disturbance's times).
+    F_n : float or ndarray, shape (n_steps,)
+    """
+    f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
+    f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, R_PC)
+    if scenario.cleaning is not None:
+        f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
+        f_C, m_C = f_C + f_b, m_C + m_b
+    robot = scenario.robot
+    return wrench_terms(x_PC, twist, twist_dot, R_PC, ship, frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
+                        mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
+                        f_ext_C=f_C, m_ext_C=m_C)
+
+
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                 ship: ShipMotion | None = None, headroom: bool = False) -> dict:
     robot = scenario.robot
@@ -492,18 +520,9 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     if robot.has_pulleys:  # the cables leave their pulleys where their directions say
         kin = _over_pulleys(robot, platform, twist, t)
         spans_from = kin.exits_C
-    f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
-    f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, platform.R_PC)
-    if scenario.cleaning is not None:
-        # the brush's drag, reaction moment, jet and the hull's push, at the pusher's preload
-        f_b, m_b = cleaning_loads(scenario.cleaning, twist, platform.R_PC, scenario.cleaning.preload)
-        f_C, m_C = f_C + f_b, m_C + m_b
-    terms = wrench_terms(
-        platform.x_PC_C, twist, platform.twist_dot, platform.R_PC, ship,
-        frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
-        mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
-        f_ext_C=f_C, m_ext_C=m_C,
-    )
+    # the brush's drag, reaction moment, jet and the hull's push, at the pusher's preload
+    preload = scenario.cleaning.preload if scenario.cleaning is not None else 0.0
+    terms = required_wrench(scenario, platform.x_PC_C, twist, platform.twist_dot, platform.R_PC, ship, t, preload)
     w = terms.total
     c = list(robot.controlled)
     J = _columns(kin.J_tilde, c)

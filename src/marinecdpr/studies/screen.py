@@ -48,9 +48,10 @@ import numpy as np
 from scipy.special import ndtr
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.model.dynamics import disturbance_in_C, uncontrolled, wrench_terms
+from marinecdpr.model.dynamics import uncontrolled
 from marinecdpr.motion.ship import ship_motion
-from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
+from marinecdpr.motion.trajectory import check_in_frame, evaluate_trajectory
+from marinecdpr.planning.planner import required_wrench
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.operability import Cell
 
@@ -170,19 +171,9 @@ def _still_plus(dq: np.ndarray):
 
 
 def _wrench(scenario: Scenario, x, twist, twist_dot, R_PC, ship, t, F_n) -> np.ndarray:
-    """The planner's required wrench (n, 6) in C (planning.planner._plan_chunk's terms): the
-    disturbance and the tool's loads at ``F_n`` included."""
-    from marinecdpr.model.brush import cleaning_loads
-
-    robot = scenario.robot
-    f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
-    f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, R_PC)
-    if scenario.cleaning is not None:
-        f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
-        f_C, m_C = f_C + f_b, m_C + m_b
-    return wrench_terms(x, twist, twist_dot, R_PC, ship, frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
-                        mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
-                        f_ext_C=f_C, m_ext_C=m_C).total
+    """The planner's required wrench (n, 6) in C, the disturbance and the tool's loads at
+    ``F_n`` included (:func:`~marinecdpr.planning.planner.required_wrench`)."""
+    return required_wrench(scenario, x, twist, twist_dot, R_PC, ship, t, F_n).total
 
 
 def _grid_rows(points: np.ndarray, grid: tuple[int, int]) -> np.ndarray:
@@ -204,7 +195,8 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     Raises
     ------
     ScenarioError
-        The path leaves the frame, or the robot's geometry is singular at a judged pose.
+        The path takes the platform out of the frame (as the planner says it). A pose where
+        the cables lose rank is not an error: no tensions hold it, and the screen says so.
     """
     from marinecdpr.geometry.kinematics import cable_kinematics
 
@@ -260,6 +252,7 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     c = list(robot.controlled)
     kin = cable_kinematics(path.x_PC_C[rows], path.R_PC[rows], robot.frame_anchors, robot.platform_anchors,
                            np.zeros((n_p, 6)))
+    check_in_frame(path.x_PC_C[rows], kin.anchors_C, robot.frame_anchors, t[rows])
     n_C = np.asarray(scenario.cleaning.hull_normal, dtype=float) if scenario.cleaning is not None else None
     planar_normal = (n_C is not None and 1 in uncontrolled(robot.controlled) and abs(n_C[1]) >= 1.0 - 1e-9)
     return ScreenModel(pose=path.pose[rows], w0=w0, D=D, J=kin.J_tilde[:, :, c], path_box=path_box, friction=friction,
