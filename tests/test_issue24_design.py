@@ -18,7 +18,7 @@ import marinecdpr  # noqa: E402
 from marinecdpr.cli.app import app  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
-    candidate_scenario, evaluate, load_design, pareto_mask, search, study_cells,
+    candidate_scenario, evaluate, load_design, pareto_mask, placement_origins, search, study_cells,
 )
 from marinecdpr.studies.screen import screen_cells  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
@@ -151,7 +151,14 @@ def test_expected_hours_are_the_placements_moves_and_the_sea_s_share_by_hand(sma
     job = surface_job(sc, move_time_s=300.0, digits=2)
     assert e.placements == len(job.placements)
     assert e.surface_hours * 3600.0 == pytest.approx(job.job_s.sum() + (len(job.placements) - 1) * 300.0, rel=1e-14)
-    works = screen_cells(sc, cells).works
+    # the frame 6 x 3 m at the band's corners: centres at stations -92 and 92 m, heights 1.5
+    # and 10.1 m, on the flared Wigley side y = 16 (1 - (x / 100)^2) (1 + 0.2 (z / 10)^2)
+    centres = [(-92.0, 1.5), (-92.0, 10.1), (92.0, 1.5), (92.0, 10.1)]
+    origins = [[x - 3.0, 16.0 * (1 - (x / 100) ** 2) * (1 + 0.2 * (z / 10) ** 2), z - 1.5] for x, z in centres]
+    np.testing.assert_allclose(placement_origins(template, 6.0, 3.0), origins, rtol=1e-14)
+    works = np.ones(2, dtype=bool)
+    for o in origins:
+        works &= screen_cells(sc.with_updates("ship", frame_origin_m=o), cells).works
     share = float(np.dot(works, [0.6, 0.4]))
     assert e.sea_share == pytest.approx(share, abs=1e-15) and share > 0
     assert e.expected_hours == pytest.approx(e.surface_hours / share, rel=1e-14)
@@ -273,7 +280,7 @@ def test_the_finalist_is_flown_in_every_sea_state(small, small_path):
     study = search(spec, template, cells)
     (v,) = verify(study, template, study_scatter(spec, small_path.parent), executor="serial", plant="own")
     e = study.evaluations[v.index]
-    assert v.index == study.front[0] and v.screen_share == e.sea_share
+    assert v.index == study.front[0] and v.screen_share >= e.sea_share  # flown where the seas were hardest
     assert v.agree + v.screen_works_td_fails + v.screen_fails_td_works == len(cells)
     assert v.screen_works_td_fails == 0
     assert v.td_share >= v.screen_share

@@ -132,7 +132,7 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     designs = folder / "designs"
     designs.mkdir(exist_ok=True)
     for rank, i in enumerate(study.front[:spec.finalists], start=1):
-        sc = candidate_scenario(spec, template, ev[i].x)
+        sc = candidate_scenario(spec, template, ev[i].x).with_updates("ship", frame_origin_m=ev[i].frame_origin_m)
         data = sc.model_dump(exclude_none=True)
         data["name"] = f"{spec.name}_{rank}"
         data["description"] = (f"{spec.name}, finalist {rank}: {ev[i].expected_hours:.4g} expected h, "

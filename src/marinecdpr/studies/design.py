@@ -10,7 +10,10 @@ and judged by the toolkit's own models (:func:`evaluate`):
   them (:func:`~marinecdpr.studies.surface.surface_job`, paths timed to the centimetre);
 - **the sea's share**: the probability, over the scatter diagram and headings, that the job
   holds, by the fast screen (:func:`~marinecdpr.studies.screen.screen_cells`: tensions within
-  limits over the whole panel under the sea's motion, the normal force in band);
+  limits over the whole panel under the sea's motion, the normal force in band) with the
+  frame at each corner of the surface's band (:func:`placement_origins`: the ship moves
+  differently at its ends and at the top of its side), the job working only where it works
+  at all four;
 - **expected hours** = hours on the surface / the sea's share (the job waits for the seas it
   works in);
 - **constraints**, each a margin that must not be negative: the sea's share against the
@@ -36,6 +39,7 @@ from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
+           "placement_origins", "screen_surface",
            "verify", "pareto_mask", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m")
@@ -134,6 +138,9 @@ class Evaluation:
     mass_kg : float
     margins : dict
         :data:`CONSTRAINTS`' margins.
+    frame_origin_m : list of float
+        The placement (C's origin in S) where the screen's share is least: where the
+        finalists are flown.
     """
 
     x: dict
@@ -148,6 +155,7 @@ class Evaluation:
     tension_max_N: float
     mass_kg: float
     margins: dict = field(default_factory=dict)
+    frame_origin_m: list = field(default_factory=list)
 
     def objective(self, kind: str) -> float:
         """The second objective: installed power (kW) or cost."""
@@ -211,6 +219,46 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     return _validated(data)
 
 
+def placement_origins(template: Scenario, width_m: float, height_m: float) -> np.ndarray:
+    """Where a W x H frame stands on the surface at the band's four corners (its centre inset
+    by half the frame from the band's ends and edges, or at the band's middle where the frame
+    is larger): the origin of C (the frame's lower aft corner) in S, on the hull's side.
+
+    Returns
+    -------
+    ndarray, shape (4, 3)
+        m: the ship's motion differs there most (pitch at the ends, roll at the top).
+    """
+    from marinecdpr.studies.surface import surface_function
+
+    surface = template.cleaning.surface
+    f, _ = surface_function(surface)
+    sign = 1.0 if surface.side == "port" else -1.0
+    (a, b), (lo, hi) = surface.stations_m, surface.heights_m
+    xs = [a + width_m / 2, b - width_m / 2] if b - a > width_m else [0.5 * (a + b)] * 2
+    zs = [lo + height_m / 2, hi - height_m / 2] if hi - lo > height_m else [0.5 * (lo + hi)] * 2
+    centres = np.array([[x, z] for x in xs for z in zs])
+    y = sign * f(centres[:, 0], centres[:, 1])
+    return np.column_stack([centres[:, 0] - width_m / 2, y, centres[:, 1] - height_m / 2])
+
+
+def screen_surface(sc: Scenario, cells: list, origins: np.ndarray):
+    """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S: the
+    job works in a sea state only where it works at every one of them. Returns the share
+    that works, the works per sea state and the origin whose own share is the least."""
+    from marinecdpr.studies.screen import screen_cells
+
+    works = np.ones(len(cells), dtype=bool)
+    worst, least = 0, np.inf
+    for k, origin in enumerate(origins):
+        r = screen_cells(sc.with_updates("ship", frame_origin_m=[float(v) for v in origin]), cells)
+        works &= r.works
+        if r.share < least:
+            worst, least = k, r.share
+    p = np.array([c.probability for c in cells], dtype=float)
+    return float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst]
+
+
 def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Evaluation:
     """Judge one candidate (the module's objective and constraints).
 
@@ -221,7 +269,6 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     cells : list of Cell
         The study's sea states (:func:`study_cells`).
     """
-    from marinecdpr.studies.screen import screen_cells
     from marinecdpr.studies.surface import surface_job
 
     winch = next(e for e in spec.winches if e.name == x["winch"])
@@ -240,8 +287,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     robot = sc.robot
     t_min, t_max = float(robot.tension_min[0]), float(robot.tension_max[0])
     job = surface_job(sc, move_time_s=spec.move_time_s, digits=2)
-    screen = screen_cells(sc, cells)
-    share = screen.share
+    share, _, worst = screen_surface(sc, cells, placement_origins(template, W, H))
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
         "sea_share": share - spec.targets.sea_share,
@@ -256,7 +302,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
                       placements=len(job.placements), surface_hours=job.hours, sea_share=share,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
-                      mass_kg=robot.mass_kg, margins=margins)
+                      mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst])
 
 
 def pareto_mask(f: np.ndarray) -> np.ndarray:
@@ -313,19 +359,19 @@ def template_x(spec: DesignSpec, template: Scenario) -> dict:
 
 def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
     """The template's robot as it is (its own mass, limits and panel), judged as a candidate is."""
-    from marinecdpr.studies.screen import screen_cells
     from marinecdpr.studies.surface import surface_job
 
     x = template_x(spec, template)
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
     run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template)))
-    share = screen_cells(run, cells).share
+    share, _, worst = screen_surface(run, cells, placement_origins(template, x["frame_width_m"],
+                                                                   x["frame_height_m"]))
     return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
                       surface_hours=job.hours, sea_share=share,
                       expected_hours=job.hours / share if share > 0 else float("inf"),
                       power_kW=float("nan"), cost=float("nan"),
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
-                      margins={"sea_share": share - spec.targets.sea_share})
+                      margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst])
 
 
 def _path_time(scenario: Scenario) -> float:
@@ -561,7 +607,8 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
            progress: Callable[[int, int], None] | None = None) -> list[Verification]:
     """Fly the study's best ``finalists`` (the front by expected hours) through the cleaning
     job in every sea state of its scatter diagram and headings, closed loop (``plant``), on
-    ``executor`` as ``clean --seas`` does; the time-domain hours beside the screen's.
+    ``executor`` as ``clean --seas`` does, at the placement where the screen found the seas
+    hardest; the time-domain share and hours beside the screen's there.
 
     Parameters
     ----------
@@ -580,13 +627,13 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     out = []
     for rank, i in enumerate(chosen, start=1):
         e = study.evaluations[i]
-        sc = candidate_scenario(spec, template, e.x)
+        sc = candidate_scenario(spec, template, e.x).with_updates("ship", frame_origin_m=e.frame_origin_m)
         done = (rank - 1) * len(cells)
         cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=plant, executor=executor, workers=workers,
                            scheduler=scheduler,
                            progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
         td = np.array([r.operable for r in cs.sea.results], dtype=bool)
-        screened = screen_cells(sc, cells)
+        screened = screen_cells(sc, cells)  # at the placement flown
         works = screened.works
         share = cs.sea.operability
         out.append(Verification(

@@ -13,6 +13,7 @@ the placements, not an area division.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Callable
 
 import numpy as np
@@ -40,7 +41,14 @@ def wigley_side(surface: Surface) -> Callable:
 
 
 def surface_function(surface: Surface) -> tuple[Callable, str]:
-    """The side's y = f(x, z) (port: y > 0; starboard given as |y|) and how to name it."""
+    """The side's y = f(x, z) (port: y > 0; starboard given as |y|) and how to name it (a
+    mesh is read once per surface: a design study asks for it at every candidate)."""
+    return _surface_function(surface.model_dump_json())
+
+
+@lru_cache(maxsize=8)
+def _surface_function(surface_json: str) -> tuple[Callable, str]:
+    surface = Surface.model_validate_json(surface_json)
     if surface.form == "wigley":
         return wigley_side(surface), (f"Wigley hull {surface.length_m:g} x {surface.beam_m:g} x {surface.draught_m:g} m"
                                       + (f", flare {surface.flare:g}" if surface.flare else ""))
