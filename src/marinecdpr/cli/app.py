@@ -1416,7 +1416,8 @@ def _design_path(spec: str) -> Path:
 def design(
     spec: str = typer.Argument("ship_side", help="A design study file (.toml), or a built-in study's name."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for candidates.csv, pareto.csv and .png, "
-                             "convergence.png, designs/*.toml and summary.json."),
+                             "convergence.png, finalists.csv and .png, designs/*.toml, summary.json, report.html "
+                             "and the search's journal.jsonl."),
     population: Optional[int] = typer.Option(None, min=4, help="Candidates a generation (default: the study's)."),
     generations: Optional[int] = typer.Option(None, min=1, help="Generations (default: the study's)."),
     seed: Optional[int] = typer.Option(None, min=0, help="The search's seed (default: the study's)."),
