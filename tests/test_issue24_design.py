@@ -243,7 +243,10 @@ def test_a_design_s_drawing_puts_the_platform_at_the_panel_s_corners(small):
 
 def test_the_built_in_study_loads_and_its_baseline_is_the_paper_robot():
     spec, template = load_design(SHIP_SIDE)
-    assert spec.name == "ship_side" and template.name == "paper_clean"
+    assert spec.name == "ship_side" and template.name == "ship_side_template"
+    paper_clean = marinecdpr.load_scenario("paper_clean")
+    assert template.robot == paper_clean.robot and template.cleaning == paper_clean.cleaning
+    assert template.base_motion.rao.file.endswith("ship_side_rao.csv")
     assert [w.name for w in spec.winches] == ["small", "medium", "large"] and len(spec.ropes) == 2
     assert spec.targets.hours == 12.0
 
