@@ -325,12 +325,9 @@ def clean(
             _fail("--surface and --hull-area: choose one (--surface has the hull's real placements)")
         if seas or scatter is not None:
             _fail("--surface cannot go with --seas yet: its hours are for the scenario's sea")
-        if sc.cleaning.surface is None:
-            _fail(f"{_plain(scenario)}: cleaning.surface: missing: --surface cleans the [cleaning.surface] band of "
-                  "the hull")
         from marinecdpr.studies.surface import surface_job
 
-        try:  # before the job: a surface that cannot be tiled is one line
+        try:  # before the job: a missing surface, or one that cannot be tiled, is one line
             placed = surface_job(sc, move_time_s=move_time)
         except ScenarioError as exc:
             _fail_scenario(exc, scenario)

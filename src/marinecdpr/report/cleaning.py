@@ -330,10 +330,12 @@ def write_surface(sj, folder: Path) -> list[Path]:
     folder = Path(folder)
     names = ["x0_m", "x1_m", "z0_m", "z1_m", "centre_x_m", "centre_y_m", "centre_z_m", "normal_x", "normal_y",
              "normal_z", "offset_min_m", "offset_max_m", "extent_x_m", "extent_z_m", "area_m2", "job_s", "cleanable"]
-    rows = [[*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2, t, 1.0]
-            for p, t in zip(sj.placements, sj.job_s)]
-    rows += [[*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2,
-              float("nan"), 0.0] for p in sj.uncleanable]
+    def row(p, job_s: float, cleanable: float) -> list:
+        return [*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2, job_s,
+                cleanable]
+
+    rows = [row(p, t, 1.0) for p, t in zip(sj.placements, sj.job_s)] + [row(p, float("nan"), 0.0)
+                                                                         for p in sj.uncleanable]
     csv = _write_csv(names, np.array(rows, dtype=float).reshape(-1, len(names)), folder / "placements.csv",
                      int_last=True)
     plt = _pyplot()

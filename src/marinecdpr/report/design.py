@@ -10,28 +10,20 @@ import numpy as np
 
 from marinecdpr.report.figures import _pyplot, _save
 from marinecdpr.report.files import write_json
+from marinecdpr.scenario.design import CONTINUOUS
+from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
 from marinecdpr.textfiles import atomic_path
 
 __all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
 
 
-def _columns() -> list[str]:
-    from marinecdpr.scenario.design import CONTINUOUS
-    from marinecdpr.studies.design import CONSTRAINTS
-
-    return (["index", "generation", *CONTINUOUS, "winch", "rope", "mass_kg", "tension_max_N", "placements",
-             "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
-            + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
-
-
-CANDIDATE_COLUMNS = _columns()
+CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "mass_kg", "tension_max_N", "placements",
+                      "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
+                     + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
 """candidates.csv's and pareto.csv's columns."""
 
 
 def _row(i: int, gen: int, e) -> list:
-    from marinecdpr.scenario.design import CONTINUOUS
-    from marinecdpr.studies.design import CONSTRAINTS
-
     def num(v):
         return "" if v is None or not np.isfinite(v) else f"{v:.10g}"
 
@@ -85,8 +77,6 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     import tomli_w
 
     from marinecdpr.scenario.importing.common import _plain
-    from marinecdpr.studies.design import candidate_scenario
-
     folder = Path(folder)
     spec = study.spec
     ev = study.evaluations
@@ -183,8 +173,6 @@ def drawing_geometry(scenario) -> dict:
 def _draw_finalists(study, template, path: Path) -> Path:
     """Each finalist (and the template's robot) to one scale: frame, anchors, panel, and the
     platform with its cables at the panel's four corners."""
-    from marinecdpr.studies.design import candidate_scenario
-
     spec, ev = study.spec, study.evaluations
     shown = [("the template's robot", template)] + [
         (f"finalist {rank}: {ev[i].expected_hours:.3g} h, {ev[i].power_kW:g} kW", candidate_scenario(spec, template,

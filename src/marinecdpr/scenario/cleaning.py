@@ -18,8 +18,8 @@ from pydantic import (
 
 from marinecdpr.geometry.polygons import inside_or_on, polygon_area
 from marinecdpr.scenario.fields import (
-    POSITION_MAX_M, UNIT_TOLERANCE, Orientation, Position, TimeOfDay, _KeyedError, _Model, _num, _ranged,
-    _resolve_file, normalised_unit,
+    POSITION_MAX_M, UNIT_TOLERANCE, HullBeam, HullDraught, HullLength, Orientation, Position, TimeOfDay, _KeyedError,
+    _Model, _num, _ranged, _resolve_file, normalised_unit,
 )
 
 __all__ = ["Cleaning", "CoverageTrajectory", "Surface"]
@@ -51,9 +51,9 @@ class Surface(_Model):
     mesh_units: Literal["m", "cm", "mm", "ft"] = "m"
     waterline_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "a height on a ship") = 0.0
     """form = "mesh": the waterline's z in the mesh, in its units."""
-    length_m: _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship") | None = None
-    beam_m: _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform") | None = None
-    draught_m: _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker") | None = None
+    length_m: HullLength | None = None
+    beam_m: HullBeam | None = None
+    draught_m: HullDraught | None = None
     flare: _ranged(-1.0, 1.0, "", "the half-breadth's growth per draught of height, a share") = 0.0
     """form = "wigley": how the topside flares out (> 0) or tumbles home (< 0) above the waterline
     (the half-breadth's share gained at a draught's height)."""

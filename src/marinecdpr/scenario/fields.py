@@ -149,6 +149,10 @@ TensionMax = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN", above=True
 TimeOfDay = _ranged(0.0, TIME_MAX_S, "s", "11.6 days")
 Force = _ranged_vec3(1e8, "N", "beyond what ten cables of 10 MN can hold")
 Moment = _ranged_vec3(1e9, "N m", "beyond what ten cables of 10 MN can hold")
+HullLength = _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship")
+HullBeam = _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform")
+HullDraught = _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker")
+"""A hull's main dimensions (the RAOs' box or Wigley hull, a surface's Wigley side)."""
 
 
 def _resolve_file(value: str, info: Any) -> str:

@@ -17,8 +17,8 @@ from pydantic import (
 
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.fields import (
-    MOVE_MIN_S, POSITION_MAX_M, TIME_MAX_S, Force, Moment, Orientation, Phase, Position, TimeOfDay, _KeyedError, _Model,
-    _num, _range_text, _ranged, _ranged_vec3, _resolve_file,
+    MOVE_MIN_S, POSITION_MAX_M, TIME_MAX_S, Force, HullBeam, HullDraught, HullLength, Moment, Orientation, Phase,
+    Position, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3, _resolve_file,
 )
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.obstacles import Obstacle
@@ -104,9 +104,9 @@ class RAOSource(_Model):
     source: Literal["box_hull", "csv", "capytaine"] = "box_hull"
     file: StrictStr | None = None
     """csv or capytaine: the file (relative paths from the scenario's folder)."""
-    length_m: _ranged(1.0, 1000.0, "m", "a hull from a dinghy to the longest ship") | None = None
-    beam_m: _ranged(0.5, 200.0, "m", "a hull from a dinghy to the widest platform") | None = None
-    draught_m: _ranged(0.1, 50.0, "m", "a hull from a dinghy to the deepest tanker") | None = None
+    length_m: HullLength | None = None
+    beam_m: HullBeam | None = None
+    draught_m: HullDraught | None = None
     gm_m: _ranged(0.01, 100.0, "m", "a floating hull's metacentric height") | None = None
     roll_damping_ratio: _ranged(0.01, 1.0, "", "a fraction of critical damping") = 0.05
 

@@ -35,8 +35,9 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.scenario.cleaning import Cleaning
 from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
-from marinecdpr.scenario.schema import Scenario
+from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "placement_origins", "screen_surface",
@@ -181,8 +182,6 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     ScenarioError
         The candidate is not a valid scenario (its message says why).
     """
-    from marinecdpr.motion.trajectory import cleaning_path
-
     W, H = x["frame_width_m"], x["frame_height_m"]
     w, h = x["platform_width_m"], x["platform_height_m"]
     winch = next(e for e in spec.winches if e.name == x["winch"])
@@ -206,16 +205,11 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
                     overlap_m=x["overlap_share"] * x["tool_width_m"], speed_m_s=x["speed_m_s"])
     if spec.limits.stand_off_tolerance_m is not None:
         cleaning["surface"] = dict(cleaning["surface"], stand_off_tolerance_m=spec.limits.stand_off_tolerance_m)
-    from marinecdpr.scenario.cleaning import Cleaning
-
-    duration = float(cleaning_path(Cleaning.model_validate({k: v for k, v in cleaning.items()
-                                                              if k != "surface"})).duration_s)
+    duration = _path_time(Cleaning.model_validate(cleaning))
     data = template.model_dump(exclude_none=True)
     data.update(robot=robot, cleaning=cleaning, name=f"{spec.name}_candidate",
                 time=dict(data["time"], duration_s=duration),
                 base_motion=dict(data["base_motion"], record_s=max(data["base_motion"]["record_s"], duration)))
-    from marinecdpr.scenario.schema import _validated
-
     return _validated(data)
 
 
@@ -363,7 +357,7 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
 
     x = template_x(spec, template)
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
-    run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template)))
+    run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template.cleaning)))
     share, _, worst = screen_surface(run, cells, placement_origins(template, x["frame_width_m"],
                                                                    x["frame_height_m"]))
     return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
@@ -374,10 +368,11 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
                       margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst])
 
 
-def _path_time(scenario: Scenario) -> float:
+def _path_time(cleaning: Cleaning) -> float:
+    """How long the coverage path of a ``[cleaning]`` takes, s."""
     from marinecdpr.motion.trajectory import cleaning_path
 
-    return float(cleaning_path(scenario.cleaning).duration_s)
+    return float(cleaning_path(cleaning).duration_s)
 
 
 def _study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
