@@ -82,13 +82,32 @@ def _pulley_side(a: np.ndarray, z: np.ndarray, towards: np.ndarray) -> np.ndarra
     return k if k @ (towards - a) >= 0 else -k
 
 
+TRIANGLE_MARGIN = 1e-12
+"""How far, relative to the largest, MuJoCo's principal moments are lifted off the triangle
+inequality's edge (:func:`_compilable_inertia`)."""
+
+
+def _compilable_inertia(I: np.ndarray) -> np.ndarray:
+    """The inertia (3, 3) MuJoCo compiles: the scenario's, unless its principal moments lie
+    on the triangle inequality's edge A + B = C (a flat plate's, which the scenario accepts
+    within 1e-9 of C): MuJoCo refuses A + B < C by a rounding error, so there the two
+    smaller moments are raised together until A + B = C (1 + :data:`TRIANGLE_MARGIN`). C,
+    the moment about the plate's normal (a planar robot's only one), is kept."""
+    eig, V = np.linalg.eigh(I)
+    short = eig[2] * (1.0 + TRIANGLE_MARGIN) - eig[0] - eig[1]
+    if short <= 0.0:
+        return I
+    eig = eig + np.array([0.5 * short, 0.5 * short, 0.0])
+    return (V * eig) @ V.T
+
+
 def build_xml(scenario: Scenario) -> str:
     """The MJCF text of the scenario's virtual prototype (see the module docstring)."""
     r = scenario.robot
     if r.has_pulleys and r.dofs != "planar":
         raise ScenarioError(f"{scenario.name}: the MuJoCo plant models pulleys of planar robots only (a spatial "
                             "robot's pulleys swivel): use simulation.plant = \"own\"")
-    I = r.inertia
+    I = _compilable_inertia(r.inertia)
     full = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
     step = scenario.time.step_s
     g = scenario.environment.gravity_m_s2
