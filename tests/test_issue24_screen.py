@@ -130,3 +130,17 @@ def test_a_screen_needs_a_sea_state(paper_clean):
     sc = marinecdpr.load_scenario("paper")
     with pytest.raises(ScenarioError, match="sea-state base motion"):
         S.screen_cells(sc, [Cell(0, 1.0, 8.0, 90.0, 1.0)])
+
+
+def test_a_model_moved_on_the_ship_is_the_model_made_there(paper_clean):
+    """at_origin: the screen's model of a frame moved along the ship and up its side, made
+    again from the model at the first place, is the model made from scratch at the second,
+    number for number; and the moved model's wrench sensitivity differs (pitch and roll reach
+    it through the lever arm)."""
+    here = paper_clean.with_updates("ship", frame_origin_m=[-40.0, 16.0, 2.0])
+    there = paper_clean.with_updates("ship", frame_origin_m=[60.0, 15.0, 9.0])
+    moved = S.at_origin(S.screen_model(here), paper_clean, [60.0, 15.0, 9.0])
+    fresh = S.screen_model(there)
+    for name in ("pose", "w0", "D", "J", "path_box", "friction", "tool_n", "x_PC_C", "twist", "R_PC", "t"):
+        assert np.array_equal(getattr(moved, name), getattr(fresh, name)), name
+    assert not np.allclose(S.screen_model(here).D, fresh.D)

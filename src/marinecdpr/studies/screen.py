@@ -42,7 +42,7 @@ the closed loop's tracking. The time domain judges those.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.special import ndtr
@@ -55,7 +55,8 @@ from marinecdpr.planning.planner import required_wrench
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.operability import Cell
 
-__all__ = ["ScreenResult", "ScreenModel", "screen_model", "screen_cells", "extreme_factor", "GRID", "EXCEEDANCE",
+__all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "extreme_factor", "GRID",
+           "EXCEEDANCE",
            "SAMPLE_S", "MAX_DIRECTIONS"]
 
 GRID = (5, 3)
@@ -98,6 +99,9 @@ class ScreenModel:
     controlled : tuple of int
     planar_normal : bool
         The hull normal is a direction the cables do not control (a planar robot's pusher).
+    x_PC_C, twist, R_PC, t : ndarray
+        The poses' position (n_poses, 3) m, twist (n_poses, 6), orientation (n_poses, 3, 3)
+        and time (n_poses,) s on the path: what :func:`at_origin` linearises again.
     """
 
     pose: np.ndarray
@@ -110,6 +114,10 @@ class ScreenModel:
     duration_s: float
     controlled: tuple
     planar_normal: bool
+    x_PC_C: np.ndarray
+    twist: np.ndarray
+    R_PC: np.ndarray
+    t: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -189,6 +197,22 @@ def _grid_rows(points: np.ndarray, grid: tuple[int, int]) -> np.ndarray:
     return np.unique(rows)
 
 
+def _sensitivity(scenario: Scenario, x_PC_C, twist, R_PC, t) -> tuple[np.ndarray, np.ndarray]:
+    """w0 (n_p, 6) and D = dw/dq (n_p, 6, 18) at the poses (x_PC_C (n_p, 3) m, twist (n_p, 6),
+    R_PC (n_p, 3, 3), t (n_p,) s), held, by central differences on 1 + 36 ship states: at rest
+    and +-h along each coordinate (the module's step 2). The tool at no normal force: its jet
+    alone; what grows with F_n is added per cell."""
+    n_p = len(t)
+    dq = np.zeros((37, 18))
+    for i in range(18):
+        dq[1 + 2 * i, i], dq[2 + 2 * i, i] = _H, -_H
+    ship = _still_plus(np.tile(dq, (n_p, 1)))
+    rep = np.repeat(np.arange(n_p), 37)
+    w = _wrench(scenario, x_PC_C[rep], twist[rep], np.zeros((rep.size, 6)), R_PC[rep], ship, t[rep],
+                0.0).reshape(n_p, 37, 6)
+    return w[:, 0], np.moveaxis((w[:, 1::2] - w[:, 2::2]) / (2.0 * _H), 1, 2)
+
+
 def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenModel:
     """Linearise the scenario's job in the ship's motion (the module's steps 1, 2 and 5).
 
@@ -212,17 +236,7 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     moving = _wrench(scenario, path.x_PC_C, path.twist, path.twist_dot, path.R_PC, calm, t, preload)
     still = _wrench(scenario, path.x_PC_C, path.twist, np.zeros_like(path.twist_dot), path.R_PC, calm, t, preload)
     path_box = np.abs(moving - still).max(axis=0)
-    # the poses, held, on 1 + 36 ship states: at rest and +-h along each coordinate
-    dq = np.zeros((37, 18))
-    for i in range(18):
-        dq[1 + 2 * i, i], dq[2 + 2 * i, i] = _H, -_H
-    ship = _still_plus(np.tile(dq, (n_p, 1)))
-    rep = np.repeat(rows, 37)
-    # (the tool at no normal force: its jet alone; what grows with F_n is added per cell)
-    w = _wrench(scenario, path.x_PC_C[rep], path.twist[rep], np.zeros((rep.size, 6)), path.R_PC[rep], ship,
-                t[rep], 0.0).reshape(n_p, 37, 6)
-    w0 = w[:, 0]
-    D = np.moveaxis((w[:, 1::2] - w[:, 2::2]) / (2.0 * _H), 1, 2)  # (n_p, 6, 18)
+    w0, D = _sensitivity(scenario, path.x_PC_C[rows], path.twist[rows], path.R_PC[rows], t[rows])
     # the tool, per newton of normal force: its friction for each direction the path moves in
     # (the brush slides the way the platform moves in C; a path turning through many, an
     # octagon that holds the circle), and the rest (the hull's push, a disc's moment)
@@ -256,7 +270,23 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     n_C = np.asarray(scenario.cleaning.hull_normal, dtype=float) if scenario.cleaning is not None else None
     planar_normal = (n_C is not None and 1 in uncontrolled(robot.controlled) and abs(n_C[1]) >= 1.0 - 1e-9)
     return ScreenModel(pose=path.pose[rows], w0=w0, D=D, J=kin.J_tilde[:, :, c], path_box=path_box, friction=friction,
+                       x_PC_C=path.x_PC_C[rows], twist=path.twist[rows], R_PC=path.R_PC[rows], t=t[rows],
                        tool_n=tool_n, duration_s=duration, controlled=tuple(c), planar_normal=planar_normal)
+
+
+def at_origin(model: ScreenModel, scenario: Scenario, frame_origin_m) -> ScreenModel:
+    """:func:`screen_model` of the scenario with its frame at ``frame_origin_m`` (C's origin
+    in S, m), from its model elsewhere on the ship: only the wrench's sensitivity to the
+    ship's motion (w0 and D) is made again, the path, its poses and the tool being the same.
+
+    Returns
+    -------
+    ScreenModel
+        Equal to ``screen_model(scenario.with_updates("ship", frame_origin_m=...))``.
+    """
+    moved = scenario.with_updates("ship", frame_origin_m=[float(v) for v in frame_origin_m])
+    w0, D = _sensitivity(moved, model.x_PC_C, model.twist, model.R_PC, model.t)
+    return replace(model, w0=w0, D=D)
 
 
 def _rao_of(scenario: Scenario):
