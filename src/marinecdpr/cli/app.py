@@ -1422,7 +1422,7 @@ def design(
                                 "OUT/journal.jsonl (the same study, the same seed)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
                                 "every sea state, closed loop (the hours reported beside the screen's)."),
-    plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the template's)."),
+    plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the study's, else the template's)."),
     serial: bool = typer.Option(False, "--serial", help="Judge the candidates and fly the finalists' sea states "
                                 "one after another."),
     workers: Optional[int] = typer.Option(None, min=1, help="Local Dask workers for the candidates and the "
@@ -1477,7 +1477,7 @@ def design(
                       EXIT_INTERRUPTED)
         checked = []
         if n_final and study.front:
-            _compile_notice(plant.value if plant is not None else template.simulation.plant)
+            _compile_notice(plant.value if plant is not None else study_spec.plant or template.simulation.plant)
             with _progress_bar("finalists", "sea states") as bar:
                 task = bar.add_task("", total=min(n_final, len(study.front)) * len(cells))
                 with _run_errors(spec):
@@ -1497,7 +1497,8 @@ def design(
         x = e.x
         console.print(_plain(
             f"best: frame {x['frame_width_m']:.3g} x {x['frame_height_m']:.3g} m, platform {x['platform_width_m']:.3g} x "
-            f"{x['platform_height_m']:.3g} m ({e.mass_kg:.3g} kg), tool {x['tool_width_m']:.3g} m at "
+            f"{x['platform_height_m']:.3g} m ({e.mass_kg:.3g} kg), cables {x.get('pattern', 'uncrossed')}, tool "
+            f"{x['tool_width_m']:.3g} m at "
             f"{x['speed_m_s']:.3g} m/s, winches {x['winch']} ({e.power_kW:g} kW in all, T_max {e.tension_max_N:.4g} N), "
             f"rope {x['rope']}: {e.placements} placements, {e.surface_hours:.4g} h on the surface, works in "
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
@@ -1507,7 +1508,8 @@ def design(
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:
         console.print(_plain(
-            f"finalist {v.rank} (candidate {v.index}) in the time domain: works in {100 * v.td_share:.1f} % of the "
+            f"finalist {v.rank} (candidate {v.index}) in the time domain "
+            f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}): works in {100 * v.td_share:.1f} % of the "
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
             f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
             f"passed {v.screen_works_td_fails} the time domain failed"), highlight=False, soft_wrap=True)

@@ -17,8 +17,8 @@ from marinecdpr.textfiles import atomic_path
 __all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
 
 
-CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "mass_kg", "tension_max_N", "placements",
-                      "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
+CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "pattern", "mass_kg", "tension_max_N",
+                      "placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
                      + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
 """candidates.csv's and pareto.csv's columns."""
 
@@ -27,10 +27,10 @@ def _row(i: int, gen: int, e) -> list:
     def num(v):
         return "" if v is None or not np.isfinite(v) else f"{v:.10g}"
 
-    return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), e.x["winch"], e.x["rope"], num(e.mass_kg),
-             num(e.tension_max_N), e.placements, num(e.surface_hours), num(e.sea_share), num(e.expected_hours),
-             num(e.power_kW), num(e.cost)] + [num(e.margins.get(k, float("nan"))) for k in CONSTRAINTS]
-            + [int(e.feasible), e.reason])
+    return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), e.x["winch"], e.x["rope"], e.x.get("pattern", "uncrossed"),
+             num(e.mass_kg), num(e.tension_max_N), e.placements, num(e.surface_hours), num(e.sea_share),
+             num(e.expected_hours), num(e.power_kW), num(e.cost)]
+            + [num(e.margins.get(k, float("nan"))) for k in CONSTRAINTS] + [int(e.feasible), e.reason])
 
 
 def _write_rows(path: Path, rows: list[list]) -> Path:
@@ -135,7 +135,7 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
         paths.append(path)
     if verification:
         names = ["rank", "index", "surface_hours", "screen_share", "td_share", "screen_expected_hours",
-                 "td_expected_hours", "agree", "screen_works_td_fails", "screen_fails_td_works"]
+                 "td_expected_hours", "agree", "screen_works_td_fails", "screen_fails_td_works", "plant"]
         path = folder / "finalists.csv"
         with atomic_path(path) as tmp:
             with open(tmp, "w", encoding="utf-8", newline="") as fh:
@@ -216,7 +216,7 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
         return (f"<tr><td>{esc(label)}</td><td>{x['frame_width_m']:.3g} x {x['frame_height_m']:.3g}</td>"
                 f"<td>{x['platform_width_m']:.3g} x {x['platform_height_m']:.3g}, {e.mass_kg:.3g} kg</td>"
                 f"<td>{x['tool_width_m']:.3g} m at {x['speed_m_s']:.3g} m/s</td><td>{esc(x['winch'])}, "
-                f"{esc(x['rope'])}</td><td>{'–' if e.power_kW != e.power_kW else f'{e.power_kW:g}'}</td><td>{e.placements}</td><td>{e.surface_hours:.4g}</td>"
+                f"{esc(x['rope'])}, {esc(x.get('pattern', 'uncrossed'))}</td><td>{'–' if e.power_kW != e.power_kW else f'{e.power_kW:g}'}</td><td>{e.placements}</td><td>{e.surface_hours:.4g}</td>"
                 f"<td>{100 * e.sea_share:.1f} %</td><td>{td_share}</td><td>{e.expected_hours:.4g}</td>"
                 f"<td>{td_hours}</td></tr>")
 
@@ -232,6 +232,8 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     verdict = ("no feasible design" if best is None else
                f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
                + ("met" if summary["target_met"] else "not met"))
+    plants = sorted({v.plant for v in verification or [] if v.plant})
+    flown = f" ({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)})" if plants else ""
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>marinecdpr design: {esc(spec.name)}</title>
 <style>
@@ -247,13 +249,13 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <p>{len(study.evaluations)} candidates ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
 for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
 <h2>The Pareto front</h2>
-<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope</th><th>kW</th>
+<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>kW</th>
 <th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>
 <th>expected h (screen)</th><th>(time domain)</th></tr></thead>
 <tbody>{''.join(rows)}</tbody></table>
 <p>Expected hours: the placements' cleaning and moves over the share of sea states in which the job works.
 The screen judges every candidate; the finalists were also flown through the cleaning job in every sea state,
-closed loop on the prototype.</p>
+closed loop on the prototype{flown}.</p>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>

@@ -3,7 +3,7 @@ seas, the targets, the design variables and the catalogues of winches and ropes.
 
 A study designs a planar four-cable robot like the paper's (frame anchors at the corners
 of a W x H frame in the hull's plane, platform anchors at the corners of a w x h platform,
-cables uncrossed) for the ``[cleaning.surface]`` of a template scenario, which also gives
+cables uncrossed or crossed) for the ``[cleaning.surface]`` of a template scenario, which also gives
 the ship (its RAOs and sea-state base motion), the tool's contact (brush, friction, normal
 force band) and the frame's place in S. Each variable is a number (held) or ``[lo, hi]``
 (searched); the winch and the rope are chosen from the catalogues by name.
@@ -17,7 +17,7 @@ from pydantic import AfterValidator, Field, StrictInt, StrictStr, model_validato
 
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 
-__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS"]
+__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS"]
 
 
 def _bound(lo: float, hi: float, unit: str, why: str) -> Any:
@@ -31,6 +31,13 @@ def _bound(lo: float, hi: float, unit: str, why: str) -> Any:
 
     return Annotated[one | tuple[one, one], AfterValidator(ordered)]
 
+
+PATTERNS = ("uncrossed", "crossed")
+"""The four cables' patterns. ``uncrossed``: each frame corner's cable to the platform's
+same corner (the paper's). ``crossed``: the upper frame corners' cables to the platform's
+opposite upper corners, the lower ones' to its opposite lower corners; the two cables of
+each crossing pair run in two planes ``limits.layer_m`` apart (y = +-layer / 2 at both
+ends), so that they pass each other."""
 
 CONTINUOUS = ("frame_width_m", "frame_height_m", "platform_width_m", "platform_height_m", "tool_width_m",
               "speed_m_s", "overlap_share")
@@ -51,6 +58,8 @@ class Variables(_Model):
     """Winch names from ``[[winches]]`` to choose from (default: every one)."""
     rope: list[StrictStr] | None = None
     """Rope names from ``[[ropes]]`` to choose from (default: every one)."""
+    pattern: list[Literal["uncrossed", "crossed"]] | None = Field(default=None, min_length=1)
+    """The cable patterns to choose from (:data:`PATTERNS`; default: uncrossed, the paper's)."""
 
 
 class Winch(_Model):
@@ -109,6 +118,8 @@ class Limits(_Model):
     sag_m: _ranged(0.0, 10.0, "m", "the largest sag of the longest span at the least tension", above=True) = 0.05
     stretch_m: _ranged(0.0, 10.0, "m", "the longest span's stretch between the least and largest tension",
                        above=True) = 0.05
+    layer_m: _ranged(0.0, 1.0, "m", "the spacing of the planes crossed cables run in", above=True) = 0.05
+    clearance_m: _ranged(0.0, 1.0, "m", "the least gap between cables, and between a cable and the platform") = 0.0
     stand_off_tolerance_m: _ranged(0.0, 1.0, "m", "the tool's stand-off range", above=True) | None = None
     """The candidates' tool's stand-off tolerance (its pusher's stroke), which sets how large a
     flat placement of the curved surface may be; default the template's."""
@@ -129,6 +140,8 @@ class DesignSpec(_Model):
     population: StrictInt = Field(default=24, ge=4, le=1000)
     generations: StrictInt = Field(default=10, ge=1, le=1000)
     finalists: StrictInt = Field(default=3, ge=0, le=20)
+    plant: Literal["mujoco", "own"] | None = None
+    """The plant the finalists fly on, closed loop (default: the template's ``simulation.plant``)."""
     targets: Targets
     sea: Sea = Sea()
     platform_mass: PlatformMass
@@ -158,7 +171,10 @@ class DesignSpec(_Model):
         return self
 
     def choices(self, key: str) -> list:
-        """The catalogue entries a variable ``key`` ("winch" or "rope") chooses from."""
+        """The catalogue entries a variable ``key`` ("winch" or "rope") chooses from, or the
+        cable patterns ("pattern")."""
+        if key == "pattern":
+            return list(self.variables.pattern or ["uncrossed"])
         catalogue = self.winches if key == "winch" else self.ropes
         chosen = getattr(self.variables, key)
         return [e for e in catalogue if chosen is None or e.name in chosen]

@@ -21,7 +21,10 @@ and judged by the toolkit's own models (:func:`evaluate`):
   the platform); the winch's power against the largest tension at that speed (its torque
   sets T_max with the rope's breaking load over its safety factor); the longest span's sag
   at the least tension w L^2 / (8 T_min) and its stretch between the limits (T_max - T_min)
-  L / EA against the study's limits; a panel at least as wide as the tool.
+  L / EA against the study's limits; a panel at least as wide as the tool; no cable nearer
+  another cable, or the platform's body, than the rope's diameter and ``limits.clearance_m``
+  anywhere on the job's path (:func:`clearance`: crossed cables pass each other in their
+  two planes).
 
 The search (:func:`search`) is NSGA-II over the mixed variables (pymoo), with a seed.
 """
@@ -33,6 +36,7 @@ from pathlib import Path
 from typing import Callable
 
 import numpy as np
+from scipy.fft import next_fast_len
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
@@ -41,9 +45,10 @@ from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "placement_origins", "screen_surface",
-           "verify", "pareto_mask", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
+           "verify", "pareto_mask", "cable_pattern", "clearance", "study_cells", "study_scatter", "read_journal",
+           "CONSTRAINTS"]
 
-CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m")
+CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
 
 
@@ -119,7 +124,7 @@ class Evaluation:
     ----------
     x : dict
         Its variables: the continuous ones (:data:`~marinecdpr.scenario.design.CONTINUOUS`),
-        "winch" and "rope" by name.
+        "winch" and "rope" by name, and "pattern".
     feasible : bool
         Every constraint margin >= 0.
     reason : str
@@ -168,14 +173,46 @@ def _plate_inertia(mass: float, w: float, h: float) -> list[float]:
     return [mass * h * h / 12.0, mass * (w * w + h * h) / 12.0, mass * w * w / 12.0]
 
 
+def cable_pattern(pattern: str, W: float, H: float, w: float, h: float, layer_m: float
+                  ) -> tuple[list[list[float]], list[list[float]]]:
+    """The four cables' frame anchors (in C, the frame's lower aft corner at the origin) and
+    platform anchors (in P) of a W x H frame and a w x h platform, m
+    (:data:`~marinecdpr.scenario.design.PATTERNS`): cables 1 to 4 from the frame's upper aft,
+    upper fore, lower fore and lower aft corners; crossed, cables 1 and 3 run in the plane
+    y = +layer / 2 and 2 and 4 in y = -layer / 2."""
+    frame = [[0.0, 0.0, H], [W, 0.0, H], [W, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    corners = [[-w / 2, 0.0, h / 2], [w / 2, 0.0, h / 2], [w / 2, 0.0, -h / 2], [-w / 2, 0.0, -h / 2]]
+    if pattern == "uncrossed":
+        return frame, corners
+    platform = [corners[1], corners[0], corners[3], corners[2]]  # each to the opposite corner of its side
+    for k, y in enumerate((0.5 * layer_m, -0.5 * layer_m, 0.5 * layer_m, -0.5 * layer_m)):
+        frame[k] = [frame[k][0], y, frame[k][2]]
+        platform[k] = [platform[k][0], y, platform[k][2]]
+    return frame, platform
+
+
+def clearance(sc: Scenario, *, step_s: float = 1.0) -> float:
+    """The least distance between two cables (those not sharing an end), or between a cable
+    and the platform's body, over the job's path sampled every ``step_s``, m
+    (:func:`~marinecdpr.planning.interference.pose_clearances`)."""
+    from marinecdpr.motion.trajectory import evaluate_trajectory
+    from marinecdpr.planning.interference import pose_clearances
+
+    t = np.arange(0.0, sc.time.duration_s + 1e-9, step_s)
+    path = evaluate_trajectory(sc.trajectory, t, sc.cleaning)
+    c = pose_clearances(sc.robot, [], path.x_PC_C, path.R_PC)
+    return float(min(c.cable_cable.min(initial=np.inf), c.cable_platform.min(initial=np.inf)))
+
+
 def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenario:
     """The template with the candidate's robot and tool: frame anchors at the corners of the
-    W x H frame and platform anchors at the corners of the w x h platform (cables uncrossed,
-    as the paper's), mass from ``[platform_mass]`` and a uniform plate's inertia, T_min from
-    ``[limits]`` and T_max the smaller of the rope's breaking load over its safety factor and
-    the winch's torque over its drum's radius; the panel the frame's inner rectangle inset
-    by the platform's half size and ``limits.edge_m``; the tool's width, speed and overlap;
-    the time the panel's coverage path takes.
+    W x H frame and platform anchors at the corners of the w x h platform, the cables
+    uncrossed (the paper's) or crossed (:func:`cable_pattern`), mass from ``[platform_mass]``
+    and a uniform plate's inertia, T_min from ``[limits]`` and T_max the smaller of the
+    rope's breaking load over its safety factor and the winch's torque over its drum's radius;
+    the panel the frame's inner rectangle inset by the platform's half size and
+    ``limits.edge_m``; the tool's width, speed and overlap; the time the panel's coverage
+    path takes.
 
     Raises
     ------
@@ -189,8 +226,7 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     pm = spec.platform_mass
     mass = pm.base_kg + pm.per_tool_width_kg_m * x["tool_width_m"] + pm.per_area_kg_m2 * w * h
     t_max = min(rope.breaking_N / rope.safety_factor, winch.torque_N_m / winch.drum_radius_m)
-    frame = [[0.0, 0.0, H], [W, 0.0, H], [W, 0.0, 0.0], [0.0, 0.0, 0.0]]
-    platform = [[-w / 2, 0.0, h / 2], [w / 2, 0.0, h / 2], [w / 2, 0.0, -h / 2], [-w / 2, 0.0, -h / 2]]
+    frame, platform = cable_pattern(x.get("pattern", "uncrossed"), W, H, w, h, spec.limits.layer_m)
     edge = spec.limits.edge_m
     x0, x1, z0, z1 = w / 2 + edge, W - w / 2 - edge, h / 2 + edge, H - h / 2 - edge
     if x1 - x0 <= x["tool_width_m"] or z1 - z0 <= x["tool_width_m"]:
@@ -207,9 +243,14 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
         cleaning["surface"] = dict(cleaning["surface"], stand_off_tolerance_m=spec.limits.stand_off_tolerance_m)
     duration = _path_time(Cleaning.model_validate(cleaning))
     data = template.model_dump(exclude_none=True)
+    # a record no shorter than the job, a whole number of steps long and that number a fast
+    # FFT length: the sea is then synthesised by one inverse FFT, not by direct sums
+    step = float(data["time"]["step_s"])
+    record = max(float(data["base_motion"]["record_s"]),
+                 step * next_fast_len(int(np.ceil(duration / step - 1e-9)), real=True))
     data.update(robot=robot, cleaning=cleaning, name=f"{spec.name}_candidate",
                 time=dict(data["time"], duration_s=duration),
-                base_motion=dict(data["base_motion"], record_s=max(data["base_motion"]["record_s"], duration)))
+                base_motion=dict(data["base_motion"], record_s=record))
     return _validated(data)
 
 
@@ -240,12 +281,15 @@ def screen_surface(sc: Scenario, cells: list, origins: np.ndarray):
     """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S: the
     job works in a sea state only where it works at every one of them. Returns the share
     that works, the works per sea state and the origin whose own share is the least."""
-    from marinecdpr.studies.screen import screen_cells
+    from marinecdpr.studies.screen import at_origin, screen_cells, screen_model
 
     works = np.ones(len(cells), dtype=bool)
     worst, least = 0, np.inf
+    model = None
     for k, origin in enumerate(origins):
-        r = screen_cells(sc.with_updates("ship", frame_origin_m=[float(v) for v in origin]), cells)
+        placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin])
+        model = screen_model(placed) if model is None else at_origin(model, sc, origin)  # the path once
+        r = screen_cells(placed, cells, model=model)
         works &= r.works
         if r.share < least:
             worst, least = k, r.share
@@ -259,7 +303,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     Parameters
     ----------
     x : dict
-        The continuous variables by name, "winch" and "rope" by catalogue name.
+        The continuous variables by name, "winch" and "rope" by catalogue name, "pattern".
     cells : list of Cell
         The study's sea states (:func:`study_cells`).
     """
@@ -290,6 +334,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         "sag_m": spec.limits.sag_m - rope.weight_N_m * span**2 / (8.0 * max(t_min, 1e-9)),
         "stretch_m": spec.limits.stretch_m - (t_max - t_min) * span / rope.ea_N,
         "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))) - x["tool_width_m"],
+        "clearance_m": clearance(sc) - rope.diameter_m - spec.limits.clearance_m,
     }
     short = [k for k, v in margins.items() if not v >= 0.0]
     expected = job.hours / share if share > 0 else float("inf")
@@ -348,7 +393,7 @@ def template_x(spec: DesignSpec, template: Scenario) -> dict:
             "platform_width_m": float(np.ptp(p[:, 0])), "platform_height_m": float(np.ptp(p[:, 2])),
             "tool_width_m": float(cl.brush_diameter_m), "speed_m_s": float(cl.speed_m_s),
             "overlap_share": float(cl.overlap_m / cl.brush_diameter_m),
-            "winch": TEMPLATE_OWN, "rope": TEMPLATE_OWN}
+            "winch": TEMPLATE_OWN, "rope": TEMPLATE_OWN, "pattern": TEMPLATE_OWN}
 
 
 def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
@@ -476,6 +521,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     bounds = spec.bounds()
     free = {k: Real(bounds=b) for k, b in bounds.items() if b[0] < b[1]}
     choices = {k: [e.name for e in spec.choices(k)] for k in ("winch", "rope")}
+    choices["pattern"] = spec.choices("pattern")
     for k, names in choices.items():
         if len(names) > 1:
             free[k] = Choice(options=names)
@@ -582,6 +628,8 @@ class Verification:
         The two kinds of disagreement (a conservative screen has none of the first).
     reasons : list of str
         Why the time domain failed, per failing sea state ("Hs, Tp, heading: why").
+    plant : str
+        The plant flown ("mujoco" or "own").
     """
 
     index: int
@@ -595,6 +643,7 @@ class Verification:
     screen_works_td_fails: int
     screen_fails_td_works: int
     reasons: list
+    plant: str = ""
 
 
 def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "serial", workers: int = 2,
@@ -607,6 +656,8 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
 
     Parameters
     ----------
+    plant : {"mujoco", "own"}, optional
+        Default: the study's ``plant``, else the template's.
     progress : callable(done, total), optional
         Sea states flown over all finalists.
     """
@@ -617,6 +668,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     spec = study.spec
     heads = tuple(float(h) for h in spec.sea.headings_deg)
     cells = scatter_cells(scatter, heads)
+    plant = plant or spec.plant or template.simulation.plant
     chosen = study.front[:spec.finalists]
     total = len(chosen) * len(cells)
     out = []
@@ -638,5 +690,5 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
             agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
-                     for r in cs.sea.results if not r.operable]))
+                     for r in cs.sea.results if not r.operable], plant=plant))
     return out
