@@ -18,7 +18,7 @@ import marinecdpr  # noqa: E402
 from marinecdpr.cli.app import app  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
-    candidate_scenario, clearance, evaluate, load_design, pareto_mask, placement_origins, search, study_cells,
+    baseline, candidate_scenario, clearance, evaluate, load_design, pareto_mask, placement_origins, search, study_cells,
 )
 from marinecdpr.studies.screen import screen_cells  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
@@ -224,6 +224,8 @@ def test_design_writes_its_files_and_the_finalists_run(tmp_path):
     assert s["best"]["expected_hours"] == pytest.approx(min(float(r["expected_hours"]) for r in rows
                                                             if r["feasible"] == "1"), rel=1e-9)
     assert f"{s['best']['expected_hours']:.4g} expected h" in res.stdout
+    assert "caution: the surface turns its frames from the ship's axes by up to" in res.stdout  # the flared band
+    assert float(rows[0]["frame_turn_max_deg"]) > 5.0 and len(s["best"]["frame_turn_deg"]) == 2
     finalists = sorted((out / "designs").glob("*.toml"))
     assert 1 <= len(finalists) <= 2
     sc = marinecdpr.load_scenario(finalists[0])
@@ -232,6 +234,7 @@ def test_design_writes_its_files_and_the_finalists_run(tmp_path):
         assert (out / name).stat().st_size > 5000
     page = (out / "report.html").read_text()
     assert "<h1>Design study: small</h1>" in page and page.count("<tr><td>front ") == len(s["front"])
+    assert "<strong>Caution:</strong> the best design: the surface turns its frames" in page
     assert "<tr><td>template&#x27;s robot</td><td>1.9 x 1.4</td>" in page and page.count("data:image/png") == 3
 
 
@@ -458,7 +461,8 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says():
     """The best design of `marinecdpr design ship_side` (README): a 10.2 x 4.61 m frame,
     0.473 x 1.31 m platform of 26.4 kg, a 1.01 m tool at 0.291 m/s, four large winches (20
     kW, T_max 4 000 N) on 6 mm Dyneema, uncrossed: 127 placements, 25.0 h on the surface,
-    the screen passing 98.6 % of the seas, 25.35 expected hours."""
+    the screen passing 98.6 % of the seas, 25.35 expected hours; the flared side turns its
+    frames by 19 deg (median) to 34 deg from the ship's axes."""
     spec, template = load_design(SHIP_SIDE)
     x = {"frame_width_m": 10.20456815926296, "frame_height_m": 4.613349522515445,
          "platform_width_m": 0.4728468954495459, "platform_height_m": 1.3073649509822074,
@@ -468,3 +472,31 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says():
     assert e.feasible and e.placements == 127 and e.power_kW == 20.0 and e.tension_max_N == 4000.0
     assert round(e.mass_kg, 1) == 26.4 and round(e.surface_hours, 2) == 25.01
     assert round(100 * e.sea_share, 1) == 98.6 and round(e.expected_hours, 2) == 25.35
+    assert [round(v) for v in e.frame_turn_deg] == [19, 34]
+
+
+def test_the_frames_turn_is_reported_as_the_surface_turns_them(small):
+    """Each placement's frame turn is the angle of the rotation from S's axes to its axes
+    (scipy's Rotation's magnitude, a second way); on the flared Wigley band of the small
+    study a 6 x 3 m frame leans by up to atan(0.064 z) at the top (z = 11.6 m: 36.6 deg),
+    so the candidate carries the caution, and a 1.9 x 1.4 m frame on a flat, unflared
+    midship band carries none."""
+    from scipy.spatial.transform import Rotation
+
+    from marinecdpr.studies.design import frame_turns, turn_caution
+
+    spec, template, cells = small
+    x = _x(spec)
+    e = evaluate(spec, template, x, cells)
+    job = surface_job(candidate_scenario(spec, template, x), move_time_s=300.0, digits=2)
+    turns = frame_turns(job.placements)
+    ref = np.degrees(Rotation.from_matrix(np.array([p.axes_S for p in job.placements])).magnitude())
+    np.testing.assert_allclose(turns, ref, rtol=0, atol=1e-6)
+    assert e.frame_turn_deg == [pytest.approx(np.median(ref), abs=1e-6), pytest.approx(ref.max(), abs=1e-6)]
+    assert 20.0 < ref.max() < np.degrees(np.arctan(0.064 * 11.6))
+    assert "up to" in turn_caution(e) and f"{ref.max():.0f} deg" in turn_caution(e)
+    flat = template.with_changes(cleaning=dict(template.cleaning.model_dump(exclude_none=True),
+                                               surface=dict(template.cleaning.surface.model_dump(exclude_none=True),
+                                                            flare=0.0, stations_m=[-5.0, 5.0])))
+    b = baseline(spec, flat, cells)
+    assert b.frame_turn_deg[1] < 5.0 and turn_caution(b) == ""

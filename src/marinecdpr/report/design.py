@@ -11,14 +11,15 @@ import numpy as np
 from marinecdpr.report.figures import _pyplot, _save
 from marinecdpr.report.files import write_json
 from marinecdpr.scenario.design import CONTINUOUS
-from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
+from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario, turn_caution
 from marinecdpr.textfiles import atomic_path
 
 __all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
 
 
 CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "pattern", "mass_kg", "tension_max_N",
-                      "placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
+                      "placements", "frame_turn_median_deg", "frame_turn_max_deg", "surface_hours", "sea_share",
+                      "expected_hours", "power_kW", "cost"]
                      + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
 """candidates.csv's and pareto.csv's columns."""
 
@@ -28,7 +29,8 @@ def _row(i: int, gen: int, e) -> list:
         return "" if v is None or not np.isfinite(v) else f"{v:.10g}"
 
     return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), e.x["winch"], e.x["rope"], e.x.get("pattern", "uncrossed"),
-             num(e.mass_kg), num(e.tension_max_N), e.placements, num(e.surface_hours), num(e.sea_share),
+             num(e.mass_kg), num(e.tension_max_N), e.placements, *(num(v) for v in e.frame_turn_deg),
+             num(e.surface_hours), num(e.sea_share),
              num(e.expected_hours), num(e.power_kW), num(e.cost)]
             + [num(e.margins.get(k, float("nan"))) for k in CONSTRAINTS] + [int(e.feasible), e.reason])
 
@@ -44,7 +46,7 @@ def _write_rows(path: Path, rows: list[list]) -> Path:
 
 def _short(e, objective: str) -> dict:
     keys = ("placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N",
-            "mass_kg")
+            "mass_kg", "frame_turn_deg")
     return {"variables": dict(e.x), **{k: getattr(e, k) for k in keys}, "feasible": e.feasible,
             "objective": e.objective(objective)}
 
@@ -232,6 +234,8 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     verdict = ("no feasible design" if best is None else
                f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
                + ("met" if summary["target_met"] else "not met"))
+    caution = turn_caution(study.evaluations[study.front[0]]) if study.front else ""
+    caution = f"<p><strong>Caution:</strong> the best design: {esc(caution)}.</p>" if caution else ""
     plants = sorted({v.plant for v in verification or [] if v.plant})
     flown = f" ({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)})" if plants else ""
     page = f"""<!doctype html>
@@ -248,6 +252,7 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <p>{esc(spec.description)}</p>
 <p>{len(study.evaluations)} candidates ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
 for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
+{caution}
 <h2>The Pareto front</h2>
 <table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>kW</th>
 <th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>

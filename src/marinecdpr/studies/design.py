@@ -44,9 +44,8 @@ from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
-           "placement_origins", "screen_surface",
-           "verify", "pareto_mask", "cable_pattern", "clearance", "study_cells", "study_scatter", "read_journal",
-           "CONSTRAINTS"]
+           "placement_origins", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
+           "turn_caution", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -147,6 +146,10 @@ class Evaluation:
     frame_origin_m : list of float
         The placement (C's origin in S) where the screen's share is least: where the
         finalists are flown.
+    frame_turn_deg : list of float
+        The median and the largest angle by which the surface turns the placements' frames
+        from S's axes (:func:`frame_turns`), deg. The screen and the time domain take every
+        frame upright and along the ship (C's axes S's): what they leave out grows with it.
     """
 
     x: dict
@@ -162,10 +165,41 @@ class Evaluation:
     mass_kg: float
     margins: dict = field(default_factory=dict)
     frame_origin_m: list = field(default_factory=list)
+    frame_turn_deg: list = field(default_factory=lambda: [0.0, 0.0])
 
     def objective(self, kind: str) -> float:
         """The second objective: installed power (kW) or cost."""
         return self.power_kW if kind == "power" else self.cost
+
+
+def frame_turns(placements) -> np.ndarray:
+    """The angle of the rotation from S's axes to each placement's frame axes (its
+    ``axes_S``: the flare leans a frame out of the vertical, the hull's curve towards the bow
+    or stern turns it off the ship's length), shape (n_placements,), deg."""
+    R = np.array([p.axes_S for p in placements]).reshape(-1, 3, 3)
+    cos = 0.5 * (np.trace(R, axis1=1, axis2=2) - 1.0)
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def _turn_summary(placements) -> list[float]:
+    turns = frame_turns(placements)
+    return [float(np.median(turns)), float(turns.max())] if turns.size else [0.0, 0.0]
+
+
+TURN_CAUTION_DEG = 5.0
+"""Placements' frames turned more than this from S's axes get :func:`turn_caution`'s words."""
+
+
+def turn_caution(e: Evaluation) -> str:
+    """A sentence saying what the verdicts leave out where the surface turns a candidate's
+    frames more than :data:`TURN_CAUTION_DEG` from S's axes ("" where it does not)."""
+    median, largest = e.frame_turn_deg
+    if not largest > TURN_CAUTION_DEG:
+        return ""
+    return (f"the surface turns its frames from the ship's axes by up to {largest:.0f} deg (median "
+            f"{median:.0f} deg: a flared side leans them, the hull's curve towards the ends turns them), and "
+            "the screen and the time domain take every frame upright and along the ship: their verdicts leave "
+            "that out")
 
 
 def _plate_inertia(mass: float, w: float, h: float) -> list[float]:
@@ -341,7 +375,8 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
                       placements=len(job.placements), surface_hours=job.hours, sea_share=share,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
-                      mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst])
+                      mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
+                      frame_turn_deg=_turn_summary(job.placements))
 
 
 def pareto_mask(f: np.ndarray) -> np.ndarray:
@@ -410,7 +445,8 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
                       expected_hours=job.hours / share if share > 0 else float("inf"),
                       power_kW=float("nan"), cost=float("nan"),
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
-                      margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst])
+                      margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst],
+                      frame_turn_deg=_turn_summary(job.placements))
 
 
 def _path_time(cleaning: Cleaning) -> float:
