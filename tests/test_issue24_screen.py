@@ -35,9 +35,11 @@ def test_extreme_factor_by_hand():
     assert S.extreme_factor(np.array([0.0]), np.array([0.0]), 100.0, 0.01)[0] == pytest.approx(np.sqrt(2 * np.log(100)))
 
 
-def test_the_wrench_sensitivity_is_the_planner_s_wrench_differentiated(paper_clean):
+@pytest.mark.parametrize("orientation", [(0.0, 0.0, 0.0), (-30.0, 4.0, 15.0)])
+def test_the_wrench_sensitivity_is_the_planner_s_wrench_differentiated(paper_clean, orientation):
     """w(q) - w0 = D q + O(|q|^2) for random ship states q, by the planner's own wrench: halving
-    q quarters the remainder."""
+    q quarters the remainder; with the frame upright and leaning on the ship."""
+    paper_clean = paper_clean.with_updates("ship", frame_orientation_deg=list(orientation))
     m = S.screen_model(paper_clean)
     rng = np.random.default_rng(3)
     q = rng.normal(size=(1, 18)) * np.r_[[0.1] * 3, [0.02] * 3, [0.1] * 3, [0.02] * 3, [0.3] * 3, [0.05] * 3]
@@ -45,7 +47,8 @@ def test_the_wrench_sensitivity_is_the_planner_s_wrench_differentiated(paper_cle
     x, R = m.pose[i:i + 1, :3], np.eye(3)[None]
     rest = []
     for scale in (1.0, 0.5):
-        w = S._wrench(paper_clean, x, np.zeros((1, 6)), np.zeros((1, 6)), R, S._still_plus(scale * q), np.zeros(1), 0.0)
+        w = S._wrench(paper_clean, x, np.zeros((1, 6)), np.zeros((1, 6)), R, S._still_plus(scale * q, paper_clean),
+                      np.zeros(1), 0.0)
         rest.append(np.abs(w[0] - m.w0[i] - m.D[i] @ (scale * q[0])).max())
     assert rest[0] < 0.1 * np.abs(m.D[i] @ q[0]).max()
     assert rest[1] / rest[0] == pytest.approx(0.25, abs=0.02)
@@ -139,7 +142,7 @@ def test_a_model_moved_on_the_ship_is_the_model_made_there(paper_clean):
     it through the lever arm)."""
     here = paper_clean.with_updates("ship", frame_origin_m=[-40.0, 16.0, 2.0])
     there = paper_clean.with_updates("ship", frame_origin_m=[60.0, 15.0, 9.0])
-    moved = S.at_origin(S.screen_model(here), paper_clean, [60.0, 15.0, 9.0])
+    moved = S.at_origin(S.screen_model(here), there)
     fresh = S.screen_model(there)
     for name in ("pose", "w0", "D", "J", "path_box", "friction", "tool_n", "x_PC_C", "twist", "R_PC", "t"):
         assert np.array_equal(getattr(moved, name), getattr(fresh, name)), name

@@ -1433,7 +1433,7 @@ def design(
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
     fly the best through the cleaning job in every sea state."""
-    from marinecdpr.studies.design import load_design, search, study_cells, study_scatter, turn_caution
+    from marinecdpr.studies.design import load_design, search, study_cells, study_scatter
     from marinecdpr.studies.design import verify as verify_finalists
 
     path = _design_path(spec)
@@ -1504,9 +1504,6 @@ def design(
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
             f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),
             highlight=False, soft_wrap=True)
-        caution = turn_caution(e)
-        if caution:
-            console.print(_plain(f"caution: {caution}"), highlight=False, soft_wrap=True)
     else:
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:

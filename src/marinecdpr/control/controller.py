@@ -38,7 +38,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C
-from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
 from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
@@ -85,7 +85,7 @@ def plans(scenario: Scenario, n: int, *, reference: Plan | None = None, base_mod
     h = scenario.time.step_s
     t = np.arange(n) * h
     if ship_h is None:
-        ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+        ship_h = frame_ship_motion(scenario, np.arange(2 * n + 1) * (0.5 * h))
     ref = (reference if reference is not None else
            plan_at(scenario, t, method=method, ship=ship_h.take(slice(0, 2 * n, 2))))
     ff = plan_at(scenario, t + 0.5 * h, method=method, base_model=base_model, ship=ship_h.take(slice(1, 2 * n, 2)))
@@ -102,7 +102,7 @@ def stand_in_plans(scenario: Scenario, n: int, *, base_model: str = "moving", sh
     h = scenario.time.step_s
     t = np.arange(n) * h
     if ship_h is None:
-        ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+        ship_h = frame_ship_motion(scenario, np.arange(2 * n + 1) * (0.5 * h))
     return Plans(ref=stand_in_plan(scenario, t), ff=stand_in_plan(scenario, t + 0.5 * h, base_model=base_model),
                  ship_h=ship_h)
 
@@ -125,7 +125,7 @@ def robot_model(scenario: Scenario) -> RobotModel:
     return RobotModel(
         c_C=np.ascontiguousarray(robot.frame_anchors), p_P=np.ascontiguousarray(robot.platform_anchors),
         mass=robot.mass_kg, I_PP=np.ascontiguousarray(robot.inertia), g=scenario.environment.gravity_m_s2,
-        origin=np.asarray(scenario.ship.frame_origin_m, dtype=float),
+        origin=frame_origin_of(scenario),
         controlled=np.asarray(robot.controlled, dtype=np.int64), lo=robot.tension_min, hi=robot.tension_max,
         method=K.METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
         damping=cables.damping_N_s_m, pulleys=robot.has_pulleys, z_C=np.ascontiguousarray(robot.pulley_axes),

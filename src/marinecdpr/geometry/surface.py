@@ -93,6 +93,13 @@ def _area(P: np.ndarray) -> float:
                         + np.linalg.norm(np.cross(c - a, d - a), axis=-1)).sum())
 
 
+def fit_placement(f: Callable, x_range, z_range) -> Placement:
+    """The placement of a frame over the patch ``x_range`` x ``z_range`` (stations and
+    heights in S, m) of the side y = f(x, z) (port: y > 0): the plane fitted to its 9 x 9
+    points, its axes and extent (:class:`Placement`)."""
+    return _fit(f, x_range, z_range)
+
+
 def _fit(f: Callable, x_range, z_range) -> Placement:
     P = patch_points(f, x_range, z_range)
     pts = P.reshape(-1, 3)

@@ -104,8 +104,8 @@ from marinecdpr.geometry.elastic import axial_stiffness, unstretched_length
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler, skew
 from marinecdpr.model.dynamics import spatial_inertia
-from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.motion.ship import ShipMotion, still_ship
+from marinecdpr.motion.basemotion import fixed_ship_motion, frame_ship_motion
+from marinecdpr.motion.ship import ShipMotion
 from marinecdpr.motion.trajectory import evaluate_disturbance
 
 if TYPE_CHECKING:  # the planning layer is above this one: a Plan is only read, never imported
@@ -390,8 +390,8 @@ class PlanStiffness:
 
 def _ship_of(plan, scenario: "Scenario") -> ShipMotion:
     if getattr(plan, "base_model", "moving") == "fixed":
-        return still_ship(plan.t.size)
-    return evaluate_base_motion(scenario.base_motion, plan.t)
+        return fixed_ship_motion(scenario, plan.t.size)
+    return frame_ship_motion(scenario, plan.t)
 
 
 def plan_stiffness(

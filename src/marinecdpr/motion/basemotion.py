@@ -12,11 +12,37 @@ from functools import lru_cache
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.motion.ship import ShipMotion, ship_motion, still_ship
+from marinecdpr.motion.ship import (
+    ShipMotion, frame_axes, frame_origin_in_axes, in_frame_axes, ship_motion, still_ship,
+)
 from marinecdpr.scenario.fields import SHIP_DOFS
 from marinecdpr.scenario.schema import RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
-__all__ = ["evaluate_base_motion"]
+__all__ = ["evaluate_base_motion", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of"]
+
+
+def frame_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
+    """The scenario's ship motion at times ``t`` as its robot's models take it: the base
+    motion seen in the frame's axes (:func:`~marinecdpr.motion.ship.in_frame_axes`, where
+    ``ship.frame_orientation_deg`` turns C on S; the base motion itself where it does not)."""
+    ship = evaluate_base_motion(scenario.base_motion, t)
+    return in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg)) if scenario.ship.turned else ship
+
+
+def frame_origin_of(scenario) -> np.ndarray:
+    """C's origin where the models take it, shape (3,), m: in S, or in S' (S's origin, C's
+    axes) where the frame is turned on the ship (:func:`~marinecdpr.motion.ship.frame_origin_in_axes`)."""
+    ship = scenario.ship
+    if not ship.turned:
+        return np.asarray(ship.frame_origin_m, dtype=float)
+    return frame_origin_in_axes(ship.frame_origin_m, ship.frame_orientation_deg)
+
+
+def fixed_ship_motion(scenario, n_steps: int) -> ShipMotion:
+    """The fixed-base model's ship (at rest, S on O) as the scenario's robot sees it: turned
+    by the frame's orientation, so that gravity keeps its direction in C."""
+    ship = still_ship(n_steps)
+    return in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg)) if scenario.ship.turned else ship
 
 
 def evaluate_base_motion(

@@ -16,7 +16,7 @@ import numpy as np
 
 from marinecdpr.geometry.rotations import euler_kinematics
 
-__all__ = ["ShipMotion", "ship_motion", "still_ship"]
+__all__ = ["ShipMotion", "ship_motion", "still_ship", "frame_axes", "frame_origin_in_axes", "in_frame_axes"]
 
 
 @dataclass(frozen=True)
@@ -90,3 +90,62 @@ def still_ship(n_steps: int) -> ShipMotion:
     return ship_motion(z, z, z)
 
 
+
+
+def frame_axes(orientation_deg) -> np.ndarray:
+    """R_SC (3, 3): the robot frame C's axes in S from ``ship.frame_orientation_deg``
+    (roll, pitch, yaw of C in S, deg, as eta's: R_SC = Rz(yaw) Ry(pitch) Rx(roll))."""
+    return np.array(euler_kinematics(np.radians(np.asarray(orientation_deg, dtype=float))).R)
+
+
+def frame_origin_in_axes(origin_S, orientation_deg) -> np.ndarray:
+    """C's origin in S' (S's origin, C's axes: :func:`in_frame_axes`), shape (3,), m:
+    R_SC^T times its position in S."""
+    return frame_axes(orientation_deg).T @ np.asarray(origin_S, dtype=float)
+
+
+def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
+    """The ship's motion as a frame turned on it by R_SC sees it: the motion of S', which has
+    S's origin and C's axes, so that the models (which take C's axes for the ship's) hold for
+    a frame that stands tilted or turned on the hull.
+
+    S' moves as S: its origin's position (eta's first three) is S's; R_S'O = R_SO R_SC; its
+    angular velocity and acceleration in S' are R_SC^T times S's. eta' carries the Euler
+    angles of R_S'O (unwrapped over time) and their exact rates and accelerations (from
+    omega_b = E(angles) rates and alpha_b = E rates' + (dE/dt) rates), so that
+    :func:`ship_motion` of eta' gives back R_S'O, omega and alpha (a prescribed ship such as
+    MuJoCo's is driven by eta').
+
+    Parameters
+    ----------
+    ship : ShipMotion
+    R_SC : ndarray, shape (3, 3)
+        C's axes in S (:func:`frame_axes`).
+
+    Returns
+    -------
+    ShipMotion
+        The same ship where R_SC is the identity.
+    """
+    R_SC = np.asarray(R_SC, dtype=float)
+    if np.array_equal(R_SC, np.eye(3)):
+        return ship
+    R = ship.R_SO @ R_SC
+    phi = np.unwrap(np.arctan2(R[:, 2, 1], R[:, 2, 2]))
+    theta = np.arcsin(np.clip(-R[:, 2, 0], -1.0, 1.0))
+    psi = np.unwrap(np.arctan2(R[:, 1, 0], R[:, 0, 0]))
+    angles = np.stack([phi, theta, psi], axis=1)
+    w = ship.omega_SO_S @ R_SC  # rows: (R_SC^T w)^T
+    a = ship.alpha_SO_S @ R_SC
+    c1, s1, c2, s2 = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta)
+    E = np.zeros((phi.size, 3, 3))  # omega_b = E (phi', theta', psi')
+    E[:, 0, 0], E[:, 0, 2] = 1.0, -s2
+    E[:, 1, 1], E[:, 1, 2] = c1, s1 * c2
+    E[:, 2, 1], E[:, 2, 2] = -s1, c1 * c2
+    rates = np.linalg.solve(E, w[:, :, None])[:, :, 0]
+    bias = euler_kinematics(angles, rates, np.zeros_like(rates)).alpha_b  # (dE/dt) rates
+    accels = np.linalg.solve(E, (a - bias)[:, :, None])[:, :, 0]
+    eta = np.concatenate([ship.eta[:, :3], angles], axis=1)
+    eta_dot = np.concatenate([ship.eta_dot[:, :3], rates], axis=1)
+    eta_ddot = np.concatenate([ship.eta_ddot[:, :3], accels], axis=1)
+    return ship_motion(eta, eta_dot, eta_ddot)

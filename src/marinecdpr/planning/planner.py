@@ -24,8 +24,8 @@ from marinecdpr.model.dynamics import WrenchTerms, disturbance_in_C, uncontrolle
 from marinecdpr.model.tension import (
     TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
-from marinecdpr.motion.basemotion import evaluate_base_motion
-from marinecdpr.motion.ship import ShipMotion, still_ship
+from marinecdpr.motion.basemotion import evaluate_base_motion, fixed_ship_motion, frame_origin_of, frame_ship_motion
+from marinecdpr.motion.ship import ShipMotion
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 from marinecdpr.scenario.robot import Robot, scaled_copy
 from marinecdpr.planning.budget import ship_at_once
@@ -497,7 +497,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
         f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
         f_C, m_C = f_C + f_b, m_C + m_b
     robot = scenario.robot
-    return wrench_terms(x_PC, twist, twist_dot, R_PC, ship, frame_origin_S=np.asarray(scenario.ship.frame_origin_m),
+    return wrench_terms(x_PC, twist, twist_dot, R_PC, ship, frame_origin_S=frame_origin_of(scenario),
                         mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
                         f_ext_C=f_C, m_ext_C=m_C)
 
@@ -507,9 +507,9 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     robot = scenario.robot
     platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
     if base_model == "fixed":
-        ship = still_ship(t.size)
+        ship = fixed_ship_motion(scenario, t.size)
     elif ship is None:
-        ship = evaluate_base_motion(scenario.base_motion, t)
+        ship = frame_ship_motion(scenario, t)
     twist = platform.twist
     kin = cable_kinematics(
         platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors, twist
@@ -752,7 +752,7 @@ def ship_motion_at(scenario: Scenario, t: np.ndarray, base_model: str | None = N
         The scenario's base motion at t; None for a fixed-base plan (it takes a still ship).
     """
     _, base_model = _options(scenario, None, base_model)
-    return None if base_model == "fixed" else evaluate_base_motion(scenario.base_motion, np.asarray(t, dtype=float))
+    return None if base_model == "fixed" else frame_ship_motion(scenario, np.asarray(t, dtype=float))
 
 
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
@@ -961,7 +961,7 @@ def plan_at(
     n = t.size
     if (ship is None and base_model == "moving" and n > 1
             and ship_at_once(scenario, n, float(t[1] - t[0]), chunk_steps)):
-        ship = evaluate_base_motion(scenario.base_motion, t)
+        ship = frame_ship_motion(scenario, t)
     if n <= chunk_steps:
         return _make_plan(scenario, _plan_chunk(scenario, t, method, base_model, ship), method, base_model)
     out: dict[str, np.ndarray] = {}

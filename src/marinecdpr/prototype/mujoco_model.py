@@ -8,12 +8,14 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
     slide x, slide y, slide z, hinge z (yaw), hinge y (pitch), hinge x (roll): MuJoCo
     applies a body's joints in order, each about the axes left by the previous ones,
     so the ship's orientation is Rz(yaw) Ry(pitch) Rx(roll) = R_SO and its joint
-    positions and velocities are the ship coordinates eta and their rates. The
+    positions and velocities are the ship coordinates eta and their rates (of S', which has
+    S's origin and C's axes, where ``ship.frame_orientation_deg`` turns the frame on the
+    ship: :func:`~marinecdpr.motion.ship.in_frame_axes`). The
     simulation drives these joints with generalised forces (feed-forward of the
     analytic motion plus a stiff servo), so the ship has true velocity and
     acceleration; the cables' reaction barely moves a ship this heavy.
 ``frame``
-    Robot frame C, fixed to the ship at ``ship.frame_origin_m``; holds the frame anchors.
+    Robot frame C, fixed to the ship at ``ship.frame_origin_m`` (in S'); holds the frame anchors.
 ``platform``
     The platform, origin at its centre of mass: slide x, slide z, hinge y relative to
     C for a planar robot; slide x, y, z and a ball joint for a spatial one.
@@ -33,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.basemotion import frame_origin_of
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2"]
@@ -159,7 +162,7 @@ def build_xml(scenario: Scenario) -> str:
       <joint name="ship_pitch" type="hinge" axis="0 1 0"/>
       <joint name="ship_roll" type="hinge" axis="1 0 0"/>
       <inertial pos="0 0 0" mass="{Ms:.17g}" diaginertia="{Is:.17g} {Is:.17g} {Is:.17g}"/>
-      <body name="frame" pos="{_v(scenario.ship.frame_origin_m)}">
+      <body name="frame" pos="{_v(frame_origin_of(scenario))}">
 {frame_sites}
         <body name="platform" pos="0 0 0">
           {joints}

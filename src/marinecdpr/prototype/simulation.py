@@ -36,7 +36,7 @@ from marinecdpr.control.controller import (
     controller_parts, known_loads, planned_brush_loads, plans, stand_in_plans, step_loads,
 )
 from marinecdpr.control.records import Loads
-from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M
 from marinecdpr.prototype.parts.brush import normal_force
@@ -217,7 +217,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     types, nothing of the planner is compiled, and the prototype is only to compile."""
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
-    ship_h = evaluate_base_motion(scenario.base_motion, np.arange(2 * n + 1) * (0.5 * h))
+    ship_h = frame_ship_motion(scenario, np.arange(2 * n + 1) * (0.5 * h))
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
     if stand_in:
         p = stand_in_plans(scenario, n, base_model=base_model, ship_h=ship_h)

@@ -11,7 +11,7 @@ import numpy as np
 from marinecdpr.report.figures import _pyplot, _save
 from marinecdpr.report.files import write_json
 from marinecdpr.scenario.design import CONTINUOUS
-from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario, turn_caution
+from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
 from marinecdpr.textfiles import atomic_path
 
 __all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
@@ -124,7 +124,8 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     designs = folder / "designs"
     designs.mkdir(exist_ok=True)
     for rank, i in enumerate(study.front[:spec.finalists], start=1):
-        sc = candidate_scenario(spec, template, ev[i].x).with_updates("ship", frame_origin_m=ev[i].frame_origin_m)
+        sc = candidate_scenario(spec, template, ev[i].x).with_updates(
+            "ship", frame_origin_m=ev[i].frame_origin_m, frame_orientation_deg=ev[i].frame_orientation_deg)
         data = sc.model_dump(exclude_none=True)
         data["name"] = f"{spec.name}_{rank}"
         data["description"] = (f"{spec.name}, finalist {rank}: {ev[i].expected_hours:.4g} expected h, "
@@ -234,8 +235,6 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     verdict = ("no feasible design" if best is None else
                f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
                + ("met" if summary["target_met"] else "not met"))
-    caution = turn_caution(study.evaluations[study.front[0]]) if study.front else ""
-    caution = f"<p><strong>Caution:</strong> the best design: {esc(caution)}.</p>" if caution else ""
     plants = sorted({v.plant for v in verification or [] if v.plant})
     flown = f" ({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)})" if plants else ""
     page = f"""<!doctype html>
@@ -252,7 +251,6 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 <p>{esc(spec.description)}</p>
 <p>{len(study.evaluations)} candidates ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
 for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
-{caution}
 <h2>The Pareto front</h2>
 <table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>kW</th>
 <th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>

@@ -4,7 +4,8 @@
 :func:`scene_html` draws it as an interactive plotly figure (a ``<div>`` for a page);
 :func:`view_section` is the report's section around it.
 
-What is drawn, all in S (m; C's axes are S's, C's origin is ``ship.frame_origin_m``):
+What is drawn, all in S (m; C's origin is ``ship.frame_origin_m``, its axes turned by
+``ship.frame_orientation_deg``):
 
 - the hull: a box of the ship's main dimensions (``base_motion.rao``'s ``length_m``,
   ``beam_m``, ``draught_m`` where a sea state's RAO source gives all three), else an
@@ -35,6 +36,7 @@ import numpy as np
 
 from marinecdpr.geometry.interference import platform_body
 from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.motion.ship import frame_axes
 from marinecdpr.motion.trajectory import evaluate_trajectory
 from marinecdpr.planning.planner import Plan
 from marinecdpr.scenario.schema import Scenario
@@ -184,25 +186,31 @@ def scene_geometry(scenario: Scenario, plan: Plan | None = None, *, instants: in
     n_steps = plan.n_steps if plan is not None else scenario.time.n_steps
     robot = scenario.robot
     origin = np.asarray(scenario.ship.frame_origin_m, dtype=float)
-    c_S = robot.frame_anchors + origin
+    R_SC = frame_axes(scenario.ship.frame_orientation_deg) if scenario.ship.turned else None
+
+    def in_S(p_C: np.ndarray) -> np.ndarray:  # points in C (..., 3) to S
+        return (p_C if R_SC is None else p_C @ R_SC.T) + origin
+
+    c_S = in_S(robot.frame_anchors)
     at = sample_steps(n_steps, max(int(instants), 1))
     pose = _poses(scenario, plan, at)
     R = matrix_from_euler(pose[:, 3:])                                          # (k, 3, 3), P -> C
-    x_S = pose[:, :3] + origin
-    p_S = x_S[:, None, :] + np.einsum("kij,nj->kni", R, robot.platform_anchors)  # (k, n_cables, 3)
+    x_C = pose[:, :3]
+    p_S = in_S(x_C[:, None, :] + np.einsum("kij,nj->kni", R, robot.platform_anchors))  # (k, n_cables, 3)
     cables = np.stack([np.broadcast_to(c_S, p_S.shape), p_S], axis=2)
     edges_P = platform_body(robot.platform_anchors).edges_P                     # (n_edges, 2, 3)
-    platform = x_S[:, None, None, :] + np.einsum("kij,eaj->keai", R, edges_P)
-    path = _poses(scenario, plan, sample_steps(n_steps, max(int(path_points), 2)))[:, :3] + origin
+    platform = in_S(x_C[:, None, None, :] + np.einsum("kij,eaj->keai", R, edges_P))
+    path = in_S(_poses(scenario, plan, sample_steps(n_steps, max(int(path_points), 2)))[:, :3])
     panel = None
     if scenario.cleaning is not None:
         xz = np.asarray(scenario.cleaning.panel_m, dtype=float)
         ring = np.vstack([xz, xz[:1]])
         y = float(getattr(scenario.trajectory, "plane_y_m", 0.0))
-        panel = np.column_stack([ring[:, 0], np.full(ring.shape[0], y), ring[:, 1]]) + origin
+        panel = in_S(np.column_stack([ring[:, 0], np.full(ring.shape[0], y), ring[:, 1]]))
     vertices, faces, label = hull_box(scenario.base_motion)
+    frame_edges = box_edges(c_S) if R_SC is None else in_S(box_edges(robot.frame_anchors))
     return Scene(hull_vertices=vertices, hull_faces=faces, hull_label=label, frame_origin=origin,
-                 frame_anchors=c_S, frame_edges=box_edges(c_S), times=at * scenario.time.step_s,
+                 frame_anchors=c_S, frame_edges=frame_edges, times=at * scenario.time.step_s,
                  platform_edges=platform, cables=cables, path=path, panel=panel)
 
 

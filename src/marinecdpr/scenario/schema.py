@@ -28,7 +28,15 @@ class Ship(_Model):
     """Where the robot stands on the ship."""
 
     frame_origin_m: Position = (0.0, 0.0, 0.0)
-    """Origin of the robot frame C in the ship frame S, m (C's axes are S's)."""
+    """Origin of the robot frame C in the ship frame S, m."""
+    frame_orientation_deg: Orientation = (0.0, 0.0, 0.0)
+    """C's axes in S: roll, pitch and yaw as the ship's own angles (R_SC = Rz Ry Rx), deg
+    (a frame leaning with a flared side, turned with the hull's curve; default S's axes)."""
+
+    @property
+    def turned(self) -> bool:
+        """C's axes are not S's."""
+        return any(v != 0.0 for v in self.frame_orientation_deg)
 
 
 class StillMotion(_Model):

@@ -18,7 +18,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from marinecdpr.control.controller import predictor_options
-from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.motion.prediction import PredictionError, prediction_error
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.scenario.schema import Scenario
@@ -205,7 +205,7 @@ def ship_prediction_error(
     mru = scenario.simulation.mru
     settle = mru.ar_warmup_s + 1.0 if settle_s is None else float(settle_s)
     t = np.arange(0.0, duration_s + 1e-9, 0.01)
-    ship = evaluate_base_motion(scenario.base_motion, t)
+    ship = frame_ship_motion(scenario, t)
     # the horizons the record can check (a forecast from after settle_s must land in it)
     fits = [h for h in horizons_s if settle + latency_s + h < t[-1] - 0.02] or [0.0]
     return prediction_error(t, ship.eta, ship.eta_dot, ship.eta_ddot, sample_hz=rate_hz, latency_s=latency_s,

@@ -11,9 +11,10 @@ and judged by the toolkit's own models (:func:`evaluate`):
 - **the sea's share**: the probability, over the scatter diagram and headings, that the job
   holds, by the fast screen (:func:`~marinecdpr.studies.screen.screen_cells`: tensions within
   limits over the whole panel under the sea's motion, the normal force in band) with the
-  frame at each corner of the surface's band (:func:`placement_origins`: the ship moves
-  differently at its ends and at the top of its side), the job working only where it works
-  at all four;
+  frame at the band's ends and middle, at its top and bottom, each placed and turned as
+  the surface places it (:func:`frame_placements`: the ship moves most at its ends and at
+  the top of its side, a flared side leans the frame most at the top amidships), the job
+  working only where it works at all of them;
 - **expected hours** = hours on the surface / the sea's share (the job waits for the seas it
   works in);
 - **constraints**, each a margin that must not be negative: the sea's share against the
@@ -44,8 +45,7 @@ from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
-           "placement_origins", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
-           "turn_caution", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
+           "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -146,10 +146,12 @@ class Evaluation:
     frame_origin_m : list of float
         The placement (C's origin in S) where the screen's share is least: where the
         finalists are flown.
+    frame_orientation_deg : list of float
+        The frame's orientation in S there (roll, pitch, yaw, deg: ``ship.frame_orientation_deg``).
     frame_turn_deg : list of float
         The median and the largest angle by which the surface turns the placements' frames
-        from S's axes (:func:`frame_turns`), deg. The screen and the time domain take every
-        frame upright and along the ship (C's axes S's): what they leave out grows with it.
+        from S's axes (:func:`frame_turns`), deg. The screen judges the frame at the band's
+        placements in their own orientation (:func:`frame_placements`).
     """
 
     x: dict
@@ -165,6 +167,7 @@ class Evaluation:
     mass_kg: float
     margins: dict = field(default_factory=dict)
     frame_origin_m: list = field(default_factory=list)
+    frame_orientation_deg: list = field(default_factory=lambda: [0.0, 0.0, 0.0])
     frame_turn_deg: list = field(default_factory=lambda: [0.0, 0.0])
 
     def objective(self, kind: str) -> float:
@@ -184,22 +187,6 @@ def frame_turns(placements) -> np.ndarray:
 def _turn_summary(placements) -> list[float]:
     turns = frame_turns(placements)
     return [float(np.median(turns)), float(turns.max())] if turns.size else [0.0, 0.0]
-
-
-TURN_CAUTION_DEG = 5.0
-"""Placements' frames turned more than this from S's axes get :func:`turn_caution`'s words."""
-
-
-def turn_caution(e: Evaluation) -> str:
-    """A sentence saying what the verdicts leave out where the surface turns a candidate's
-    frames more than :data:`TURN_CAUTION_DEG` from S's axes ("" where it does not)."""
-    median, largest = e.frame_turn_deg
-    if not largest > TURN_CAUTION_DEG:
-        return ""
-    return (f"the surface turns its frames from the ship's axes by up to {largest:.0f} deg (median "
-            f"{median:.0f} deg: a flared side leans them, the hull's curve towards the ends turns them), and "
-            "the screen and the time domain take every frame upright and along the ship: their verdicts leave "
-            "that out")
 
 
 def _plate_inertia(mass: float, w: float, h: float) -> list[float]:
@@ -288,47 +275,67 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     return _validated(data)
 
 
-def placement_origins(template: Scenario, width_m: float, height_m: float) -> np.ndarray:
-    """Where a W x H frame stands on the surface at the band's four corners (its centre inset
-    by half the frame from the band's ends and edges, or at the band's middle where the frame
-    is larger): the origin of C (the frame's lower aft corner) in S, on the hull's side.
+def frame_placements(template: Scenario, width_m: float, height_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where a W x H frame stands on the surface at the band's ends and middle, at its top
+    and bottom (its centre inset by half the frame from the band's ends and edges, or at the
+    band's middle where the frame is larger), placed as ``clean --surface`` places it: on the plane fitted to the surface
+    over the frame's patch (:func:`~marinecdpr.geometry.surface.fit_placement`), its y axis
+    the plane's normal out of the hull, its x along the ship, its centre the plane's.
 
     Returns
     -------
-    ndarray, shape (4, 3)
-        m: the ship's motion differs there most (pitch at the ends, roll at the top).
+    origins : ndarray, shape (n, 3)
+        C's origin (the frame's lower aft corner) in S, m, at n = 6 places (fewer where the
+        band is no larger than the frame): the ship's motion differs most at the band's ends
+        (pitch) and at the top of the side (roll).
+    orientations : ndarray, shape (n, 3)
+        C's axes in S as ``ship.frame_orientation_deg`` (roll, pitch, yaw), deg: a flared
+        side leans the frame most at its top amidships, the hull's curve turns it towards
+        the ends.
     """
+    from marinecdpr.geometry.surface import fit_placement
     from marinecdpr.studies.surface import surface_function
 
     surface = template.cleaning.surface
     f, _ = surface_function(surface)
-    sign = 1.0 if surface.side == "port" else -1.0
     (a, b), (lo, hi) = surface.stations_m, surface.heights_m
-    xs = [a + width_m / 2, b - width_m / 2] if b - a > width_m else [0.5 * (a + b)] * 2
-    zs = [lo + height_m / 2, hi - height_m / 2] if hi - lo > height_m else [0.5 * (lo + hi)] * 2
-    centres = np.array([[x, z] for x in xs for z in zs])
-    y = sign * f(centres[:, 0], centres[:, 1])
-    return np.column_stack([centres[:, 0] - width_m / 2, y, centres[:, 1] - height_m / 2])
+    xs = [a + width_m / 2, 0.5 * (a + b), b - width_m / 2] if b - a > width_m else [0.5 * (a + b)]
+    zs = [lo + height_m / 2, hi - height_m / 2] if hi - lo > height_m else [0.5 * (lo + hi)]
+    places = [(x, z) for x in xs for z in zs]
+    origins, orientations = np.empty((len(places), 3)), np.empty((len(places), 3))
+    for k, (x, z) in enumerate(places):
+        p = fit_placement(f, (x - width_m / 2, x + width_m / 2), (z - height_m / 2, z + height_m / 2))
+        R, centre = p.axes_S.copy(), p.centre_S.copy()  # the port side's (f gives |y|)
+        if surface.side != "port":  # mirrored: y out of the hull is -y, x = y cross z runs aft
+            centre[1] = -centre[1]
+            R[1, :] = -R[1, :]
+            R[:, 0] = np.cross(R[:, 1], R[:, 2])
+        origins[k] = centre - R @ np.array([width_m / 2, 0.0, height_m / 2])
+        orientations[k] = np.degrees([np.arctan2(R[2, 1], R[2, 2]), np.arcsin(np.clip(-R[2, 0], -1.0, 1.0)),
+                                      np.arctan2(R[1, 0], R[0, 0])])  # R = Rz Ry Rx
+    return origins, orientations
 
 
-def screen_surface(sc: Scenario, cells: list, origins: np.ndarray):
-    """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S: the
-    job works in a sea state only where it works at every one of them. Returns the share
-    that works, the works per sea state and the origin whose own share is the least."""
+def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations: np.ndarray):
+    """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S,
+    turned by ``orientations`` (n, 3) deg: the job works in a sea state only where it works
+    at every one of them. Returns the share that works, the works per sea state, and the
+    origin and orientation whose own share is the least."""
     from marinecdpr.studies.screen import at_origin, screen_cells, screen_model
 
     works = np.ones(len(cells), dtype=bool)
     worst, least = 0, np.inf
     model = None
-    for k, origin in enumerate(origins):
-        placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin])
-        model = screen_model(placed) if model is None else at_origin(model, sc, origin)  # the path once
+    for k, (origin, angles) in enumerate(zip(origins, orientations)):
+        placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin],
+                                 frame_orientation_deg=[float(v) for v in angles])
+        model = screen_model(placed) if model is None else at_origin(model, placed)  # the path once
         r = screen_cells(placed, cells, model=model)
         works &= r.works
         if r.share < least:
             worst, least = k, r.share
     p = np.array([c.probability for c in cells], dtype=float)
-    return float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst]
+    return float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst], orientations[worst]
 
 
 def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Evaluation:
@@ -359,7 +366,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     robot = sc.robot
     t_min, t_max = float(robot.tension_min[0]), float(robot.tension_max[0])
     job = surface_job(sc, move_time_s=spec.move_time_s, digits=2)
-    share, _, worst = screen_surface(sc, cells, placement_origins(template, W, H))
+    share, _, worst, turned = screen_surface(sc, cells, *frame_placements(template, W, H))
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
         "sea_share": share - spec.targets.sea_share,
@@ -376,7 +383,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                       placements=len(job.placements), surface_hours=job.hours, sea_share=share,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
                       mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
-                      frame_turn_deg=_turn_summary(job.placements))
+                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements))
 
 
 def pareto_mask(f: np.ndarray) -> np.ndarray:
@@ -438,15 +445,15 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
     x = template_x(spec, template)
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
     run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template.cleaning)))
-    share, _, worst = screen_surface(run, cells, placement_origins(template, x["frame_width_m"],
-                                                                   x["frame_height_m"]))
+    share, _, worst, turned = screen_surface(run, cells, *frame_placements(template, x["frame_width_m"],
+                                                                           x["frame_height_m"]))
     return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
                       surface_hours=job.hours, sea_share=share,
                       expected_hours=job.hours / share if share > 0 else float("inf"),
                       power_kW=float("nan"), cost=float("nan"),
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
                       margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst],
-                      frame_turn_deg=_turn_summary(job.placements))
+                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements))
 
 
 def _path_time(cleaning: Cleaning) -> float:
@@ -710,7 +717,8 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     out = []
     for rank, i in enumerate(chosen, start=1):
         e = study.evaluations[i]
-        sc = candidate_scenario(spec, template, e.x).with_updates("ship", frame_origin_m=e.frame_origin_m)
+        sc = candidate_scenario(spec, template, e.x).with_updates("ship", frame_origin_m=e.frame_origin_m,
+                                                                  frame_orientation_deg=e.frame_orientation_deg)
         done = (rank - 1) * len(cells)
         cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=plant, executor=executor, workers=workers,
                            scheduler=scheduler,

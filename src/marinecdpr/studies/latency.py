@@ -26,7 +26,7 @@ from marinecdpr.control import Controller
 from marinecdpr.control.controller import plans
 from marinecdpr.control.step import control_step
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.planning.budget import check_latency_calls
 from marinecdpr.scenario.schema import Scenario
 
@@ -198,7 +198,7 @@ def controller_latency(scenario: Scenario, *, calls: int = 20000) -> Latency:
     h = scenario.time.step_s
     n = min(calls, scenario.time.n_steps)
     ref = plans(scenario, n).ref
-    ship = evaluate_base_motion(scenario.base_motion, np.arange(n) * h)
+    ship = frame_ship_motion(scenario, np.arange(n) * h)
     c = np.ascontiguousarray
     x, v, w = c(ref.pose[:, :3]), c(ref.twist[:, :3]), c(ref.twist[:, 3:])
     R = c(matrix_from_euler(ref.pose[:, 3:]))

@@ -49,7 +49,7 @@ from scipy.special import ndtr
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.model.dynamics import uncontrolled
-from marinecdpr.motion.ship import ship_motion
+from marinecdpr.motion.ship import frame_axes, in_frame_axes, ship_motion
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_trajectory
 from marinecdpr.planning.planner import required_wrench
 from marinecdpr.scenario.schema import Scenario
@@ -173,9 +173,13 @@ def extreme_factor(m0: np.ndarray, m2: np.ndarray, duration_s: float, exceedance
     return np.sqrt(2.0 * np.log(np.maximum(n, 1.0) / exceedance))
 
 
-def _still_plus(dq: np.ndarray):
-    """Ship motions at the perturbations ``dq`` (n, 18) of a ship at rest."""
-    return ship_motion(dq[:, 0:6], dq[:, 6:12], dq[:, 12:18])
+def _still_plus(dq: np.ndarray, scenario: Scenario):
+    """Ship motions at the perturbations ``dq`` (n, 18) of a ship at rest, as the scenario's
+    frame sees them (:func:`~marinecdpr.motion.ship.in_frame_axes`)."""
+    ship = ship_motion(dq[:, 0:6], dq[:, 6:12], dq[:, 12:18])
+    if scenario.ship.turned:
+        ship = in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg))
+    return ship
 
 
 def _wrench(scenario: Scenario, x, twist, twist_dot, R_PC, ship, t, F_n) -> np.ndarray:
@@ -206,7 +210,7 @@ def _sensitivity(scenario: Scenario, x_PC_C, twist, R_PC, t) -> tuple[np.ndarray
     dq = np.zeros((37, 18))
     for i in range(18):
         dq[1 + 2 * i, i], dq[2 + 2 * i, i] = _H, -_H
-    ship = _still_plus(np.tile(dq, (n_p, 1)))
+    ship = _still_plus(np.tile(dq, (n_p, 1)), scenario)
     rep = np.repeat(np.arange(n_p), 37)
     w = _wrench(scenario, x_PC_C[rep], twist[rep], np.zeros((rep.size, 6)), R_PC[rep], ship, t[rep],
                 0.0).reshape(n_p, 37, 6)
@@ -232,7 +236,7 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     n_p = rows.size
     preload = scenario.cleaning.preload if scenario.cleaning is not None else 0.0
     # the path's own inertia: each component's largest change from its accelerations, calm sea
-    calm = _still_plus(np.zeros((t.size, 18)))
+    calm = _still_plus(np.zeros((t.size, 18)), scenario)
     moving = _wrench(scenario, path.x_PC_C, path.twist, path.twist_dot, path.R_PC, calm, t, preload)
     still = _wrench(scenario, path.x_PC_C, path.twist, np.zeros_like(path.twist_dot), path.R_PC, calm, t, preload)
     path_box = np.abs(moving - still).max(axis=0)
@@ -274,18 +278,18 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
                        tool_n=tool_n, duration_s=duration, controlled=tuple(c), planar_normal=planar_normal)
 
 
-def at_origin(model: ScreenModel, scenario: Scenario, frame_origin_m) -> ScreenModel:
-    """:func:`screen_model` of the scenario with its frame at ``frame_origin_m`` (C's origin
-    in S, m), from its model elsewhere on the ship: only the wrench's sensitivity to the
-    ship's motion (w0 and D) is made again, the path, its poses and the tool being the same.
+def at_origin(model: ScreenModel, scenario: Scenario) -> ScreenModel:
+    """:func:`screen_model` of the scenario from the model of the same robot and job with
+    its frame elsewhere on the ship (another ``ship.frame_origin_m`` and
+    ``frame_orientation_deg``): only the wrench's sensitivity to the ship's motion (w0 and
+    D) is made again, the path, its poses and the tool being the same.
 
     Returns
     -------
     ScreenModel
-        Equal to ``screen_model(scenario.with_updates("ship", frame_origin_m=...))``.
+        Equal to ``screen_model(scenario)`` (its path box to rounding).
     """
-    moved = scenario.with_updates("ship", frame_origin_m=[float(v) for v in frame_origin_m])
-    w0, D = _sensitivity(moved, model.x_PC_C, model.twist, model.R_PC, model.t)
+    w0, D = _sensitivity(scenario, model.x_PC_C, model.twist, model.R_PC, model.t)
     return replace(model, w0=w0, D=D)
 
 
@@ -364,10 +368,11 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     in_band = np.full(n_cells, 100.0)
     Fn_lo = Fn_hi = np.full((n_cells, n_p), P)
     if model.planar_normal:
-        from marinecdpr.prototype.parts.brush import contact_force
+        from marinecdpr.prototype.parts.brush import contact_force, static_weight_y
 
         lo_b, hi_b = scenario.cleaning.band_N
-        mean = contact_force(model.w0[:, 1] - P * model.tool_n[1], scenario.cleaning)  # (n_p,), as planned
+        mean = contact_force(model.w0[:, 1] - P * model.tool_n[1], scenario.cleaning,
+                             static_y_N=static_weight_y(scenario))  # (n_p,), as planned
         s_n = np.sqrt(C0[:, :, 1, 1])
         e_n = extreme_factor(C0[:, :, 1, 1], C2[:, :, 1, 1], model.duration_s, exceedance) * s_n
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -49,13 +49,26 @@ def normal_force(p, scenario) -> np.ndarray:
     n = np.asarray(cleaning.hull_normal, dtype=float)
     if "y" not in p.reaction_dofs or abs(n[1]) < 1.0 - 1e-9:
         return np.full(p.n_steps, cleaning.preload)
-    return contact_force(p.reaction[:, p.reaction_dofs.index("y")], cleaning)
+    return contact_force(p.reaction[:, p.reaction_dofs.index("y")], cleaning, static_y_N=static_weight_y(scenario))
 
 
-def contact_force(reaction_y, cleaning):
+def static_weight_y(scenario) -> float:
+    """The platform's weight along C's y with the frame at its orientation on a ship at rest,
+    N: m (R_SC^T g)_y, g = (0, 0, -g) (0 for a frame upright on the ship; on a frame leaning
+    with a flared side, the part of the weight the pusher carries)."""
+    if not scenario.ship.turned:
+        return 0.0
+    from marinecdpr.motion.ship import frame_axes
+
+    g_C = frame_axes(scenario.ship.frame_orientation_deg).T @ np.array([0.0, 0.0, -scenario.environment.gravity_m_s2])
+    return float(scenario.robot.mass_kg * g_C[1])
+
+
+def contact_force(reaction_y, cleaning, *, static_y_N: float = 0.0):
     """A planar robot's brush force from the guide's reaction along y (its hull normal), N:
     the reaction along the normal plus twice the preload (the planned wrench holds the hull's
-    push at the preload).
+    push at the preload), plus the platform's static weight along the normal, which the
+    pusher's setpoint carries (a frame leaning on a flared side: :func:`static_weight_y`).
 
     Parameters
     ----------
@@ -63,8 +76,12 @@ def contact_force(reaction_y, cleaning):
         The required wrench's y force, which the guide holds, N.
     cleaning : Cleaning
         ``hull_normal`` along +-y.
+    static_y_N : float
+        The weight's y force at rest, in C, N (0 for a frame upright on the ship).
     """
-    return np.asarray(reaction_y) * cleaning.hull_normal[1] + 2.0 * cleaning.preload
+    n_y = cleaning.hull_normal[1]
+    out = np.asarray(reaction_y) * n_y + 2.0 * cleaning.preload
+    return out if static_y_N == 0.0 else out + static_y_N * n_y
 
 
 def build(context) -> list:

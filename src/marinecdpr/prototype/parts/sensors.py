@@ -18,7 +18,7 @@ from numba import njit
 from marinecdpr.control.step import mm3
 from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.geometry.rotations import euler_step
-from marinecdpr.motion.basemotion import evaluate_base_motion
+from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.prototype.parts import part
 from marinecdpr.scenario.schema import MRU_UNITS
 
@@ -152,7 +152,7 @@ def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
         # the latest sample j with j period + latency <= t_k (the first, until one has arrived)
         latest = np.maximum(np.floor((np.arange(n) * h - mru.latency_s) / period + 1e-9), 0).astype(np.int64)
         t_s = np.arange(latest[-1] + 1) * period
-        ship_s = evaluate_base_motion(scenario.base_motion, t_s)
+        ship_s = frame_ship_motion(scenario, t_s)  # an MRU on the frame: its axes' motion
         eta = np.stack([ship_s.eta, ship_s.eta_dot, ship_s.eta_ddot])
     n_s = eta.shape[1]
     if run == "closed_loop":
