@@ -78,9 +78,9 @@ def main() -> None:
             summary = json.loads((Path(tmp) / "out" / "summary.json").read_text())
             best_x = summary["best"]["variables"] if summary["best"] else None
     if best_x is None:  # the README's best design
-        best_x = dict(frame_width_m=10.20456815926296, frame_height_m=4.613349522515445,
+        best_x = dict(frame_width_m=10.29726898927031, frame_height_m=4.613349522515445,
                       platform_width_m=0.4728468954495459, platform_height_m=1.3073649509822074,
-                      tool_width_m=1.0133796278110427, speed_m_s=0.2910736238272178, overlap_share=0.15,
+                      tool_width_m=1.034420345477245, speed_m_s=0.4156234209383452, overlap_share=0.15,
                       winch="large", rope="dyneema_6mm", pattern="uncrossed")
     sc = candidate_scenario(spec, template, best_x)
     cell = max(cells, key=lambda c: (c.hs, c.tp))

@@ -147,3 +147,21 @@ def test_a_model_moved_on_the_ship_is_the_model_made_there(paper_clean):
     for name in ("pose", "w0", "D", "J", "path_box", "friction", "tool_n", "x_PC_C", "twist", "R_PC", "t"):
         assert np.array_equal(getattr(moved, name), getattr(fresh, name)), name
     assert not np.allclose(S.screen_model(here).D, fresh.D)
+
+
+def test_the_time_in_band_passes_less_its_standard_errors(paper_clean):
+    """The verdict's share in band is the expectation less two standard errors of one
+    record's share: sqrt(p (1 - p) / N), N the job's up-crossings of the normal force's mean
+    (T sqrt(m2 / m0) / 2 pi, averaged over the poses), by hand from the model's moments."""
+    sc = paper_clean.with_changes(cleaning=dict(paper_clean.cleaning.model_dump(exclude_none=True),
+                                                normal_force_N=[52.0, 68.0]))
+    cells = [Cell(0, 6.5, 10.0, 90.0, 1.0), Cell(1, 4.5, 12.0, 90.0, 1.0)]
+    m = S.screen_model(sc)
+    r = S.screen_cells(sc, cells, model=m)
+    C0, C2 = S._response_moments(m, S._rao_of(sc), cells, sc)
+    for i in range(2):
+        n = max(m.duration_s * np.mean(np.sqrt(C2[i, :, 1, 1] / C0[i, :, 1, 1]) / (2 * np.pi)), 1.0)
+        p = r.in_band_pct[i] / 100.0
+        assert r.in_band_low_pct[i] == pytest.approx(100.0 * (p - 2.0 * np.sqrt(p * (1 - p) / n)), rel=1e-12)
+        assert r.in_band_low_pct[i] < r.in_band_pct[i] < 100.0
+        assert r.works[i] == (r.tensions_ok[i] and r.in_band_low_pct[i] >= 95.0)

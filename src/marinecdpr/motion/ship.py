@@ -90,8 +90,6 @@ def still_ship(n_steps: int) -> ShipMotion:
     return ship_motion(z, z, z)
 
 
-
-
 def frame_axes(orientation_deg) -> np.ndarray:
     """R_SC (3, 3): the robot frame C's axes in S from ``ship.frame_orientation_deg``
     (roll, pitch, yaw of C in S, deg, as eta's: R_SC = Rz(yaw) Ry(pitch) Rx(roll))."""

@@ -45,7 +45,8 @@ from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
-           "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns", "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
+           "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
+           "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -278,9 +279,10 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
 def frame_placements(template: Scenario, width_m: float, height_m: float) -> tuple[np.ndarray, np.ndarray]:
     """Where a W x H frame stands on the surface at the band's ends and middle, at its top
     and bottom (its centre inset by half the frame from the band's ends and edges, or at the
-    band's middle where the frame is larger), placed as ``clean --surface`` places it: on the plane fitted to the surface
-    over the frame's patch (:func:`~marinecdpr.geometry.surface.fit_placement`), its y axis
-    the plane's normal out of the hull, its x along the ship, its centre the plane's.
+    band's middle where the frame is larger), placed as ``clean --surface`` places it: on
+    the plane fitted to the surface over the frame's patch
+    (:func:`~marinecdpr.geometry.surface.fit_placement`), its y axis the plane's normal out
+    of the hull, its x along the ship, its centre the plane's.
 
     Returns
     -------
