@@ -7,7 +7,7 @@ Prints:
     wall time): the search (its candidates on two Dask workers) and the time-domain
     verification of its finalists in every sea state, with the lines it prints;
   * one sea state of the study's best design flown closed loop (the hardest sea of the
-    diagram, at the placement where the screen found the seas hardest), side by side: the
+    diagram, the frame where the template puts it), side by side: the
     own plant and MuJoCo, with the candidate's sea record (a fast FFT length) and with a
     record exactly as long as the job (what a user writing the scenario by hand would
     choose: its length in steps a product with a large prime, the sea summed term by term

@@ -410,13 +410,7 @@ speed_rad_s = 30.0
 power_W = 1200.0
 drum_radius_m = 0.05
 
-[[ropes]]
-name = "light"
-diameter_m = 0.006
-ea_N = 1.7e6
-weight_N_m = 0.2
-breaking_N = 30000.0
-"""
+""" + SMALL[SMALL.index('[[ropes]]\nname = "light"'):SMALL.index('[[ropes]]\nname = "heavy"')]  # the light rope
 
 
 def test_the_search_finds_the_optimum_known_in_closed_form(tmp_path):
