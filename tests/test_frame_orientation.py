@@ -104,3 +104,29 @@ def test_the_pusher_carries_the_platform_s_weight_on_a_leaning_frame():
     assert static_weight_y(held) == pytest.approx(0.5 * m * g, rel=1e-12)
     p = marinecdpr.plan(held)
     np.testing.assert_allclose(normal_force(p, held), held.cleaning.preload, rtol=0, atol=1e-9)
+
+
+def test_a_turned_frame_through_the_commands(tmp_path):
+    """A scenario file with a turned frame goes through check, plan and simulate (short); an
+    angle beyond half a turn is one line naming the key, exit 2."""
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+    from marinecdpr.scenario.importing.common import _plain
+    from tests.conftest import one_line_exit_2
+
+    runner = CliRunner()
+    data = _plain(marinecdpr.load_scenario("paper").model_dump(exclude_none=True))
+    data["ship"]["frame_orientation_deg"] = [-20.0, 2.0, 10.0]
+    data["time"]["duration_s"] = 1.0
+    good = tmp_path / "turned.toml"
+    good.write_text(tomli_w.dumps(data))
+    for args in (["check", str(good)], ["plan", str(good), "--out", str(tmp_path / "p")],
+                 ["simulate", str(good), "--out", str(tmp_path / "s")]):
+        res = runner.invoke(app, args)
+        assert res.exit_code == 0, (args, res.output)
+    data["ship"]["frame_orientation_deg"] = [0.0, 0.0, 400.0]
+    bad = tmp_path / "bad.toml"
+    bad.write_text(tomli_w.dumps(data))
+    one_line_exit_2(runner.invoke(app, ["check", str(bad)]), "frame_orientation_deg")
