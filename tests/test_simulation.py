@@ -243,5 +243,9 @@ def test_a_flat_plate_s_inertia_compiles_and_flies_on_both_plants():
     raised = got[:2] - sorted([moments[0], moments[2]])
     assert (raised > 0).all() and (raised <= 1e-12 * moments[1]).all()
     assert got[0] + got[1] >= got[2]
+    from marinecdpr.prototype.mujoco_model import _compilable_inertia
+
+    paper = marinecdpr.load_scenario("paper").robot.inertia  # 0.03 + 0.03 = 0.06: compiled as it is
+    assert _compilable_inertia(paper) is paper
     runs = {plant: simulate(sc, run="open_loop", plant=plant) for plant in ("mujoco", "own")}
     assert np.abs(runs["mujoco"].pose - runs["own"].pose).max() < 1e-4

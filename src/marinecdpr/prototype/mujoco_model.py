@@ -91,15 +91,17 @@ inequality's edge (:func:`_compilable_inertia`)."""
 
 
 def _compilable_inertia(I: np.ndarray) -> np.ndarray:
-    """The inertia (3, 3) MuJoCo compiles: the scenario's, unless its principal moments lie
-    on the triangle inequality's edge A + B = C (a flat plate's, which the scenario accepts
-    within 1e-9 of C): MuJoCo refuses A + B < C by a rounding error, so there the two
-    smaller moments are raised together until A + B = C (1 + :data:`TRIANGLE_MARGIN`). C,
-    the moment about the plate's normal (a planar robot's only one), is kept."""
+    """The inertia (3, 3) MuJoCo compiles: the scenario's, unless its principal moments fall
+    short of the triangle inequality, A + B < C, by a rounding error (a flat plate's lie on
+    its edge A + B = C, which the scenario accepts within 1e-9 of C and MuJoCo refuses
+    below it): there the two smaller moments are raised together until A + B = C (1 +
+    :data:`TRIANGLE_MARGIN`). C, the moment about the plate's normal (a planar robot's only
+    one), is kept; an inertia MuJoCo compiles as it is (the paper's 0.03 + 0.03 = 0.06) is
+    returned as it is."""
     eig, V = np.linalg.eigh(I)
-    short = eig[2] * (1.0 + TRIANGLE_MARGIN) - eig[0] - eig[1]
-    if short <= 0.0:
+    if eig[0] + eig[1] >= eig[2]:
         return I
+    short = eig[2] * (1.0 + TRIANGLE_MARGIN) - eig[0] - eig[1]
     eig = eig + np.array([0.5 * short, 0.5 * short, 0.0])
     return (V * eig) @ V.T
 
