@@ -130,3 +130,12 @@ def test_a_turned_frame_through_the_commands(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(tomli_w.dumps(data))
     one_line_exit_2(runner.invoke(app, ["check", str(bad)]), "frame_orientation_deg")
+
+
+def test_euler_angles_from_a_matrix_invert_the_matrix():
+    """euler_from_matrix(matrix_from_euler(a)) = a for random angles with |pitch| < 90 deg."""
+    from marinecdpr.geometry.rotations import euler_from_matrix, matrix_from_euler
+
+    rng = np.random.default_rng(7)
+    a = np.column_stack([rng.uniform(-np.pi, np.pi, 500), rng.uniform(-1.5, 1.5, 500), rng.uniform(-np.pi, np.pi, 500)])
+    np.testing.assert_allclose(euler_from_matrix(matrix_from_euler(a)), a, rtol=0, atol=1e-12)

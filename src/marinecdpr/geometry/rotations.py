@@ -22,6 +22,7 @@ from numba import njit
 
 __all__ = [
     "matrix_from_euler",
+    "euler_from_matrix",
     "euler_kinematics",
     "euler_step",
     "skew",
@@ -240,6 +241,24 @@ def euler_kinematics(
         return EulerKinematics(R=R, omega_b=None, alpha_b=None)
     return EulerKinematics(R=R, omega_b=np.moveaxis(wt.reshape((3,) + shape), 0, -1),
                            alpha_b=np.moveaxis(at.reshape((3,) + shape), 0, -1))
+
+
+def euler_from_matrix(R: np.ndarray) -> np.ndarray:
+    """The angles (phi, theta, psi) with R = Rz(psi) Ry(theta) Rx(phi) (the inverse of
+    :func:`matrix_from_euler` for |theta| < 90 deg), vectorised.
+
+    Parameters
+    ----------
+    R : ndarray, shape (..., 3, 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        Roll, pitch, yaw, rad (roll and yaw in (-pi, pi]).
+    """
+    R = np.asarray(R, dtype=float)
+    return np.stack([np.arctan2(R[..., 2, 1], R[..., 2, 2]), np.arcsin(np.clip(-R[..., 2, 0], -1.0, 1.0)),
+                     np.arctan2(R[..., 1, 0], R[..., 0, 0])], axis=-1)
 
 
 def matrix_from_euler(angles: np.ndarray) -> np.ndarray:

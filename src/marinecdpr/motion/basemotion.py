@@ -18,15 +18,19 @@ from marinecdpr.motion.ship import (
 from marinecdpr.scenario.fields import SHIP_DOFS
 from marinecdpr.scenario.schema import RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
-__all__ = ["evaluate_base_motion", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of"]
+__all__ = ["evaluate_base_motion", "seen_by_frame", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of"]
+
+
+def seen_by_frame(ship: ShipMotion, scenario) -> ShipMotion:
+    """A ship motion as the scenario's robot's models take it: seen in the frame's axes
+    (:func:`~marinecdpr.motion.ship.in_frame_axes`, where ``ship.frame_orientation_deg``
+    turns C on S; the motion itself where it does not)."""
+    return in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg)) if scenario.ship.turned else ship
 
 
 def frame_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
-    """The scenario's ship motion at times ``t`` as its robot's models take it: the base
-    motion seen in the frame's axes (:func:`~marinecdpr.motion.ship.in_frame_axes`, where
-    ``ship.frame_orientation_deg`` turns C on S; the base motion itself where it does not)."""
-    ship = evaluate_base_motion(scenario.base_motion, t)
-    return in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg)) if scenario.ship.turned else ship
+    """The scenario's base motion at times ``t`` as its robot's models take it (:func:`seen_by_frame`)."""
+    return seen_by_frame(evaluate_base_motion(scenario.base_motion, t), scenario)
 
 
 def frame_origin_of(scenario) -> np.ndarray:
@@ -41,8 +45,7 @@ def frame_origin_of(scenario) -> np.ndarray:
 def fixed_ship_motion(scenario, n_steps: int) -> ShipMotion:
     """The fixed-base model's ship (at rest, S on O) as the scenario's robot sees it: turned
     by the frame's orientation, so that gravity keeps its direction in C."""
-    ship = still_ship(n_steps)
-    return in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg)) if scenario.ship.turned else ship
+    return seen_by_frame(still_ship(n_steps), scenario)
 
 
 def evaluate_base_motion(

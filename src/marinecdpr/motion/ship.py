@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.geometry.rotations import euler_from_matrix, euler_kinematics
 
 __all__ = ["ShipMotion", "ship_motion", "still_ship", "frame_axes", "frame_origin_in_axes", "in_frame_axes"]
 
@@ -128,11 +128,9 @@ def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
     R_SC = np.asarray(R_SC, dtype=float)
     if np.array_equal(R_SC, np.eye(3)):
         return ship
-    R = ship.R_SO @ R_SC
-    phi = np.unwrap(np.arctan2(R[:, 2, 1], R[:, 2, 2]))
-    theta = np.arcsin(np.clip(-R[:, 2, 0], -1.0, 1.0))
-    psi = np.unwrap(np.arctan2(R[:, 1, 0], R[:, 0, 0]))
-    angles = np.stack([phi, theta, psi], axis=1)
+    angles = euler_from_matrix(ship.R_SO @ R_SC)
+    angles[:, [0, 2]] = np.unwrap(angles[:, [0, 2]], axis=0)  # roll and yaw continuous over time
+    phi, theta = angles[:, 0], angles[:, 1]
     w = ship.omega_SO_S @ R_SC  # rows: (R_SC^T w)^T
     a = ship.alpha_SO_S @ R_SC
     c1, s1, c2, s2 = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta)

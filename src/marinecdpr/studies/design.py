@@ -295,6 +295,7 @@ def frame_placements(template: Scenario, width_m: float, height_m: float) -> tup
         side leans the frame most at its top amidships, the hull's curve turns it towards
         the ends.
     """
+    from marinecdpr.geometry.rotations import euler_from_matrix
     from marinecdpr.geometry.surface import fit_placement
     from marinecdpr.studies.surface import surface_function
 
@@ -313,8 +314,7 @@ def frame_placements(template: Scenario, width_m: float, height_m: float) -> tup
             R[1, :] = -R[1, :]
             R[:, 0] = np.cross(R[:, 1], R[:, 2])
         origins[k] = centre - R @ np.array([width_m / 2, 0.0, height_m / 2])
-        orientations[k] = np.degrees([np.arctan2(R[2, 1], R[2, 2]), np.arcsin(np.clip(-R[2, 0], -1.0, 1.0)),
-                                      np.arctan2(R[1, 0], R[0, 0])])  # R = Rz Ry Rx
+        orientations[k] = np.degrees(euler_from_matrix(R))  # R = Rz Ry Rx
     return origins, orientations
 
 

@@ -52,7 +52,8 @@ from scipy.special import ndtr
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.model.dynamics import uncontrolled
-from marinecdpr.motion.ship import frame_axes, in_frame_axes, ship_motion
+from marinecdpr.motion.basemotion import seen_by_frame
+from marinecdpr.motion.ship import ship_motion
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_trajectory
 from marinecdpr.planning.planner import required_wrench
 from marinecdpr.scenario.schema import Scenario
@@ -187,10 +188,7 @@ def extreme_factor(m0: np.ndarray, m2: np.ndarray, duration_s: float, exceedance
 def _still_plus(dq: np.ndarray, scenario: Scenario):
     """Ship motions at the perturbations ``dq`` (n, 18) of a ship at rest, as the scenario's
     frame sees them (:func:`~marinecdpr.motion.ship.in_frame_axes`)."""
-    ship = ship_motion(dq[:, 0:6], dq[:, 6:12], dq[:, 12:18])
-    if scenario.ship.turned:
-        ship = in_frame_axes(ship, frame_axes(scenario.ship.frame_orientation_deg))
-    return ship
+    return seen_by_frame(ship_motion(dq[:, 0:6], dq[:, 6:12], dq[:, 12:18]), scenario)
 
 
 def _wrench(scenario: Scenario, x, twist, twist_dot, R_PC, ship, t, F_n) -> np.ndarray:
