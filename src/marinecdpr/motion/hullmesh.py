@@ -508,9 +508,13 @@ def _check_closed(vertices: np.ndarray, panels: np.ndarray, size: float, src: st
         x = 0.5 * (A[k] + B[k])
         widest = float(np.nanmax(np.where(np.isfinite(width_any[open_]), width_any[open_], np.nan), initial=0.0))
         width = f"gaps up to {widest:.3g} m wide" if widest > 0 else "no panel beside them"
+        half = ""
+        if (np.abs(np.concatenate([A[open_], B[open_]])[:, 1]) <= tol).all():
+            half = (" (all on y = 0: if it is a half hull, its file must say so: GDF's ISY = 1, or Nemoh's, PNL's or "
+                    "HST's symmetry flag)")
         raise ScenarioError(f"the hull is open below the waterline: {int(open_.sum())} panel edges border one panel "
-                            f"only and lie along no other ({width}; {gap:.3g} m at most), the first at ({x[0]:.4g}, "
-                            f"{x[1]:.4g}, {x[2]:.4g}) m; a BEM needs a closed wetted surface", source=src)
+                            f"only and lie along no other ({width}, {gap:.3g} m at most), the first at ({x[0]:.4g}, "
+                            f"{x[1]:.4g}, {x[2]:.4g}) m{half}; a BEM needs a closed wetted surface", source=src)
     turned = width_back > gap
     if turned.any():
         raise ScenarioError(f"its panels' normals disagree: {int(turned.sum())} edges are run along the same way as "
