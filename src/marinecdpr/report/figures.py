@@ -544,7 +544,8 @@ def _plain_axis(ax, values, *, least_span: float = 1.0) -> None:
 
 def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "") -> Path:
     """|RAO| of heave (m/m), roll and pitch (deg/m) over omega, one line per heading; a
-    second RAO (``beside``, e.g. the box approximation) dashed in the same colours."""
+    second RAO (``beside``, e.g. the box approximation) dashed in the same colours; the
+    legend outside the plots, on the right."""
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     rows = ((2, "heave (m/m)", 1.0), (3, "roll (deg/m)", 180.0 / np.pi), (4, "pitch (deg/m)", 180.0 / np.pi))
@@ -559,7 +560,10 @@ def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "
         ax.set_xlabel("omega (rad/s)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    axes[0].legend(title="heading" + (f" (dashed: {beside_label})" if beside is not None else ""), fontsize=8)
+    # the legend beside the plots, not over the heave axis's label and lines
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside right upper", fontsize=8,
+               title="heading" + (f"\n(dashed: {beside_label})" if beside is not None else ""), title_fontsize=8)
     fig.suptitle(_plain(title), fontsize=10)
     return _save(fig, path)
 
