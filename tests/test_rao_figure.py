@@ -27,7 +27,7 @@ def test_the_rao_figure_s_legend_covers_no_plot(tmp_path, monkeypatch):
     FigureCanvasAgg(fig).draw()  # the figure as saved (its own canvas closed with it)
     renderer = fig.canvas.get_renderer()
     legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
-    assert len(legends) == 1 and len(legends[0].get_texts()) == 4
+    assert len(legends) == 1 and len(legends[0].get_texts()) == 5  # 4 headings, the dashed lines
     box_ = legends[0].get_window_extent(renderer)
     for ax in fig.axes:
         assert not box_.overlaps(ax.get_tightbbox(renderer)), ax.get_ylabel()

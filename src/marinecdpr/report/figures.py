@@ -561,9 +561,15 @@ def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     # the legend beside the plots, not over the heave axis's label and lines
+    import textwrap
+
+    from matplotlib.lines import Line2D
+
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside right upper", fontsize=8,
-               title="heading" + (f"\n(dashed: {beside_label})" if beside is not None else ""), title_fontsize=8)
+    if beside is not None:  # the dashed lines' meaning, as one more entry, wrapped narrow
+        handles.append(Line2D([], [], color="0.4", lw=1.0, ls="--"))
+        labels.append(textwrap.fill(f"dashed: {beside_label}", 24))
+    fig.legend(handles, labels, loc="outside right upper", fontsize=8, title="heading", title_fontsize=8)
     fig.suptitle(_plain(title), fontsize=10)
     return _save(fig, path)
 
