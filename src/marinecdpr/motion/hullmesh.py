@@ -187,12 +187,14 @@ def faces_to_triangles(faces: np.ndarray) -> np.ndarray:
     return np.concatenate([t1, t2[real]])
 
 
-MAX_MESH_PANELS = 100_000
-"""Most panels a mesh file may hold, its mirror images counted (a BEM affords some ten
-thousand below the waterline: :func:`~marinecdpr.planning.budget.check_bem_size`); a
+MAX_MESH_PANELS = 50_000
+"""Most panels a mesh file may hold, its mirror images counted: a BEM of 33 frequencies
+affords some 8 000 below the waterline (:func:`~marinecdpr.planning.budget.check_bem_size`),
+and Capytaine's reader checks each panel's shape in Python, about a millisecond a panel; a
 file's own count (GDF, PNL, binary STL) is checked before the file is read."""
 MAX_MESH_BYTES = 2**25
-"""Largest mesh file read, bytes (32 MiB: some 100 000 panels of text at full precision)."""
+"""Largest mesh file read, bytes (32 MiB: some 50 000 panels of text at full precision, as
+an ASCII STL's triangles)."""
 _STL_HEADER_BYTES, _STL_TRIANGLE_BYTES = 84, 50
 
 
@@ -205,7 +207,7 @@ def _check_mesh_size(path: Path, fmt: str, src: str) -> None:
     size = path.stat().st_size
     if size > MAX_MESH_BYTES:
         raise ScenarioError(f"a mesh file of {size / 2**20:.0f} MiB, larger than one can be ({MAX_MESH_BYTES // 2**20} "
-                            f"MiB, some {MAX_MESH_PANELS:,} panels): use a coarser mesh", source=src)
+                            f"MiB): use a coarser mesh", source=src)
     with open(path, "rb") as fh:
         head = fh.read(4096)
     if fmt == "stl":
@@ -225,7 +227,7 @@ def _check_mesh_size(path: Path, fmt: str, src: str) -> None:
         return
     lines = head.decode("utf-8", errors="replace").splitlines()
 
-    def ints(k: int, n: int, what: str) -> list[int]:
+    def ints(k: int, n: int) -> list[int]:
         words = lines[k].split() if k < len(lines) else []
         try:
             return [int(w) for w in words[:n]] if len(words) >= n else []
@@ -233,8 +235,8 @@ def _check_mesh_size(path: Path, fmt: str, src: str) -> None:
             return []
 
     if fmt == "gdf":
-        sym = ints(2, 2, "ISX ISY")
-        npan = ints(3, 1, "NPAN")
+        sym = ints(2, 2)
+        npan = ints(3, 1)
         if not sym or not npan:
             raise ScenarioError("not a GDF mesh: its third line should hold ISX ISY and its fourth NPAN (whole "
                                 "numbers)", source=src)
@@ -247,7 +249,7 @@ def _check_mesh_size(path: Path, fmt: str, src: str) -> None:
                                 "read", source=src)
         _check_count(npan[0] * 2 ** sum(sym), "panels" + (" with its mirror images" if any(sym) else ""), src)
     else:
-        counts = ints(3, 4, "panels nodes x-symmetry y-symmetry")
+        counts = ints(3, 4)
         if not counts:
             raise ScenarioError("not a PNL mesh: its fourth line should hold the numbers of panels and nodes and the "
                                 "two symmetry flags (whole numbers)", source=src)
@@ -258,7 +260,7 @@ def _check_mesh_size(path: Path, fmt: str, src: str) -> None:
 def _check_count(count: int, what: str, src: str) -> None:
     if count > MAX_MESH_PANELS:
         raise ScenarioError(f"its header counts {count:,} {what}, more than a mesh may hold ({MAX_MESH_PANELS:,}; a BEM "
-                            "affords some ten thousand below the waterline): use a coarser mesh", source=src)
+                            "affords some 8,000 below the waterline): use a coarser mesh", source=src)
 
 
 def read_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0.0, file_format: str | None = None
@@ -342,7 +344,7 @@ def load_hull_mesh(path: str | Path, *, units: str = "m", waterline_m: float = 0
     path = Path(path)
     src = str(path)
     vertices, faces = read_mesh(path, units=units, waterline_m=waterline_m, file_format=file_format)
-    whole = cpt.Mesh(vertices, faces, name=path.stem)
+    whole = cpt.Mesh(vertices, faces, name=path.stem, auto_check=False)  # its panels checked as it was read
     wet = whole.immersed_part()
     if wet.nb_faces == 0:
         raise ScenarioError(f"no panel lies below the waterline (z = {waterline_m:g} {units} in the mesh): give "
