@@ -178,7 +178,7 @@ def _half_and_full(tmp_path: Path) -> tuple[np.ndarray, np.ndarray]:
 def test_a_half_hull_with_isy_gives_its_mirrored_full_hull_s_raos(tmp_path):
     """The cut Wigley's port half with T-junctions as a GDF with ISY = 1, and the same
     panels with their mirror images written out (ISY = 0): `rao --mesh` gives the same
-    table (measured: equal to 1e-12 of the largest amplitude) and the same hydrostatics.
+    table (measured: equal, bit for bit) and the same hydrostatics.
     Before: both refused as open below the waterline (the T-junctions)."""
     half, full = _half_and_full(tmp_path)
     paths = {"half": gdf(tmp_path / "half.gdf", half, isy=1), "full": gdf(tmp_path / "full.gdf", full)}
@@ -221,3 +221,21 @@ def test_rao_csv_says_about_which_point_and_a_symmetric_hull_has_no_c35(tmp_path
     assert any("about the mesh's own origin (x = 0, y = 0 in the file) on the waterline" in ln for ln in head), head
     C = xr.open_dataset(tmp_path / "o" / "rao.nc")["hydrostatic_stiffness"].values
     assert abs(C[2, 4]) <= 1e-12 * C[2, 2] * 100.0
+
+
+def test_a_quarter_hull_with_isx_and_isy_is_the_whole_shipped_wigley(tmp_path):
+    """The shipped Wigley hull (symmetric fore and aft and port and starboard): its panels
+    with x >= 0 and y >= 0 as a GDF with ISX = ISY = 1 have the whole mesh's hydrostatics
+    (measured: to 1e-15)."""
+    from marinecdpr.motion.hullmesh import read_mesh
+
+    v, f = read_mesh(shipped_mesh())
+    P = v[f]
+    centre = P.mean(axis=1)
+    quarter = P[(centre[:, 0] > 0.0) & (centre[:, 1] > 0.0)]
+    assert 4 * len(quarter) == len(P)
+    want = load_hull_mesh(shipped_mesh()).hydrostatics
+    got = load_hull_mesh(gdf(tmp_path / "quarter.gdf", quarter, isx=1, isy=1)).hydrostatics
+    for k in ("volume_m3", "waterplane_area_m2", "kb_m", "bm_m", "bml_m"):
+        assert getattr(got, k) == pytest.approx(getattr(want, k), rel=1e-12), k
+    assert abs(got.waterplane_moments[0]) <= 1e-12 * want.waterplane_area_m2 * 100.0  # no C35
