@@ -1,7 +1,10 @@
-"""A hull from its mesh: reading it (the formats Capytaine reads), checking it before any
-BEM, its hydrostatics from the panels, and the project's own meshes written as GDF.
+"""A hull from its mesh: reading it (the formats Capytaine reads, their symmetry flags
+honoured, refused by its header and size before it is read whole), checking it before any
+BEM (closed as a surface: T-junctions pass, holes and gaps do not), its hydrostatics from
+the panels, and the project's own meshes written as GDF.
 
-The hydrostatics are exact integrals over the mesh's panels (split into triangles): with
+The hydrostatics are exact integrals over the mesh's panels (a quadrilateral as the mean
+of its two splits into triangles, :func:`panel_triangles`): with
 the wetted surface S below the waterline z = 0 closed by the waterplane W (its lid, at
 z = 0, normal +z), the divergence theorem turns every volume and waterplane integral into
 one over S alone (Capytaine's own sums take one point per panel, too coarse for GM, a
@@ -10,7 +13,8 @@ small difference of large terms):
     V       = int_S z n_z dS                 (the lid, at z = 0, adds nothing)
     z_B V   = int_S z^2 / 2 n_z dS,   x_B V = int_S x^2 / 2 n_x dS   (the lid's n_x is 0)
     A_W     = -int_S n_z dS                  (the closed surface's int n_z is 0)
-    int_W y^2 dA = -int_S y^2 n_z dS,   int_W x^2 dA = -int_S x^2 n_z dS,  and so on,
+    int_W y^2 dA = -int_S y^2 n_z dS,   int_W x^2 dA = -int_S x^2 n_z dS,  and so on
+    (int_W x dA, int_W y dA, int_W x y dA: the restoring matrix's couplings),
 
 with n pointing out of the hull, into the water. Over a flat triangle each integrand is
 a polynomial of degree at most 2 in its coordinates, integrated exactly by the vertices'
