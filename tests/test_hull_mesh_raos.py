@@ -239,3 +239,30 @@ def test_a_quarter_hull_with_isx_and_isy_is_the_whole_shipped_wigley(tmp_path):
     for k in ("volume_m3", "waterplane_area_m2", "kb_m", "bm_m", "bml_m"):
         assert getattr(got, k) == pytest.approx(getattr(want, k), rel=1e-12), k
     assert abs(got.waterplane_moments[0]) <= 1e-12 * want.waterplane_area_m2 * 100.0  # no C35
+
+
+def test_c34_and_c45_by_hand_on_the_prism_turned_and_moved(tmp_path):
+    """The trapezoidal prism turned a quarter turn (its waterplane 0 <= y <= a, asymmetric
+    port and starboard) and moved c forward: int y dA = a^2 (b1 + 2 b2) / 3, int x dA = c
+    A_wp, int x y dA = c int y dA, so C34 = C43 = rho g int y dA, C35 = -rho g c A_wp and
+    C45 = C54 = -rho g c int y dA, to 1e-9 (Capytaine's own to 1e-9 too)."""
+    import capytaine as cpt
+    import xarray as xr
+
+    a, b1, b2, T, kg, c = 30.0, 3.0, 6.0, 4.0, 3.0, 7.0
+    P = _prism(a, b1, b2, T)
+    P = np.stack([c - P[..., 1], P[..., 0], P[..., 2]], axis=-1)  # (x, y) -> (c - y, x): a turn, and c forward
+    path = gdf(tmp_path / "turned.gdf", P)
+    res = runner.invoke(app, ["rao", "--mesh", str(path), "--kg", f"{kg}", "--omega", "0.5:1.0:2", "--headings", "90",
+                              "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    C = xr.open_dataset(tmp_path / "o" / "rao.nc")["hydrostatic_stiffness"].values
+    A = a * (b1 + b2)
+    int_y = a * a * (b1 + 2.0 * b2) / 3.0
+    want = {(2, 3): RHO * G * int_y, (2, 4): -RHO * G * c * A, (3, 4): -RHO * G * c * int_y}
+    body = cpt.FloatingBody(mesh=cpt.load_mesh(str(path)), dofs=cpt.rigid_body_dofs(rotation_center=(0, 0, 0)),
+                            center_of_mass=(c, a / 2.0, kg - T), mass=RHO * A * T).immersed_part()
+    K = body.compute_hydrostatic_stiffness(rho=RHO, g=G).values
+    for (i, j), value in want.items():
+        assert C[i, j] == pytest.approx(value, rel=1e-9) and C[j, i] == pytest.approx(value, rel=1e-9), (i, j)
+        assert K[i, j] == pytest.approx(value, rel=1e-9), (i, j)
