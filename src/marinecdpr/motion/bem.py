@@ -40,7 +40,7 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.rao import check_positive
 
-__all__ = ["hull_bem", "box_hull_bem", "bem_panels", "HULL_SHAPES", "Hydrostatics", "box_hydrostatics", "wigley_hydrostatics",
+__all__ = ["hull_bem", "box_hull_bem", "mesh_bem", "bem_panels", "restoring_matrix", "rigid_body_inertia", "HULL_SHAPES", "Hydrostatics", "box_hydrostatics", "wigley_hydrostatics",
            "wigley_half_breadth", "wigley_mesh", "ROLL_GYRADIUS_DRY_OVER_BEAM", "PITCH_GYRADIUS_OVER_LENGTH"]
 
 HULL_SHAPES = ("box", "wigley")
@@ -331,8 +331,10 @@ def mesh_bem(hull, *, kg_m: float, roll_damping_ratio: float, omega: np.ndarray,
     ----------
     hull : marinecdpr.motion.hullmesh.HullMesh
         The wetted surface, checked (:func:`~marinecdpr.motion.hullmesh.load_hull_mesh`),
-        its frame's origin on the waterline above the centre of buoyancy (G is put there,
-        KG above the keel).
+        in the mesh's own frame: the RAOs are about its origin on the waterline
+        (:data:`MESH_REFERENCE_POINT`), G above the centre of buoyancy, KG above the keel,
+        the restoring matrix about the origin with its heave-roll-pitch couplings
+        (:func:`restoring_matrix`).
     kg_m : float
         KG, m (> 0, below KB + BM: a stable hull).
     label : str
@@ -356,18 +358,111 @@ def mesh_bem(hull, *, kg_m: float, roll_damping_ratio: float, omega: np.ndarray,
     if GM <= 0:
         raise ValueError(f"KG {kg_m:g} m is at or above the metacentre (KB + BM = {hydro.kb_m + hydro.bm_m:.4g} m "
                          f"from the mesh): the hull would capsize")
+    V = mh.volume_m3
+    Sx, Sy, Syy, Sxx, Sxy = mh.waterplane_moments  # int x, y, y^2, x^2, x y dA about the origin
+    # about the mesh's origin on the waterline: G above B (x_G = x_B, y_G = y_B), the
+    # metacentric heights about the origin's axes, and the couplings
+    stiffness = restoring_matrix(rho=rho, g=g, waterplane_area_m2=mh.waterplane_area_m2, volume_m3=V,
+                                 gm_m=mh.kb_m + Syy / V - float(kg_m), gml_m=mh.kb_m + Sxx / V - float(kg_m),
+                                 int_x_dA=Sx, int_y_dA=Sy, int_xy_dA=Sxy)
+    x_B, y_B, _ = mh.centre_of_buoyancy_m
     ds = _solve(cpt, xr, hull.mesh, hydro, "mesh", hull.length_m, hull.beam_m, hull.draught_m, GM, float(kg_m),
                 roll_damping_ratio, omega, heading, rho, g,
                 f"{label} ({hull.length_m:.4g} x {hull.beam_m:.4g} x {hull.draught_m:.4g} m), KG {kg_m:g} m, "
-                f"GM {GM:.4g} m")
+                f"GM {GM:.4g} m", stiffness=stiffness, g_xy=(x_B, y_B))
     ds.attrs.update(volume_m3=hydro.volume_m3, waterplane_area_m2=hydro.waterplane_area_m2, kb_m=hydro.kb_m,
-                    bm_m=hydro.bm_m, bml_m=hydro.bml_m, gm_m=GM)
+                    bm_m=hydro.bm_m, bml_m=hydro.bml_m, gm_m=GM, centre_of_buoyancy_m=list(mh.centre_of_buoyancy_m),
+                    centre_of_flotation_m=list(mh.centre_of_flotation_m), reference_point=MESH_REFERENCE_POINT)
     return ds
 
 
+MESH_REFERENCE_POINT = ("the mesh's own origin (x = 0, y = 0 in the file) on the waterline: the rotations are about "
+                        "it, the translations are its own, the waves' phase is taken there (S's origin)")
+"""About which point :func:`mesh_bem`'s RAOs are given (in the dataset's attributes and
+``rao.csv``'s header)."""
+
+
+def restoring_matrix(*, rho: float, g: float, waterplane_area_m2: float, volume_m3: float, gm_m: float, gml_m: float,
+                     int_x_dA: float = 0.0, int_y_dA: float = 0.0, int_xy_dA: float = 0.0) -> np.ndarray:
+    """A floating hull's hydrostatic restoring matrix about a point O on the waterline, its
+    centre of gravity G above its centre of buoyancy (as Capytaine's rigid-body terms,
+    ``FloatingBody.compute_hydrostatic_stiffness``, with exact integrals):
+
+        C33 = rho g A_wp,  C34 = C43 = rho g int y dA,  C35 = C53 = -rho g int x dA,
+        C44 = rho g V GM_O,  C55 = rho g V GM_L,O,  C45 = C54 = -rho g int x y dA,
+
+    the waterplane's integrals and the metacentric heights about O's axes (GM_O = KB +
+    int y^2 dA / V - KG, GM_L,O = KB + int x^2 dA / V - KG); the yaw terms vanish with G
+    above B. A hull symmetric fore and aft (int x dA = 0) about its midship has no
+    heave-pitch coupling; a real ship's has.
+
+    Parameters
+    ----------
+    rho, g : float
+        kg/m^3, m/s^2.
+    waterplane_area_m2, volume_m3 : float
+        A_wp and V.
+    gm_m, gml_m : float
+        GM_O and GM_L,O, m.
+    int_x_dA, int_y_dA : float
+        The waterplane's first moments about O, m^3.
+    int_xy_dA : float
+        Its product of area about O, m^4.
+
+    Returns
+    -------
+    ndarray, shape (6, 6)
+        DOFs (surge, sway, heave, roll, pitch, yaw); N/m, N, N m/rad.
+    """
+    C = np.zeros((6, 6))
+    C[2, 2] = rho * g * waterplane_area_m2
+    C[3, 3] = rho * g * volume_m3 * gm_m
+    C[4, 4] = rho * g * volume_m3 * gml_m
+    C[2, 3] = C[3, 2] = rho * g * int_y_dA
+    C[2, 4] = C[4, 2] = -rho * g * int_x_dA
+    C[3, 4] = C[4, 3] = -rho * g * int_xy_dA
+    return C
+
+
+def rigid_body_inertia(mass_kg: float, gyradii_m: tuple[float, float, float], cog_m: tuple[float, float, float]
+                       ) -> np.ndarray:
+    """A rigid body's 6 x 6 inertia about a point O, its principal radii of gyration about G
+    along the axes and G at ``cog_m`` from O: M = [[m I, -m [r]x], [m [r]x, I_G + m (|r|^2 I
+    - r r^T)]].
+
+    Parameters
+    ----------
+    mass_kg : float
+    gyradii_m : tuple of 3 float
+        About G along x, y, z, m.
+    cog_m : tuple of 3 float
+        r, G from O, m.
+
+    Returns
+    -------
+    ndarray, shape (6, 6)
+        kg, kg m, kg m^2.
+    """
+    m = float(mass_kg)
+    x, y, z = (float(c) for c in cog_m)
+    kx, ky, kz = (float(k) for k in gyradii_m)
+    M = np.diag([m, m, m, m * (kx * kx + (y * y + z * z)), m * (ky * ky + (x * x + z * z)),
+                 m * (kz * kz + (x * x + y * y))])
+    M[0, 4] = M[4, 0] = m * z
+    M[1, 3] = M[3, 1] = -m * z
+    for (i, j), v in {(0, 5): -m * y, (1, 5): m * x, (2, 3): m * y, (2, 4): -m * x, (3, 4): -m * x * y,
+                      (3, 5): -m * x * z, (4, 5): -m * y * z}.items():
+        if v != 0.0:
+            M[i, j] = M[j, i] = v
+    return M
+
+
 def _solve(cpt, xr, mesh, hydro: Hydrostatics, shape: str, L: float, B: float, T: float, GM: float, KG: float,
-           roll_damping_ratio: float, omega: np.ndarray, heading: np.ndarray, rho: float, g: float, what: str):
-    """The BEM and the RAOs of a hull mesh with its hydrostatics (:func:`hull_bem`'s steps)."""
+           roll_damping_ratio: float, omega: np.ndarray, heading: np.ndarray, rho: float, g: float, what: str,
+           stiffness: np.ndarray | None = None, g_xy: tuple[float, float] = (0.0, 0.0)):
+    """The BEM and the RAOs of a hull mesh with its hydrostatics (:func:`hull_bem`'s steps),
+    about the origin on the waterline; G at ``g_xy`` and KG above the keel; ``stiffness``
+    the restoring matrix about the origin (default: the hull's, G above the origin)."""
     if not (omega.ndim == 1 and omega.size >= 1 and np.all(np.isfinite(omega)) and np.all(omega > 0)):
         raise ValueError("omega must be finite wave frequencies > 0 rad/s")
     if not (heading.ndim == 1 and heading.size >= 1 and np.all(np.isfinite(heading))):
@@ -376,25 +471,20 @@ def _solve(cpt, xr, mesh, hydro: Hydrostatics, shape: str, L: float, B: float, T
     KB = hydro.kb_m
     volume = hydro.volume_m3
     mass = rho * volume
-    body = cpt.FloatingBody(mesh=mesh, dofs=cpt.rigid_body_dofs(rotation_center=(0.0, 0.0, 0.0)),
-                            center_of_mass=(0.0, 0.0, KG - T), mass=mass, name=shape).immersed_part()
-    k44 = (ROLL_GYRADIUS_DRY_OVER_BEAM * B) ** 2
-    k55 = (PITCH_GYRADIUS_OVER_LENGTH * L) ** 2
     zg = KG - T
-    # about the rotation centre on the waterline: the gyradii are about G, shifted by zg
-    inertia = np.diag([mass, mass, mass, mass * (k44 + zg * zg), mass * (k55 + zg * zg), mass * k55])
-    inertia[0, 4] = inertia[4, 0] = mass * zg  # surge-pitch coupling of a raised or lowered G
-    inertia[1, 3] = inertia[3, 1] = -mass * zg
+    body = cpt.FloatingBody(mesh=mesh, dofs=cpt.rigid_body_dofs(rotation_center=(0.0, 0.0, 0.0)),
+                            center_of_mass=(g_xy[0], g_xy[1], zg), mass=mass, name=shape).immersed_part()
+    # about the rotation centre on the waterline: the gyradii are about G
+    inertia = rigid_body_inertia(mass, (ROLL_GYRADIUS_DRY_OVER_BEAM * B, PITCH_GYRADIUS_OVER_LENGTH * L,
+                                        PITCH_GYRADIUS_OVER_LENGTH * L), (g_xy[0], g_xy[1], zg))
     dofs = list(body.dofs)
     body.inertia_matrix = body.add_dofs_labels_to_matrix(inertia)
     # the hull's hydrostatics exactly: Capytaine's sums over the mesh take the waterplane's
     # inertia at the panels' centres, which with four panels across a 20 m beam made a box's
     # 2 m GM 1.65 m (GM is a small difference of large terms)
-    gml = KB + hydro.bml_m - KG
-    stiffness = np.zeros((6, 6))
-    stiffness[2, 2] = rho * g * hydro.waterplane_area_m2
-    stiffness[3, 3] = rho * g * volume * GM
-    stiffness[4, 4] = rho * g * volume * gml
+    if stiffness is None:
+        stiffness = restoring_matrix(rho=rho, g=g, waterplane_area_m2=hydro.waterplane_area_m2, volume_m3=volume,
+                                     gm_m=GM, gml_m=KB + hydro.bml_m - KG)
     body.hydrostatic_stiffness = body.add_dofs_labels_to_matrix(stiffness)
     problems = cpt.BEMSolver().fill_dataset(
         xr.Dataset(coords={"omega": omega, "wave_direction": directions, "radiating_dof": dofs,

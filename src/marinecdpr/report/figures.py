@@ -544,7 +544,8 @@ def _plain_axis(ax, values, *, least_span: float = 1.0) -> None:
 
 def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "") -> Path:
     """|RAO| of heave (m/m), roll and pitch (deg/m) over omega, one line per heading; a
-    second RAO (``beside``, e.g. the box approximation) dashed in the same colours."""
+    second RAO (``beside``, e.g. the box approximation) dashed in the same colours; the
+    legend outside the plots, on the right."""
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     rows = ((2, "heave (m/m)", 1.0), (3, "roll (deg/m)", 180.0 / np.pi), (4, "pitch (deg/m)", 180.0 / np.pi))
@@ -559,7 +560,16 @@ def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "
         ax.set_xlabel("omega (rad/s)")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    axes[0].legend(title="heading" + (f" (dashed: {beside_label})" if beside is not None else ""), fontsize=8)
+    # the legend beside the plots, not over the heave axis's label and lines
+    import textwrap
+
+    from matplotlib.lines import Line2D
+
+    handles, labels = axes[0].get_legend_handles_labels()
+    if beside is not None:  # the dashed lines' meaning, as one more entry, wrapped narrow
+        handles.append(Line2D([], [], color="0.4", lw=1.0, ls="--"))
+        labels.append(textwrap.fill(f"dashed: {beside_label}", 24))
+    fig.legend(handles, labels, loc="outside right upper", fontsize=8, title="heading", title_fontsize=8)
     fig.suptitle(_plain(title), fontsize=10)
     return _save(fig, path)
 

@@ -302,7 +302,8 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "bo
     cpt.export_dataset(str(nc), ds)
     bem = read_capytaine(nc)
     table = folder / "rao.csv"
-    write_rao_csv(bem, table, comments=(f"RAOs from BEM: {ds.attrs['hull']}", f"made by: {made_by}",
+    where = (f"about {ds.attrs['reference_point']}",) if "reference_point" in ds.attrs else ()
+    write_rao_csv(bem, table, comments=(f"RAOs from BEM: {ds.attrs['hull']}", *where, f"made by: {made_by}",
                                         "below the first omega the first row's values hold; above the last, zero"))
     approx = box_hull_rao(**(box | {"roll_damping_ratio": max(box["roll_damping_ratio"], 1e-3)}),
                           omega=bem.omega, heading_deg=bem.heading_deg)
