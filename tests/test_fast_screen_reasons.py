@@ -115,3 +115,22 @@ def test_why_fails_counts_and_names_the_mildest():
     assert S.why_fails(cells, works, reasons) == ("3 of 4 sea states fail (tensions in 2, normal force in 2); "
                                                   "the mildest: b: normal force in band 90 %")
     assert S.why_fails(cells, np.ones(4, dtype=bool), [""] * 4) == ""
+
+
+def test_a_design_that_works_in_no_sea_state_says_why(tmp_path):
+    """A design study's candidate on winches too weak for it (issue 37: "works in 0.0 % of the
+    seas: inf expected h" with no reason): its evaluation names how many sea states fail on
+    what, and the mildest one's reason with the frame's placement on the ship."""
+    from tests.test_issue24_design import _study, _x
+    from marinecdpr.studies.design import evaluate, load_design, study_cells
+
+    path = _study(tmp_path)
+    spec, template = load_design(path)
+    cells = study_cells(spec, path.parent)
+    e = evaluate(spec, template, _x(spec, winch="small"), cells)
+    assert e.sea_share == 0.0 and e.expected_hours == float("inf")
+    head = "every sea state fails (tensions in 2); the mildest: Hs 1 m, Tp 8 s, heading 90 deg, the frame at ("
+    assert e.sea_reason.startswith(head), e.sea_reason
+    assert ") m in S (placement 1 of 6): tensions: cable " in e.sea_reason
+    assert e.sea_reason.endswith(": even without the sea")
+    assert evaluate(spec, template, _x(spec, winch="medium"), cells).sea_reason == ""  # works in both
