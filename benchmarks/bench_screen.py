@@ -154,7 +154,8 @@ def main() -> None:
             kinds[kind] += 1
             if kind != "agree" or j % 6 == 0:
                 print(f"{name:<28} {cell.hs:4.1f} {cell.tp:4.0f}  {'works' if s_ok else 'fails':>7} "
-                      f"{v.margin_N[j]:9.1f} {v.chance[j]:7.3f} {v.in_band_pct[j]:7.2f}  {'works' if ok else 'fails':<11} "
+                      f"{v.margin_N[j]:9.1f} {v.chance[j]:7.3f} {v.in_band_pct[j]:7.2f}  "
+                      f"{'works' if ok else 'fails':<11} "
                       f"{reason or f'tensions {t_lo:.1f}-{t_hi:.1f} N, in band {band:.2f} %'}")
                 if not s_ok:
                     print(f"{'':<28} the screen: {v.reasons[j]}")
