@@ -1,7 +1,7 @@
 """The design study's fast screen against the time domain: its speed, and its verdicts on
 (design, sea state) pairs beside the closed-loop cleaning job's (`clean --seas`).
 
-Run:  .venv/bin/python benchmarks/bench_screen.py [--quick] [--workers 2] [--plant mujoco]
+Run:  .venv/bin/python benchmarks/bench_screen.py [--quick] [--workers 2] [--plant mujoco] [--td-cache FILE]
 
 Prints
   * the screen's speed: (design, sea state) pairs per second on one core, the model's
@@ -12,6 +12,10 @@ Prints
     states; ``--quick``: 8 of them): the screen's verdict and margin beside the time
     domain's verdict and why, the agreement share, and the errors by kind: "feasible"
     where the time domain fails (which a screen must not say) and "infeasible" where it works.
+
+``--td-cache FILE`` keeps the time domain's verdicts (JSON lines, one per pair) and reads
+them back on the next run, so that the screen can be compared again without flying the
+closed loops again (the pairs missing from the file are flown and added).
 """
 
 from __future__ import annotations
@@ -55,11 +59,40 @@ def _time_domain(args):
     return r.operable, r.reason, r.tension_min_N, r.tension_max_N, r.in_band_pct
 
 
+def _key(name: str, cell) -> str:
+    return f"{name}|{cell.hs:g}|{cell.tp:g}|{cell.heading_deg:g}"
+
+
+def _read_cache(path, plant: str) -> dict:
+    """The cached time-domain verdicts of ``plant`` by pair (none without a file)."""
+    import json
+    import os
+
+    out = {}
+    if path and os.path.isfile(path):
+        with open(path, encoding="utf-8") as fh:
+            for line in fh:
+                r = json.loads(line)
+                if r["plant"] == plant:
+                    out[r["key"]] = (r["ok"], r["reason"], r["t_lo"], r["t_hi"], r["band"])
+    return out
+
+
+def _append_cache(path: str, plant: str, job, res) -> None:
+    import json
+
+    ok, reason, t_lo, t_hi, band = res
+    with open(path, "a", encoding="utf-8") as fh:
+        fh.write(json.dumps({"key": _key(job[0], job[1]), "plant": plant, "ok": bool(ok), "reason": reason,
+                             "t_lo": float(t_lo), "t_hi": float(t_hi), "band": float(band)}) + "\n")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--plant", default="mujoco", choices=("mujoco", "own"))
+    parser.add_argument("--td-cache", default=None, help="JSON-lines file of the time domain's verdicts")
     args = parser.parse_args()
     import marinecdpr
     from marinecdpr.studies.cleaning import evaluate_cleaning_cell
@@ -95,13 +128,20 @@ def main() -> None:
         d = _design(name)
         verdicts[name] = screen_cells(d, cells, model=screen_model(d))
     jobs = [(name, cell, args.plant) for name in names for cell in cells]
+    cached = _read_cache(args.td_cache, args.plant)
+    todo = [job for job in jobs if _key(job[0], job[1]) not in cached]
     t0 = time.perf_counter()
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
-        results = list(pool.map(_time_domain, jobs))
+        for job, res in zip(todo, pool.map(_time_domain, todo)):
+            cached[_key(job[0], job[1])] = res
+            if args.td_cache:
+                _append_cache(args.td_cache, args.plant, job, res)
     wall = time.perf_counter() - t0
+    results = [cached[_key(name, cell)] for name, cell, _ in jobs]
     print(f"\n{len(jobs)} pairs ({len(names)} designs x {len(cells)} sea states, beam seas) in the time domain: "
-          f"{wall:.0f} s on {args.workers} processes")
-    print(f"{'design':<28} {'Hs':>4} {'Tp':>4}  {'screen':>7} {'margin N':>9} {'band %':>7}  {'time domain':<11} why")
+          f"{len(todo)} flown in {wall:.0f} s on {args.workers} processes, {len(jobs) - len(todo)} from the cache")
+    print(f"{'design':<28} {'Hs':>4} {'Tp':>4}  {'screen':>7} {'margin N':>9} {'chance':>7} {'band %':>7}  "
+          f"{'time domain':<11} why")
     kinds = {"agree": 0, "feasible, fails": 0, "infeasible, works": 0}
     i = 0
     for name in names:
@@ -114,8 +154,11 @@ def main() -> None:
             kinds[kind] += 1
             if kind != "agree" or j % 6 == 0:
                 print(f"{name:<28} {cell.hs:4.1f} {cell.tp:4.0f}  {'works' if s_ok else 'fails':>7} "
-                      f"{v.margin_N[j]:9.1f} {v.in_band_pct[j]:7.2f}  {'works' if ok else 'fails':<11} "
+                      f"{v.margin_N[j]:9.1f} {v.chance[j]:7.3f} {v.in_band_pct[j]:7.2f}  "
+                      f"{'works' if ok else 'fails':<11} "
                       f"{reason or f'tensions {t_lo:.1f}-{t_hi:.1f} N, in band {band:.2f} %'}")
+                if not s_ok:
+                    print(f"{'':<28} the screen: {v.reasons[j]}")
     n = len(jobs)
     print(f"\nagreement {kinds['agree']} of {n} ({100 * kinds['agree'] / n:.1f} %); the screen says "
           f"'works' where the time domain fails: {kinds['feasible, fails']}; 'fails' where it works: "

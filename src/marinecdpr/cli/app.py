@@ -1504,6 +1504,8 @@ def design(
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
             f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),
             highlight=False, soft_wrap=True)
+        if e.sea_reason:
+            console.print(_plain(f"  the screen: {e.sea_reason}"), highlight=False, soft_wrap=True)
     else:
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:
@@ -1516,6 +1518,8 @@ def design(
     console.print(_plain(f"baseline (the template's robot): {b.placements} placements, {b.surface_hours:.4g} h on the "
                          f"surface, works in {100 * b.sea_share:.1f} % of the seas: {b.expected_hours:.4g} expected h"),
                   highlight=False, soft_wrap=True)
+    if b.sea_reason:
+        console.print(_plain(f"  the screen: {b.sea_reason}"), highlight=False, soft_wrap=True)
     console.print("written: " + ", ".join(_plain(p) for p in paths if p.parent == out) + ", designs/",
                   highlight=False, soft_wrap=True)
 

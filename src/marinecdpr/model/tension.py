@@ -56,6 +56,8 @@ __all__ = [
     "null_space",
     "distribute_tensions",
     "largest_headroom",
+    "WrenchFaces",
+    "wrench_faces",
     "TENSION_TOLERANCE",
 ]
 
@@ -354,6 +356,84 @@ def largest_headroom(J: np.ndarray, T_s: np.ndarray, t_min: np.ndarray, t_max: n
         g = (np.einsum("bjr,bcr->bcj", A, lam) + b[:, None, :]).min(axis=-1)                  # (b, c)
         out[rows] = np.where(regular, g, -np.inf).max(axis=1)
     return out
+
+
+@dataclass(frozen=True)
+class WrenchFaces:
+    """The facets of the wrenches tensions within limits can give (:func:`wrench_faces`).
+
+    The set {J~^T T : T_min <= T <= T_max} is a zonotope: the sum of the cables' segments
+    T_i g_i, g_i = J~'s row i. It is {w : |n_f . (w - c)| <= h_f for every facet f}, with
+    n_f normal to k - 1 of the generators, c = J~^T (T_min + T_max) / 2 and
+    h_f = sum_i |n_f . g_i| (T_max,i - T_min,i) / 2. Tightening every limit by M moves each
+    facet in by M s_f, s_f = sum_i |n_f . g_i|.
+
+    Attributes
+    ----------
+    normal : ndarray, shape (n_steps, n_faces, k)
+        Unit normals n_f (in the wrench's mixed units, N and N m); zero where the k - 1
+        generators are parallel (no facet: ``half_width`` is inf there).
+    half_width : ndarray, shape (n_steps, n_faces)
+        h_f, in n_f's units.
+    centre : ndarray, shape (n_steps, k)
+        c, N and N m.
+    per_newton : ndarray, shape (n_steps, n_faces)
+        s_f: how far the facet moves per newton the limits are tightened by.
+    free : ndarray of int, shape (n_faces, k - 1)
+        The cables (0-based) whose generators span facet f; the others sit at a limit on it:
+        on the side +n_f, cable i at T_max where n_f . g_i > 0, at T_min where < 0.
+    """
+
+    normal: np.ndarray
+    half_width: np.ndarray
+    centre: np.ndarray
+    per_newton: np.ndarray
+    free: np.ndarray
+
+
+def wrench_faces(J: np.ndarray, t_min: np.ndarray, t_max: np.ndarray) -> WrenchFaces:
+    """The facets of the set of wrenches that tensions within limits produce (a zonotope).
+
+    The headroom of a wrench w (:func:`largest_headroom`) is min_f (h_f - |n_f . (w - c)|) / s_f
+    over the facets, capped at the narrowest range's half, min_i (T_max,i - T_min,i) / 2: by
+    how much every limit can be tightened with w still inside.
+
+    Parameters
+    ----------
+    J : ndarray, shape (n_steps, n_cables, k)
+        Controlled columns of J~, full column rank.
+    t_min, t_max : ndarray, shape (n_cables,)
+        Tension limits, N.
+
+    Returns
+    -------
+    WrenchFaces
+        One facet for each choice of k - 1 cables (C(n_cables, k - 1) of them).
+    """
+    from itertools import combinations
+
+    J = np.asarray(J, dtype=float)
+    n, m, k = J.shape
+    lo = np.broadcast_to(np.asarray(t_min, dtype=float), (m,))
+    hi = np.broadcast_to(np.asarray(t_max, dtype=float), (m,))
+    free = np.array(list(combinations(range(m), k - 1)), dtype=int).reshape(-1, k - 1)
+    G = J[:, free]                                                    # (n, F, k-1, k)
+    if k == 3:
+        normal = np.cross(G[..., 0, :], G[..., 1, :])
+    elif k == 2:
+        normal = np.stack([G[..., 0, 1], -G[..., 0, 0]], axis=-1)
+    else:
+        normal = np.empty(G.shape[:2] + (k,))
+        for j in range(k):  # the generalised cross product: n_j = (-1)^j det(G without column j)
+            normal[..., j] = (-1.0) ** j * np.linalg.det(np.delete(G, j, axis=-1))
+    size = np.linalg.norm(normal, axis=-1)
+    scale = np.abs(J).max(axis=(1, 2))[:, None] ** (k - 1)
+    facet = size > 1e-9 * scale
+    normal = np.where(facet[..., None], normal / np.where(facet, size, 1.0)[..., None], 0.0)
+    ng = np.abs(np.einsum("nfk,nik->nfi", normal, J))                 # |n_f . g_i|
+    half = np.where(facet, ng @ ((hi - lo) / 2.0), np.inf)
+    return WrenchFaces(normal=normal, half_width=half, centre=np.einsum("nik,i->nk", J, (lo + hi) / 2.0),
+                       per_newton=np.where(facet, ng.sum(axis=-1), 1.0), free=free)
 
 
 def _headroom_one(N: np.ndarray, T_s: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:

@@ -46,7 +46,7 @@ def _write_rows(path: Path, rows: list[list]) -> Path:
 
 def _short(e, objective: str) -> dict:
     keys = ("placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N",
-            "mass_kg", "frame_turn_deg")
+            "mass_kg", "frame_turn_deg", "sea_reason")
     return {"variables": dict(e.x), **{k: getattr(e, k) for k in keys}, "feasible": e.feasible,
             "objective": e.objective(objective)}
 

@@ -153,6 +153,9 @@ class Evaluation:
         The median and the largest angle by which the surface turns the placements' frames
         from S's axes (:func:`frame_turns`), deg. The screen judges the frame at the band's
         placements in their own orientation (:func:`frame_placements`).
+    sea_reason : str
+        Why the screen fails the sea states it fails ("" where it passes them all): how many
+        fail on what, and the mildest one's reason (:func:`~marinecdpr.studies.screen.why_fails`).
     """
 
     x: dict
@@ -170,6 +173,7 @@ class Evaluation:
     frame_origin_m: list = field(default_factory=list)
     frame_orientation_deg: list = field(default_factory=lambda: [0.0, 0.0, 0.0])
     frame_turn_deg: list = field(default_factory=lambda: [0.0, 0.0])
+    sea_reason: str = ""
 
     def objective(self, kind: str) -> float:
         """The second objective: installed power (kW) or cost."""
@@ -321,11 +325,13 @@ def frame_placements(template: Scenario, width_m: float, height_m: float) -> tup
 def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations: np.ndarray):
     """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S,
     turned by ``orientations`` (n, 3) deg: the job works in a sea state only where it works
-    at every one of them. Returns the share that works, the works per sea state, and the
-    origin and orientation whose own share is the least."""
-    from marinecdpr.studies.screen import at_origin, screen_cells, screen_model
+    at every one of them. Returns the share that works, the works per sea state, the origin
+    and orientation whose own share is the least, and why the failing sea states fail
+    (:func:`~marinecdpr.studies.screen.why_fails`, each at the first placement it fails at)."""
+    from marinecdpr.studies.screen import at_origin, screen_cells, screen_model, why_fails
 
     works = np.ones(len(cells), dtype=bool)
+    reasons = [""] * len(cells)
     worst, least = 0, np.inf
     model = None
     for k, (origin, angles) in enumerate(zip(origins, orientations)):
@@ -333,11 +339,16 @@ def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations:
                                  frame_orientation_deg=[float(v) for v in angles])
         model = screen_model(placed) if model is None else at_origin(model, placed)  # the path once
         r = screen_cells(placed, cells, model=model)
+        for i in np.flatnonzero(works & ~r.works):
+            sea, why = r.reasons[i].split(": ", 1)
+            reasons[i] = (f"{sea}, the frame at {'(' + ', '.join(f'{v:.3g}' for v in origin) + ')'} m in S "
+                          f"(placement {k + 1} of {len(origins)}): {why}")
         works &= r.works
         if r.share < least:
             worst, least = k, r.share
     p = np.array([c.probability for c in cells], dtype=float)
-    return float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst], orientations[worst]
+    return (float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst], orientations[worst],
+            why_fails(cells, works, reasons))
 
 
 def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Evaluation:
@@ -368,7 +379,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     robot = sc.robot
     t_min, t_max = float(robot.tension_min[0]), float(robot.tension_max[0])
     job = surface_job(sc, move_time_s=spec.move_time_s, digits=2)
-    share, _, worst, turned = screen_surface(sc, cells, *frame_placements(template, W, H))
+    share, _, worst, turned, why = screen_surface(sc, cells, *frame_placements(template, W, H))
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
         "sea_share": share - spec.targets.sea_share,
@@ -385,7 +396,8 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                       placements=len(job.placements), surface_hours=job.hours, sea_share=share,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
                       mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
-                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements))
+                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
+                      sea_reason=why)
 
 
 def pareto_mask(f: np.ndarray) -> np.ndarray:
@@ -447,7 +459,7 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
     x = template_x(spec, template)
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
     run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template.cleaning)))
-    share, _, worst, turned = screen_surface(run, cells, *frame_placements(template, x["frame_width_m"],
+    share, _, worst, turned, why = screen_surface(run, cells, *frame_placements(template, x["frame_width_m"],
                                                                            x["frame_height_m"]))
     return Evaluation(x=x, feasible=share >= spec.targets.sea_share, reason="", placements=len(job.placements),
                       surface_hours=job.hours, sea_share=share,
@@ -455,7 +467,8 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
                       power_kW=float("nan"), cost=float("nan"),
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
                       margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst],
-                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements))
+                      frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
+                      sea_reason=why)
 
 
 def _path_time(cleaning: Cleaning) -> float:
@@ -675,6 +688,8 @@ class Verification:
         Why the time domain failed, per failing sea state ("Hs, Tp, heading: why").
     plant : str
         The plant flown ("mujoco" or "own").
+    screen_reasons : list of str
+        Why the screen failed, per sea state it fails (:attr:`~marinecdpr.studies.screen.ScreenResult.reasons`).
     """
 
     index: int
@@ -689,6 +704,7 @@ class Verification:
     screen_fails_td_works: int
     reasons: list
     plant: str = ""
+    screen_reasons: list = field(default_factory=list)
 
 
 def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "serial", workers: int = 2,
@@ -736,5 +752,6 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
             agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
-                     for r in cs.sea.results if not r.operable], plant=plant))
+                     for r in cs.sea.results if not r.operable], plant=plant,
+            screen_reasons=[why for why in screened.reasons if why]))
     return out
