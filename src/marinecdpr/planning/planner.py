@@ -699,6 +699,12 @@ class SingularPoses:
         every level pose singular), else None.
     level : bool
         Are the poses surveyed all level (where a scaled copy is singular)?
+    between : str or None
+        A singular set found between the poses surveyed (a survey's grid can miss a plane
+        at one height: :func:`~marinecdpr.studies.workspace.singular_set`), named, e.g.
+        ``"on the plane z = 1.95 m (found between the grid's points, on 136 of the 432 lines along
+        its axes searched)"``;
+        None if none was searched for or found.
     """
 
     what: str
@@ -707,16 +713,22 @@ class SingularPoses:
     first: str | None
     scale: float | None
     level: bool
+    between: str | None = None
 
     def message(self, *, hint: bool = True) -> str | None:
         """One line for a user: where J~ loses rank and (with ``hint``, where the robot's
         layout is the cause) what in the robot to change, or None if no pose surveyed is
         singular."""
-        if self.n_singular == 0:
+        if self.n_singular == 0 and self.between is None:
             return None
         count = (f"every one of the {self.n_poses}" if self.n_singular == self.n_poses
                  else f"{self.n_singular} of the {self.n_poses}")
-        line = (f"J~ loses rank (a singular pose) at {count} {self.what}, first at {self.first}: there the "
+        where = []
+        if self.n_singular:
+            where.append(f"at {count} {self.what}, first at {self.first}")
+        if self.between is not None:
+            where.append(f"{self.between}, among the {self.n_poses} {self.what}")
+        line = (f"J~ loses rank (a singular pose) {'; and '.join(where)}: there the "
                 f"cables cannot give every component of the wrench, and no plan holds the platform")
         if hint and self.scale is not None:
             line += (f"; the platform's anchors are a scaled copy (x {self.scale:.3g}) of the frame's, so at every "
