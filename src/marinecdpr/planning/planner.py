@@ -22,7 +22,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import WrenchTerms, disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.model.tension import (
-    TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
+    EXACT_METHODS, TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
 from marinecdpr.motion.basemotion import evaluate_base_motion, fixed_ship_motion, frame_origin_of, frame_ship_motion
 from marinecdpr.motion.ship import ShipMotion
@@ -289,8 +289,12 @@ class Plan:
         if f <= tol and m <= tol * radius:
             if singular:
                 return singular
+            if self.method in EXACT_METHODS:
+                return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
+                        f"method did not find them, nor its exact fallback (report it, please)")
             return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
-                    f"method did not find them")
+                    f"method did not find them: the minimum variance method does (planning.method = "
+                    f"\"minimum_variance\", or --method minimum_variance)")
         axes = np.array([name[-1] for name in np.array(TWIST_NAMES)[c]])  # "x", "z", "y" of ry...
         short, lacking = [], None
         for value, part, unit, word, axis_word, rows in ((f, force, "N", "force", "along", ~is_moment),
@@ -332,7 +336,12 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
 
     The range is two linear programmes over T_min <= T <= T_max: the smallest and largest
     component r of J~_c^T T with every other component equal to w's (scipy's HiGHS); left out
-    where no tensions hold the rest.
+    where no tensions hold the rest. The change advised follows the end of the range the need
+    lies beyond: the programme's duals on the tension bounds tell how far that end moves per
+    newton of lower least tensions and of higher most tensions; where only the least tensions
+    hold it (cables at T_min pulling the wrong way), lowering ``robot.tension_min_N`` is
+    advised, not raising ``robot.tension_max_N``; where both do and lowering the least
+    tensions towards 0 could close the gap, both, the stronger first.
 
     Parameters
     ----------
@@ -354,25 +363,43 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
     word, unit, axis_word, rows, d = lacking
     r = int(rows[int(np.argmax(np.abs(d)))])  # the component that carries most of the shortfall
     others = np.array([q for q in range(len(w)) if q != r], dtype=int)
-    span = []
+    span, gains = [], []
     for sign in (1.0, -1.0):
         res = linprog(sign * A[r], A_eq=A[others] if others.size else None,
                       b_eq=w[others] if others.size else None, bounds=list(zip(lo, hi)), method="highs")
-        span.append(float(A[r] @ res.x) if res.status == 0 else np.nan)
+        ok = res.status == 0
+        span.append(float(A[r] @ res.x) if ok else np.nan)
+        # what moving each side's limits by 1 N gives that end of the range (HiGHS's duals):
+        # lowering the least tensions, raising the most
+        gains.append((float(np.sum(res.lower.marginals)), float(-np.sum(res.upper.marginals)),
+                      float(np.sum(res.lower.marginals * np.maximum(lo, 0.0)))) if ok else None)
     out = ""
+    raise_max = f"raise {'the winches' + chr(39) + ' torque and power (robot.winch)' if winches else 'robot.tension_max_N'}"
+    change = raise_max
     if np.isfinite(span).all():
         # as many digits as tell the need from the nearer end of the range
-        near = span[0] if abs(w[r] - span[0]) < abs(w[r] - span[1]) else span[1]
+        end = 0 if abs(w[r] - span[0]) < abs(w[r] - span[1]) else 1
+        near = span[end]
         gap = abs(w[r] - near)
         digits = 4 if gap == 0.0 else int(min(12, max(4, np.ceil(np.log10(max(abs(near), abs(w[r])) / gap)) + 2)))
         out = (f"; with the rest of the wrench held the cables give {span[0]:.{digits}g} to {span[1]:.{digits}g} "
                f"{unit} {axis_word} {axes[r]} there, against {w[r]:.{digits}g} {unit} needed")
-    limit = "the winches' torque and power (robot.winch)" if winches else "robot.tension_max_N"
+        # the side of the range the need falls on, and which limits hold that end there
+        lower_min = (f"lower {'the least tension the winches hold (robot.winch)' if winches else 'robot.tension_min_N'}"
+                     f" (cables held at their least tension pull the wrong way there)")
+        # (per newton; the least tensions go no lower than 0: where even that falls short of the
+        # gap, as far as the duals tell, only the most tensions' side is named if it helps)
+        g_lo, g_hi, reach_lo = gains[end]
+        small = 1e-9 * max(1.0, g_lo, g_hi)
+        if g_lo > small and g_hi <= small:
+            change = lower_min
+        elif g_lo > small and g_hi > small and reach_lo >= gap:
+            change = f"{lower_min} or {raise_max}" if g_lo > g_hi else f"{raise_max} or {lower_min}"
     if word == "moment":
         return out + (f": spread the platform's anchors wider (robot.cables platform_anchor_m: the moment grows "
-                      f"with their spacing) or raise {limit}; a brush's reaction moment is cancelled by a "
+                      f"with their spacing) or {change}; a brush's reaction moment is cancelled by a "
                       "counter-rotating pair (cleaning.brush = \"pair\")")
-    return out + (f": raise {limit}, or move the frame anchors so that more cables pull that way "
+    return out + (f": {change}, or move the frame anchors so that more cables pull that way "
                   "(robot.cables frame_anchor_m)")
 
 
