@@ -1566,6 +1566,18 @@ def import_(
                          f"{imported.data['trajectory']['type']}"), highlight=False, soft_wrap=True)
     for note in imported.notes:
         console.print(_plain(f"note: {note}"), highlight=False, soft_wrap=True)
+    # a robot that cannot hold its platform, said at once (a warning: the file is written)
+    from marinecdpr.planning.planner import sampled_infeasibility
+
+    try:
+        sc = load_scenario(out)
+        _warn_scale(sc, str(out))
+        problem = sampled_infeasibility(sc)
+    except ScenarioError as exc:
+        problem = f"it cannot be planned as it is: {exc}"
+    if problem is not None:
+        err_console.print(_styled("warning:", "bold yellow", _plain(f"{out}: as imported, {problem}")),
+                          highlight=False, soft_wrap=True)
 
 
 @app.command()

@@ -221,13 +221,14 @@ class Plan:
             return None
         return self._infeasibility_at(int(bad[0]), bad.size, self.n_steps)
 
-    def _infeasibility_at(self, i: int, n_bad: int, n_steps: int) -> str:
+    def _infeasibility_at(self, i: int, n_bad: int, n_steps: int, steps: str = "steps", there: str = "") -> str:
         """:meth:`infeasibility`'s line for step ``i`` of this plan, first of ``n_bad``
-        infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks)."""
+        infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks); ``steps``
+        names them, ``there`` says more of step ``i`` (after its pose)."""
         pose = describe_pose(self.pose[i], self.controlled)
         message = (
             f"the cables cannot hold the platform within their tension limits at "
-            f"{n_bad} of {n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
+            f"{n_bad} of {n_steps} {steps}, first at t = {self.t[i]:.4g} s ({pose}{there})"
         )
         cause = self._winch_cause(i) or self.limiting_cables(i)
         return message if cause is None else f"{message}: {cause}"
@@ -341,7 +342,8 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
     newton of lower least tensions and of higher most tensions; where only the least tensions
     hold it (cables at T_min pulling the wrong way), lowering ``robot.tension_min_N`` is
     advised, not raising ``robot.tension_max_N``; where both do and lowering the least
-    tensions towards 0 could close the gap, both, the stronger first.
+    tensions towards 0 could close the gap, both, the stronger first; where only the least
+    tensions hold it and not even 0 N closes the gap, no limit is named.
 
     Parameters
     ----------
@@ -392,13 +394,17 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
         g_lo, g_hi, reach_lo = gains[end]
         small = 1e-9 * max(1.0, g_lo, g_hi)
         if g_lo > small and g_hi <= small:
-            change = lower_min
+            change = lower_min if reach_lo >= gap else None  # (not below 0 N: then no limit helps)
         elif g_lo > small and g_hi > small and reach_lo >= gap:
             change = f"{lower_min} or {raise_max}" if g_lo > g_hi else f"{raise_max} or {lower_min}"
     if word == "moment":
         return out + (f": spread the platform's anchors wider (robot.cables platform_anchor_m: the moment grows "
-                      f"with their spacing) or {change}; a brush's reaction moment is cancelled by a "
-                      "counter-rotating pair (cleaning.brush = \"pair\")")
+                      f"with their spacing){'' if change is None else ' or ' + change}; a brush's reaction moment "
+                      "is cancelled by a counter-rotating pair (cleaning.brush = \"pair\")")
+    if change is None:
+        return out + (": no change of the tension limits closes it (not even 0 N for the cables held at their "
+                      "least tension, which pull the wrong way there): move the frame anchors so that more cables "
+                      "pull that way (robot.cables frame_anchor_m)")
     return out + (f": {change}, or move the frame anchors so that more cables pull that way "
                   "(robot.cables frame_anchor_m)")
 
@@ -616,6 +622,43 @@ def stand_in_plan(scenario: Scenario, t: np.ndarray, *, base_model: str | None =
     if robot.cable_weight_N_m != 0.0:
         arrays.update(sag_lengths=np.zeros((n, m)), winch_tensions=middle.copy())
     return _make_plan(scenario, arrays, method, base_model)
+
+
+VERDICT_STEPS = 200
+"""Most steps :func:`sampled_infeasibility` plans."""
+
+
+def sampled_infeasibility(scenario: Scenario, *, max_steps: int = VERDICT_STEPS) -> str | None:
+    """Whether the scenario can be flown at all, from a plan of some of its steps: one line, or None.
+
+    Plans at most ``max_steps`` of the scenario's time steps, spread evenly over its duration
+    (its first and last included), by its own method on its own ship, and returns
+    :meth:`Plan.infeasibility`'s line for them (which steps, the first's pose, the cables at
+    their limits, the wrench still missing, the change that helps), with what the wrench is
+    where the platform is held still on a still frame: its weight alone. None where every
+    step planned is feasible. For a scenario just made (``marinecdpr import``): a robot
+    that cannot hold its platform is said so at once. A trajectory leaving the frame raises
+    :class:`ScenarioError`, as a plan does.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    max_steps : int
+        Steps planned at most.
+    """
+    n, step = scenario.time.n_steps, scenario.time.step_s
+    idx = np.unique(np.linspace(0, n - 1, min(n, max_steps)).round().astype(np.int64))
+    p = plan_at(scenario, idx * step)
+    bad = np.flatnonzero(~p.feasible)
+    if bad.size == 0:
+        return None
+    what = "steps" if idx.size == n else f"steps planned (spread over its {n})"
+    i = int(bad[0])
+    there = ""
+    if scenario.base_motion.type == "still" and not np.any(p.twist[i]) and not np.any(p.twist_dot[i]):
+        weight = scenario.robot.mass_kg * scenario.environment.gravity_m_s2
+        there = f"; at rest on a still frame: the wrench is the platform's weight alone, {weight:.4g} N"
+    return p._infeasibility_at(i, int(bad.size), int(idx.size), what, there)
 
 
 def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> "SingularPoses":
