@@ -174,3 +174,23 @@ def test_the_advice_follows_the_limit_that_holds_the_near_end_of_the_range(plane
     assert _range(A, np.array([0.0]), 0, lo - 1.0, hi)[1] - 90.0 == pytest.approx(1.0)
     assert _range(A, np.array([0.0]), 0, lo, hi + 1.0)[1] - 90.0 == pytest.approx(1.0)
     assert _range(np.array([[1.0, 1.0]]), np.array([0.0]), 0, lo - 1.0, hi)[0] == pytest.approx(18.0)
+
+
+def test_the_one_redundancy_screen_agrees_with_the_largest_headroom(paper):
+    """For r = 1 the steps worth solving alone are told apart as an interval's ends; they are
+    those where the largest headroom (its own closed form over the cables' tents) is >= 0."""
+    from marinecdpr.model.tension import _may_hold, largest_headroom
+
+    r = paper.robot
+    rng = np.random.default_rng(11)
+    n = 4000
+    x = np.c_[rng.uniform(0.3, 1.6, n), np.zeros(n), rng.uniform(0.3, 1.1, n)]
+    R = matrix_from_euler(np.c_[np.zeros(n), rng.uniform(-0.3, 0.3, n), np.zeros(n)])
+    J = cable_kinematics(x, R, r.frame_anchors, r.platform_anchors).J_tilde[:, :, [0, 2, 4]]
+    w = np.c_[rng.normal(0, 150, n), rng.normal(49, 150, n), rng.normal(0, 20, n)]
+    T_s, _ = pseudo_inverse_tensions(J, w)
+    room = largest_headroom(J, T_s, r.tension_min, r.tension_max)
+    keep = _may_hold(J, w, r.tension_min, r.tension_max, 1e-9 * r.tension_max.max())
+    clear = np.abs(room) > 1e-6
+    assert 200 < (room[clear] > 0).sum() < clear.sum() - 200   # both kinds, many of each
+    np.testing.assert_array_equal(keep[clear], room[clear] > 0)

@@ -283,12 +283,10 @@ def distribute_tensions(
     sol = _series(J, w, code, target, lo, hi, ok, tol)
     if method in EXACT_METHODS:
         failed = np.flatnonzero(ok & ~sol.feasible)
-        if failed.size and lo.ndim == 1 and J.shape[1] > J.shape[2]:
-            # the steps with tensions within limits at all (vectorised), then each alone
-            T_s, ranked = pseudo_inverse_tensions(J[failed], w[failed])
-            room = np.full(failed.size, np.nan)
-            room[ranked] = largest_headroom(J[failed][ranked], T_s[ranked], lo, hi)
-            failed = failed[room >= -tol]
+        if failed.size and J.shape[1] > J.shape[2]:
+            # those with tensions within the limits at all (vectorised), then each alone
+            failed = failed[_may_hold(J[failed], w[failed], lo if lo.ndim == 1 else lo[:, failed].T,
+                                      hi if hi.ndim == 1 else hi[:, failed].T, tol)]
         if failed.size:
             T, feasible = exact_fallback(J[failed], w[failed], target, lo if lo.ndim == 1 else lo[:, failed].T,
                                          hi if hi.ndim == 1 else hi[:, failed].T, tol)
@@ -300,6 +298,45 @@ def distribute_tensions(
 EXACT_METHODS = ("minimum_variance", "minimum_norm")
 """The methods that minimise their objective exactly within the limits, so find tensions
 wherever any exist (with :func:`exact_fallback` where the compiled method gives up)."""
+
+
+def _may_hold(J: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, tol: float) -> np.ndarray:
+    """Steps at which some tensions within the limits (widened by ``tol``) give the wrench,
+    shape (n_steps,) of bool: :func:`exact_fallback`'s steps, told apart from the plainly
+    infeasible at array speed.
+
+    In the null space, T = T_s + N lambda, the limits cut a bounded polytope out of the r
+    dimensions of lambda (each cable's two limits bound it along N's rows); it is not empty
+    iff one of its vertices, where r of the 2 n_cables limits are tight, keeps every limit.
+    For r = 1 the polytope is an interval: its ends compared, vectorised over the steps. For
+    more redundancy every step is kept and solved alone (trying every vertex at once, r = 2,
+    costs as much as that). True also on the edge of rounding: the solve alone decides there.
+    """
+    n, m, k = J.shape
+    r = m - k
+    keep = np.ones(n, dtype=bool)
+    if r != 1:  # (for r = 2 every vertex tried at once costs what solving each step alone does)
+        return keep
+    T_s, ranked = pseudo_inverse_tensions(J, w)
+    lo = np.broadcast_to(lo, (n, m))
+    hi = np.broadcast_to(hi, (n, m))
+    idx = np.flatnonzero(ranked)
+    for s in range(0, idx.size, 1024):
+        rows = idx[s:s + 1024]
+        g = np.concatenate([N := null_space(J[rows])[..., 0], -N], axis=1)   # (b, 2m): g lambda >= h
+        h = np.concatenate([lo[rows] - T_s[rows], T_s[rows] - hi[rows]], axis=1)
+        margin = np.maximum(tol, 1e-9 * np.abs(h).max(axis=1))              # rounding, (b,)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            q = h / g
+        low = np.where(g > 1e-12, q, -np.inf).max(axis=1)                   # the interval's ends
+        high = np.where(g < -1e-12, q, np.inf).min(axis=1)
+        flat = np.where(np.abs(g) <= 1e-12, h, -np.inf).max(axis=1)         # limits lambda cannot move
+        with np.errstate(invalid="ignore"):
+            mid = 0.5 * (low + high)                                        # finite where low > high
+            short = (g * mid[:, None] - h).min(axis=1)
+        keep[rows] = (flat <= margin) & ((low <= high) | (short >= -margin))
+    keep[~ranked] = False
+    return keep
 
 
 def exact_fallback(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
