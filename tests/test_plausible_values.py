@@ -74,6 +74,18 @@ def test_an_inertia_far_beyond_the_platforms_size_is_remarked():
     assert len(plausibility_warnings(bad)) == 1
 
 
+def test_a_platform_heavier_than_steel_of_its_size_is_remarked():
+    # the paper's plate reaches 0.195 m: a steel ball of that radius weighs 7850 (4/3) pi r^3 = 244.8 kg
+    reach = np.hypot(0.125, 0.15)
+    ball = 7850.0 * 4.0 / 3.0 * np.pi * reach ** 3
+    assert ball == pytest.approx(244.8, abs=0.1)
+    grams = make_scenario(lambda d: d["robot"].update(mass_kg=5000.0, inertia_kg_m2=[30.0, 30.0, 60.0]))
+    (line,) = plausibility_warnings(grams)    # (the inertia is plausible at that mass: k = 0.11 m)
+    assert line.startswith(f"robot.mass_kg = 5000 kg is {5000.0 / ball:.3g} times a solid steel ball")
+    assert plausibility_warnings(make_scenario(lambda d: d["robot"].update(
+        mass_kg=0.99 * 3.0 * ball, inertia_kg_m2=[30.0, 30.0, 60.0]))) == []
+
+
 @pytest.mark.parametrize("name", ["paper", "paper_sea", "paper_clean", "paper_as_built", "paper_elastic",
                                   "examples/spatial_cube8.toml"])
 def test_the_shipped_scenarios_are_plausible(name):

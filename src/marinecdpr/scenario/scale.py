@@ -19,6 +19,9 @@ GYRATION_FACTOR = 3.0
 """How far a platform's largest radius of gyration, sqrt(I_max / m), may pass the distance of its
 farthest anchor from its centre of mass before it is remarked (a rigid plate's is below it:
 its mass lies within its anchors' reach, give or take the tools it carries)."""
+STEEL_BALL_FACTOR = 3.0
+"""How many times a solid steel ball's mass (7850 kg/m^3) of the platform anchors' reach a
+platform may weigh before it is remarked (a mass in g for kg, or a tonne on a hand-sized plate)."""
 HULL_MARGIN_SHARE = 0.1
 """How far outside the hull's box the frame's origin may lie before it is remarked: this share of
 the hull's length, or the frame's own size if that is more (a frame may hang over the side)."""
@@ -70,6 +73,8 @@ def plausibility_warnings(scenario: Scenario) -> list[str]:
       moment of ``robot.inertia_kg_m2``) more than :data:`GYRATION_FACTOR` times its farthest
       anchor's distance from the centre of mass: an inertia in g m^2 for kg m^2, or of another
       body.
+    * The platform's mass more than :data:`STEEL_BALL_FACTOR` times a solid steel ball's whose
+      radius is its farthest anchor's distance: a mass in g for kg.
 
     Parameters
     ----------
@@ -102,6 +107,11 @@ def plausibility_warnings(scenario: Scenario) -> list[str]:
                    f"{k / reach:.3g} times the {reach:.3g} m from its centre of mass to its farthest anchor (a plate's "
                    f"is less than that distance): the moments are in kg m^2 about the centre of mass, e.g. m s^2 / 6 "
                    f"for a cube of side s")
+    ball = 7850.0 * 4.0 / 3.0 * np.pi * reach ** 3
+    if reach > 0.0 and robot.mass_kg > STEEL_BALL_FACTOR * ball:
+        out.append(f"robot.mass_kg = {robot.mass_kg:g} kg is {robot.mass_kg / ball:.3g} times a solid steel ball "
+                   f"as wide as the platform's anchors reach ({reach:.3g} m from its centre of mass, {ball:.3g} kg): "
+                   f"the mass is in kg")
     return out
 
 
