@@ -142,7 +142,9 @@ def test_infeasible_messages_for_a_method_that_misses_and_a_spatial_robot():
     sc = make_scenario(lambda d: d.update(time={"step_s": 0.05, "duration_s": 1.0}))
     msg = marinecdpr.plan(sc, method="pseudo_inverse").infeasibility()
     assert msg.endswith("(x = 0.98 m, z = 0.7 m, theta_y = 0 deg): tensions within the limits exist "
-                        "there, but the pseudo inverse method did not find them")
+                        "there, but the pseudo inverse method did not find them: the minimum variance method does "
+                        "(planning.method = \"minimum_variance\", or --method minimum_variance)")
+    assert marinecdpr.plan(sc, method="minimum_variance").feasible.all()  # as it says
     cube = marinecdpr.load_scenario("examples/spatial_cube8.toml")
     heavy = cube.with_changes(robot=cube.robot.model_dump(exclude_none=True) | {"mass_kg": 150.0},
                               time={"step_s": 0.05, "duration_s": 0.1})

@@ -726,7 +726,8 @@ def workspace(
         _fail_scenario(exc, scenario)
     from marinecdpr.studies.workspace import singular_poses
 
-    _warn_singular(scenario, (singular_poses(sc),))
+    across = singular_poses(sc)
+    _warn_singular(scenario, (across,))
     t0 = time.perf_counter()
     with _output(out) as folder:
         _size_notice(sc, size, n)
@@ -738,6 +739,10 @@ def workspace(
         elapsed = time.perf_counter() - t0
         paths = [out / p.name for p in write_workspace(ws, sc, folder)]
     import numpy as np
+    from marinecdpr.studies.workspace import map_singular_poses
+
+    if across.n_singular < across.n_poses:  # (every pose singular is said already)
+        _warn_singular(scenario, (map_singular_poses(sc, ws),))  # the map's own grid, and between its points
 
     inside = np.isfinite(ws.fraction_feasible)
     always = int((ws.fraction_feasible[inside] == 1.0).sum())
@@ -1565,6 +1570,18 @@ def import_(
                          f"{imported.data['trajectory']['type']}"), highlight=False, soft_wrap=True)
     for note in imported.notes:
         console.print(_plain(f"note: {note}"), highlight=False, soft_wrap=True)
+    # a robot that cannot hold its platform, said at once (a warning: the file is written)
+    from marinecdpr.planning.planner import sampled_infeasibility
+
+    try:
+        sc = load_scenario(out)
+        _warn_scale(sc, str(out))
+        problem = sampled_infeasibility(sc)
+    except ScenarioError as exc:
+        problem = f"it cannot be planned as it is: {exc}"
+    if problem is not None:
+        err_console.print(_styled("warning:", "bold yellow", _plain(f"{out}: as imported, {problem}")),
+                          highlight=False, soft_wrap=True)
 
 
 @app.command()

@@ -32,7 +32,12 @@ Methods (``method=``):
     Minimise sum_i T_i^2 within limits (exact, as ``minimum_variance``).
 
 A step where the method finds no tensions within limits is flagged infeasible and
-its tensions are NaN: out-of-range tensions are never returned silently.
+its tensions are NaN: out-of-range tensions are never returned silently. The exact
+methods (``minimum_variance``, ``minimum_norm``) are exact in exact arithmetic; where the
+compiled active-set method gives up at a step that has tensions within limits (near a
+singular pose its rank tests can call independent limits dependent), the same problem is
+solved again at that step only, in the null space of J~^T as a least-distance programme
+(:func:`exact_fallback`), and its tensions kept if they pass the same checks.
 
 Every method is written once, compiled (:func:`marinecdpr.model.kernels.solve_tensions`),
 with one rank test (:func:`full_rank`): this module runs it over time series, the closed
@@ -58,6 +63,8 @@ __all__ = [
     "largest_headroom",
     "WrenchFaces",
     "wrench_faces",
+    "exact_fallback",
+    "EXACT_METHODS",
     "TENSION_TOLERANCE",
 ]
 
@@ -275,7 +282,140 @@ def distribute_tensions(
             ok = ok & np.all(lo <= hi, axis=0)  # an empty (or NaN) range holds nothing
     code = _METHODS.index(method)
     target = np.zeros_like(mid) if method in ("pseudo_inverse", "minimum_norm") else mid
-    return _series(J, w, code, target, lo, hi, ok, tol)
+    sol = _series(J, w, code, target, lo, hi, ok, tol)
+    if method in EXACT_METHODS:
+        failed = np.flatnonzero(ok & ~sol.feasible)
+        if failed.size and J.shape[1] > J.shape[2]:
+            # those with tensions within the limits at all (vectorised), then each alone
+            failed = failed[_may_hold(J[failed], w[failed], lo if lo.ndim == 1 else lo[:, failed].T,
+                                      hi if hi.ndim == 1 else hi[:, failed].T, tol)]
+        if failed.size:
+            T, feasible = exact_fallback(J[failed], w[failed], target, lo if lo.ndim == 1 else lo[:, failed].T,
+                                         hi if hi.ndim == 1 else hi[:, failed].T, tol)
+            sol.tensions[failed[feasible]] = T[feasible]
+            sol.feasible[failed[feasible]] = True
+    return sol
+
+
+EXACT_METHODS = ("minimum_variance", "minimum_norm")
+"""The methods that minimise their objective exactly within the limits, so find tensions
+wherever any exist (with :func:`exact_fallback` where the compiled method gives up)."""
+
+
+def _may_hold(J: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, tol: float) -> np.ndarray:
+    """Steps at which some tensions within the limits (widened by ``tol``) give the wrench,
+    shape (n_steps,) of bool: :func:`exact_fallback`'s steps, told apart from the plainly
+    infeasible at array speed.
+
+    In the null space, T = T_s + N lambda, the limits cut a bounded polytope out of the r
+    dimensions of lambda (each cable's two limits bound it along N's rows); it is not empty
+    iff one of its vertices, where r of the 2 n_cables limits are tight, keeps every limit.
+    For r = 1 the polytope is an interval: its ends compared, vectorised over the steps. For
+    more redundancy every step is kept and solved alone (trying every vertex at once, r = 2,
+    costs as much as that). True also on the edge of rounding: the solve alone decides there.
+    """
+    n, m, k = J.shape
+    r = m - k
+    keep = np.ones(n, dtype=bool)
+    if r != 1:  # (for r = 2 every vertex tried at once costs what solving each step alone does)
+        return keep
+    T_s, ranked = pseudo_inverse_tensions(J, w)
+    lo = np.broadcast_to(lo, (n, m))
+    hi = np.broadcast_to(hi, (n, m))
+    idx = np.flatnonzero(ranked)
+    for s in range(0, idx.size, 1024):
+        rows = idx[s:s + 1024]
+        g = np.concatenate([N := null_space(J[rows])[..., 0], -N], axis=1)   # (b, 2m): g lambda >= h
+        h = np.concatenate([lo[rows] - T_s[rows], T_s[rows] - hi[rows]], axis=1)
+        margin = np.maximum(tol, 1e-9 * np.abs(h).max(axis=1))              # rounding, (b,)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            q = h / g
+        low = np.where(g > 1e-12, q, -np.inf).max(axis=1)                   # the interval's ends
+        high = np.where(g < -1e-12, q, np.inf).min(axis=1)
+        flat = np.where(np.abs(g) <= 1e-12, h, -np.inf).max(axis=1)         # limits lambda cannot move
+        with np.errstate(invalid="ignore"):
+            mid = 0.5 * (low + high)                                        # finite where low > high
+            short = (g * mid[:, None] - h).min(axis=1)
+        keep[rows] = (flat <= margin) & ((low <= high) | (short >= -margin))
+    keep[~ranked] = False
+    return keep
+
+
+def exact_fallback(J: np.ndarray, w: np.ndarray, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                   tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """min |T - target|^2 subject to J~^T T = w and lo <= T <= hi, step by step, in the null space.
+
+    Every solution of J~^T T = w is T = T_s + N lambda (eqs. 17-19; N orthonormal, T_s
+    orthogonal to it), so |T - target|^2 = |lambda - lambda_0|^2 + const with
+    lambda_0 = N^T (target - T_s), and the limits read G mu >= h in mu = lambda - lambda_0:
+    a least-distance programme, solved exactly by Lawson and Hanson's reduction to
+    non-negative least squares (scipy.optimize.nnls): the dual vector u >= 0 minimising
+    |E u - f|, E = [G^T; h^T], f = (0, ..., 0, 1); its residual rho gives mu = -rho[:r] /
+    rho[r] (rho = 0: no mu holds every limit). The tensions are kept only where they are
+    within the limits to ``tol`` and J~^T T = w to 1e-9 of its largest term (the compiled
+    methods' own checks). A Python loop over the steps: for the few steps the compiled
+    method gave up at.
+
+    Parameters
+    ----------
+    J : ndarray, shape (n_steps, n_cables, k)
+        Controlled columns of J~, full column rank.
+    w : ndarray, shape (n_steps, k)
+        Required wrench's controlled part, N and N m.
+    target : ndarray, shape (n_cables,)
+        The tensions the objective draws towards, N (the middle of the limits for
+        minimum_variance, 0 for minimum_norm).
+    lo, hi : ndarray, shape (n_cables,) or (n_steps, n_cables)
+        Tension bounds, N.
+    tol : float
+        Tolerance on the limits, N.
+
+    Returns
+    -------
+    T : ndarray, shape (n_steps, n_cables)
+        N; NaN where no tensions were found.
+    found : ndarray of bool, shape (n_steps,)
+    """
+    from scipy.optimize import nnls
+
+    J = np.asarray(J, dtype=float)
+    w = np.asarray(w, dtype=float)
+    n, m, k = J.shape
+    lo = np.broadcast_to(np.asarray(lo, dtype=float), (n, m))
+    hi = np.broadcast_to(np.asarray(hi, dtype=float), (n, m))
+    T = np.full((n, m), np.nan)
+    found = np.zeros(n, dtype=bool)
+    T_s, ranked = pseudo_inverse_tensions(J, w)
+    if not ranked.any() or m == k:
+        return T, found
+    idx = np.flatnonzero(ranked)
+    N = null_space(J[idx])
+    r = m - k
+    for j, i in enumerate(idx):
+        Ni, Ts = N[j], T_s[i]
+        lam0 = Ni.T @ (target - Ts)
+        base = Ts + Ni @ lam0
+        G = np.concatenate([Ni, -Ni])                        # G mu >= h
+        h = np.concatenate([lo[i] - base, base - hi[i]])
+        scale = max(1.0, float(np.abs(h).max()))
+        E = np.vstack([G.T, h[None, :] / scale])
+        f = np.zeros(r + 1)
+        f[r] = 1.0
+        try:
+            u, _ = nnls(E, f, maxiter=50 * E.shape[1])
+        except RuntimeError:
+            continue
+        rho = E @ u - f
+        if not abs(rho[r]) > 1e-12:
+            continue  # no tensions within the limits
+        Ti = base + Ni @ (-rho[:r] / rho[r] * scale)
+        if not (np.all(Ti >= lo[i] - tol) and np.all(Ti <= hi[i] + tol)):
+            continue
+        size = np.maximum(np.abs(w[i]), np.abs(J[i] * Ti[:, None]).max(axis=0))
+        if not np.all(np.abs(J[i].T @ Ti - w[i]) <= 1e-9 * np.maximum(size, 1.0)):
+            continue
+        T[i], found[i] = Ti, True
+    return T, found
 
 
 _VERTEX_BUDGET = 4096

@@ -22,7 +22,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import WrenchTerms, disturbance_in_C, uncontrolled, wrench_terms
 from marinecdpr.model.tension import (
-    TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
+    EXACT_METHODS, TENSION_TOLERANCE, distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
 from marinecdpr.motion.basemotion import evaluate_base_motion, fixed_ship_motion, frame_origin_of, frame_ship_motion
 from marinecdpr.motion.ship import ShipMotion
@@ -221,13 +221,14 @@ class Plan:
             return None
         return self._infeasibility_at(int(bad[0]), bad.size, self.n_steps)
 
-    def _infeasibility_at(self, i: int, n_bad: int, n_steps: int) -> str:
+    def _infeasibility_at(self, i: int, n_bad: int, n_steps: int, steps: str = "steps", there: str = "") -> str:
         """:meth:`infeasibility`'s line for step ``i`` of this plan, first of ``n_bad``
-        infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks)."""
+        infeasible steps of ``n_steps`` (a chunk's step, for a plan made in chunks); ``steps``
+        names them, ``there`` says more of step ``i`` (after its pose)."""
         pose = describe_pose(self.pose[i], self.controlled)
         message = (
             f"the cables cannot hold the platform within their tension limits at "
-            f"{n_bad} of {n_steps} steps, first at t = {self.t[i]:.4g} s ({pose})"
+            f"{n_bad} of {n_steps} {steps}, first at t = {self.t[i]:.4g} s ({pose}{there})"
         )
         cause = self._winch_cause(i) or self.limiting_cables(i)
         return message if cause is None else f"{message}: {cause}"
@@ -289,8 +290,12 @@ class Plan:
         if f <= tol and m <= tol * radius:
             if singular:
                 return singular
+            if self.method in EXACT_METHODS:
+                return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
+                        f"method did not find them, nor its exact fallback (report it, please)")
             return (f"tensions within the limits exist there, but the {self.method.replace('_', ' ')} "
-                    f"method did not find them")
+                    f"method did not find them: the minimum variance method does (planning.method = "
+                    f"\"minimum_variance\", or --method minimum_variance)")
         axes = np.array([name[-1] for name in np.array(TWIST_NAMES)[c]])  # "x", "z", "y" of ry...
         short, lacking = [], None
         for value, part, unit, word, axis_word, rows in ((f, force, "N", "force", "along", ~is_moment),
@@ -332,7 +337,13 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
 
     The range is two linear programmes over T_min <= T <= T_max: the smallest and largest
     component r of J~_c^T T with every other component equal to w's (scipy's HiGHS); left out
-    where no tensions hold the rest.
+    where no tensions hold the rest. The change advised follows the end of the range the need
+    lies beyond: the programme's duals on the tension bounds tell how far that end moves per
+    newton of lower least tensions and of higher most tensions; where only the least tensions
+    hold it (cables at T_min pulling the wrong way), lowering ``robot.tension_min_N`` is
+    advised, not raising ``robot.tension_max_N``; where both do and lowering the least
+    tensions towards 0 could close the gap, both, the stronger first; where only the least
+    tensions hold it and not even 0 N closes the gap, no limit is named.
 
     Parameters
     ----------
@@ -354,25 +365,47 @@ def _sizing_hint(A: np.ndarray, w: np.ndarray, lo: np.ndarray, hi: np.ndarray, l
     word, unit, axis_word, rows, d = lacking
     r = int(rows[int(np.argmax(np.abs(d)))])  # the component that carries most of the shortfall
     others = np.array([q for q in range(len(w)) if q != r], dtype=int)
-    span = []
+    span, gains = [], []
     for sign in (1.0, -1.0):
         res = linprog(sign * A[r], A_eq=A[others] if others.size else None,
                       b_eq=w[others] if others.size else None, bounds=list(zip(lo, hi)), method="highs")
-        span.append(float(A[r] @ res.x) if res.status == 0 else np.nan)
+        ok = res.status == 0
+        span.append(float(A[r] @ res.x) if ok else np.nan)
+        # what moving each side's limits by 1 N gives that end of the range (HiGHS's duals):
+        # lowering the least tensions, raising the most
+        gains.append((float(np.sum(res.lower.marginals)), float(-np.sum(res.upper.marginals)),
+                      float(np.sum(res.lower.marginals * np.maximum(lo, 0.0)))) if ok else None)
     out = ""
+    raise_max = f"raise {'the winches' + chr(39) + ' torque and power (robot.winch)' if winches else 'robot.tension_max_N'}"
+    change = raise_max
     if np.isfinite(span).all():
         # as many digits as tell the need from the nearer end of the range
-        near = span[0] if abs(w[r] - span[0]) < abs(w[r] - span[1]) else span[1]
+        end = 0 if abs(w[r] - span[0]) < abs(w[r] - span[1]) else 1
+        near = span[end]
         gap = abs(w[r] - near)
         digits = 4 if gap == 0.0 else int(min(12, max(4, np.ceil(np.log10(max(abs(near), abs(w[r])) / gap)) + 2)))
         out = (f"; with the rest of the wrench held the cables give {span[0]:.{digits}g} to {span[1]:.{digits}g} "
                f"{unit} {axis_word} {axes[r]} there, against {w[r]:.{digits}g} {unit} needed")
-    limit = "the winches' torque and power (robot.winch)" if winches else "robot.tension_max_N"
+        # the side of the range the need falls on, and which limits hold that end there
+        lower_min = (f"lower {'the least tension the winches hold (robot.winch)' if winches else 'robot.tension_min_N'}"
+                     f" (cables held at their least tension pull the wrong way there)")
+        # (per newton; the least tensions go no lower than 0: where even that falls short of the
+        # gap, as far as the duals tell, only the most tensions' side is named if it helps)
+        g_lo, g_hi, reach_lo = gains[end]
+        small = 1e-9 * max(1.0, g_lo, g_hi)
+        if g_lo > small and g_hi <= small:
+            change = lower_min if reach_lo >= gap else None  # (not below 0 N: then no limit helps)
+        elif g_lo > small and g_hi > small and reach_lo >= gap:
+            change = f"{lower_min} or {raise_max}" if g_lo > g_hi else f"{raise_max} or {lower_min}"
     if word == "moment":
         return out + (f": spread the platform's anchors wider (robot.cables platform_anchor_m: the moment grows "
-                      f"with their spacing) or raise {limit}; a brush's reaction moment is cancelled by a "
-                      "counter-rotating pair (cleaning.brush = \"pair\")")
-    return out + (f": raise {limit}, or move the frame anchors so that more cables pull that way "
+                      f"with their spacing){'' if change is None else ' or ' + change}; a brush's reaction moment "
+                      "is cancelled by a counter-rotating pair (cleaning.brush = \"pair\")")
+    if change is None:
+        return out + (": no change of the tension limits closes it (not even 0 N for the cables held at their "
+                      "least tension, which pull the wrong way there): move the frame anchors so that more cables "
+                      "pull that way (robot.cables frame_anchor_m)")
+    return out + (f": {change}, or move the frame anchors so that more cables pull that way "
                   "(robot.cables frame_anchor_m)")
 
 
@@ -591,6 +624,43 @@ def stand_in_plan(scenario: Scenario, t: np.ndarray, *, base_model: str | None =
     return _make_plan(scenario, arrays, method, base_model)
 
 
+VERDICT_STEPS = 200
+"""Most steps :func:`sampled_infeasibility` plans."""
+
+
+def sampled_infeasibility(scenario: Scenario, *, max_steps: int = VERDICT_STEPS) -> str | None:
+    """Whether the scenario can be flown at all, from a plan of some of its steps: one line, or None.
+
+    Plans at most ``max_steps`` of the scenario's time steps, spread evenly over its duration
+    (its first and last included), by its own method on its own ship, and returns
+    :meth:`Plan.infeasibility`'s line for them (which steps, the first's pose, the cables at
+    their limits, the wrench still missing, the change that helps), with what the wrench is
+    where the platform is held still on a still frame: its weight alone. None where every
+    step planned is feasible. For a scenario just made (``marinecdpr import``): a robot
+    that cannot hold its platform is said so at once. A trajectory leaving the frame raises
+    :class:`ScenarioError`, as a plan does.
+
+    Parameters
+    ----------
+    scenario : Scenario
+    max_steps : int
+        Steps planned at most.
+    """
+    n, step = scenario.time.n_steps, scenario.time.step_s
+    idx = np.unique(np.linspace(0, n - 1, min(n, max_steps)).round().astype(np.int64))
+    p = plan_at(scenario, idx * step)
+    bad = np.flatnonzero(~p.feasible)
+    if bad.size == 0:
+        return None
+    what = "steps" if idx.size == n else f"steps planned (spread over its {n})"
+    i = int(bad[0])
+    there = ""
+    if scenario.base_motion.type == "still" and not np.any(p.twist[i]) and not np.any(p.twist_dot[i]):
+        weight = scenario.robot.mass_kg * scenario.environment.gravity_m_s2
+        there = f"; at rest on a still frame: the wrench is the platform's weight alone, {weight:.4g} N"
+    return p._infeasibility_at(i, int(bad.size), int(idx.size), what, there)
+
+
 def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STEPS) -> "SingularPoses":
     """Raise :class:`ScenarioError` if the trajectory leaves the frame or a motion file is bad
     (no dynamics solved); return where along it J~ loses rank.
@@ -699,6 +769,12 @@ class SingularPoses:
         every level pose singular), else None.
     level : bool
         Are the poses surveyed all level (where a scaled copy is singular)?
+    between : str or None
+        A singular set found between the poses surveyed (a survey's grid can miss a plane
+        at one height: :func:`~marinecdpr.studies.workspace.singular_set`), named, e.g.
+        ``"on the plane z = 1.95 m (found between the grid's points, on 136 of the 432 lines along
+        its axes searched)"``;
+        None if none was searched for or found.
     """
 
     what: str
@@ -707,16 +783,22 @@ class SingularPoses:
     first: str | None
     scale: float | None
     level: bool
+    between: str | None = None
 
     def message(self, *, hint: bool = True) -> str | None:
         """One line for a user: where J~ loses rank and (with ``hint``, where the robot's
         layout is the cause) what in the robot to change, or None if no pose surveyed is
         singular."""
-        if self.n_singular == 0:
+        if self.n_singular == 0 and self.between is None:
             return None
         count = (f"every one of the {self.n_poses}" if self.n_singular == self.n_poses
                  else f"{self.n_singular} of the {self.n_poses}")
-        line = (f"J~ loses rank (a singular pose) at {count} {self.what}, first at {self.first}: there the "
+        where = []
+        if self.n_singular:
+            where.append(f"at {count} {self.what}, first at {self.first}")
+        if self.between is not None:
+            where.append(f"{self.between}, among the {self.n_poses} {self.what}")
+        line = (f"J~ loses rank (a singular pose) {'; and '.join(where)}: there the "
                 f"cables cannot give every component of the wrench, and no plan holds the platform")
         if hint and self.scale is not None:
             line += (f"; the platform's anchors are a scaled copy (x {self.scale:.3g}) of the frame's, so at every "

@@ -3,6 +3,8 @@ from attributes and text, the orientation conventions, and the TOML text of a sc
 
 from __future__ import annotations
 
+import re
+
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -110,7 +112,30 @@ def scenario_toml(imported: Imported) -> str:
 
     head = [f"# Imported from {imported.source} by `marinecdpr import`: {', '.join(imported.files)}"]
     head += [f"# note: {n}" for n in imported.notes]
-    return "\n".join(head) + "\n\n" + tomli_w.dumps(_plain(imported.data))
+    return "\n".join(head) + "\n\n" + one_line_arrays(tomli_w.dumps(_plain(imported.data)))
+
+
+ONE_LINE_MAX = 100
+"""Longest line a numeric array is written on (a 3-vector, a 3 x 3 inertia tensor)."""
+_NUMERIC_ARRAY = re.compile(r"= (\[[-+0-9.eEinfa,\s\[\]]*?\n\])", re.MULTILINE)
+
+
+def one_line_arrays(text: str) -> str:
+    """TOML text with each array of numbers that tomli_w spreads over lines (one number a
+    line: a 3-vector over five) written on one line, ``[0.3, 0.0, -0.15]``, where that line is
+    at most :data:`ONE_LINE_MAX` characters; nested arrays (a 3 x 3 tensor) alike. The
+    numbers' text is kept as tomli_w wrote it, so the values read back the same."""
+
+    def join(match: re.Match) -> str:
+        body = re.sub(r"\s+", " ", match.group(1))
+        body = re.sub(r",\s*\]", "]", body)
+        body = re.sub(r"\[\s+", "[", body)
+        line_start = text.rfind("\n", 0, match.start()) + 1
+        if match.start() - line_start + 2 + len(body) > ONE_LINE_MAX:
+            return match.group(0)
+        return "= " + body
+
+    return _NUMERIC_ARRAY.sub(join, text)
 
 
 def _plain(value: Any) -> Any:
