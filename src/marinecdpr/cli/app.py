@@ -60,6 +60,17 @@ class _OneLineUsage(typer.core.TyperGroup):
         with _usage_in_one_line():
             return super().invoke(ctx)
 
+    def resolve_command(self, ctx, args):
+        global _running_command
+        name, command, rest = super().resolve_command(ctx, args)
+        _running_command = command.name if command is not None else name
+        return name, command, rest
+
+
+_running_command: str | None = None
+"""The command being run (``plan``, ``simulate``, ...): the kind of run an output folder's
+manifest records (:func:`_output`)."""
+
 
 @contextmanager
 def _usage_in_one_line():
@@ -535,12 +546,14 @@ def _fail_bypassed(runs: list[tuple[str, int, int]], sc, out: Path) -> None:
 @contextmanager
 def _output(out: Path):
     """The output folder, checked before the work starts and filled all at once at the end
-    (see :class:`marinecdpr.report.files.StagedOutput`); a failure writing it is one line, exit 2."""
+    (see :class:`marinecdpr.report.files.StagedOutput`); a failure writing it is one line, exit 2,
+    and so is a folder holding another command's results (a run replaces only its own
+    command's files: ``simulate`` then ``plan`` into one folder would lose the report)."""
     from marinecdpr.errors import OutputError
     from marinecdpr.report.files import StagedOutput
 
     try:
-        staged = StagedOutput(out)
+        staged = StagedOutput(out, command=_running_command)
     except OutputError as exc:
         _fail(f"--out {exc}")
     try:
