@@ -384,8 +384,12 @@ def clean(
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
     if surface:
         u = job.summary["surface"]
-        console.print(_plain(f"surface: {u['surface']}: {u['placements']} placements of the "
-                             f"{u['frame_panel_m'][0]:g} x {u['frame_panel_m'][1]:g} m frame, {u['area_m2']:.4g} m2: "
+        import numpy as np
+
+        frame = np.ptp(sc.robot.frame_anchors, axis=0)  # the frame's extent along C's x and z, m
+        console.print(_plain(f"surface: {u['surface']}: {u['placements']} placements of the {frame[0]:.3g} x "
+                             f"{frame[2]:.3g} m frame, each cleaning its {u['frame_panel_m'][0]:g} x "
+                             f"{u['frame_panel_m'][1]:g} m panel, {u['area_m2']:.4g} m2: "
                              f"{u['hours']:.4g} h ({u['cleaning_hours']:.4g} h cleaning, moves of {move_time:g} s; "
                              f"{u['area_rate_m2_h']:.3g} m2/h)"
                              + (f"; {u['uncleanable_patches']} patches ({u['uncleanable_area_m2']:.3g} m2) curved "

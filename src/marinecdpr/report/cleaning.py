@@ -381,6 +381,7 @@ def write_surface(sj, folder: Path) -> list[Path]:
         ax.set_ylabel("z in S (m)")
         fig.colorbar(coll, ax=ax, label=label, shrink=0.9)
     axes[1].set_xlabel("x in S (m, from amidships)")
-    fig.suptitle(_plain(f"{len(sj.placements)} placements of a {sj.frame_panel_m[0]:g} x {sj.frame_panel_m[1]:g} m "
-                        f"frame: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); {sj.surface}"), fontsize=9)
+    fig.suptitle(_plain(f"{len(sj.placements)} placements of the frame, each cleaning its {sj.frame_panel_m[0]:g} x "
+                        f"{sj.frame_panel_m[1]:g} m panel: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); "
+                        f"{sj.surface}"), fontsize=9)
     return [csv, _save(fig, folder / "surface.png")]
