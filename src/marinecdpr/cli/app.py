@@ -60,6 +60,9 @@ class _OneLineUsage(typer.core.TyperGroup):
         with _usage_in_one_line():
             return super().invoke(ctx)
 
+    def get_params(self, ctx):
+        return _help_params(super().get_params(ctx))
+
     def resolve_command(self, ctx, args):
         global _running_command
         name, command, rest = super().resolve_command(ctx, args)
@@ -70,6 +73,42 @@ class _OneLineUsage(typer.core.TyperGroup):
 _running_command: str | None = None
 """The command being run (``plan``, ``simulate``, ...): the kind of run an output folder's
 manifest records (:func:`_output`)."""
+
+
+class _FlagOption(typer.core.TyperOption):
+    """A flag in the help without a type (it takes no value: typer showed ``<bool>``)."""
+
+    def display_type_rich(self, ctx):
+        return None if self.is_flag else super().display_type_rich(ctx)
+
+
+class _Argument(typer.core.TyperArgument):
+    """An argument in the usage line as click writes it: ``SCENARIO`` when required,
+    ``[SCENARIO]`` when not, a given metavar as it is (typer wrote ``{scenario}`` and
+    ``[[SCENARIO]...]...``)."""
+
+    def _usage_display_name(self) -> str:
+        if self.metavar is not None:
+            return self.metavar
+        name = self.name.upper() + ("..." if self.nargs != 1 else "")
+        return name if self.required else f"[{name}]"
+
+
+def _help_params(params: list) -> list:
+    """The parameters as the help shows them (:class:`_FlagOption`, :class:`_Argument`)."""
+    for param in params:
+        if type(param) is typer.core.TyperOption and param.is_flag:
+            param.__class__ = _FlagOption
+        elif type(param) is typer.core.TyperArgument:
+            param.__class__ = _Argument
+    return params
+
+
+class _Command(typer.core.TyperCommand):
+    """A command whose help shows its parameters as :func:`_help_params` does."""
+
+    def get_params(self, ctx):
+        return _help_params(super().get_params(ctx))
 
 
 @contextmanager
@@ -806,8 +845,9 @@ def workspace(
     axes: str = typer.Option("xz", help="Grid plane: two of x, y, z."),
     points: str = typer.Option("30x20", help="Grid points along the two axes, e.g. 30x20."),
     fixed: Optional[float] = typer.Option(None, help="The third coordinate, m (default: mid-frame)."),
-    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose."),
-    step: Optional[float] = typer.Option(None, help="Time step, s."),
+    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose (default: the scenario's "
+                                             "time.duration_s)."),
+    step: Optional[float] = typer.Option(None, help="Time step, s (default: the scenario's time.step_s)."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
     from marinecdpr.report.writers import write_workspace
@@ -1620,6 +1660,31 @@ def design(
                   highlight=False, soft_wrap=True)
 
 
+@contextmanager
+def _file_folder(out: Path):
+    """The folder of an output file, created if missing (as the commands' output folders are)
+    and removed again if the block fails while it is still empty; a path through a file is
+    one line, exit 2 (``--out notes.txt/x.toml``: notes.txt is a file, not a folder)."""
+    missing = []
+    for folder in (out.parent, *out.parent.parents):
+        if folder.is_dir():
+            break
+        if folder.exists() or folder.is_symlink():
+            _fail(f"--out {out}: {folder} is a file, not a folder")
+        missing.append(folder)
+    for folder in reversed(missing):
+        folder.mkdir()
+    try:
+        yield
+    except BaseException:
+        for folder in missing:  # the deepest first; each only while empty
+            try:
+                folder.rmdir()
+            except OSError:
+                break
+        raise
+
+
 @app.command("import")
 def import_(
     source: Path = typer.Argument(..., help="A CASPR model's *_bodies.xml or a WireX robot (.wcrfx)."),
@@ -1646,9 +1711,7 @@ def import_(
         imported = import_robot(source, cables=cables, trajectories=trajectories, cable_set=cable_set,
                                 trajectory=trajectory, hold=hold, pulleys=pulleys)
         text = scenario_toml(imported)
-        if not out.parent.is_dir():
-            _fail(f"--out {out}: no folder {out.parent}")
-        with atomic_path(out) as tmp:
+        with _file_folder(out), atomic_path(out) as tmp:
             tmp.write_text(text, encoding="utf-8")
             load_scenario(tmp)  # reads back as it will be read
     except ScenarioError as exc:
@@ -1675,13 +1738,18 @@ def scenarios() -> None:
 
 def _help_read_literally(typer_app: typer.Typer) -> None:
     """Escape rich markup in every command's help (its docstring and its options' help), so
-    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]"."""
+    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]";
+    each docstring's paragraphs rewrapped, and the parameters shown by :class:`_Command`."""
     import inspect
 
     for command in typer_app.registered_commands:
         doc = command.help if command.help is not None else inspect.getdoc(command.callback)
         if doc:
-            command.help = escape(doc)
+            # each paragraph one line, for the help to wrap to the terminal (typer kept the
+            # docstrings' own breaks after the first paragraph)
+            command.help = escape("\n\n".join(" ".join(p.split()) for p in doc.split("\n\n")))
+        if command.cls in (None, typer.core.TyperCommand):
+            command.cls = _Command
         for parameter in inspect.signature(command.callback).parameters.values():
             info = parameter.default
             if isinstance(info, typer.models.ParameterInfo) and info.help:
