@@ -69,3 +69,17 @@ def test_a_whole_run_is_not_partial():
          "p95_cross_track_error_m": 1e-6, "winch_energy_kJ": 1.0}
     assert cleaning_findings(s)[1] == ("5 lanes 0.15 m apart, 7.3 m of path in 77.8 s: 47.7 m2/h; the pass along "
                                        "the edges the lanes leave takes 1.2 m and 12.9 s of it.")
+
+
+def test_clean_seas_on_part_of_the_path_says_so(tmp_path):
+    """The sibling in ``clean --seas``: a sea state judged on the first second of the path
+    (its coverage and hours the part's) is said to be a partial job."""
+    csv = tmp_path / "one.csv"
+    csv.write_text("hs_m,tp_s,probability\n0.5,6,1.0\n")
+    res = runner.invoke(app, ["clean", "paper_clean", "--seas", "--scatter", str(csv), "--duration", "1",
+                              "--coverage-target", "0", "--serial", "--out", str(tmp_path / "o")],
+                        terminal_width=4000)
+    assert res.exit_code == 0, res.output
+    path = cleaning_path(marinecdpr.load_scenario("paper_clean").cleaning)
+    assert (f"warning: paper_clean: a PARTIAL job: each sea state flies the first 1 s of the {path.duration_s:.4g} s "
+            "path; its coverage and hours are that part's") in res.stderr.splitlines()

@@ -388,6 +388,13 @@ def clean(
             if not (math.isfinite(value) and 0.0 <= value <= 100.0):
                 _fail(f"{name} {value:g}: expected a percentage between 0 and 100")
         heads = _sea_study_options(headings, serial, workers, scheduler)
+        from marinecdpr.motion.trajectory import cleaning_path
+
+        path_end = sc.trajectory.start_time_s + cleaning_path(sc.cleaning).duration_s
+        if sc.time.duration_s < path_end:  # each sea state's verdict and hours are the part's
+            err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: a PARTIAL job: each sea state "
+                                      f"flies the first {sc.time.duration_s:g} s of the {path_end:.4g} s path; its "
+                                      "coverage and hours are that part's"), highlight=False, soft_wrap=True)
         return _clean_seas(scenario, sc, _scatter_diagram(scatter), heads, out, plant=plant, hull_area=hull_area,
                            move_time=move_time, coverage_target=coverage_target, in_band_target=in_band_target,
                            serial=serial, workers=workers, scheduler=scheduler)
