@@ -1814,8 +1814,11 @@ def main() -> None:
     try:
         keep_freed_memory()
         app()
-    except KeyboardInterrupt:
-        _fail("interrupted", EXIT_INTERRUPTED)
+    except KeyboardInterrupt:  # outside a command (as typer builds the commands): exit here, not
+        try:                   # by typer's Exit, which only a running command turns into an exit
+            _fail("interrupted", EXIT_INTERRUPTED)
+        except typer.Exit:
+            raise SystemExit(EXIT_INTERRUPTED) from None
     except SystemExit as exc:
         code = EXIT_INTERRUPTED if _swallowed_interrupt and exc.code in (0, None) else exc.code
         if code == EXIT_INTERRUPTED and not _interruption_said:
