@@ -52,7 +52,7 @@ def test_clean_for_15_s_reports_the_path_flown_in_15_s(tmp_path):
     assert "flown in the first 15.0 s" in line and f"{s['boundary_pass_flown_m']:.3g} m of it along the edges" in line
     assert f"{path.boundary_duration_s:.1f} s" not in line  # not the whole edge pass's time
     html = (out / "report.html").read_text()
-    assert "job time (a PARTIAL run)" in html
+    assert "job time (a PARTIAL run)" in html and "area rate (over the part flown)" in html
 
 
 def test_a_whole_run_is_not_partial():

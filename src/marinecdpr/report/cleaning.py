@@ -235,6 +235,8 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
     rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     table = [_figure_row(k, s[k]) for k in FIGURES]
     if s.get("partial"):  # the run ended before the path: its figures are the part flown's
+        table = [(f"{name} (over the part flown)", value) if name == FIGURES["area_rate_m2_h"][0] else (name, value)
+                 for name, value in table]
         table.insert(5, ("job time (a PARTIAL run)", f"{s['job_time_s']:.1f} s of the path's "
                                                      f"{s['path_duration_s']:.1f} s"))
         table.insert(6, ("path flown", f"{s['path_flown_m']:.3g} m of {s['path_length_m']:.3g} m"))
