@@ -801,7 +801,7 @@ def _progress_bar(label: str, unit: str = "", eta_after: float = 0.0):
 
         def update(self, task_id, *args, **kwargs) -> None:
             super().update(task_id, *args, **kwargs)
-            task = self._tasks[task_id]
+            task = next(t for t in self.tasks if t.id == task_id)
             pace = paces.setdefault(task_id, _Pace(time.perf_counter(), eta_after))
             pace.note(task.completed, time.perf_counter())
             self.refresh()
@@ -814,7 +814,8 @@ def _progress_bar(label: str, unit: str = "", eta_after: float = 0.0):
 
         def render(self, task) -> Text:
             pace = paces.get(task.id)
-            left = None if pace is None else pace.left_s(task.completed, task.total, time.perf_counter())
+            left = None if pace is None or task.finished else pace.left_s(task.completed, task.total,
+                                                                          time.perf_counter())
             return Text("" if left is None else f"about {_seconds(left)} left", style="progress.remaining")
 
     return Bar(TextColumn(escape(f"{label:<16}")), TextColumn("{task.description}"), BarColumn(),
