@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from marinecdpr.report.files import MANIFEST
+from marinecdpr.report.files import read_manifest
 
 EXE = str(Path(sys.executable).parent / "marinecdpr")
 
@@ -31,7 +31,7 @@ def _start(args, **kw):
 def _one_complete_run(folder: Path) -> str:
     """Assert that ``folder`` holds the files of exactly one main-job run; return its scenario."""
     names = {p.name for p in folder.iterdir() if not p.name.startswith(".")}
-    listed = set((folder / MANIFEST).read_text().split())
+    listed = set(read_manifest(folder)[1])
     assert names == listed, (names, listed)
     s = json.loads((folder / "summary.json").read_text())
     for name in ("plan.csv", "sim_open_loop.csv", "sim_closed_loop.csv", "sim_fixed_base_open_loop.csv"):

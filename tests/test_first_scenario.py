@@ -164,15 +164,18 @@ def test_piped_workspace_prints_progress_lines(tmp_path, monkeypatch):
             "--out", str(tmp_path)]
     res = runner.invoke(app, args)
     assert res.exit_code == 0, res.output
-    # a short job: one closing line, with its speed
-    (last,) = [line for line in res.stderr.splitlines() if line.startswith("workspace:")]
-    assert re.fullmatch(r"workspace: 48 of 48 poses in \d+\.\d s \([\d,.]+ poses/s\)", last)
+    # a short job: a line at once that it has started, and a closing line, with its speed
+    first, last = [line for line in res.stderr.splitlines() if line.startswith("workspace:")]
+    assert first == "workspace: 0 of 48 poses, started"
+    assert re.fullmatch(r"workspace: 48 of 48 poses in \d+\.\d s \([\d,.]+ poses/s( after the first \d+, which "
+                        r"took \d+\.\d s with the start-up)?\)", last)
     # without the minimum interval: a line at every tenth of the grid, then the closing line
     monkeypatch.setattr(cli, "PROGRESS_LINE_MIN_S", 0.0)
     res = runner.invoke(app, args)
     lines = res.stderr.strip().splitlines()
     assert lines.pop(0).startswith("size: paper: 48 poses (8 x 6) x 21 steps")  # before the work
-    done = [int(re.match(r"workspace: (\d+) of 48 poses \(\d+%\), \d+\.\d s, about \d+\.\d s left$", line)[1])
+    assert lines.pop(0) == "workspace: 0 of 48 poses, started"
+    done = [int(re.match(r"workspace: (\d+) of 48 poses \(\d+%\), \d+\.\d s(, about \d+\.\d s left)?$", line)[1])
             for line in lines[:-1]]
     assert done == [5, 10, 15, 20, 24, 29, 34, 39, 44]
     assert lines[0].startswith("workspace: 5 of 48 poses (10%), ")

@@ -50,23 +50,30 @@ def test_the_estimate_leaves_the_first_pieces_compile_out(clock):
     # no estimate from the first piece alone; then 9 steps in 1.8 s since it: 90 steps left
     # take 18 s (counting the compile, 768 s: "about 12 min 48 s left")
     assert clock.out.getvalue().splitlines() == [
+        "simulate: open loop: 0 of 100 steps, started",  # at once (issue 37, item 8)
         "simulate: open loop: 1 of 100 steps (1%), 1 min 15 s",
         "simulate: open loop: 10 of 100 steps (10%), 1 min 17 s, about 18.0 s left"]
 
 
-def test_no_estimate_before_a_second_piece_and_the_clock_per_task(clock):
+def test_no_estimate_before_three_pieces_after_the_first(clock):
+    """Issue 37, item 8: one or two pieces after the first say too little (this said "about
+    5 min 08 s left" after one, "2 min 42 s" after two); from the third, 3 runs in 23 s."""
     bar = cli._PlainProgress("control-study", "runs")
     task = bar.add_task("", total=30)
     clock.now = 400.0  # 7 min: the compile and the first run
     bar.update(task, completed=1)  # a line (10 s have passed), with no estimate from one piece
     clock.now = 411.0
-    bar.update(task, completed=2)  # 11 s a run since the first: 28 left
+    bar.update(task, completed=2)
     clock.now = 412.0
-    bar.update(task, completed=3)  # 12 s for two since the first: 27 left
+    bar.update(task, completed=3)
+    clock.now = 423.0
+    bar.update(task, completed=4)  # 3 runs in 23 s since the first: 26 left take 199.3 s
     lines = clock.out.getvalue().splitlines()
-    assert lines == ["control-study: 1 of 30 runs (3%), 6 min 40 s",
-                     "control-study: 2 of 30 runs (7%), 6 min 51 s, about 5 min 08 s left",
-                     "control-study: 3 of 30 runs (10%), 6 min 52 s, about 2 min 42 s left"]
+    assert lines == ["control-study: 0 of 30 runs, started",
+                     "control-study: 1 of 30 runs (3%), 6 min 40 s",
+                     "control-study: 2 of 30 runs (7%), 6 min 51 s",
+                     "control-study: 3 of 30 runs (10%), 6 min 52 s",
+                     "control-study: 4 of 30 runs (13%), 7 min 03 s, about 3 min 19 s left"]
 
 
 def _cold(monkeypatch, cold: bool) -> None:

@@ -185,8 +185,20 @@ def test_a_mesh_side_gives_the_analytic_form_s_placements(tmp_path, paper_clean)
         surface_job(off, move_time_s=600.0)
 
 
-def test_clean_surface_writes_the_placements_and_their_hours(tmp_path):
-    """The README's figures for paper_clean's band: 2 660 placements, 497 h with moves of 600 s."""
+def test_clean_surface_writes_the_placements_and_their_hours(tmp_path, monkeypatch):
+    """The README's figures for paper_clean's band: 2 660 placements, 497 h with moves of 600 s;
+    the frame (1.9 x 1.4 m, its anchors' extent) and the panel it cleans (1.3 x 0.8 m) each
+    called by its name, in the line and in surface.png's title (issue 37, item 7)."""
+    import marinecdpr.report.cleaning as cleaning_report
+
+    titles = {}
+    real_save = cleaning_report._save
+
+    def keep_title(fig, path, dpi=None):
+        titles[Path(path).name] = fig._suptitle.get_text() if fig._suptitle is not None else None
+        return real_save(fig, path)
+
+    monkeypatch.setattr(cleaning_report, "_save", keep_title)
     out = tmp_path / "o"
     res = runner.invoke(app, ["clean", "paper_clean", "--surface", "--duration", "0.2", "--no-compare",
                               "--out", str(out)])
@@ -194,7 +206,10 @@ def test_clean_surface_writes_the_placements_and_their_hours(tmp_path):
     u = json.loads((out / "summary.json").read_text())["surface"]
     assert u["placements"] == 2660 and round(u["hours"], 1) == 497.3 and round(u["cleaning_hours"]) == 54
     assert round(u["area_m2"]) == 2350 and round(u["area_rate_m2_h"], 1) == 4.7
-    assert "2660 placements of the 1.3 x 0.8 m frame, 2350 m2: 497.3 h (54.11 h cleaning" in res.stdout
+    assert ("2660 placements of the 1.9 x 1.4 m frame, each cleaning its 1.3 x 0.8 m panel, 2350 m2: 497.3 h "
+            "(54.11 h cleaning") in res.stdout
+    assert titles["surface.png"].startswith("2660 placements of the frame, each cleaning its 1.3 x 0.8 m panel: "
+                                            "497.3 h")
     rows = np.loadtxt(out / "placements.csv", delimiter=",", skiprows=1, comments="#")
     assert rows.shape == (2660, 17) and (rows[:, -1] == 1).all()
     assert (rows[:, 15].sum() + 2659 * 600.0) / 3600.0 == pytest.approx(u["hours"], rel=1e-9)

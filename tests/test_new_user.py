@@ -267,12 +267,18 @@ def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_
     out.mkdir()
     (out / "notes.txt").write_text("mine")
     assert _main_job(out).exit_code == 0
+    main_job = {p.name: p.read_bytes() for p in out.iterdir()}
+    # another command into the main job's folder is refused, its files kept (issue 37, item 5: the
+    # plan's files replaced the main job's, the report gone without a word)
     res = runner.invoke(app, ["plan", "paper_sea", "--out", str(out)])
-    assert res.exit_code == 0, res.output
-    # the plan's files replace the main job's: no report of one scenario beside another's CSVs
-    assert {p.name for p in out.iterdir()} == {"plan.csv", "tensions.png", "notes.txt", MANIFEST}
+    assert res.exit_code == 2, res.output
+    assert "holds the results of 'simulate'" in res.stderr
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == main_job
     assert (out / "notes.txt").read_text() == "mine"
+    # the same command replaces every file of its previous run: no report of one scenario beside
+    # another's CSVs
     assert _main_job(out, "paper_sea").exit_code == 0
+    assert {p.name for p in out.iterdir()} == set(main_job)
     s = json.loads((out / "summary.json").read_text())
     assert s["scenario"] == "paper_sea" and "paper_sea" in (out / "report.html").read_text()
 

@@ -60,6 +60,56 @@ class _OneLineUsage(typer.core.TyperGroup):
         with _usage_in_one_line():
             return super().invoke(ctx)
 
+    def get_params(self, ctx):
+        return _help_params(super().get_params(ctx))
+
+    def resolve_command(self, ctx, args):
+        global _running_command
+        name, command, rest = super().resolve_command(ctx, args)
+        _running_command = command.name if command is not None else name
+        return name, command, rest
+
+
+_running_command: str | None = None
+"""The command being run (``plan``, ``simulate``, ...): the kind of run an output folder's
+manifest records (:func:`_output`)."""
+
+
+class _FlagOption(typer.core.TyperOption):
+    """A flag in the help without a type (it takes no value: typer showed ``<bool>``)."""
+
+    def display_type_rich(self, ctx):
+        return None if self.is_flag else super().display_type_rich(ctx)
+
+
+class _Argument(typer.core.TyperArgument):
+    """An argument in the usage line as click writes it: ``SCENARIO`` when required,
+    ``[SCENARIO]`` when not, a given metavar as it is (typer wrote ``{scenario}`` and
+    ``[[SCENARIO]...]...``)."""
+
+    def _usage_display_name(self) -> str:
+        if self.metavar is not None:
+            return self.metavar
+        name = self.name.upper() + ("..." if self.nargs != 1 else "")
+        return name if self.required else f"[{name}]"
+
+
+def _help_params(params: list) -> list:
+    """The parameters as the help shows them (:class:`_FlagOption`, :class:`_Argument`)."""
+    for param in params:
+        if type(param) is typer.core.TyperOption and param.is_flag:
+            param.__class__ = _FlagOption
+        elif type(param) is typer.core.TyperArgument:
+            param.__class__ = _Argument
+    return params
+
+
+class _Command(typer.core.TyperCommand):
+    """A command whose help shows its parameters as :func:`_help_params` does."""
+
+    def get_params(self, ctx):
+        return _help_params(super().get_params(ctx))
+
 
 @contextmanager
 def _usage_in_one_line():
@@ -338,6 +388,13 @@ def clean(
             if not (math.isfinite(value) and 0.0 <= value <= 100.0):
                 _fail(f"{name} {value:g}: expected a percentage between 0 and 100")
         heads = _sea_study_options(headings, serial, workers, scheduler)
+        from marinecdpr.motion.trajectory import cleaning_path
+
+        path_end = sc.trajectory.start_time_s + cleaning_path(sc.cleaning).duration_s
+        if sc.time.duration_s < path_end:  # each sea state's verdict and hours are the part's
+            err_console.print(_styled("warning:", "bold yellow", f"{_plain(scenario)}: a PARTIAL job: each sea state "
+                                      f"flies the first {sc.time.duration_s:g} s of the {path_end:.4g} s path; its "
+                                      "coverage and hours are that part's"), highlight=False, soft_wrap=True)
         return _clean_seas(scenario, sc, _scatter_diagram(scatter), heads, out, plant=plant, hull_area=hull_area,
                            move_time=move_time, coverage_target=coverage_target, in_band_target=in_band_target,
                            serial=serial, workers=workers, scheduler=scheduler)
@@ -345,7 +402,9 @@ def clean(
     with _output(out) as folder:
         _compile_notice(plant or sc.simulation.plant)
         runs = (2 if guarantee else 1) + (len(job_variants(sc)) - 1 if compare else 0)
-        with _progress("clean", runs * sc.time.n_steps, "steps") as update:
+        # runs one after the other, each planned first: the time left once a run's worth is known
+        with _progress("clean", runs * sc.time.n_steps, "steps", eta_after=sc.time.n_steps if runs > 1 else 0) \
+                as update:
             done = [0]
 
             def step(k: int, n: int) -> None:  # runs one after the other on one bar
@@ -373,8 +432,12 @@ def clean(
         console.print(_plain(sentence), highlight=False, soft_wrap=True)
     if surface:
         u = job.summary["surface"]
-        console.print(_plain(f"surface: {u['surface']}: {u['placements']} placements of the "
-                             f"{u['frame_panel_m'][0]:g} x {u['frame_panel_m'][1]:g} m frame, {u['area_m2']:.4g} m2: "
+        import numpy as np
+
+        frame = np.ptp(sc.robot.frame_anchors, axis=0)  # the frame's extent along C's x and z, m
+        console.print(_plain(f"surface: {u['surface']}: {u['placements']} placements of the {frame[0]:.3g} x "
+                             f"{frame[2]:.3g} m frame, each cleaning its {u['frame_panel_m'][0]:g} x "
+                             f"{u['frame_panel_m'][1]:g} m panel, {u['area_m2']:.4g} m2: "
                              f"{u['hours']:.4g} h ({u['cleaning_hours']:.4g} h cleaning, moves of {move_time:g} s; "
                              f"{u['area_rate_m2_h']:.3g} m2/h)"
                              + (f"; {u['uncleanable_patches']} patches ({u['uncleanable_area_m2']:.3g} m2) curved "
@@ -535,12 +598,14 @@ def _fail_bypassed(runs: list[tuple[str, int, int]], sc, out: Path) -> None:
 @contextmanager
 def _output(out: Path):
     """The output folder, checked before the work starts and filled all at once at the end
-    (see :class:`marinecdpr.report.files.StagedOutput`); a failure writing it is one line, exit 2."""
+    (see :class:`marinecdpr.report.files.StagedOutput`); a failure writing it is one line, exit 2,
+    and so is a folder holding another command's results (a run replaces only its own
+    command's files: ``simulate`` then ``plan`` into one folder would lose the report)."""
     from marinecdpr.errors import OutputError
     from marinecdpr.report.files import StagedOutput
 
     try:
-        staged = StagedOutput(out)
+        staged = StagedOutput(out, command=_running_command)
     except OutputError as exc:
         _fail(f"--out {exc}")
     try:
@@ -559,7 +624,15 @@ PROGRESS_LINE_FRACTION = 0.1
 PROGRESS_LINE_EVERY_S = 10.0
 """... or when this long has passed since the last line (and a last line at the end)..."""
 PROGRESS_LINE_MIN_S = 1.0
-"""... but never sooner than this after the last line (a short job prints only its last line)."""
+"""... but never sooner than this after the last line (a short job prints only its first
+line, which says it has started, and its last)."""
+ESTIMATE_MIN_PIECES = 3
+"""No estimate of the time left before this many pieces of work have been done after the
+first (the first holds a first run's compile, and one or two pieces say little)..."""
+ESTIMATE_MIN_SHARE = 0.05
+"""... nor before they make this share of the work..."""
+ESTIMATE_MIN_S = 1.0
+"""... nor before they took this long, s (work that comes in batches done at one moment)."""
 
 
 def _seconds(s: float) -> str:
@@ -570,12 +643,66 @@ def _seconds(s: float) -> str:
     return f"{whole // 60} min {whole % 60:02d} s"
 
 
+class _Pace:
+    """A task's pace, measured from the end of its first piece of work (the piece that holds
+    a first run's compile, which would swell every estimate), for the time left and the rate."""
+
+    def __init__(self, start: float, eta_after: float = 0.0):
+        self.start, self.eta_after = start, eta_after
+        self.first: tuple[float, float] | None = None  # (when, done) at the end of the first piece
+        self.pieces = 0  # pieces done since the first
+        self.last_done = 0.0
+
+    def note(self, done: float, now: float) -> None:
+        """Work done so far (``done``, at ``now``)."""
+        if self.first is None:
+            if done > 0:
+                self.first = (now, done)
+        elif done > self.last_done:
+            self.pieces += 1
+        self.last_done = done
+
+    def left_s(self, done: float, total: float | None, now: float) -> float | None:
+        """Seconds left at the pace since the first piece; None until it means something:
+        :data:`ESTIMATE_MIN_PIECES` pieces since the first, :data:`ESTIMATE_MIN_SHARE` of the
+        work and :data:`ESTIMATE_MIN_S` seconds, and more than ``eta_after`` done."""
+        if not total or self.first is None or done <= self.eta_after:
+            return None
+        since, done_then = self.first
+        if (self.pieces < ESTIMATE_MIN_PIECES or done - done_then < ESTIMATE_MIN_SHARE * total
+                or now - since < ESTIMATE_MIN_S):
+            return None
+        return (now - since) * (total - done) / (done - done_then)
+
+    def rate(self, done: float, now: float) -> tuple[float, str]:
+        """Work per second and what it leaves out: after the first piece where that piece took
+        far longer than the pace since (a compile, a start-up), else over the whole time."""
+        elapsed = now - self.start
+        whole = done / elapsed if elapsed > 0 else float("inf")
+        if self.first is None or self.pieces == 0 or now <= self.first[0]:
+            return whole, ""
+        since, done_then = self.first
+        after = (done - done_then) / (now - since)
+        first_s = since - self.start
+        if first_s > 2.0 * done_then / after + ESTIMATE_MIN_S:
+            return after, f" after the first {done_then:g}, which took {_seconds(first_s)} with the start-up"
+        return whole, ""
+
+
+def _rate_text(per_s: float, per: str) -> str:
+    return f"{per_s:.3g} {per}/s" if per_s < 100 else f"{per_s:,.0f} {per}/s"
+
+
 class _PlainProgress:
     """Progress as plain lines on stderr, for pipes and logs; the interface of rich's ``Progress``
-    that the commands use (``add_task``, ``update``, a context manager)."""
+    that the commands use (``add_task``, ``update``, a context manager).
 
-    def __init__(self, label: str, unit: str = ""):
-        self.label, self.unit = label, unit
+    The first task's first line comes at once (the work has started: no silence until the first
+    tenth is done); then a line at each tenth of the work or each :data:`PROGRESS_LINE_EVERY_S`,
+    with the time left once it can be estimated (:class:`_Pace`), and a last line with the rate."""
+
+    def __init__(self, label: str, unit: str = "", eta_after: float = 0.0):
+        self.label, self.unit, self.eta_after = label, unit, eta_after
         self._tasks: list[dict] = []
 
     def __enter__(self) -> "_PlainProgress":
@@ -590,18 +717,23 @@ class _PlainProgress:
 
     def add_task(self, description: str = "", total: float | None = None, unit: str | None = None, **_) -> int:
         now = time.perf_counter()
+        first = not self._tasks
         self._tasks.append(dict(description=description, total=total, unit=unit, done=0, printed=0, start=now,
-                                printed_at=now, finished=False, started=False, rate_from=None))
+                                printed_at=now, finished=False, started=False, pace=None))
+        if first:  # at once: the work has begun, and how much there is
+            self._line(self._tasks[-1], started=True)
         return len(self._tasks) - 1
 
     def update(self, task_id: int, *, completed: float | None = None, total: float | None = None,
                advance: float | None = None, **_) -> None:
         task = self._tasks[task_id]
+        now = time.perf_counter()
         if not task["started"]:
             # tasks that run one after another: a task's clock starts when the last one finished
             # (a task that runs alongside the others is updated with 0 done at its start)
             ends = [t["ended"] for t in self._tasks if t["finished"]]
             task.update(start=max([task["start"]] + ends), started=True)
+            task["pace"] = _Pace(task["start"], self.eta_after)
         if total is not None:
             task["total"] = total
         if completed is not None:
@@ -609,14 +741,11 @@ class _PlainProgress:
         if advance is not None:
             task["done"] += advance
         done, total = task["done"], task["total"]
-        if task["rate_from"] is None and done > 0:
-            # the rate clock starts when the first piece of work is done: a first run's
-            # compile (tens of seconds) is in that piece, and would swell every estimate
-            task["rate_from"] = (time.perf_counter(), done)
+        task["pace"].note(done, now)
         if task["finished"] or done <= task["printed"]:
             return
         tenth = PROGRESS_LINE_FRACTION
-        since = time.perf_counter() - task["printed_at"]
+        since = now - task["printed_at"]
         if total and done >= total:
             self._line(task, final=True)
         elif since >= PROGRESS_LINE_MIN_S and (
@@ -624,7 +753,7 @@ class _PlainProgress:
                 or since >= PROGRESS_LINE_EVERY_S):
             self._line(task)
 
-    def _line(self, task: dict, final: bool = False) -> None:
+    def _line(self, task: dict, final: bool = False, started: bool = False) -> None:
         now = time.perf_counter()
         elapsed = now - task["start"]
         done, total = task["done"], task["total"]
@@ -633,52 +762,70 @@ class _PlainProgress:
         per = unit or "done"
         unit = f" {unit}" if unit else ""
         of = f"{done:g} of {total:g}{unit}" if total else f"{done:g}{unit}"
-        if final:
+        if started:
+            text = f"{name}: {of}, started"
+        elif final:
             rate = ""
             if elapsed > 0:
-                per_s = done / elapsed
-                rate = f" ({per_s:.3g} {per}/s)" if per_s < 100 else f" ({per_s:,.0f} {per}/s)"
+                per_s, leaves_out = task["pace"].rate(done, now)
+                rate = f" ({_rate_text(per_s, per)}{leaves_out})"
             text = f"{name}: {of} in {_seconds(elapsed)}{rate}"
         else:
             pct = f" ({100 * done / total:.0f}%)" if total else ""
-            left = ""
-            if total and task["rate_from"] is not None and done > task["rate_from"][1]:
-                since, done_then = task["rate_from"]
-                left = f", about {_seconds((now - since) * (total - done) / (done - done_then))} left"
+            left_s = task["pace"].left_s(done, total, now)
+            left = "" if left_s is None else f", about {_seconds(left_s)} left"
             text = f"{name}: {of}{pct}, {_seconds(elapsed)}{left}"
         err_console.print(_plain(text), highlight=False, soft_wrap=True)
-        task.update(printed=done, printed_at=now, finished=final, ended=now)
+        if not started:
+            task.update(printed=done, printed_at=now, finished=final, ended=now)
 
 
-def _progress_bar(label: str, unit: str = ""):
+def _progress_bar(label: str, unit: str = "", eta_after: float = 0.0):
     """Progress on stderr: rich's bar on a terminal, plain lines (:class:`_PlainProgress`) otherwise.
 
     Use as ``with _progress_bar("workspace", "poses") as bar: task = bar.add_task("", total=n);
     ... bar.update(task, completed=done, total=n)``; several tasks may share it (named by their
-    description). :func:`_progress` wraps the one-task case.
+    description). :func:`_progress` wraps the one-task case. The time left is said once it
+    means something (:class:`_Pace`), and not before more than ``eta_after`` is done (work in
+    runs, each with its own start-up: one run's worth).
     """
     if not err_console.is_terminal:
-        return _PlainProgress(label, unit)
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
-                               TimeRemainingColumn)
+        return _PlainProgress(label, unit, eta_after)
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    paces: dict = {}
 
     class Bar(Progress):
         """rich's bar, redrawn at each update rather than by a thread of its own: a process with
         no other thread may hand work to a forked copy of itself (:mod:`marinecdpr.forked`)."""
 
-        def update(self, *args, **kwargs) -> None:
-            super().update(*args, **kwargs)
+        def update(self, task_id, *args, **kwargs) -> None:
+            super().update(task_id, *args, **kwargs)
+            task = next(t for t in self.tasks if t.id == task_id)
+            pace = paces.setdefault(task_id, _Pace(time.perf_counter(), eta_after))
+            pace.note(task.completed, time.perf_counter())
             self.refresh()
 
+    class Left(TextColumn):
+        """The time left, from the task's pace (rich's own estimate counts a compile in)."""
+
+        def __init__(self):
+            super().__init__("")
+
+        def render(self, task) -> Text:
+            pace = paces.get(task.id)
+            left = None if pace is None or task.finished else pace.left_s(task.completed, task.total,
+                                                                          time.perf_counter())
+            return Text("" if left is None else f"about {_seconds(left)} left", style="progress.remaining")
+
     return Bar(TextColumn(escape(f"{label:<16}")), TextColumn("{task.description}"), BarColumn(),
-               MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(), console=err_console,
-               auto_refresh=False)
+               MofNCompleteColumn(), TimeElapsedColumn(), Left(), console=err_console, auto_refresh=False)
 
 
 @contextmanager
-def _progress(label: str, total: int, unit: str = ""):
+def _progress(label: str, total: int, unit: str = "", eta_after: float = 0.0):
     """One job's progress on stderr (see :func:`_progress_bar`); yields ``update(done, total=None)``."""
-    with _progress_bar(label, unit) as bar:
+    with _progress_bar(label, unit, eta_after) as bar:
         task = bar.add_task("", total=total)
 
         def update(done: int, new_total: int | None = None) -> None:
@@ -706,8 +853,9 @@ def workspace(
     axes: str = typer.Option("xz", help="Grid plane: two of x, y, z."),
     points: str = typer.Option("30x20", help="Grid points along the two axes, e.g. 30x20."),
     fixed: Optional[float] = typer.Option(None, help="The third coordinate, m (default: mid-frame)."),
-    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose."),
-    step: Optional[float] = typer.Option(None, help="Time step, s."),
+    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose (default: the scenario's "
+                                             "time.duration_s)."),
+    step: Optional[float] = typer.Option(None, help="Time step, s (default: the scenario's time.step_s)."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
     from marinecdpr.report.writers import write_workspace
@@ -1529,6 +1677,31 @@ def design(
                   highlight=False, soft_wrap=True)
 
 
+@contextmanager
+def _file_folder(out: Path):
+    """The folder of an output file, created if missing (as the commands' output folders are)
+    and removed again if the block fails while it is still empty; a path through a file is
+    one line, exit 2 (``--out notes.txt/x.toml``: notes.txt is a file, not a folder)."""
+    missing = []
+    for folder in (out.parent, *out.parent.parents):
+        if folder.is_dir():
+            break
+        if folder.exists() or folder.is_symlink():
+            _fail(f"--out {out}: {folder} is a file, not a folder")
+        missing.append(folder)
+    for folder in reversed(missing):
+        folder.mkdir()
+    try:
+        yield
+    except BaseException:
+        for folder in missing:  # the deepest first; each only while empty
+            try:
+                folder.rmdir()
+            except OSError:
+                break
+        raise
+
+
 @app.command("import")
 def import_(
     source: Path = typer.Argument(..., help="A CASPR model's *_bodies.xml or a WireX robot (.wcrfx)."),
@@ -1555,9 +1728,7 @@ def import_(
         imported = import_robot(source, cables=cables, trajectories=trajectories, cable_set=cable_set,
                                 trajectory=trajectory, hold=hold, pulleys=pulleys)
         text = scenario_toml(imported)
-        if not out.parent.is_dir():
-            _fail(f"--out {out}: no folder {out.parent}")
-        with atomic_path(out) as tmp:
+        with _file_folder(out), atomic_path(out) as tmp:
             tmp.write_text(text, encoding="utf-8")
             load_scenario(tmp)  # reads back as it will be read
     except ScenarioError as exc:
@@ -1596,13 +1767,18 @@ def scenarios() -> None:
 
 def _help_read_literally(typer_app: typer.Typer) -> None:
     """Escape rich markup in every command's help (its docstring and its options' help), so
-    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]"."""
+    that typer's help shows it as written: "pip install 'marinecdpr[bem]'", not without "[bem]";
+    each docstring's paragraphs rewrapped, and the parameters shown by :class:`_Command`."""
     import inspect
 
     for command in typer_app.registered_commands:
         doc = command.help if command.help is not None else inspect.getdoc(command.callback)
         if doc:
-            command.help = escape(doc)
+            # each paragraph one line, for the help to wrap to the terminal (typer kept the
+            # docstrings' own breaks after the first paragraph)
+            command.help = escape("\n\n".join(" ".join(p.split()) for p in doc.split("\n\n")))
+        if command.cls in (None, typer.core.TyperCommand):
+            command.cls = _Command
         for parameter in inspect.signature(command.callback).parameters.values():
             info = parameter.default
             if isinstance(info, typer.models.ParameterInfo) and info.help:
@@ -1660,8 +1836,11 @@ def main() -> None:
     try:
         keep_freed_memory()
         app()
-    except KeyboardInterrupt:
-        _fail("interrupted", EXIT_INTERRUPTED)
+    except KeyboardInterrupt:  # outside a command (as typer builds the commands): exit here, not
+        try:                   # by typer's Exit, which only a running command turns into an exit
+            _fail("interrupted", EXIT_INTERRUPTED)
+        except typer.Exit:
+            raise SystemExit(EXIT_INTERRUPTED) from None
     except SystemExit as exc:
         code = EXIT_INTERRUPTED if _swallowed_interrupt and exc.code in (0, None) else exc.code
         if code == EXIT_INTERRUPTED and not _interruption_said:

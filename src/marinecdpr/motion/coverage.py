@@ -128,6 +128,35 @@ class CoveragePath:
         unit /= np.linalg.norm(unit, axis=1)[:, None]
         return p0 + unit * s[:, None], unit * v[:, None], unit * a[:, None]
 
+    def flown(self, t: float) -> tuple[float, float]:
+        """How much of the path the brush has travelled by time ``t`` (a partial run).
+
+        Parameters
+        ----------
+        t : float
+            Time since the path's start, s; clipped to ``[0, duration_s]``.
+
+        Returns
+        -------
+        length_m : float
+            Distance along the path by ``t``, m: the segments finished and the part of the
+            current one (``length_m`` at ``duration_s``).
+        boundary_m : float
+            The part of it on the boundary pass's segments (``boundary_segment``: the pass
+            along the edges and its transfers), m.
+        """
+        start, s0, v0, a0, jerk, seg = self._phases
+        tc = min(max(float(t), 0.0), self.duration_s)
+        k = int(np.clip(np.searchsorted(start, tc, side="right") - 1, 0, start.size - 1))
+        tau = tc - start[k]
+        along = float(s0[k] + tau * (v0[k] + tau * (0.5 * a0[k] + tau * jerk[k] / 6.0)))
+        lengths = np.linalg.norm(np.diff(self.vertices, axis=0), axis=1)
+        i = int(seg[k])
+        along = min(max(along, 0.0), float(lengths[i]))
+        done = float(lengths[:i].sum()) + along
+        edge = float(lengths[:i][self.boundary_segment[:i]].sum()) + (along if self.boundary_segment[i] else 0.0)
+        return done, edge
+
 
 def coverage_path(
     panel,

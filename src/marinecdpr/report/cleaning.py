@@ -107,10 +107,7 @@ def cleaning_findings(summary: dict) -> list[str]:
     out = [f"The brush cleaned {s['coverage_pct']:.2f} % of the {s['panel_area_m2']:.3g} m2 panel "
            f"({s['reachable_coverage_pct']:.2f} % of the {s['reachable_area_m2']:.3g} m2 a round brush of "
            f"{s['brush_width_m']:g} m can reach); {s['missed_area_m2']:.3g} m2 missed.",
-           f"{s['lanes']} lanes {s['lane_spacing_m']:.3g} m apart, {s['path_length_m']:.3g} m of path in "
-           f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h"
-           + (f"; the pass along the edges the lanes leave takes {s['boundary_pass_length_m']:.3g} m and "
-              f"{s['boundary_pass_time_s']:.1f} s of it." if s.get("boundary_pass_length_m", 0.0) > 0 else "."),
+           _path_sentence(s),
            f"The normal force stayed within its band {s['normal_force_in_band_pct']:.2f} % of the time "
            f"(contact lost {s['contact_lost_s']:.2f} s).",
            f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
@@ -124,7 +121,8 @@ def cleaning_findings(summary: dict) -> list[str]:
     if "hull" in s:
         hull = s["hull"]
         out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
-                   f"{hull['hours']:.1f} h with {hull['move_time_s']:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h).")
+                   f"{hull['hours']:.1f} h with {hull['move_time_s']:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h)"
+                   + (f", estimated from the partial run's first {s['job_time_s']:.1f} s." if s.get("partial") else "."))
     cmp = s.get("comparison", {})
     here = cmp.get("as asked")
     if here and "calm water" in cmp:
@@ -146,6 +144,25 @@ def cleaning_findings(summary: dict) -> list[str]:
                   "the normal force is the pusher's preload plus the platform's inertia and weight along the hull "
                   "normal from the plan (the guide holds the platform along the normal)."))
     return out
+
+
+def _path_sentence(s: dict) -> str:
+    """The path and the rate; for a partial run (``partial``: the run ended before the path)
+    the part flown, labelled, beside the whole path's length and time."""
+    if not s.get("partial"):
+        return (f"{s['lanes']} lanes {s['lane_spacing_m']:.3g} m apart, {s['path_length_m']:.3g} m of path in "
+                f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h"
+                + (f"; the pass along the edges the lanes leave takes {s['boundary_pass_length_m']:.3g} m and "
+                   f"{s['boundary_pass_time_s']:.1f} s of it." if s.get("boundary_pass_length_m", 0.0) > 0 else "."))
+    edges = ""
+    if s.get("boundary_pass_length_m", 0.0) > 0:
+        edges = (f"; {s['boundary_pass_flown_m']:.3g} m of it along the edges (of the pass's "
+                 f"{s['boundary_pass_length_m']:.3g} m)" if s["boundary_pass_flown_m"] > 0 else
+                 f"; the pass along the edges ({s['boundary_pass_length_m']:.3g} m) not reached")
+    return (f"A PARTIAL run: {s['path_flown_m']:.3g} m of the {s['path_length_m']:.3g} m path ({s['lanes']} lanes "
+            f"{s['lane_spacing_m']:.3g} m apart, {s['path_duration_s']:.1f} s) flown in the first "
+            f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h over the part flown, not the whole job's"
+            f"{edges}.")
 
 
 def _length(v: float) -> str:
@@ -217,7 +234,14 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
                                       "the path" if s.get("boundary_pass_length_m", 0.0) > 0 else "none")]
     rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     table = [_figure_row(k, s[k]) for k in FIGURES]
-    table.insert(5, ("job time", f"{s['job_time_s']:.1f} s"))
+    if s.get("partial"):  # the run ended before the path: its figures are the part flown's
+        table = [(f"{name} (over the part flown)", value) if name == FIGURES["area_rate_m2_h"][0] else (name, value)
+                 for name, value in table]
+        table.insert(5, ("job time (a PARTIAL run)", f"{s['job_time_s']:.1f} s of the path's "
+                                                     f"{s['path_duration_s']:.1f} s"))
+        table.insert(6, ("path flown", f"{s['path_flown_m']:.3g} m of {s['path_length_m']:.3g} m"))
+    else:
+        table.insert(5, ("job time", f"{s['job_time_s']:.1f} s"))
     table.append(("controller", "BYPASSED: a failed run" if s["controller_verdict"] == "bypassed" else "held"))
     if "hull" in s:
         hull = s["hull"]
@@ -359,6 +383,7 @@ def write_surface(sj, folder: Path) -> list[Path]:
         ax.set_ylabel("z in S (m)")
         fig.colorbar(coll, ax=ax, label=label, shrink=0.9)
     axes[1].set_xlabel("x in S (m, from amidships)")
-    fig.suptitle(_plain(f"{len(sj.placements)} placements of a {sj.frame_panel_m[0]:g} x {sj.frame_panel_m[1]:g} m "
-                        f"frame: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); {sj.surface}"), fontsize=9)
+    fig.suptitle(_plain(f"{len(sj.placements)} placements of the frame, each cleaning its {sj.frame_panel_m[0]:g} x "
+                        f"{sj.frame_panel_m[1]:g} m panel: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); "
+                        f"{sj.surface}"), fontsize=9)
     return [csv, _save(fig, folder / "surface.png")]

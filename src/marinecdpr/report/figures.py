@@ -495,7 +495,7 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
             for j in range(op.scatter.tp.size):
                 p = grid[i, j]
                 if np.isfinite(p):
-                    ax.text(j, i, _percent_text(p), ha="center", va="center", fontsize=7,
+                    ax.text(j, i, _percent_text(p), ha="center", va="center", fontsize=CELL_FONT_PT[0],
                             color="white" if p < 0.2 or p > 0.8 else "black")
         ax.set_xticks(range(op.scatter.tp.size), [f"{v:g}" for v in op.scatter.tp])
         ax.set_yticks(range(op.scatter.hs.size), [f"{v:g}" for v in op.scatter.hs])
@@ -511,7 +511,34 @@ def plot_operability(op, scenario: Scenario, path: Path, *, workable: str | None
     numbers = "probability of success, %" + (f" of {realisations} records" if realisations > 1 else "")
     fig.suptitle(f"Operability of {_plain(scenario.name)} (green: {workable}; numbers: {numbers}; "
                  "blank: no sea state)", fontsize=10)
+    _fit_cell_numbers(fig, axes[0], op.scatter.tp.size, op.scatter.hs.size)
     return _save(fig, path)
+
+
+CELL_FONT_PT = (7.0, 13.0)
+"""Least and largest size of the numbers in a grid's cells, pt."""
+
+
+def _fit_cell_numbers(fig, axes, columns: int, rows: int) -> None:
+    """Size the numbers in each axes' grid of ``columns`` x ``rows`` cells to the cells as
+    laid out (the widest number within 80 % of a cell's width, its height within half a
+    cell's), between the sizes of :data:`CELL_FONT_PT`: they were 7 pt in cells of 60 pt."""
+    fig.draw_without_rendering()  # the layout: each axes' size on the page
+    renderer = fig.canvas.get_renderer()
+    for ax in axes:
+        if not ax.texts:
+            continue
+        box = ax.get_window_extent(renderer)
+        cell_w, cell_h = box.width / columns, box.height / rows  # pixels
+        size = 10.0
+        for _ in range(3):  # text extents scale with the size but for the pixels' rounding
+            for t in ax.texts:
+                t.set_fontsize(size)
+            widest = max(t.get_window_extent(renderer).width for t in ax.texts)
+            tallest = max(t.get_window_extent(renderer).height for t in ax.texts)
+            size = float(np.clip(size * min(0.8 * cell_w / widest, 0.5 * cell_h / tallest), *CELL_FONT_PT))
+        for t in ax.texts:
+            t.set_fontsize(size)
 
 
 def _percent_text(p: float) -> str:

@@ -22,11 +22,38 @@ import numpy as np
 from marinecdpr.errors import OutputError
 from marinecdpr.textfiles import atomic_path
 
-__all__ = ["StagedOutput", "atomic_path", "write_json", "json_text", "strict_json"]
+__all__ = ["StagedOutput", "atomic_path", "write_json", "json_text", "strict_json", "read_manifest"]
 
 
 MANIFEST = ".marinecdpr-files"
-"""Hidden file in an output folder listing the files of the run that wrote it."""
+"""Hidden file in an output folder listing the files of the run that wrote it (one name a
+line), after a first line ``# command: NAME`` naming the command that wrote them."""
+
+MANIFEST_COMMAND = "# command: "
+"""The manifest's first line's start; the command's name follows."""
+
+MAX_NAMES_SAID = 3
+"""Most of another command's file names a refusal names."""
+
+
+def read_manifest(folder: Path) -> tuple[str | None, list[str]]:
+    """The command that wrote ``folder``'s files (None: not said, as before issue 37, or no
+    manifest) and the names of those files, from the folder's manifest (:data:`MANIFEST`).
+
+    Returns
+    -------
+    command : str or None
+    names : list of str
+        As the manifest lists them (files and folders directly in ``folder``).
+    """
+    try:
+        lines = (Path(folder) / MANIFEST).read_text(encoding="utf-8").split("\n")
+    except (OSError, UnicodeDecodeError):
+        return None, []
+    command = None
+    if lines and lines[0].startswith(MANIFEST_COMMAND):
+        command = lines.pop(0)[len(MANIFEST_COMMAND):].strip() or None
+    return command, [line for line in lines if line]
 
 
 class StagedOutput:
@@ -42,16 +69,25 @@ class StagedOutput:
     files are renamed into place and the staging folder removed, so neither is cut short;
     :attr:`committed` then says whether ``target`` holds the new run.
 
+    ``command`` names the kind of run (the command's name); the manifest records it. A run
+    replaces only the files its own command wrote there: a folder still holding another
+    command's files is refused at once (the work not started), never emptied silently. A
+    folder whose manifest names no command (written before commands were recorded) has its
+    listed files overwritten where the new run writes the same names, and the others kept.
+    Without ``command`` (library use) the previous run's files are replaced whatever wrote them.
+
     Raises
     ------
     OutputError
-        If ``target`` is not a folder or cannot be written.
+        If ``target`` is not a folder, cannot be written, or holds another command's files.
     """
 
-    def __init__(self, target: Path):
+    def __init__(self, target: Path, command: str | None = None):
         self.target = Path(target)
+        self.command = command
         if self.target.exists() and not self.target.is_dir():
             raise OutputError(f"{self.target}: exists and is not a folder")
+        self._refuse_another_commands_files()
         self._created = not self.target.exists()
         self.committed = False
         try:
@@ -60,6 +96,18 @@ class StagedOutput:
         except OSError as exc:
             raise OutputError(f"{self.target}: cannot write there ({exc.strerror or exc})") from None
         _remove_orphans(self.target)
+
+    def _refuse_another_commands_files(self) -> None:
+        if self.command is None or not self.target.is_dir():
+            return
+        wrote, names = read_manifest(self.target)
+        if wrote is None or wrote == self.command:
+            return
+        present = [n for n in names if "/" not in n and (self.target / n).exists()]
+        if present:
+            shown = ", ".join(present[:MAX_NAMES_SAID]) + (", ..." if len(present) > MAX_NAMES_SAID else "")
+            raise OutputError(f"{self.target}: holds the results of '{wrote}' ({shown}); give {self.command} "
+                              "another --out (or delete those files first)")
 
     def __enter__(self) -> Path:
         return self.stage
@@ -81,10 +129,12 @@ class StagedOutput:
     def _commit(self) -> None:
         new = sorted(p.name for p in self.stage.iterdir())
         manifest = self.target / MANIFEST
-        try:
-            old = set(manifest.read_text(encoding="utf-8").split("\n")) - {""}
-        except (OSError, UnicodeDecodeError):
-            old = set()
+        wrote, listed = read_manifest(self.target)
+        old = set(listed)
+        if self.command is not None and wrote != self.command:
+            # not this command's files (a manifest that names no command, or another's deleted
+            # by hand since): overwritten only where this run writes the same names
+            old &= set(new)
         for name in sorted(old - set(new)):
             stale = self.target / name
             if "/" not in name and stale.is_file():
@@ -96,7 +146,8 @@ class StagedOutput:
                 shutil.rmtree(self.target / name)  # the last run's folder: replaced whole
             os.replace(self.stage / name, self.target / name)
         with atomic_path(manifest) as tmp:
-            tmp.write_text("\n".join(new) + "\n", encoding="utf-8")
+            head = [] if self.command is None else [MANIFEST_COMMAND + self.command]
+            tmp.write_text("\n".join(head + new) + "\n", encoding="utf-8")
 
 
 def _remove_orphans(folder: Path) -> None:

@@ -226,12 +226,21 @@ def _segments(edges: np.ndarray) -> tuple[list, list, list]:
     return xs, ys, zs
 
 
+LEAST_AXIS_SHARE = 0.35
+"""Least span of an axis of the view, a share of the largest: a planar robot's flat axis
+(its points all at one y) is drawn at a readable depth, its ticks not crowded together."""
+
+
 def _ranges(points: np.ndarray, pad: float) -> tuple[list[list[float]], dict]:
     """Axis ranges holding ``points`` (n, 3) with ``pad`` of the largest extent each side,
-    and the aspect ratio that draws them at one scale (large enough to fill the view)."""
+    each at least :data:`LEAST_AXIS_SHARE` of the largest (about the points' middle), and
+    the aspect ratio that draws them at one scale (large enough to fill the view)."""
     lo, hi = points.min(axis=0), points.max(axis=0)
     size = max(float(np.max(hi - lo)), 0.1)
     lo, hi = lo - pad * size, hi + pad * size
+    least = LEAST_AXIS_SHARE * float(np.max(hi - lo))
+    middle, half = 0.5 * (lo + hi), 0.5 * np.maximum(hi - lo, least)
+    lo, hi = middle - half, middle + half
     span = np.sort(hi - lo)
     ratio = (hi - lo) / np.sqrt(span[2] * span[1])  # the two largest extents' mean scale: fills the view
     return ([[float(a), float(b)] for a, b in zip(lo, hi)],

@@ -174,6 +174,10 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
     h = scenario.time.step_s
     n = res.t.size
     job_time = min(path.duration_s, float(res.t[-1]) + h) if n else 0.0
+    # the path's time flown (the run may end before the path: --duration, a short scenario)
+    path_time = min(max(float(res.t[-1]) + h - scenario.trajectory.start_time_s, 0.0), path.duration_s) if n else 0.0
+    flown_m, flown_edge_m = path.flown(path_time)
+    partial = path_time < path.duration_s * (1.0 - 1e-9)
     rates = np.gradient(res.lengths, h, axis=0) if n > 1 else np.zeros_like(res.lengths)
     energy = float(np.sum(np.abs(res.tensions * rates)) * h)  # sum over cables of |T L'| dt, J
     return {
@@ -194,6 +198,10 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
         "path_duration_s": float(path.duration_s),
         "boundary_pass_length_m": float(path.boundary_length_m),
         "boundary_pass_time_s": float(path.boundary_duration_s),
+        "partial": bool(partial),
+        "path_flown_m": float(flown_m),
+        "path_flown_s": float(path_time),
+        "boundary_pass_flown_m": float(flown_edge_m),
         "job_time_s": float(job_time),
         "area_rate_m2_h": float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
         "normal_force_band_N": [float(v) for v in cleaning.band_N],
