@@ -313,12 +313,13 @@ def clean(
     _number("--duration", duration)
     _number("--hull-area", hull_area)
     _number("--move-time", move_time, zero_ok=True)
-    from marinecdpr.studies.surface import check_move_time
+    if surface:
+        from marinecdpr.studies.surface import check_move_time
 
-    try:  # a move longer than the cap makes hours that mean nothing (1e308 s: not finite)
-        check_move_time(move_time)
-    except ScenarioError as exc:
-        _fail(f"--move-time {move_time:g}: {exc.detail}")
+        try:  # a move longer than the cap makes hours that mean nothing (1e308 s: not finite)
+            check_move_time(move_time)
+        except ScenarioError as exc:
+            _fail(f"--move-time {move_time:g}: {exc.detail.split(', got')[0]}")
     if hull_area is not None:
         from marinecdpr.studies.cleaning import check_hull_estimate
 
