@@ -336,7 +336,7 @@ def clean(
         from marinecdpr.studies.surface import surface_job
 
         try:  # before the job: a missing surface, or one that cannot be tiled, is one line
-            with _progress("surface", 100, "% of the band") as update:
+            with _progress("surface tiling", 100, "%") as update:
                 placed = surface_job(sc, move_time_s=move_time, progress=lambda share: update(round(100 * share)))
         except ScenarioError as exc:
             _fail_scenario(exc, scenario)
