@@ -14,9 +14,20 @@ Clean is one of:
   and this class stays empty.
 
 Anything else is unclean: ``traceback``, ``exit N`` (another exit code), ``stderr`` (not
-one error line), ``json`` (non-strict or non-finite output), ``staging`` (leftovers), or
-``timeout`` (over ``--timeout`` s; a first run's compile is warmed up first, see
-``--no-warm``).
+one error line), ``json`` (non-strict or non-finite output), ``staging`` (leftovers, or a
+design journal left by a refused run), ``outside`` (a file written outside the output
+folder: a study named ``../../../escaped``), ``refused valid`` (a case marked valid
+refused: ``--resume`` from a copy of the run's folder), ``accepted invalid`` (a case marked
+invalid run: ``--resume`` after the template's RAO file changed), ``message`` (refused with
+the wrong reason: 10 000 obstacles as "expected 3 numbers"), or ``timeout`` (over
+``--timeout`` s, times the command's and the case's factor; a first run's compile is
+warmed up first, see ``--no-warm``).
+
+Since issue 37 the sweep covers ``design`` (a small study of its own: bad scatter
+diagrams, options beyond the study file's caps, names that are no file stem, corrupt or
+stale journals with ``--resume``), ``clean --surface`` (``--move-time``, bands too large or
+impossible) and ``[[obstacles]]`` (1 000, 1 001 and 10 000 boxes through ``check``): run
+``--only design,"clean --surface",obstacles`` for those alone.
 
 Run: ``PYTHONPATH=src .venv/bin/python benchmarks/hostile_inputs.py [--jobs 2] [--only rao,latency]
 [--timeout 20] [--list]``. It prints the counts per class and lists the unclean cases.
