@@ -146,7 +146,8 @@ def test_a_move_time_beyond_the_cap_is_refused_before_the_tiling(move):
 
 
 def test_clean_surface_with_an_endless_move_is_one_line(tmp_path):
-    res = runner.invoke(app, ["clean", "paper_clean", "--surface", "--move-time", "1e308", "--out", str(tmp_path / "o")])
+    res = runner.invoke(app, ["clean", "paper_clean", "--surface", "--move-time", "1e308",
+                              "--out", str(tmp_path / "o")])
     one_line_exit_2(res, "--move-time 1e+308", "from 0 to 1e+06")
     assert not (tmp_path / "o").exists()
 

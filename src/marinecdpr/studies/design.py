@@ -46,7 +46,8 @@ from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
-           "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options", "CONSTRAINTS"]
+           "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
+           "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
