@@ -151,12 +151,16 @@ def first_grid(f: Callable, x_range, z_range, *, width_m: float, height_m: float
             np.interp(np.linspace(0.0, up[1][-1], int(nz) + 1), up[1], up[0]))
 
 
-def _too_many(count: str, width_m: float, height_m: float, max_patches: int):
+def _too_many(count: str | None, width_m: float, height_m: float, max_patches: int):
+    """The refusal of a tiling of ``count`` patches in its first grid (None: its cuts for the
+    tolerance passed the budget on the way)."""
     from marinecdpr.errors import ScenarioError
 
-    return ScenarioError(f"the band needs {count} patches of the {width_m:.3g} x {height_m:.3g} m panel, more than "
-                         f"the {max_patches:,} a run may fit: clean a smaller band, or with a larger frame or "
-                         "stand-off tolerance")
+    needs = (f"needs {count} patches of the {width_m:.3g} x {height_m:.3g} m panel, more than the {max_patches:,}"
+             if count is not None else
+             f"curves so that cutting it into patches flat enough for the tolerance passed the {max_patches:,}")
+    return ScenarioError(f"the band {needs} a run may fit: clean a smaller band, or with a larger frame or stand-off "
+                         "tolerance")
 
 
 def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: float, tolerance_m: float,
@@ -229,7 +233,7 @@ def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: flo
             continue
         fitted += sum(len(o) for o in options)
         if max_patches is not None and fitted > max_patches:
-            raise _too_many(f"over {max_patches:,}", width_m, height_m, max_patches)
+            raise _too_many(None, width_m, height_m, max_patches)
         todo += min(options, key=lambda pieces: (not all(q.deviation_m <= limit for q in pieces), len(pieces),
                                                  max(q.deviation_m for q in pieces)))
     if progress is not None:  # the kept and uncleanable patches partition the band: 1 within rounding
