@@ -14,9 +14,20 @@ Clean is one of:
   and this class stays empty.
 
 Anything else is unclean: ``traceback``, ``exit N`` (another exit code), ``stderr`` (not
-one error line), ``json`` (non-strict or non-finite output), ``staging`` (leftovers), or
-``timeout`` (over ``--timeout`` s; a first run's compile is warmed up first, see
-``--no-warm``).
+one error line), ``json`` (non-strict or non-finite output), ``staging`` (leftovers, or a
+design journal left by a refused run), ``outside`` (a file written outside the output
+folder: a study named ``../../../escaped``), ``refused valid`` (a case marked valid
+refused: ``--resume`` from a copy of the run's folder), ``accepted invalid`` (a case marked
+invalid run: ``--resume`` after the template's RAO file changed), ``message`` (refused with
+the wrong reason: 10 000 obstacles as "expected 3 numbers"), or ``timeout`` (over
+``--timeout`` s, times the command's and the case's factor; a first run's compile is
+warmed up first, see ``--no-warm``).
+
+Since issue 37 the sweep covers ``design`` (a small study of its own: bad scatter
+diagrams, options beyond the study file's caps, names that are no file stem, corrupt or
+stale journals with ``--resume``), ``clean --surface`` (``--move-time``, bands too large or
+impossible) and ``[[obstacles]]`` (1 000, 1 001 and 10 000 boxes through ``check``): run
+``--only design,"clean --surface",obstacles`` for those alone.
 
 Run: ``PYTHONPATH=src .venv/bin/python benchmarks/hostile_inputs.py [--jobs 2] [--only rao,latency]
 [--timeout 20] [--list]``. It prints the counts per class and lists the unclean cases.
@@ -50,6 +61,11 @@ class Case:
     what: str
     argv: list[str]
     files: dict[str, bytes] = field(default_factory=dict)  # name -> content, made in the case's folder
+    out: str = "out"  # the output folder, in the case's folder
+    expect: str = ""  # "ok": a refusal is unclean (valid input); "refused": exit 0 is unclean (invalid input)
+    message: str = ""  # a pattern a refusal's error line must hold (the right reason)
+    before: object = None  # callable(folder, argv): runs first (an earlier run, a file changed after it)
+    slow: float = 1.0  # times --timeout this case may take
 
 
 @dataclass
@@ -203,7 +219,195 @@ def cases() -> list[Case]:
         argv = SHORT[command]
         files = series if "@series.csv" in argv else {}
         found.append(Case(command, "--out is a file", argv + ["--out", "@afile"], {**files, "afile": b"x"}))
+    return found + design_cases() + surface_cases() + obstacle_cases()
+
+
+# ------------------------------------------------------------------ design, [cleaning.surface], [[obstacles]]
+BUILTIN = ROOT / "src" / "marinecdpr" / "scenario" / "builtin"
+
+
+def _template(band: str = "stations_m = [-5.0, 5.0]\nheights_m = [0.0, 3.0]") -> bytes:
+    """paper_clean with a small band of its surface (a design run judges it in seconds)."""
+    text = (BUILTIN / "paper_clean.toml").read_text(encoding="utf-8")
+    text = re.sub(r"stations_m = \[[^\]]*\]", band.split("\n")[0], text)
+    return re.sub(r"heights_m = \[[^\]]*\]", band.split("\n")[1], text).encode()
+
+
+STUDY = """name = "tiny"
+scenario = "template.toml"
+population = 4
+generations = 1
+finalists = 1
+
+[targets]
+hours = 100000.0
+sea_share = 0.01
+
+[sea]
+scatter = "seas.csv"
+headings_deg = [90.0]
+
+[platform_mass]
+base_kg = 5.0
+
+[limits]
+stand_off_tolerance_m = 0.05
+
+[variables]
+frame_width_m = 1.9
+frame_height_m = 1.4
+platform_width_m = 0.25
+platform_height_m = 0.3
+tool_width_m = 0.2
+speed_m_s = [0.1, 0.2]
+
+[[winches]]
+name = "w"
+torque_N_m = 100.0
+speed_rad_s = 13.0
+power_W = 1500.0
+drum_radius_m = 0.075
+
+[[ropes]]
+name = "r"
+diameter_m = 0.006
+ea_N = 1.7e6
+weight_N_m = 0.2
+breaking_N = 30000.0
+"""
+
+
+def study_files(study: str = STUDY, seas: bytes = SCATTER_OK, prefix: str = "") -> dict[str, bytes]:
+    return {prefix + "study.toml": study.encode(), prefix + "template.toml": _template(),
+            prefix + "paper_sea_rao.csv": (BUILTIN / "paper_sea_rao.csv").read_bytes(), prefix + "seas.csv": seas}
+
+
+DESIGN = ["design", "@study.toml", "--no-verify"]
+
+
+def _run_first(folder: Path, argv: list[str]) -> None:
+    """The valid run, into the same output folder (what --resume takes)."""
+    first = [a for a in argv if a != "--resume"]
+    env = dict(os.environ, COLUMNS="200", PYTHONPATH=os.environ.get("PYTHONPATH", str(ROOT / "src")))
+    subprocess.run([sys.executable, "-m", "marinecdpr", *first], cwd=folder, env=env, capture_output=True,
+                   stdin=subprocess.DEVNULL, timeout=600)
+
+
+def _journal_edit(edit):
+    def before(folder: Path, argv: list[str]) -> None:
+        _run_first(folder, argv)
+        journal = folder / "out" / "journal.jsonl"
+        lines = journal.read_text(encoding="utf-8").splitlines()
+        journal.write_text("\n".join(edit(lines)) + "\n", encoding="utf-8")
+    return before
+
+
+def _copied(folder: Path, argv: list[str]) -> None:
+    """A run in orig/, then orig/ copied whole to copy/ (the resumed run's)."""
+    import shutil
+
+    orig = folder / "orig"
+    orig.mkdir()
+    for name in ("study.toml", "template.toml", "paper_sea_rao.csv", "seas.csv"):
+        (folder / name).rename(orig / name)
+    _run_first(orig, ["design", str(orig / "study.toml"), "--no-verify", "--out", str(orig / "out")])
+    shutil.copytree(orig, folder / "copy")
+
+
+def _rao_digit_changed(folder: Path, argv: list[str]) -> None:
+    _run_first(folder, argv)
+    rao = folder / "paper_sea_rao.csv"
+    lines = rao.read_text(encoding="utf-8").splitlines()
+    i = next(k for k, ln in enumerate(lines) if ln and ln[0].isdigit() and ",heave," in ln)
+    head, _, last = lines[i].rpartition(",")
+    lines[i] = head + "," + str(float(last) + 1.0)  # one digit of a heave phase
+    rao.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def design_cases() -> list[Case]:
+    found = [Case("design", "the short run itself", DESIGN, study_files(), expect="ok")]
+    bad = bad_csv_files(b"hs_m,tp_s,probability", b"1.0,8.0,0.5")
+    bad |= {"zero probabilities": b"hs_m,tp_s,probability\n1.0,8.0,0\n2.0,9.0,0\n",
+            "negative probability": b"hs_m,tp_s,probability\n1.0,8.0,-0.5\n2.0,9.0,1.5\n",
+            "short row": b"hs_m,tp_s,probability\n1.0,8.0\n2.0,9.0,1\n",
+            "text": b"hs_m,tp_s,probability\n1.0,eight,0.5\n2.0,9.0,0.5\n",
+            "not UTF-8": b"hs_m,tp_s,probability\n1.0,8.0,0.5\xff\xfe\n2.0,9.0,0.5\n",
+            "a NUL": b"hs_m,tp_s,probability\n1.0,8.0\x00,0.5\n2.0,9.0,0.5\n"}
+    for what, content in bad.items():
+        found.append(Case("design", f"scatter: {what}", DESIGN, study_files(seas=content)))
+    for flag, values in (("--population", ["1001", "1000000000", "3"]), ("--generations", ["1001", "1000000000", "0"]),
+                         ("--seed", ["99999999999999999999", "4294967296"])):
+        for v in values:
+            found.append(Case("design", f"{flag} {v}", DESIGN + [flag, v], study_files()))
+    for what, name in (("absolute path", "/tmp/hostile_escaped"), ("a NUL", "a\\u0000b"),
+                       ("../../../escaped", "../../../escaped"), ("../../escaped", "../../escaped"),
+                       ("a newline", "a\\nb = 1"), ("a/b", "a/b"), ("empty", ""), ("a dot", ".")):
+        found.append(Case("design", f"name: {what}", DESIGN, study_files(STUDY.replace('"tiny"', f'"{name}"', 1)),
+                          out="run/deep/out"))
+    resume = DESIGN + ["--resume"]
+    for what, content in (("garbage first line", b"this is no json\n"), ("a list", b"[1, 2]\n"),
+                          ("null", b"null\n"), ("not UTF-8", b'{"study": "\xff\xfe"}\n'),
+                          ("a folder", b"DIR")):
+        found.append(Case("design", f"--resume, journal: {what}", resume,
+                          study_files() | {"out/journal.jsonl": content}))
+
+    def number_as_text(lines):
+        return lines[:1] + [ln.replace('"surface_hours": ', '"surface_hours": "x", "_": ', 1) for ln in lines[1:]]
+
+    def nan(lines):
+        return lines[:1] + [re.sub(r'"sea_share": [^,]+', '"sea_share": NaN', ln, count=1) for ln in lines[1:]]
+
+    for what, edit in (("a string where a number belongs", number_as_text), ("NaN", nan)):
+        found.append(Case("design", f"--resume, journal: {what}", resume, study_files(), before=_journal_edit(edit),
+                          slow=2.0))
+    found.append(Case("design", "--resume from a copy of the run folder (valid)",
+                      ["design", "@copy/study.toml", "--no-verify", "--resume"], study_files(), out="copy/out",
+                      before=_copied, expect="ok", slow=2.0))
+    found.append(Case("design", "--resume after one digit of the RAO file changed", resume, study_files(),
+                      before=_rao_digit_changed, expect="refused", slow=2.0))
+    found.append(Case("design", "a built-in study misspelt", ["design", "ship_sid", "--no-verify"], {},
+                      message="ship_side"))
     return found
+
+
+SURFACE = ["clean", "@job.toml", "--surface", "--duration", "0.1", "--no-compare", "--plant", "own"]
+
+
+def _surface(**changes: str) -> dict[str, bytes]:
+    text = (BUILTIN / "paper_clean.toml").read_text(encoding="utf-8")
+    for key, value in changes.items():
+        text = re.sub(rf"^{key} = .*$", f"{key} = {value}", text, count=1, flags=re.MULTILINE)
+    return {"job.toml": text.encode(), "paper_sea_rao.csv": (BUILTIN / "paper_sea_rao.csv").read_bytes()}
+
+
+def surface_cases() -> list[Case]:
+    found = [Case("clean --surface", "the short run itself", SURFACE, _surface(), expect="ok")]
+    for v in FLOATS + ["1e6", "1e7"]:
+        found.append(Case("clean --surface", f"--move-time {v!r}", SURFACE + ["--move-time", v], _surface()))
+    for what, changes in (("heights_m = [0, 200]", {"heights_m": "[0.0, 200.0]"}),
+                          ("heights_m = [0, 1e4]", {"heights_m": "[0.0, 10000.0]"}),
+                          ("stand_off_tolerance_m = 1e-9", {"stand_off_tolerance_m": "1e-9"}),
+                          ("stand_off_tolerance_m = 1e-3 (nothing cleanable)", {"stand_off_tolerance_m": "1e-3",
+                                                                                 "flare": "1.0",
+                                                                                 "beam_m": "200.0"}),
+                          ("flare = -1, heights to 2 draughts (the side crosses the centreline)",
+                           {"flare": "-1.0", "heights_m": "[0.0, 20.0]"}),
+                          ("stations_m a metre", {"stations_m": "[0.0, 1.0]"})):
+        found.append(Case("clean --surface", what, SURFACE, _surface(**changes)))
+    found.append(Case("clean --surface", "beam_m = 200", SURFACE, _surface(beam_m="200.0"), slow=6.0))
+    return found
+
+
+def _obstacles(n: int) -> bytes:
+    text = (BUILTIN / "paper.toml").read_text(encoding="utf-8").replace("[robot]\n", "[robot]\nclearance_m = 0.0\n", 1)
+    box = '[[obstacles]]\ntype = "box"\ncenter_m = [{x:.3f}, 3.0, 0.5]\nsize_m = [0.01, 0.01, 0.01]\n'
+    return (text + "\n" + "".join(box.format(x=0.001 * k) for k in range(n))).encode()
+
+
+def obstacle_cases() -> list[Case]:
+    return [Case("obstacles", f"{n} boxes", ["check", "@obstacles.toml"], {"obstacles.toml": _obstacles(n)},
+                 message="" if n <= 1000 else r"obstacles.*at most 1000", expect="ok" if n <= 1000 else "")
+            for n in (1000, 1001, 10_000)]
 
 
 # ------------------------------------------------------------------ running and judging
@@ -215,14 +419,23 @@ USAGE = re.compile(r"^Usage: ", re.MULTILINE)
 def prepare(case: Case, folder: Path) -> list[str]:
     for name, content in case.files.items():
         path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
         if content == b"DIR":
             path.mkdir()
         else:
             path.write_bytes(content)
     argv = [str(folder / a[1:]) if a.startswith("@") else a for a in case.argv]
-    if case.command not in ("check", "latency", "scenarios") and "--out" not in argv:
-        argv += ["--out", str(folder / "out")]
+    if case.command not in ("check", "latency", "scenarios", "obstacles") and "--out" not in argv:
+        argv += ["--out", str(folder / case.out)]
     return argv
+
+
+def files_in(folder: Path) -> set[Path]:
+    return {p for p in folder.rglob("*") if p.is_file()}
+
+
+ESCAPED = Path(tempfile.gettempdir())
+"""Where a study named by an absolute path (``/tmp/hostile_escaped``) would write."""
 
 
 def strict(text: str) -> None:
@@ -232,11 +445,28 @@ def strict(text: str) -> None:
     json.loads(text, parse_constant=constant)
 
 
-def judge(case: Case, rc: int, stdout: str, stderr: str, folder: Path) -> tuple[str, str]:
+def judge(case: Case, rc: int, stdout: str, stderr: str, folder: Path, new_files=()) -> tuple[str, str]:
+    kind, detail = _judge(case, rc, stdout, stderr, folder, new_files)
+    if kind == "refused" and case.expect == "ok":
+        return "refused valid", detail
+    if kind == "ok" and case.expect == "refused":
+        return "accepted invalid", stdout.strip()[-200:]
+    if kind == "refused" and case.message and not re.search(case.message, detail):
+        return "message", detail
+    return kind, detail
+
+
+def _judge(case: Case, rc: int, stdout: str, stderr: str, folder: Path, new_files=()) -> tuple[str, str]:
     if TRACEBACK.search(stderr) or TRACEBACK.search(stdout):
         first = next((ln for ln in stderr.splitlines()[::-1] if "Error" in ln), stderr.strip()[-200:])
         return "traceback", first.strip()[:200]
-    out = folder / "out"
+    out = folder / case.out
+    outside = [str(p.relative_to(folder)) if p.is_relative_to(folder) else str(p) for p in new_files
+               if not p.is_relative_to(out)]
+    if outside:
+        return "outside", ", ".join(outside)[:200]
+    if rc != 0 and out.is_dir() and (out / "journal.jsonl").is_file() and "--resume" not in case.argv:
+        return "staging", "journal.jsonl left by a refused run"
     leftovers = [p.name for p in out.glob(".staging-*")] + [p.name for p in out.glob(".*.*") if p.is_file()
                                                              and p.name != ".marinecdpr-files"] if out.is_dir() else []
     if leftovers:
@@ -268,7 +498,8 @@ def judge(case: Case, rc: int, stdout: str, stderr: str, folder: Path) -> tuple[
     return "refused", errors[0][:200]
 
 
-SLOW = {"latency": 3.0, "control-study": 3.0, "clean --seas": 3.0, "clean": 2.0, "simulate": 2.0, "operability": 2.0}
+SLOW = {"latency": 3.0, "control-study": 3.0, "clean --seas": 3.0, "clean": 2.0, "simulate": 2.0, "operability": 2.0,
+        "clean --surface": 2.0, "design": 2.0}
 """Commands whose valid short run takes longer than a refusal (numba's typed lists compile
 on every run, Dask or the sea states start): their cases get this many times ``--timeout``."""
 
@@ -278,15 +509,22 @@ def run(case: Case, timeout: float) -> Outcome:
         folder = Path(tmp)
         argv = prepare(case, folder)
         env = dict(os.environ, COLUMNS="200", PYTHONPATH=os.environ.get("PYTHONPATH", str(ROOT / "src")))
+        if case.before is not None:
+            case.before(folder, argv)
         t0 = time.perf_counter()
-        timeout *= SLOW.get(case.command, 1.0)
+        timeout *= SLOW.get(case.command, 1.0) * case.slow
+        seen = files_in(folder) | set(ESCAPED.glob("hostile_escaped*"))
         try:
             proc = subprocess.run([sys.executable, "-m", "marinecdpr", *argv], cwd=folder, env=env,
                                   capture_output=True, text=True, errors="replace", timeout=timeout,
                                   stdin=subprocess.DEVNULL)
         except subprocess.TimeoutExpired:
             return Outcome(case, "timeout", f"over {timeout:g} s", time.perf_counter() - t0)
-        kind, detail = judge(case, proc.returncode, proc.stdout, proc.stderr, folder)
+        escaped = set(ESCAPED.glob("hostile_escaped*")) - seen
+        for p in escaped:
+            p.unlink() if p.is_file() else None
+        kind, detail = judge(case, proc.returncode, proc.stdout, proc.stderr, folder,
+                             (files_in(folder) - seen) | escaped)
         return Outcome(case, kind, detail, time.perf_counter() - t0)
 
 

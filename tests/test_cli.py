@@ -68,7 +68,10 @@ def test_bad_method_and_trajectory_outside_frame(tmp_path):
 def test_check_and_scenarios_commands():
     res = runner.invoke(app, ["check", "paper"])
     assert res.exit_code == 0 and "planar robot, 4 cables, 5 kg" in res.stdout
-    assert [ln.split()[0] for ln in runner.invoke(app, ["scenarios"]).stdout.splitlines()] == marinecdpr.builtin_scenarios()
+    lines = runner.invoke(app, ["scenarios"]).stdout.splitlines()
+    studies = lines.index("design studies (marinecdpr design NAME):")  # the built-in studies after the scenarios
+    assert [ln.split()[0] for ln in lines[:studies]] == marinecdpr.builtin_scenarios()
+    assert [ln.split()[0] for ln in lines[studies + 1:]] == ["ship_side"]
 
 
 def test_console_script_prints_no_traceback(tmp_path):

@@ -37,6 +37,7 @@ from rich.text import Text
 
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
+from marinecdpr.scenario.design import GENERATIONS, POPULATION, SEED_MAX
 from marinecdpr.scenario.fields import TENSION_METHODS
 from marinecdpr.scenario.loading import builtin_scenarios, load_scenario
 from marinecdpr.textfiles import strip_control
@@ -362,6 +363,13 @@ def clean(
     _number("--duration", duration)
     _number("--hull-area", hull_area)
     _number("--move-time", move_time, zero_ok=True)
+    if surface:
+        from marinecdpr.studies.surface import check_move_time
+
+        try:  # a move longer than the cap makes hours that mean nothing (1e308 s: not finite)
+            check_move_time(move_time)
+        except ScenarioError as exc:
+            _fail(f"--move-time {move_time:g}: {exc.detail.split(', got')[0]}")
     if hull_area is not None:
         from marinecdpr.studies.cleaning import check_hull_estimate
 
@@ -378,7 +386,8 @@ def clean(
         from marinecdpr.studies.surface import surface_job
 
         try:  # before the job: a missing surface, or one that cannot be tiled, is one line
-            placed = surface_job(sc, move_time_s=move_time)
+            with _progress("surface tiling", 100, "%") as update:
+                placed = surface_job(sc, move_time_s=move_time, progress=lambda share: update(round(100 * share)))
         except ScenarioError as exc:
             _fail_scenario(exc, scenario)
     if seas or scatter is not None:
@@ -1554,23 +1563,17 @@ def warmup(
                   highlight=False, soft_wrap=True)
 
 
-def _design_path(spec: str) -> Path:
-    """A design study file, or a built-in study's name (``ship_side``)."""
-    from importlib import resources
-
-    builtin = Path(str(resources.files("marinecdpr") / "data" / "designs")) / f"{spec}.toml"
-    return builtin if builtin.is_file() and not Path(spec).exists() else Path(spec)
-
-
 @app.command()
 def design(
     spec: str = typer.Argument("ship_side", help="A design study file (.toml), or a built-in study's name."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for candidates.csv, pareto.csv and .png, "
                              "convergence.png, finalists.csv and .png, designs/*.toml, summary.json, report.html "
                              "and the search's journal.jsonl."),
-    population: Optional[int] = typer.Option(None, min=4, help="Candidates a generation (default: the study's)."),
-    generations: Optional[int] = typer.Option(None, min=1, help="Generations (default: the study's)."),
-    seed: Optional[int] = typer.Option(None, min=0, help="The search's seed (default: the study's)."),
+    population: Optional[int] = typer.Option(None, min=POPULATION[0], max=POPULATION[1],
+                                             help="Candidates a generation (default: the study's)."),
+    generations: Optional[int] = typer.Option(None, min=GENERATIONS[0], max=GENERATIONS[1],
+                                              help="Generations (default: the study's)."),
+    seed: Optional[int] = typer.Option(None, min=0, max=SEED_MAX, help="The search's seed (default: the study's)."),
     resume: bool = typer.Option(False, "--resume", help="Go on with the search an interrupted run kept in "
                                 "OUT/journal.jsonl (the same study, the same seed)."),
     verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
@@ -1586,23 +1589,20 @@ def design(
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
     fly the best through the cleaning job in every sea state."""
-    from marinecdpr.studies.design import load_design, search, study_cells, study_scatter
+    from marinecdpr.studies.design import load_design, search, study_cells, study_path, study_scatter, with_options
     from marinecdpr.studies.design import verify as verify_finalists
 
-    path = _design_path(spec)
+    path = study_path(spec)
     try:
         import pymoo  # noqa: F401
     except ImportError:
         _fail("design needs pymoo: pip install 'marinecdpr[design]'")
     try:
         study_spec, template = load_design(path)
+        study_spec = with_options(study_spec, population=population, generations=generations, seed=seed)
+        cells = study_cells(study_spec, path.parent)
     except ScenarioError as exc:
         _fail(str(exc))
-    changes = {k: v for k, v in (("population", population), ("generations", generations), ("seed", seed))
-               if v is not None}
-    if changes:
-        study_spec = study_spec.model_copy(update=changes)
-    cells = study_cells(study_spec, path.parent)
     _sea_study_options(",".join(f"{h:g}" for h in study_spec.sea.headings_deg), serial, workers, scheduler)
     n_final = study_spec.finalists if verify else 0
     from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
@@ -1757,11 +1757,18 @@ def import_(
 
 @app.command()
 def scenarios() -> None:
-    """List the built-in scenarios, each with its description."""
+    """List the built-in scenarios and design studies, each with its description."""
+    from marinecdpr.studies.design import builtin_studies, load_design, study_path
+
     names = builtin_scenarios()
-    width = max(len(n) for n in names)
+    studies = builtin_studies()
+    width = max(len(n) for n in names + studies)
     for name in names:
         console.print(_plain(f"{name:<{width}}  {load_scenario(name).description}"), highlight=False,
+                      soft_wrap=True)
+    console.print("design studies (marinecdpr design NAME):", highlight=False)
+    for name in studies:
+        console.print(_plain(f"{name:<{width}}  {load_design(study_path(name))[0].description}"), highlight=False,
                       soft_wrap=True)
 
 

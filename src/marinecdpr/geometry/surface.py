@@ -26,7 +26,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["Placement", "tile_surface", "mesh_side", "patch_points", "SAMPLES"]
+__all__ = ["Placement", "tile_surface", "first_grid", "mesh_side", "patch_points", "SAMPLES"]
 
 SAMPLES = 9
 """Points per side of a patch at which the surface is sampled (the plane's fit, the offsets)."""
@@ -121,7 +121,50 @@ def _fit(f: Callable, x_range, z_range) -> Placement:
                      extent_m=(float(np.ptp(u)), float(np.ptp(v))), area_m2=_area(P))
 
 
-def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: float, tolerance_m: float
+def first_grid(f: Callable, x_range, z_range, *, width_m: float, height_m: float,
+               max_patches: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The stations and heights that cut the band into :func:`tile_surface`'s first grid of
+    patches: equal lengths along the surface (not in x and z: a sloping side is longer than
+    its stations' span), along the band's middle line each way, each at most 98 % of the
+    panel's side. Its (n_x - 1) x (n_z - 1) patches are the fewest the tiling fits, known
+    before any is fitted (what a run's size is judged by).
+
+    Returns
+    -------
+    xs : ndarray, shape (n_x,)
+        Stations, m.
+    zs : ndarray, shape (n_z,)
+        Heights, m.
+
+    Raises
+    ------
+    ScenarioError
+        The grid has more than ``max_patches`` patches (refused before it is made).
+    """
+    z_mid, x_mid = 0.5 * (z_range[0] + z_range[1]), 0.5 * (x_range[0] + x_range[1])
+    along = _lengths(lambda x: np.stack([x, f(x, np.full_like(x, z_mid)), np.full_like(x, z_mid)], -1), x_range)
+    up = _lengths(lambda z: np.stack([np.full_like(z, x_mid), f(np.full_like(z, x_mid), z), z], -1), z_range)
+    nx, nz = _piece_count(along[1][-1], width_m), _piece_count(up[1][-1], height_m)
+    if max_patches is not None and nx * nz > max_patches:
+        raise _too_many(f"{nx * nz:,.0f}", width_m, height_m, max_patches)
+    return (np.interp(np.linspace(0.0, along[1][-1], int(nx) + 1), along[1], along[0]),
+            np.interp(np.linspace(0.0, up[1][-1], int(nz) + 1), up[1], up[0]))
+
+
+def _too_many(count: str | None, width_m: float, height_m: float, max_patches: int):
+    """The refusal of a tiling of ``count`` patches in its first grid (None: its cuts for the
+    tolerance passed the budget on the way)."""
+    from marinecdpr.errors import ScenarioError
+
+    needs = (f"needs {count} patches of the {width_m:.3g} x {height_m:.3g} m panel, more than the {max_patches:,}"
+             if count is not None else
+             f"curves so that cutting it into patches flat enough for the tolerance passed the {max_patches:,}")
+    return ScenarioError(f"the band {needs} a run may fit: clean a smaller band, or with a larger frame or stand-off "
+                         "tolerance")
+
+
+def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: float, tolerance_m: float,
+                 max_patches: int | None = None, progress: Callable[[float], None] | None = None
                  ) -> tuple[list[Placement], list[Placement]]:
     """The band ``x_range`` x ``z_range`` of the surface y = f(x, z) as frame placements.
 
@@ -136,6 +179,12 @@ def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: flo
     tolerance_m : float
         The tool's stand-off tolerance: the most the surface may depart from the frame's
         plane over a placement, m.
+    max_patches : int, optional
+        The most patches fitted (the first grid's and every piece cut from them): beyond it
+        the tiling stops with a ScenarioError saying so.
+    progress : callable(share), optional
+        Called now and then with the share of the band's stations x heights settled (each
+        patch kept or left uncleanable), 0 to 1.
 
     Returns
     -------
@@ -143,21 +192,28 @@ def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: flo
         Patches that keep both rules.
     uncleanable : list of Placement
         Patches still curved beyond the tolerance at the smallest size (:data:`MIN_PATCH_M`).
+
+    Raises
+    ------
+    ScenarioError
+        More than ``max_patches`` patches (the first grid alone, or with the pieces cut).
     """
-    # the first grid in equal lengths along the surface (not in x and z: a sloping side is
-    # longer than its stations' span), along the band's middle line each way
-    z_mid, x_mid = 0.5 * (z_range[0] + z_range[1]), 0.5 * (x_range[0] + x_range[1])
-    xs = _breaks(lambda x: np.stack([x, f(x, np.full_like(x, z_mid)), np.full_like(x, z_mid)], -1), x_range, width_m)
-    zs = _breaks(lambda z: np.stack([np.full_like(z, x_mid), f(np.full_like(z, x_mid), z), z], -1), z_range, height_m)
+    xs, zs = first_grid(f, x_range, z_range, width_m=width_m, height_m=height_m, max_patches=max_patches)
     nx, nz = xs.size - 1, zs.size - 1
     todo = [_fit(f, (xs[i], xs[i + 1]), (zs[k], zs[k + 1])) for i in range(nx) for k in range(nz)]
+    fitted = len(todo)
+    band = max((x_range[1] - x_range[0]) * (z_range[1] - z_range[0]), 1e-300)
+    settled = 0.0
     limit = KEEP_WITHIN * tolerance_m
     done, bad = [], []
     while todo:
         p = todo.pop()
+        if progress is not None and (len(done) + len(bad)) % 256 == 0:
+            progress(min(settled / band, 1.0))
         too_wide, too_high = p.extent_m[0] > width_m * (1 + 1e-9), p.extent_m[1] > height_m * (1 + 1e-9)
         if p.deviation_m <= limit and not (too_wide or too_high):
             done.append(p)
+            settled += (p.x_range[1] - p.x_range[0]) * (p.z_range[1] - p.z_range[0])
             continue
         # cut the patch into equal pieces along one side: along the side too long for the panel
         # (as many as its extent needs), else, for the tolerance, along the side that brings the
@@ -173,9 +229,15 @@ def tile_surface(f: Callable, x_range, z_range, *, width_m: float, height_m: flo
         options = [o for o in options if o]
         if not options:  # the side to cut is already at the smallest size
             bad.append(p)
+            settled += (p.x_range[1] - p.x_range[0]) * (p.z_range[1] - p.z_range[0])
             continue
+        fitted += sum(len(o) for o in options)
+        if max_patches is not None and fitted > max_patches:
+            raise _too_many(None, width_m, height_m, max_patches)
         todo += min(options, key=lambda pieces: (not all(q.deviation_m <= limit for q in pieces), len(pieces),
                                                  max(q.deviation_m for q in pieces)))
+    if progress is not None:  # the kept and uncleanable patches partition the band: 1 within rounding
+        progress(settled / band)
     key = lambda p: (p.x_range[0], p.z_range[0])  # noqa: E731 - along the ship, then up
     return sorted(done, key=key), sorted(bad, key=key)
 
@@ -191,16 +253,20 @@ def _pieces(f: Callable, p: Placement, axis: int, n: int) -> list[Placement]:
     return [_fit(f, piece, p.z_range) if axis == 0 else _fit(f, p.x_range, piece) for piece in pieces]
 
 
-def _breaks(curve: Callable, span, step: float, n: int = 4001) -> np.ndarray:
-    """Parameters along ``span`` that cut the curve (points (n, 3) of a parameter) into the
-    fewest pieces of equal length no longer than 98 % of ``step`` (the margin leaves room for
-    the slope across the band, which the middle line does not see; of 0.99, 0.98, 0.95 and
-    0.92 it split fewest patches on paper_clean's surface)."""
+def _lengths(curve: Callable, span, n: int = 4001) -> tuple[np.ndarray, np.ndarray]:
+    """The parameters t along ``span`` (n of them) and the curve's length from its start to
+    each (the curve: points (n, 3) of a parameter), m."""
     t = np.linspace(span[0], span[1], n)
     P = curve(t)
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
-    pieces = max(1, int(np.ceil(s[-1] / (0.98 * step) - 1e-9)))
-    return np.interp(np.linspace(0.0, s[-1], pieces + 1), s, t)
+    return t, np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+
+
+def _piece_count(length: float, step: float) -> float:
+    """The fewest pieces of equal length no longer than 98 % of ``step`` that cut a curve of
+    ``length`` (the margin leaves room for the slope across the band, which the middle line
+    does not see; of 0.99, 0.98, 0.95 and 0.92 it split fewest patches on paper_clean's
+    surface); a float, so that an absurd count is compared before anything is allocated."""
+    return max(1.0, float(np.ceil(length / (0.98 * step) - 1e-9)))
 
 
 def mesh_side(vertices: np.ndarray, triangles: np.ndarray, *, side: str = "port") -> Callable:

@@ -344,8 +344,9 @@ def write_surface(sj, folder: Path) -> list[Path]:
     """``placements.csv`` (one row per frame placement on ``[cleaning.surface]``: its patch's
     stations and heights, the plane's centre and normal in S, the surface's offsets from the
     plane, the patch's extent in the plane, its area and cleaning time; the patches too curved
-    for the tolerance last, with ``cleanable`` 0) and ``surface.png`` (the side, x along the
-    ship and z up, each placement coloured by its minutes, and by its stand-off deviation).
+    for the tolerance last, with ``cleanable`` 0 and no cleaning time, 0 s) and ``surface.png``
+    (the side, x along the ship and z up, each placement coloured by its minutes, and by its
+    stand-off deviation).
 
     Parameters
     ----------
@@ -358,8 +359,7 @@ def write_surface(sj, folder: Path) -> list[Path]:
         return [*p.x_range, *p.z_range, *p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2, job_s,
                 cleanable]
 
-    rows = [row(p, t, 1.0) for p, t in zip(sj.placements, sj.job_s)] + [row(p, float("nan"), 0.0)
-                                                                         for p in sj.uncleanable]
+    rows = [row(p, t, 1.0) for p, t in zip(sj.placements, sj.job_s)] + [row(p, 0.0, 0.0) for p in sj.uncleanable]
     csv = _write_csv(names, np.array(rows, dtype=float).reshape(-1, len(names)), folder / "placements.csv",
                      int_last=True)
     plt = _pyplot()

@@ -22,7 +22,14 @@ from marinecdpr.scenario.fields import (
     _Model, _num, _ranged, _resolve_file, normalised_unit,
 )
 
-__all__ = ["Cleaning", "CoverageTrajectory", "Surface"]
+__all__ = ["Cleaning", "CoverageTrajectory", "Surface", "StandOffTolerance", "STAND_OFF_MIN_M"]
+
+STAND_OFF_MIN_M = 1e-3
+"""The least stand-off tolerance of a tool, m: a pusher's stroke of a millimetre. Below it no
+patch of a hull is flat enough to place a frame on (a tolerance of 1e-9 m left every patch
+uncleanable)."""
+StandOffTolerance = _ranged(STAND_OFF_MIN_M, 1.0, "m", "a tool's stand-off range, from a pusher's millimetre")
+"""The most the surface may depart from the frame's plane over one placement, m."""
 
 Coordinate = _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions on a ship, in metres")
 
@@ -62,7 +69,7 @@ class Surface(_Model):
     """The band's ends along the ship, [aft, forward], m from amidships."""
     heights_m: tuple[Coordinate, Coordinate]
     """The band's [lower, upper] heights above the waterline, m."""
-    stand_off_tolerance_m: _ranged(0.0, 1.0, "m", "a tool's stand-off range", above=True)
+    stand_off_tolerance_m: StandOffTolerance
     """The most the surface may depart from the frame's plane over one placement, m."""
 
     @field_validator("mesh")
@@ -96,6 +103,11 @@ class Surface(_Model):
         if self.heights_m[0] < -self.draught_m:
             raise _KeyedError("heights_m", f"must be above the keel ({_num(-self.draught_m)} m), got "
                                            f"{_num(self.heights_m[0])}")
+        top = self.heights_m[1]
+        if self.flare < 0 and top > 0 and 1.0 + self.flare * (top / self.draught_m) ** 2 <= 0:
+            meets = self.draught_m / np.sqrt(-self.flare)
+            raise _KeyedError("heights_m", f"must stay below {_num(float(meets))} m, where the side tumbling home "
+                                           f"(flare {_num(self.flare)}) meets the centreline, got {_num(top)}")
         return self
 
 

@@ -11,13 +11,38 @@ force band) and the frame's place in S. Each variable is a number (held) or ``[l
 
 from __future__ import annotations
 
+import re
 from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, Field, StrictInt, StrictStr, model_validator
 
+from marinecdpr.scenario.cleaning import StandOffTolerance
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 
-__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS"]
+__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS", "POPULATION", "GENERATIONS",
+           "SEED_MAX", "STUDY_NAME", "safe_stem"]
+
+POPULATION = (4, 1000)
+"""The least and most candidates a generation (the study's ``population`` and ``design --population``)."""
+GENERATIONS = (1, 1000)
+"""The least and most generations (the study's ``generations`` and ``design --generations``)."""
+SEED_MAX = 2**32 - 1
+"""The largest seed (the search's random generator takes 32 bits)."""
+STUDY_NAME = re.compile(r"\w[\w.-]{0,99}")
+"""A study's name: the stem of the files it writes (``designs/NAME_1.toml``): a letter, digit or
+underscore, then at most 99 more of those, dots and hyphens; no path separator, no control
+character, no space."""
+
+
+def safe_stem(value: str) -> str:
+    """``value`` if it is a safe file stem (:data:`STUDY_NAME`, not ending in a dot), else
+    ValueError saying what a name may hold."""
+    if not isinstance(value, str) or not STUDY_NAME.fullmatch(value) or value.endswith("."):
+        shown = repr(value) if len(value) <= 60 else repr(value[:57]) + "..."
+        raise ValueError("must be a file name's stem (the finalists are written as NAME_1.toml): letters, digits, "
+                         "'_', '.' and '-', starting with a letter, digit or '_', at most 100 characters, no path "
+                         f"separator; got {shown}")
+    return value
 
 
 def _bound(lo: float, hi: float, unit: str, why: str) -> Any:
@@ -120,7 +145,7 @@ class Limits(_Model):
                        above=True) = 0.05
     layer_m: _ranged(0.0, 1.0, "m", "the spacing of the planes crossed cables run in", above=True) = 0.05
     clearance_m: _ranged(0.0, 1.0, "m", "the least gap between cables, and between a cable and the platform") = 0.0
-    stand_off_tolerance_m: _ranged(0.0, 1.0, "m", "the tool's stand-off range", above=True) | None = None
+    stand_off_tolerance_m: StandOffTolerance | None = None
     """The candidates' tool's stand-off tolerance (its pusher's stroke), which sets how large a
     flat placement of the curved surface may be; default the template's."""
 
@@ -128,7 +153,8 @@ class Limits(_Model):
 class DesignSpec(_Model):
     """The design study."""
 
-    name: StrictStr
+    name: Annotated[StrictStr, AfterValidator(safe_stem)]
+    """The study's name, the stem of its finalists' files (:func:`safe_stem`)."""
     description: StrictStr = ""
     scenario: StrictStr
     """The template: a scenario file (relative to the study's folder) or a built-in name, with
@@ -136,9 +162,9 @@ class DesignSpec(_Model):
     move_time_s: _ranged(0.0, 86400.0, "s", "moving the frame to its next placement") = 600.0
     objective: Literal["power", "cost"] = "power"
     """What the hours are traded against: the installed winch power, or the cost of winches and ropes."""
-    seed: StrictInt = Field(default=1, ge=0)
-    population: StrictInt = Field(default=24, ge=4, le=1000)
-    generations: StrictInt = Field(default=10, ge=1, le=1000)
+    seed: StrictInt = Field(default=1, ge=0, le=SEED_MAX)
+    population: StrictInt = Field(default=24, ge=POPULATION[0], le=POPULATION[1])
+    generations: StrictInt = Field(default=10, ge=GENERATIONS[0], le=GENERATIONS[1])
     finalists: StrictInt = Field(default=3, ge=0, le=20)
     plant: Literal["mujoco", "own"] | None = None
     """The plant the finalists fly on, closed loop (default: the template's ``simulation.plant``)."""

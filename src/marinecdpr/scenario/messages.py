@@ -22,7 +22,13 @@ def scenario_error(exc: ValidationError, data: Any, source: str | None, root: ty
     loc = list(err["loc"])
     kind = err["type"]
     message = err["msg"].removeprefix("Value error, ")
-    if (kind == "missing" and loc and isinstance(loc[-1], int)) or kind in ("too_long", "tuple_type"):
+    ctx = err.get("ctx") or {}
+    if kind == "too_long" and ctx.get("field_type") != "Tuple":
+        # a list longer than its cap (obstacles, polygons' points, headings): the cap, not a vector's size
+        message = f"at most {ctx.get('max_length')} entries, got {ctx.get('actual_length')}"
+    elif kind == "too_long" and ctx.get("max_length") != 3:
+        message = f"expected {ctx.get('max_length')} numbers, got {ctx.get('actual_length')}"
+    elif (kind == "missing" and loc and isinstance(loc[-1], int)) or kind in ("too_long", "tuple_type"):
         # a 3-vector with the wrong number of entries: name the vector, not its element
         if isinstance(loc[-1], int):
             loc.pop()

@@ -17,7 +17,12 @@ from marinecdpr.scenario.fields import (
     POSITION_MAX_M, UNIT_TOLERANCE, Orientation, Position, _Model, _num, _ranged, normalised_unit,
 )
 
-__all__ = ["PlaneObstacle", "BoxObstacle", "Obstacle"]
+__all__ = ["PlaneObstacle", "BoxObstacle", "Obstacle", "MAX_OBSTACLES"]
+
+MAX_OBSTACLES = 1000
+"""The most ``[[obstacles]]`` a scenario holds: each is measured against every cable at every
+step (an array of steps x cables x obstacles), and a thousand fittings is more than one frame
+meets; more are refused as "obstacles: at most 1000 entries, got N"."""
 
 
 class PlaneObstacle(_Model):

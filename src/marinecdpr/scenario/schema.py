@@ -21,7 +21,7 @@ from marinecdpr.scenario.fields import (
     Position, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3, _resolve_file,
 )
 from marinecdpr.scenario.messages import scenario_error
-from marinecdpr.scenario.obstacles import Obstacle
+from marinecdpr.scenario.obstacles import MAX_OBSTACLES, Obstacle
 from marinecdpr.scenario.robot import Robot
 # ---------------------------------------------------------------------- ship, sea
 class Ship(_Model):
@@ -504,7 +504,7 @@ class Scenario(_Model):
     simulation: Simulation = Simulation()
     environment: Environment = Environment()
     cleaning: Cleaning | None = None
-    obstacles: list[Obstacle] = Field(default=[], max_length=1000)
+    obstacles: list[Obstacle] = Field(default=[], max_length=MAX_OBSTACLES)
     """What the cables must keep ``robot.clearance_m`` from, fixed to the frame, in C."""
 
     @model_validator(mode="after")

@@ -271,8 +271,7 @@ def guaranteed_job(
 HULL_AREA_MAX_M2 = 1e6
 """Largest hull area :func:`ship_side` estimates, m^2 (a square kilometre; the largest
 ships' wetted surface is some 40 000 m^2)."""
-MOVE_TIME_MAX_S = 1e6
-"""Longest move of the frame to its next place, s (some 11 days)."""
+from marinecdpr.studies.surface import MOVE_TIME_MAX_S  # noqa: E402 - one cap for --move-time, with --surface too
 
 
 def check_hull_estimate(hull_area_m2: float, move_time_s: float) -> None:

@@ -46,37 +46,83 @@ from marinecdpr.scenario.schema import Scenario, _validated
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
-           "study_cells", "study_scatter", "read_journal", "CONSTRAINTS"]
+           "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
+           "CONSTRAINTS"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
 
 
+def _designs_folder() -> Path:
+    from importlib import resources
+
+    return Path(str(resources.files("marinecdpr") / "data" / "designs"))
+
+
+def builtin_studies() -> list[str]:
+    """The names of the design studies shipped with the package (``marinecdpr design NAME``):
+    the TOML files of its ``data/designs`` folder that are studies (with ``[variables]``), not
+    their templates."""
+    import tomllib
+
+    names = []
+    for p in sorted(_designs_folder().glob("*.toml")):
+        try:
+            if "variables" in tomllib.loads(p.read_text(encoding="utf-8")):
+                names.append(p.stem)
+        except (OSError, ValueError):  # pragma: no cover - the package's own files
+            continue
+    return names
+
+
+def study_path(name_or_path: str | Path) -> Path:
+    """A design study file, or a built-in study's file by its name (:func:`builtin_studies`)
+    where no file of that name is there."""
+    path = Path(name_or_path)
+    if not path.exists() and str(name_or_path) in builtin_studies():
+        return _designs_folder() / f"{name_or_path}.toml"
+    return path
+
+
 def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
-    """A design study file and its template scenario, validated.
+    """A design study file and its template scenario, validated, and every file it reads
+    read: the template's (its RAOs, its surface's mesh) and the scatter diagram.
 
     Raises
     ------
     ScenarioError
-        One line naming the file and the key: unreadable TOML, an unknown or missing key, a
-        bound with low > high, a catalogue entry without a field, a target outside its
-        range, a template without ``[cleaning.surface]`` or a sea-state base motion.
+        One line naming the file and the key: no such file (the built-in studies listed),
+        unreadable TOML, an unknown or missing key, a name that is no file name, a bound with
+        low > high, a catalogue entry without a field, a target outside its range, a template
+        without ``[cleaning.surface]`` or a sea-state base motion, a surface band too large to
+        tile (:data:`~marinecdpr.studies.surface.MAX_SURFACE_PATCHES`), a bad scatter diagram.
     """
+    import difflib
     import tomllib
 
     from pydantic import ValidationError
 
     from marinecdpr.scenario.loading import _scenario_text, builtin_scenarios, load_scenario
     from marinecdpr.scenario.messages import scenario_error
+    from marinecdpr.studies.surface import surface_patches
 
     path = Path(path)
     src = str(path)
+    if path.is_dir():
+        raise ScenarioError("a folder, not a file; expected a design study file (.toml) or a built-in study's name",
+                            source=src)
     if not path.is_file():
-        raise ScenarioError("no such file", source=src)
+        known = builtin_studies()
+        close = difflib.get_close_matches(src, known, n=1)
+        raise ScenarioError("no such file, and no built-in study of that name ("
+                            + (f"did you mean {close[0]!r}? " if close else "")
+                            + f"built-in studies: {', '.join(known)})", source=src)
     try:
         data = tomllib.loads(_scenario_text(path, src))
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"not valid TOML: {exc}", source=src) from None
+    except RecursionError:  # tomllib recurses into nested arrays and inline tables
+        raise ScenarioError("not valid TOML: arrays or inline tables too deeply nested", source=src) from None
     try:
         spec = DesignSpec.model_validate(data)
     except ValidationError as exc:
@@ -93,9 +139,42 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
     if template.robot.dofs != "planar":
         raise ScenarioError(f"the template {name!r} is a spatial robot: the study designs planar four-cable robots",
                             source=src, key="scenario")
+    try:  # the template's own robot is judged too (the baseline): its band must be one a run may tile
+        surface_patches(template)
+    except ScenarioError as exc:
+        raise ScenarioError(f"the template {name!r}: {exc}", source=src, key="scenario") from None
     if spec.sea.scatter != "illustrative" and not (path.parent / spec.sea.scatter).is_file():
         raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter}", source=src, key="sea.scatter")
+    try:  # read now: a bad diagram is one line before any work
+        study_scatter(spec, path.parent)
+    except ScenarioError as exc:
+        raise ScenarioError(str(exc), source=src, key="sea.scatter") from None
     return spec, template
+
+
+def with_options(spec: DesignSpec, **options) -> DesignSpec:
+    """The study with the given fields (``population``, ``generations``, ``seed``: the
+    command's options; None leaves the study's) validated as the study file's own are.
+
+    Raises
+    ------
+    ScenarioError
+        A value the study file could not hold, named as its option (``--population 1001:
+        ...``).
+    """
+    from pydantic import ValidationError
+
+    changes = {k: v for k, v in options.items() if v is not None}
+    if not changes:
+        return spec
+    data = spec.model_dump()
+    try:
+        return DesignSpec.model_validate(data | changes)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        key = str(err["loc"][0]) if err["loc"] else "?"
+        message = err["msg"].removeprefix("Value error, ")
+        raise ScenarioError(f"--{key} {changes.get(key, '')}: {message[:1].lower()}{message[1:]}") from None
 
 
 def study_scatter(spec: DesignSpec, folder: Path | None = None):
@@ -378,7 +457,12 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                           margins={k: nan for k in CONSTRAINTS} | {"panel_m": -1.0})
     robot = sc.robot
     t_min, t_max = float(robot.tension_min[0]), float(robot.tension_max[0])
-    job = surface_job(sc, move_time_s=spec.move_time_s, digits=2)
+    try:  # no patch limit: a candidate's panel is the study's to choose (its template's band is checked at load)
+        job = surface_job(sc, move_time_s=spec.move_time_s, digits=2, max_patches=None)
+    except ScenarioError as exc:  # no patch flat enough for its panel: no hours, infeasible
+        return Evaluation(x=dict(x), feasible=False, reason=str(exc), placements=0, surface_hours=nan, sea_share=0.0,
+                          expected_hours=float("inf"), power_kW=power_kW, cost=cost, tension_max_N=t_max,
+                          mass_kg=robot.mass_kg, margins={k: nan for k in CONSTRAINTS})
     share, _, worst, turned, why = screen_surface(sc, cells, *frame_placements(template, W, H))
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
@@ -478,11 +562,29 @@ def _path_time(cleaning: Cleaning) -> float:
     return float(cleaning_path(cleaning).duration_s)
 
 
-def _study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
-    """What a journal's candidates were judged under: the study, its template and its sea states."""
+def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
+    """What a journal's candidates were judged under, by content: the study, its template
+    with each file it reads (its RAOs, its surface's mesh) by the SHA-256 of its bytes (not
+    by its path: a copy of the study's folder resumes; a file changed since does not), and
+    its sea states (the scatter diagram's cells at each heading)."""
     import hashlib
+    import json
 
-    text = spec.model_dump_json() + template.model_dump_json() + repr([c.__dict__ for c in cells])
+    def by_content(value):
+        if isinstance(value, dict):
+            return {k: by_content(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [by_content(v) for v in value]
+        if isinstance(value, str) and Path(value).is_absolute() and Path(value).is_file():
+            digest = hashlib.sha256()
+            with open(value, "rb") as f:
+                for block in iter(lambda: f.read(2**20), b""):
+                    digest.update(block)
+            return f"sha256:{digest.hexdigest()}"
+        return value
+
+    text = json.dumps([spec.model_dump(mode="json"), by_content(template.model_dump(mode="json")),
+                       [c.__dict__ for c in cells]], sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -498,12 +600,71 @@ def _to_json(e: Evaluation) -> dict:
             for k, val in e.__dict__.items()}
 
 
-def _from_json(d: dict) -> Evaluation:
-    def num(v):
-        return float(v) if v in ("inf", "-inf", "nan") else v
+_NON_FINITE = {"inf": float("inf"), "-inf": float("-inf"), "nan": float("nan")}
 
-    return Evaluation(**{k: ({m: num(v) for m, v in val.items()} if isinstance(val, dict) else num(val))
-                         for k, val in d.items()})
+
+def _number(key: str, v) -> float:
+    """A journal's number: a JSON number, or "inf", "-inf", "nan" as :func:`_to_json` writes them."""
+    if isinstance(v, str) and v in _NON_FINITE:
+        return _NON_FINITE[v]
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise ValueError(f"{key}: expected a number, got {v!r:.40}")
+    return float(v) if isinstance(v, float) else v
+
+
+def _from_json(d) -> Evaluation:
+    """An :class:`Evaluation` from a journal's line (parsed), every field checked
+    (ValueError naming the first that is wrong)."""
+    from dataclasses import MISSING, fields
+
+    if not isinstance(d, dict):
+        raise ValueError(f"expected a candidate (an object), got {type(d).__name__}")
+    known = {f.name: f for f in fields(Evaluation)}
+    for k in d:
+        if k not in known:
+            raise ValueError(f"unknown field {k!r:.40}")
+    for name, f in known.items():
+        if name not in d and f.default is MISSING and f.default_factory is MISSING:
+            raise ValueError(f"{name}: missing")
+    x = d["x"]
+    if not isinstance(x, dict) or set(CONTINUOUS) - set(x):
+        raise ValueError("x: expected the candidate's variables")
+    out = {"x": {k: (_number(f"x.{k}", v) if k in CONTINUOUS else v) for k, v in x.items()}}
+    for k in ("winch", "rope", "pattern"):
+        if k in x and not isinstance(x[k], str):
+            raise ValueError(f"x.{k}: expected a name, got {x[k]!r:.40}")
+    if not isinstance(d["feasible"], bool):
+        raise ValueError(f"feasible: expected true or false, got {d['feasible']!r:.40}")
+    if not isinstance(d["reason"], str):
+        raise ValueError(f"reason: expected text, got {d['reason']!r:.40}")
+    if isinstance(d["placements"], bool) or not isinstance(d["placements"], int) or d["placements"] < 0:
+        raise ValueError(f"placements: expected a count, got {d['placements']!r:.40}")
+    out |= {k: d[k] for k in ("feasible", "reason", "placements")}
+    for k in ("surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N", "mass_kg"):
+        out[k] = _number(k, d[k])
+    if "margins" in d:
+        if not isinstance(d["margins"], dict):
+            raise ValueError("margins: expected an object")
+        out["margins"] = {str(m): _number(f"margins.{m}", v) for m, v in d["margins"].items()}
+    for k in ("frame_origin_m", "frame_orientation_deg", "frame_turn_deg"):
+        if k in d:
+            if not isinstance(d[k], list):
+                raise ValueError(f"{k}: expected a list of numbers")
+            out[k] = [_number(k, v) for v in d[k]]
+    return Evaluation(**out)
+
+
+def _json_line(line: str):
+    """A journal line's JSON: strict (no NaN or Infinity: the journal writes them as text)."""
+    import json
+
+    def constant(name: str):
+        raise ValueError(f"{name} is not a number the journal writes")
+
+    try:
+        return json.loads(line, parse_constant=constant)
+    except RecursionError:
+        raise ValueError("nested too deeply") from None
 
 
 def read_journal(path: Path, key: str) -> dict:
@@ -513,23 +674,37 @@ def read_journal(path: Path, key: str) -> dict:
     Raises
     ------
     ScenarioError
-        No journal there, or one of another study (or of this study's file since changed).
+        No journal there, one that is not a journal (not UTF-8 text, a first line without its
+        study's key, a line that is no candidate: the line named), or one of another study
+        (or of this study's file, template or seas since changed).
     """
-    import json
-
     path = Path(path)
+    again = "run without --resume to start anew"
     if not path.is_file():
         raise ScenarioError(f"--resume: no {path.name} in {path.parent} to resume")
-    lines = path.read_text(encoding="utf-8").splitlines()
-    if not lines or json.loads(lines[0]).get("study") != key:
-        raise ScenarioError(f"--resume: {path} is of another study, or this study's file, template or seas "
-                            "changed since: run without --resume")
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except UnicodeDecodeError:
+        raise ScenarioError(f"--resume: {path} is not a journal of candidates (not UTF-8 text): {again}") from None
+    except OSError as exc:
+        raise ScenarioError(f"--resume: {path} cannot be read ({exc.strerror or exc})") from None
+    try:
+        head = _json_line(lines[0]) if lines else None
+    except ValueError:
+        head = None
+    if not isinstance(head, dict) or not isinstance(head.get("study"), str):
+        raise ScenarioError(f"--resume: {path} line 1 is not a journal's first line (its study's key): {again}")
+    if head["study"] != key:
+        raise ScenarioError(f"--resume: {path} is of another study, or this study's file, template, the files they "
+                            f"read or the seas changed since: {again}")
     known = {}
-    for line in lines[1:]:
+    for i, line in enumerate(lines[1:], start=2):
         try:
-            e = _from_json(json.loads(line))
-        except (ValueError, TypeError):
-            continue
+            e = _from_json(_json_line(line))
+        except ValueError as exc:
+            if i == len(lines) and not line.endswith("}"):  # a cut last line: the candidate is judged again
+                continue
+            raise ScenarioError(f"--resume: {path} line {i} is no candidate ({exc}): {again}") from None
         known[_candidate_key(e.x)] = e
     return known
 
@@ -568,7 +743,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
 
     from marinecdpr.studies.operability import dask_client
 
-    key = _study_key(spec, template, cells)
+    key = study_key(spec, template, cells)
     known = read_journal(journal, key) if resume and journal is not None else {}
     sink = None
     if journal is not None:

@@ -19,11 +19,30 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.geometry.surface import tile_surface
+from marinecdpr.geometry.surface import MIN_PATCH_M, tile_surface
 from marinecdpr.scenario.cleaning import Cleaning, Surface
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side"]
+__all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side", "surface_patches",
+           "MAX_SURFACE_PATCHES", "MOVE_TIME_MAX_S", "check_move_time"]
+
+MAX_SURFACE_PATCHES = 30_000
+"""The most patches a tiling fits by default (its first grid's and every piece cut from them),
+about ten times paper_clean's: some 4 ms each on a loaded core, two minutes. A band of
+200 m of a 200 m Wigley side's height (855 040 patches of paper_clean's panel in the first
+grid alone) is refused at once."""
+MOVE_TIME_MAX_S = 1e6
+"""The longest move of the frame to its next place, s (some 11 days): ``clean --move-time``,
+with ``--surface`` or ``--hull-area`` (:func:`~marinecdpr.studies.cleaning.check_hull_estimate`)."""
+
+
+def check_move_time(move_time_s: float) -> float:
+    """``move_time_s`` if it is a time from 0 to :data:`MOVE_TIME_MAX_S`, else ScenarioError
+    (with 1e308 s between placements the hours are not finite)."""
+    if not (np.isfinite(move_time_s) and 0.0 <= move_time_s <= MOVE_TIME_MAX_S):
+        raise ScenarioError(f"must be a number of seconds from 0 to {MOVE_TIME_MAX_S:g} to move the frame to its "
+                            f"next placement, got {move_time_s:g}", key="move_time_s")
+    return float(move_time_s)
 
 
 def wigley_side(surface: Surface) -> Callable:
@@ -135,8 +154,40 @@ def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int
     return cache[key]
 
 
+def surface_patches(scenario: Scenario, panel_m: tuple[float, float] | None = None) -> int:
+    """The patches of the first grid the tiling of ``[cleaning.surface]`` starts from
+    (:func:`~marinecdpr.geometry.surface.first_grid`): the fewest it fits, known at once.
+
+    Raises
+    ------
+    ScenarioError
+        Over :data:`MAX_SURFACE_PATCHES`, or the band leaves the mesh.
+    """
+    from marinecdpr.geometry.surface import first_grid
+
+    surface = scenario.cleaning.surface
+    f = _band_function(surface)
+    width, height = panel_m or frame_panel(scenario.cleaning)
+    try:
+        xs, zs = first_grid(f, surface.stations_m, surface.heights_m, width_m=width, height_m=height,
+                            max_patches=MAX_SURFACE_PATCHES)
+    except ScenarioError as exc:
+        raise ScenarioError(exc.detail, key="cleaning.surface") from None
+    return (xs.size - 1) * (zs.size - 1)
+
+
+def _band_function(surface: Surface) -> Callable:
+    f, _ = surface_function(surface)
+    probe = f(np.linspace(*surface.stations_m, 5)[:, None], np.linspace(*surface.heights_m, 5)[None, :])
+    if not np.isfinite(probe).all():
+        raise ScenarioError("the band leaves the mesh: no hull side there at some stations or heights",
+                            key="cleaning.surface.stations_m")
+    return f
+
+
 def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float, float] | None = None,
-                digits: int = 3) -> SurfaceJob:
+                digits: int = 3, progress: Callable[[float], None] | None = None,
+                max_patches: int | None = MAX_SURFACE_PATCHES) -> SurfaceJob:
     """The placements on ``[cleaning.surface]`` and their hours.
 
     Parameters
@@ -151,28 +202,49 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
         Each placement's cleaning time is the coverage path's over its extent rounded to this
         many decimals of a metre (3: a millimetre; a design search takes 2, a centimetre:
         within about 1 % of the time, with far fewer paths to plan).
+    progress : callable(share), optional
+        The tiling's progress: the share of the band settled, 0 to 1
+        (:func:`~marinecdpr.geometry.surface.tile_surface`).
+    max_patches : int or None
+        The most patches the tiling may fit (None: no limit).
 
     Raises
     ------
     ScenarioError
-        The scenario has no ``[cleaning.surface]``, or its surface cannot be read there.
+        The scenario has no ``[cleaning.surface]``, or its surface cannot be read there; a
+        move time outside [0, :data:`MOVE_TIME_MAX_S`]; a band of more than
+        ``max_patches`` patches; no patch of it flat enough for the tool's
+        stand-off tolerance (no placement: no hours to give); hours that are not finite.
     """
     cleaning = scenario.cleaning
     if cleaning is None or cleaning.surface is None:
         raise ScenarioError("missing: clean --surface cleans the [cleaning.surface] band of the hull",
                             key="cleaning.surface")
     surface = cleaning.surface
-    f, label = surface_function(surface)
+    move_time_s = check_move_time(move_time_s)
+    f = _band_function(surface)
+    _, label = surface_function(surface)
     width, height = panel_m or frame_panel(cleaning)
-    probe = f(np.linspace(*surface.stations_m, 5)[:, None], np.linspace(*surface.heights_m, 5)[None, :])
-    if not np.isfinite(probe).all():
-        raise ScenarioError("the band leaves the mesh: no hull side there at some stations or heights",
-                            key="cleaning.surface.stations_m")
-    placements, bad = tile_surface(f, surface.stations_m, surface.heights_m, width_m=width, height_m=height,
-                                   tolerance_m=surface.stand_off_tolerance_m)
+    try:
+        placements, bad = tile_surface(f, surface.stations_m, surface.heights_m, width_m=width, height_m=height,
+                                       tolerance_m=surface.stand_off_tolerance_m, max_patches=max_patches,
+                                       progress=progress)
+    except ScenarioError as exc:
+        raise ScenarioError(exc.detail, key="cleaning.surface") from None
+    if not placements:
+        raise ScenarioError(f"no patch of the band is flat enough for the tool: each departs from its plane by more "
+                            f"than stand_off_tolerance_m ({surface.stand_off_tolerance_m:g} m) even at "
+                            f"{MIN_PATCH_M:g} m", key="cleaning.surface.stand_off_tolerance_m")
     cache: dict = {}
     job = np.array([_panel_time(cleaning, *p.extent_m, cache, digits) for p in placements])
-    return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, move_time_s=float(move_time_s),
+    fields = np.array([[*p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2]
+                       for p in placements + bad])
+    if not np.isfinite(fields).all():
+        raise ScenarioError("the band leaves the mesh between its samples: a patch has no hull side under it",
+                            key="cleaning.surface.stations_m")
+    if not (np.isfinite(job).all() and np.isfinite(job.sum() + len(placements) * move_time_s)):
+        raise ScenarioError("the placements' hours are not finite", key="cleaning.surface")
+    return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, move_time_s=move_time_s,
                       frame_panel_m=(width, height), surface=f"{label}, {surface.side} side, stations "
                       f"{surface.stations_m[0]:g} to {surface.stations_m[1]:g} m, heights {surface.heights_m[0]:g} "
                       f"to {surface.heights_m[1]:g} m")
