@@ -1473,8 +1473,8 @@ def design(
                                    scheduler=scheduler, workers=workers or 2)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
-                _fail(f"interrupted; {kept} candidates kept in {journal}: rerun with --resume to go on",
-                      EXIT_INTERRUPTED)
+                _fail(f"interrupted; {kept} candidate{'' if kept == 1 else 's'} kept in {journal}: rerun with "
+                      "--resume to go on", EXIT_INTERRUPTED)
         checked = []
         if n_final and study.front:
             _compile_notice(plant.value if plant is not None else study_spec.plant or template.simulation.plant)
@@ -1489,9 +1489,10 @@ def design(
 
         paths = [out / p.relative_to(folder) for p in write_design(study, template, folder, checked)]
     ev, b = study.evaluations, study.baseline
-    console.print(_plain(f"{study_spec.name}: {len(ev)} candidates ({sum(e.feasible for e in ev)} feasible) over "
-                         f"{len(cells)} sea states in {_seconds(time.perf_counter() - t0)}"), highlight=False,
-                  soft_wrap=True)
+    console.print(_plain(f"{study_spec.name}: {len(ev)} candidate{'' if len(ev) == 1 else 's'} "
+                         f"({sum(e.feasible for e in ev)} feasible) over {len(cells)} sea "
+                         f"state{'' if len(cells) == 1 else 's'} in {_seconds(time.perf_counter() - t0)}"),
+                  highlight=False, soft_wrap=True)
     if study.front:
         e = ev[study.front[0]]
         x = e.x
@@ -1504,6 +1505,13 @@ def design(
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
             f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),
             highlight=False, soft_wrap=True)
+        h = e.hours_breakdown()
+        if all(math.isfinite(v) for v in h.values()):
+            console.print(_plain(
+                f"its {e.expected_hours:.4g} expected h: {h['cleaning']:.3g} h cleaning + {h['turns']:.3g} h turns "
+                f"between lanes + {h['moves']:.3g} h moving the frame + {h['weather']:.3g} h waiting for weather; "
+                "binding: " + ", ".join(f"{k} ({100 * v:.3g} % left)" for k, v in e.binding())),
+                highlight=False, soft_wrap=True)
     else:
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:
