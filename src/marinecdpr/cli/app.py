@@ -1473,8 +1473,8 @@ def design(
                                    scheduler=scheduler, workers=workers or 2)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
-                _fail(f"interrupted; {kept} candidate{'' if kept == 1 else 's'} kept in {journal}: rerun with "
-                      "--resume to go on", EXIT_INTERRUPTED)
+                _fail(f"interrupted; {_count(kept, 'candidate')} kept in {journal}: rerun with --resume to go on",
+                      EXIT_INTERRUPTED)
         checked = []
         if n_final and study.front:
             _compile_notice(plant.value if plant is not None else study_spec.plant or template.simulation.plant)
@@ -1489,10 +1489,9 @@ def design(
 
         paths = [out / p.relative_to(folder) for p in write_design(study, template, folder, checked)]
     ev, b = study.evaluations, study.baseline
-    console.print(_plain(f"{study_spec.name}: {len(ev)} candidate{'' if len(ev) == 1 else 's'} "
-                         f"({sum(e.feasible for e in ev)} feasible) over {len(cells)} sea "
-                         f"state{'' if len(cells) == 1 else 's'} in {_seconds(time.perf_counter() - t0)}"),
-                  highlight=False, soft_wrap=True)
+    console.print(_plain(f"{study_spec.name}: {_count(len(ev), 'candidate')} ({sum(e.feasible for e in ev)} "
+                         f"feasible) over {_count(len(cells), 'sea state')} in "
+                         f"{_seconds(time.perf_counter() - t0)}"), highlight=False, soft_wrap=True)
     if study.front:
         e = ev[study.front[0]]
         x = e.x
