@@ -1515,8 +1515,8 @@ def design(
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:
         console.print(_plain(
-            f"finalist {v.rank} (candidate {v.index}) in the time domain "
-            f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}): works in {100 * v.td_share:.1f} % of the "
+            f"finalist {v.rank} (candidate {v.index}) in the time domain as built "
+            f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}, its rope's stretch, motor winches): works in {100 * v.td_share:.1f} % of the "
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
             f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
             f"passed {v.screen_works_td_fails} the time domain failed"), highlight=False, soft_wrap=True)

@@ -190,7 +190,7 @@ def pareto_figure(study):
     if xs:
         ax.set_xlim(0.0, 1.08 * max(xs))  # from zero: the installed power's (or cost's) share is read off
     _plain_log(ax.yaxis)
-    ax.set_xlabel(objective_label(spec))
+    ax.set_xlabel(_plain(objective_label(spec)))
     ax.set_ylabel("expected hours for the surface")
     ax.set_title(_plain(f"{spec.name}: {_count(len(ev), 'candidate')}, {len(ok)} feasible{note}"), fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
