@@ -128,13 +128,16 @@ def _finalist_rows(study, verification) -> list[list]:
 
 def _plain_log(axis) -> None:
     """A log axis labelled with plain numbers (40, not 4x10^1) at its decades and, within a
-    decade or two, at 2 and 5 times them."""
+    decade or two, at 2 and 5 times them (and 3 and 7 within one)."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     lo, hi = axis.get_view_interval()
     plain = FuncFormatter(lambda v, _: f"{v:g}")
     axis.set_major_formatter(plain)
-    if hi / max(lo, 1e-300) < 100.0:  # few decades: mark 1, 2 and 5 in each
+    span = hi / max(lo, 1e-300)
+    if span <= 10.0:  # within a decade: mark 1, 2, 3, 5 and 7 in each
+        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 3.0, 5.0, 7.0)))
+    elif span < 100.0:  # a decade or two: 1, 2 and 5
         axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
     axis.set_minor_formatter(NullFormatter())
 
@@ -181,7 +184,7 @@ def pareto_figure(study):
         ax.plot(f[order, 0], f[order, 1], "o-", c="tab:red", label=f"Pareto front ({len(study.front)})")
         ds, dh = _spread(f[:, 0]), _spread(f[:, 1])
         if len(study.front) > 1 and ds < TRADE_OFF_SPREAD and dh < TRADE_OFF_SPREAD:
-            note = (f"; the front's designs differ by {100 * dh:.2g} % in hours and {100 * ds:.2g} % in "
+            note = (f"\nthe front's designs differ by {100 * dh:.2g} % in hours and {100 * ds:.2g} % in "
                     f"{'power' if spec.objective == 'power' else 'cost'}: no trade-off")
     ax.axhline(spec.targets.hours, c="k", ls="--", lw=0.8, label=f"target {spec.targets.hours:g} h")
     ax.set_yscale("log")
