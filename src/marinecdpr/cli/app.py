@@ -1626,7 +1626,7 @@ def design(
                                    scheduler=scheduler, workers=workers or 2)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
-                _fail(f"interrupted; {kept} candidates kept in {journal}: rerun with --resume to go on",
+                _fail(f"interrupted; {_count(kept, 'candidate')} kept in {journal}: rerun with --resume to go on",
                       EXIT_INTERRUPTED)
         checked = []
         if n_final and study.front:
@@ -1642,9 +1642,9 @@ def design(
 
         paths = [out / p.relative_to(folder) for p in write_design(study, template, folder, checked)]
     ev, b = study.evaluations, study.baseline
-    console.print(_plain(f"{study_spec.name}: {len(ev)} candidates ({sum(e.feasible for e in ev)} feasible) over "
-                         f"{len(cells)} sea states in {_seconds(time.perf_counter() - t0)}"), highlight=False,
-                  soft_wrap=True)
+    console.print(_plain(f"{study_spec.name}: {_count(len(ev), 'candidate')} ({sum(e.feasible for e in ev)} "
+                         f"feasible) over {_count(len(cells), 'sea state')} in "
+                         f"{_seconds(time.perf_counter() - t0)}"), highlight=False, soft_wrap=True)
     if study.front:
         e = ev[study.front[0]]
         x = e.x
@@ -1659,12 +1659,19 @@ def design(
             highlight=False, soft_wrap=True)
         if e.sea_reason:
             console.print(_plain(f"  the screen: {e.sea_reason}"), highlight=False, soft_wrap=True)
+        h = e.hours_breakdown()
+        if all(math.isfinite(v) for v in h.values()):
+            console.print(_plain(
+                f"its {e.expected_hours:.4g} expected h: {h['cleaning']:.3g} h cleaning + {h['turns']:.3g} h turns "
+                f"between lanes + {h['moves']:.3g} h moving the frame + {h['weather']:.3g} h waiting for weather; "
+                "binding: " + ", ".join(f"{k} ({100 * v:.3g} % left)" for k, v in e.binding())),
+                highlight=False, soft_wrap=True)
     else:
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
     for v in checked:
         console.print(_plain(
-            f"finalist {v.rank} (candidate {v.index}) in the time domain "
-            f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}): works in {100 * v.td_share:.1f} % of the "
+            f"finalist {v.rank} (candidate {v.index}) in the time domain as built "
+            f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}, its rope's stretch, motor winches): works in {100 * v.td_share:.1f} % of the "
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
             f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
             f"passed {v.screen_works_td_fails} the time domain failed"), highlight=False, soft_wrap=True)

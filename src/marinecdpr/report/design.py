@@ -8,13 +8,14 @@ from pathlib import Path
 
 import numpy as np
 
-from marinecdpr.report.figures import _pyplot, _save
+from marinecdpr.report.figures import _plain, _pyplot, _save
 from marinecdpr.report.files import write_json
 from marinecdpr.scenario.design import CONTINUOUS
 from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
 from marinecdpr.textfiles import atomic_path
 
-__all__ = ["write_design", "design_summary", "drawing_geometry", "CANDIDATE_COLUMNS"]
+__all__ = ["write_design", "design_summary", "drawing_geometry", "pareto_figure", "convergence_figure",
+           "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN"]
 
 
 CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "pattern", "mass_kg", "tension_max_N",
@@ -44,22 +45,47 @@ def _write_rows(path: Path, rows: list[list]) -> Path:
     return path
 
 
+BREAKDOWN = (("cleaning", "cleaning"), ("turns", "turns between lanes"), ("moves", "moving the frame"),
+             ("weather", "waiting for weather"))
+"""The parts of a design's expected hours (:meth:`~marinecdpr.studies.design.Evaluation.hours_breakdown`)
+and how the report names them."""
+
+
+def objective_label(spec) -> str:
+    """The second objective as an axis or column label, with its unit."""
+    if spec.objective == "power":
+        return "installed winch power (kW)"
+    unit = spec.cost_unit or "the catalogue's units"
+    return f"cost of 4 winches and 4 ropes ({unit})"
+
+
+def _finite(v):
+    return v if not isinstance(v, float) or np.isfinite(v) else None
+
+
 def _short(e, objective: str) -> dict:
     keys = ("placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N",
             "mass_kg", "frame_turn_deg", "sea_reason")
     return {"variables": dict(e.x), **{k: getattr(e, k) for k in keys}, "feasible": e.feasible,
-            "objective": e.objective(objective)}
+            "objective": e.objective(objective),
+            "hours": {k: _finite(v) for k, v in e.hours_breakdown().items()},
+            "binding": [{"constraint": k, "margin": _finite(float(e.margins[k])), "slack": v}
+                        for k, v in e.binding()]}
 
 
 def design_summary(study, verification=None) -> dict:
-    """``summary.json``: the study, its best designs by expected hours (the front), the
-    baseline, whether the target is met, and the finalists' time-domain figures."""
+    """``summary.json``: the study, its best designs by expected hours (the front), each with
+    its hours in parts (``hours``: cleaning, turns, moves, weather) and its binding
+    constraints (``binding``: the margins nearest their limit, slack = margin / capacity),
+    the baseline, whether the target is met, and the finalists' time-domain figures
+    (``verified`` false: none was flown)."""
     spec = study.spec
     ev = study.evaluations
     front = [_short(ev[i], spec.objective) | {"index": i} for i in study.front]
     best = front[0] if front else None
     return {
-        "study": spec.name, "objective": spec.objective, "targets": spec.targets.model_dump(),
+        "study": spec.name, "objective": spec.objective, "objective_label": objective_label(spec),
+        "targets": spec.targets.model_dump(),
         "candidates": len(ev), "feasible": int(sum(e.feasible for e in ev)), "seed": spec.seed,
         "population": spec.population, "generations": spec.generations,
         "front": front, "best": best,
@@ -67,47 +93,120 @@ def design_summary(study, verification=None) -> dict:
         "baseline": _short(study.baseline, spec.objective),
         "screen": "expected hours = placements' cleaning and moves / the share of sea states the fast screen "
                   "passes (studies.screen: frequency-domain extremes, conservative)",
+        "verified": bool(verification),
         "finalists": [dict(v.__dict__) for v in verification or []],
     }
 
 
-def write_design(study, template, folder: Path, verification=None) -> list[Path]:
-    """``candidates.csv``, ``pareto.csv``, ``pareto.png``, ``convergence.png``,
-    ``designs/*.toml`` (the front's best ``finalists`` by expected hours, ready to run),
-    ``finalists.csv`` (their time-domain figures beside the screen's, when verified) and
-    ``summary.json``."""
-    import tomli_w
+FINALIST_COLUMNS = ["rank", "index", "winch", "rope", "power_kW", "cost", "surface_hours", "cleaning_hours",
+                    "turn_hours", "move_hours", "weather_hours", "expected_hours", "binding_1", "slack_1",
+                    "binding_2", "slack_2", "screen_share", "td_share", "screen_expected_hours", "td_expected_hours",
+                    "td_weather_hours", "agree", "screen_works_td_fails", "screen_fails_td_works", "plant"]
+"""finalists.csv's columns: the screen's hours in parts, the two binding constraints, and
+(where flown, else empty) the time domain's."""
 
-    from marinecdpr.scenario.importing.common import _plain
-    folder = Path(folder)
-    spec = study.spec
-    ev = study.evaluations
-    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e) for i, (e, g) in
-                                                    enumerate(zip(ev, study.generation))])]
-    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i]) for i in study.front]))
+
+def _finalist_rows(study, verification) -> list[list]:
+    def num(v):
+        return "" if v is None or (isinstance(v, float) and not np.isfinite(v)) else (
+            f"{v:.10g}" if isinstance(v, float) else v)
+
+    td = {v.index: v for v in verification or []}
+    rows = []
+    for rank, i in enumerate(study.front[:study.spec.finalists], start=1):
+        e, v = study.evaluations[i], td.get(i)
+        b = e.binding() + [("", float("nan"))] * 2
+        h = e.hours_breakdown()
+        flown = ([v.screen_share, v.td_share, v.screen_expected_hours, v.td_expected_hours,
+                  v.td_expected_hours - v.surface_hours, v.agree, v.screen_works_td_fails, v.screen_fails_td_works,
+                  v.plant] if v is not None else [None] * 9)
+        rows.append([num(c) for c in [rank, i, e.x["winch"], e.x["rope"], e.power_kW, e.cost, e.surface_hours,
+                                      h["cleaning"], h["turns"], h["moves"], h["weather"], e.expected_hours,
+                                      b[0][0], b[0][1], b[1][0], b[1][1], *flown]])
+    return rows
+
+
+def _plain_log(axis) -> None:
+    """A log axis labelled with plain numbers (40, not 4x10^1) at its decades and, within a
+    decade or two, at 2 and 5 times them (and 3 and 7 within one)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = axis.get_view_interval()
+    plain = FuncFormatter(lambda v, _: f"{v:g}")
+    axis.set_major_formatter(plain)
+    span = hi / max(lo, 1e-300)
+    if span <= 10.0:  # within a decade: mark 1, 2, 3, 5 and 7 in each
+        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 3.0, 5.0, 7.0)))
+    elif span < 100.0:  # a decade or two: 1, 2 and 5
+        axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _spread(values) -> float:
+    """The relative spread (max - min) / max of positive values (0 for fewer than two)."""
+    v = np.asarray([x for x in values if np.isfinite(x)], dtype=float)
+    return float(np.ptp(v) / np.abs(v).max()) if v.size > 1 and np.abs(v).max() > 0 else 0.0
+
+
+TRADE_OFF_SPREAD = 0.01
+"""A front whose objectives each spread by less than this share of their largest value is
+drawn as one design, not a trade-off (its figure says so)."""
+
+
+def pareto_figure(study):
+    """pareto.png's figure: every candidate by its expected hours against its installed power
+    (or cost, with its unit) on a log hours axis labelled with plain numbers; the infeasible
+    ones drawn (grey: a constraint not met, at their hours; a cross along the top: works in
+    no sea state or cannot be built, so no hours); the front; the target. A front whose
+    objectives spread by less than :data:`TRADE_OFF_SPREAD` is said to be one design."""
+    spec, ev = study.spec, study.evaluations
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5), constrained_layout=True)
     ok = [e for e in ev if e.feasible and np.isfinite(e.expected_hours)]
-    bad = [e for e in ev if not (e.feasible and np.isfinite(e.expected_hours))]
-    unit = "installed winch power (kW)" if spec.objective == "power" else "cost"
-    if bad:
-        ax.scatter([e.objective(spec.objective) for e in bad],
-                   [min(e.expected_hours, 1e6) if np.isfinite(e.expected_hours) else np.nan for e in bad],
-                   s=10, c="0.75", label="infeasible")
+    short = [e for e in ev if not e.feasible and np.isfinite(e.expected_hours)]
+    none = [e for e in ev if not np.isfinite(e.expected_hours) and np.isfinite(e.objective(spec.objective))]
+    hours = [e.expected_hours for e in ok + short] + [spec.targets.hours]
+    lo, hi = min(hours), max(hours)
+    if short:
+        ax.scatter([e.objective(spec.objective) for e in short], [e.expected_hours for e in short], s=12, c="0.6",
+                   marker="s", label=f"infeasible: a constraint not met ({len(short)})")
     if ok:
         ax.scatter([e.objective(spec.objective) for e in ok], [e.expected_hours for e in ok], s=14, c="tab:blue",
-                   label="feasible")
+                   label=f"feasible ({len(ok)})")
+    if none:
+        ax.scatter([e.objective(spec.objective) for e in none], [0.97] * len(none), s=18, c="0.4", marker="x",
+                   transform=ax.get_xaxis_transform(), clip_on=False,
+                   label=f"infeasible: no hours (works in no sea state, or cannot be built) ({len(none)})")
+    note = ""
     if study.front:
         f = np.array([[ev[i].objective(spec.objective), ev[i].expected_hours] for i in study.front])
         order = np.argsort(f[:, 0])
-        ax.plot(f[order, 0], f[order, 1], "o-", c="tab:red", label="Pareto front")
+        ax.plot(f[order, 0], f[order, 1], "o-", c="tab:red", label=f"Pareto front ({len(study.front)})")
+        ds, dh = _spread(f[:, 0]), _spread(f[:, 1])
+        if len(study.front) > 1 and ds < TRADE_OFF_SPREAD and dh < TRADE_OFF_SPREAD:
+            note = (f"\nthe front's designs differ by {100 * dh:.2g} % in hours and {100 * ds:.2g} % in "
+                    f"{'power' if spec.objective == 'power' else 'cost'}: no trade-off")
     ax.axhline(spec.targets.hours, c="k", ls="--", lw=0.8, label=f"target {spec.targets.hours:g} h")
     ax.set_yscale("log")
-    ax.set_xlabel(unit)
+    ax.set_ylim(lo / 1.3, hi * 1.3 * (1.25 if none else 1.0))
+    xs = [e.objective(spec.objective) for e in ok + short + none]
+    if xs:
+        ax.set_xlim(0.0, 1.08 * max(xs))  # from zero: the installed power's (or cost's) share is read off
+    _plain_log(ax.yaxis)
+    ax.set_xlabel(_plain(objective_label(spec)))
     ax.set_ylabel("expected hours for the surface")
-    ax.set_title(f"{spec.name}: {len(ev)} candidates, {len(ok)} feasible", fontsize=9)
-    ax.legend(fontsize=8)
-    paths.append(_save(fig, folder / "pareto.png"))
+    ax.set_title(_plain(f"{spec.name}: {_count(len(ev), 'candidate')}, {len(ok)} feasible{note}"), fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+    return fig
+
+
+def convergence_figure(study):
+    """convergence.png's figure: the best feasible expected hours after each generation
+    (whole generations on the axis), a log axis labelled with plain numbers."""
+    from matplotlib.ticker import MaxNLocator
+
+    spec, ev = study.spec, study.evaluations
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 3.5), constrained_layout=True)
     gens = np.arange(int(study.generation.max()) + 1) if len(ev) else np.zeros(0, dtype=int)
     best, running = [], float("inf")
@@ -115,36 +214,67 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
         hours = [e.expected_hours for e, gg in zip(ev, study.generation) if gg == g and e.feasible]
         running = min([running, *hours])
         best.append(running)
-    ax.plot(gens, best, "o-")
-    ax.axhline(spec.targets.hours, c="k", ls="--", lw=0.8)
+    shown = [b for b in best if np.isfinite(b)]
+    ax.plot(gens, best, "o-", label="best feasible so far")
+    ax.axhline(spec.targets.hours, c="k", ls="--", lw=0.8, label=f"target {spec.targets.hours:g} h")
     ax.set_xlabel("generation")
+    ax.set_xlim(-0.5, max(len(gens), 1) - 0.5)
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))
     ax.set_ylabel("best feasible expected hours")
     ax.set_yscale("log")
-    paths.append(_save(fig, folder / "convergence.png"))
+    top = [*shown, spec.targets.hours]
+    ax.set_ylim(min(top) / 1.3, max(top) * 1.3)
+    _plain_log(ax.yaxis)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def _count(n: int, word: str) -> str:
+    """"1 candidate", "2 candidates"."""
+    return f"{n} {word}" + ("" if n == 1 else "s")
+
+
+def write_design(study, template, folder: Path, verification=None) -> list[Path]:
+    """``candidates.csv``, ``pareto.csv``, ``pareto.png``, ``convergence.png``,
+    ``designs/*.toml`` (the front's best ``finalists`` by expected hours, as built and ready
+    to run: :func:`~marinecdpr.studies.design.as_built`), ``finalists.csv`` (their hours in
+    parts, binding constraints and, when verified, their time-domain figures beside the
+    screen's) and ``summary.json``."""
+    import tomli_w
+
+    from marinecdpr.scenario.importing.common import _plain as _toml_plain
+    from marinecdpr.studies.design import as_built
+    folder = Path(folder)
+    spec = study.spec
+    ev = study.evaluations
+    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e) for i, (e, g) in
+                                                    enumerate(zip(ev, study.generation))])]
+    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i]) for i in study.front]))
+    paths.append(_save(pareto_figure(study), folder / "pareto.png"))
+    paths.append(_save(convergence_figure(study), folder / "convergence.png"))
     designs = folder / "designs"
     designs.mkdir(exist_ok=True)
+    plant = next((v.plant for v in verification or [] if v.plant), None)
     for rank, i in enumerate(study.front[:spec.finalists], start=1):
-        sc = candidate_scenario(spec, template, ev[i].x).with_updates(
-            "ship", frame_origin_m=ev[i].frame_origin_m, frame_orientation_deg=ev[i].frame_orientation_deg)
-        data = sc.model_dump(exclude_none=True)
+        data = as_built(spec, template, ev[i], plant).model_dump(exclude_none=True)
         data["name"] = f"{spec.name}_{rank}"
-        data["description"] = (f"{spec.name}, finalist {rank}: {ev[i].expected_hours:.4g} expected h, "
-                               f"{ev[i].power_kW:g} kW of winches ({ev[i].x['winch']}, {ev[i].x['rope']})")
+        data["description"] = f"{spec.name}, finalist {rank}: " + data["description"].split(": ", 1)[1]
         head = (f"# Written by `marinecdpr design` ({spec.name}, candidate {i}): run it with `marinecdpr clean "
-                f"{spec.name}_{rank}.toml --surface`\n")
+                f"{spec.name}_{rank}.toml --surface`\n# As built: the rope's weight (robot.cable_weight_N_m) and "
+                f"EA (simulation.cables), the winches' torque, speed, power and drum ([robot.winch], motor "
+                f"winches); robot.tension_max_N the smaller of the rope's breaking load over its safety factor and "
+                f"the winch's torque over its drum\n")
         path = designs / f"{spec.name}_{rank}.toml"
         with atomic_path(path) as tmp:
-            Path(tmp).write_text(head + tomli_w.dumps(_plain(data)), encoding="utf-8")
+            Path(tmp).write_text(head + tomli_w.dumps(_toml_plain(data)), encoding="utf-8")
         paths.append(path)
-    if verification:
-        names = ["rank", "index", "surface_hours", "screen_share", "td_share", "screen_expected_hours",
-                 "td_expected_hours", "agree", "screen_works_td_fails", "screen_fails_td_works", "plant"]
+    if study.front and spec.finalists:
         path = folder / "finalists.csv"
         with atomic_path(path) as tmp:
             with open(tmp, "w", encoding="utf-8", newline="") as fh:
                 w = csv.writer(fh)
-                w.writerow(names)
-                w.writerows([[getattr(v, k) for k in names] for v in verification])
+                w.writerow(FINALIST_COLUMNS)
+                w.writerows(_finalist_rows(study, verification))
         paths.append(path)
     summary = design_summary(study, verification)
     paths.append(write_json(summary, folder / "summary.json"))
@@ -173,20 +303,25 @@ def drawing_geometry(scenario) -> dict:
     return {"frame": c, "panel": panel, "platforms": platforms, "cables": cables}
 
 
-def _draw_finalists(study, template, path: Path) -> Path:
-    """Each finalist (and the template's robot) to one scale: frame, anchors, panel, and the
-    platform with its cables at the panel's four corners."""
+def finalists_figure(study, template):
+    """finalists.png's figure: each finalist (and the template's robot) to one scale: frame,
+    anchors, panel, and the platform with its cables at the panel's four corners, with a
+    legend."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     spec, ev = study.spec, study.evaluations
     shown = [("the template's robot", template)] + [
-        (f"finalist {rank}: {ev[i].expected_hours:.3g} h, {ev[i].power_kW:g} kW", candidate_scenario(spec, template,
-                                                                                                      ev[i].x))
+        (f"finalist {rank}: {ev[i].expected_hours:.3g} h, {ev[i].objective(spec.objective):g} "
+         + ("kW" if spec.objective == "power" else spec.cost_unit or "cost"), candidate_scenario(spec, template,
+                                                                                              ev[i].x))
         for rank, i in enumerate(study.front[:spec.finalists], start=1)]
     plt = _pyplot()
-    fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 3.6), constrained_layout=True, squeeze=False)
+    fig, axes = plt.subplots(1, len(shown), figsize=(4.2 * len(shown), 4.0), constrained_layout=True, squeeze=False)
     span = max(float(np.ptp(sc.robot.frame_anchors[:, [0, 2]], axis=0).max()) for _, sc in shown)
     for ax, (label, sc) in zip(axes[0], shown):
         g = drawing_geometry(sc)
-        ax.fill(*g["panel"].T, color="tab:green", alpha=0.25, label="panel")
+        ax.fill(*g["panel"].T, color="tab:green", alpha=0.25)
         for k in range(4):
             for seg in g["cables"][k]:
                 ax.plot(*seg.T, color="tab:red", lw=0.6, alpha=0.6)
@@ -197,34 +332,57 @@ def _draw_finalists(study, template, path: Path) -> Path:
         ax.set_aspect("equal")
         ax.set_xlim(-0.05 * span, 1.05 * span)
         ax.set_ylim(-0.05 * span, 1.05 * span)
-        ax.set_title(label, fontsize=9)
+        ax.set_title(_plain(label), fontsize=9)
         ax.set_xlabel("x in C (m)")
     axes[0][0].set_ylabel("z in C (m)")
-    return _save(fig, path)
+    handles = [Line2D([], [], color="k", marker="o", ms=4, lw=1.2, label="frame and its anchors"),
+               Patch(color="tab:green", alpha=0.25, label="panel the tool cleans"),
+               Patch(color="tab:blue", alpha=0.5, label="platform at the panel's four corners"),
+               Line2D([], [], color="tab:red", lw=0.6, label="cables there")]
+    fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8)
+    return fig
+
+
+def _draw_finalists(study, template, path: Path) -> Path:
+    return _save(finalists_figure(study, template), path)
 
 
 def _report_html(study, summary: dict, verification, figures: dict, path: Path) -> Path:
-    """One page: the targets, the front beside the template's robot (the time domain's figures
-    where flown), and the figures."""
+    """One page: the targets, the front beside the template's robot (its second objective
+    with its unit, its hours in parts, its binding constraints, the time domain's figures
+    where flown), and the figures. Says whether the finalists were flown."""
     import base64
     from html import escape as esc
 
     spec = study.spec
     td = {v.index: v for v in verification or []}
+    power = spec.objective == "power"
+
+    def hours(e):
+        h = e.hours_breakdown()
+        if not all(np.isfinite(v) for v in h.values()):
+            return "–"
+        return " + ".join(f"{h[k]:.3g} {name}" for k, name in BREAKDOWN)
+
+    def binding(e):
+        b = e.binding()
+        return ", ".join(f"{esc(k)} ({100 * v:.3g} % left)" for k, v in b) if b else "–"
 
     def row(label, e, v=None):
         x = e.x
         td_share = f"{100 * v.td_share:.1f} %" if v is not None else "–"
         td_hours = f"{v.td_expected_hours:.4g}" if v is not None else "–"
+        obj = e.objective(spec.objective)
+        obj = "–" if obj != obj else (f"{obj:g}" if power else f"{obj:.6g}")
         return (f"<tr><td>{esc(label)}</td><td>{x['frame_width_m']:.3g} x {x['frame_height_m']:.3g}</td>"
                 f"<td>{x['platform_width_m']:.3g} x {x['platform_height_m']:.3g}, {e.mass_kg:.3g} kg</td>"
                 f"<td>{x['tool_width_m']:.3g} m at {x['speed_m_s']:.3g} m/s</td><td>{esc(x['winch'])}, "
-                f"{esc(x['rope'])}, {esc(x.get('pattern', 'uncrossed'))}</td><td>{'–' if e.power_kW != e.power_kW else f'{e.power_kW:g}'}</td><td>{e.placements}</td><td>{e.surface_hours:.4g}</td>"
-                f"<td>{100 * e.sea_share:.1f} %</td><td>{td_share}</td><td>{e.expected_hours:.4g}</td>"
-                f"<td>{td_hours}</td></tr>")
+                f"{esc(x['rope'])}, {esc(x.get('pattern', 'uncrossed'))}</td><td>{obj}</td><td>{e.placements}</td>"
+                f"<td>{e.surface_hours:.4g}</td><td>{100 * e.sea_share:.1f} %</td><td>{td_share}</td>"
+                f"<td>{e.expected_hours:.4g}</td><td>{td_hours}</td><td>{hours(e)}</td><td>{binding(e)}</td></tr>")
 
     rows = [row("template's robot", study.baseline)] + [
-        row(f"front {k}" + (" (finalist)" if i in td else ""), study.evaluations[i], td.get(i))
+        row(f"front {k}" + (" (finalist, flown)" if i in td else ""), study.evaluations[i], td.get(i))
         for k, i in enumerate(study.front, start=1)]
     imgs = []
     for caption, fig_path in figures.items():
@@ -235,8 +393,24 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     verdict = ("no feasible design" if best is None else
                f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
                + ("met" if summary["target_met"] else "not met"))
+    limits = ""
+    if study.front:
+        e = study.evaluations[study.front[0]]
+        h = e.hours_breakdown()
+        if all(np.isfinite(v) for v in h.values()):
+            parts = ", ".join(f"{name} {h[k]:.3g} h" for k, name in BREAKDOWN)
+            top = max(BREAKDOWN, key=lambda kn: h[kn[0]])
+            limits = (f"<p>What limits the best design: of its {e.expected_hours:.4g} expected h, {esc(top[1])} takes "
+                      f"{h[top[0]]:.3g} h ({parts}); its binding constraints: {binding(e)}.</p>")
     plants = sorted({v.plant for v in verification or [] if v.plant})
-    flown = f" ({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)})" if plants else ""
+    if verification:
+        flown = (f"The finalists were also flown as built (their rope's weight and stretch, their winches' "
+                 f"dynamics and limits) through the cleaning job in every sea state, closed loop on the prototype "
+                 f"({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)}): the time "
+                 "domain's columns.")
+    else:
+        flown = ("The finalists were not flown in the time domain (--no-verify, or no finalist): every figure is "
+                 "the screen's.")
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>marinecdpr design: {esc(spec.name)}</title>
 <style>
@@ -249,16 +423,18 @@ figcaption {{ color: #555; font-size: 0.9em; }}
 </style></head><body>
 <h1>Design study: {esc(spec.name)}</h1>
 <p>{esc(spec.description)}</p>
-<p>{len(study.evaluations)} candidates ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
+<p>{_count(len(study.evaluations), 'candidate')} ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
 for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
+{limits}
 <h2>The Pareto front</h2>
-<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>kW</th>
+<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>{esc(objective_label(spec))}</th>
 <th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>
-<th>expected h (screen)</th><th>(time domain)</th></tr></thead>
+<th>expected h (screen)</th><th>(time domain)</th><th>expected h in parts (screen)</th><th>binding constraints</th></tr></thead>
 <tbody>{''.join(rows)}</tbody></table>
-<p>Expected hours: the placements' cleaning and moves over the share of sea states in which the job works.
-The screen judges every candidate; the finalists were also flown through the cleaning job in every sea state,
-closed loop on the prototype{flown}.</p>
+<p>Expected hours: the placements' cleaning and moves over the share of sea states in which the job works;
+in parts, the brush on its lanes (cleaning), stepping between lanes (turns), moving the frame between placements
+(moves) and waiting for the seas the job works in (weather). A binding constraint is one whose margin is the
+smallest share of what it is taken from (% left). The screen judges every candidate. {flown}</p>
 <h2>Figures</h2>
 {''.join(imgs)}
 </body></html>

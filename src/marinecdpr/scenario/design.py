@@ -20,7 +20,8 @@ from marinecdpr.scenario.cleaning import StandOffTolerance
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 
 __all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS", "POPULATION", "GENERATIONS",
-           "SEED_MAX", "STUDY_NAME", "safe_stem"]
+           "SEED_MAX", "STUDY_NAME", "safe_stem",
+           "WINCH_INERTIA_PER_TORQUE"]
 
 POPULATION = (4, 1000)
 """The least and most candidates a generation (the study's ``population`` and ``design --population``)."""
@@ -97,6 +98,20 @@ class Winch(_Model):
     drum_radius_m: _ranged(0.0, 5.0, "m", "a drum's radius", above=True)
     mass_kg: _ranged(0.0, 1e5, "kg", "a winch's mass") = 0.0
     cost: _ranged(0.0, 1e9, "", "the user's cost unit") = 0.0
+    inertia_kg_m2: _ranged(0.0, 1e5, "kg m^2", "a drum's and motor's inertia at the drum", above=True) | None = None
+    """The drum's and the motor's rotating inertia seen at the drum, kg m^2 (the finalists
+    fly their winches' dynamics); default :data:`WINCH_INERTIA_PER_TORQUE` x ``torque_N_m``."""
+
+    @property
+    def inertia(self) -> float:
+        """``inertia_kg_m2``, or its default, kg m^2."""
+        return self.inertia_kg_m2 if self.inertia_kg_m2 is not None else WINCH_INERTIA_PER_TORQUE * self.torque_N_m
+
+
+WINCH_INERTIA_PER_TORQUE = 5.5e-4
+"""A catalogue winch's inertia at the drum per newton-metre of its torque, kg m^2 / (N m), where
+the catalogue gives none: the built-in paper_as_built's winch (a 200 W motor's 1e-4 kg m^2
+rotor through 10:1 and a 1e-3 kg m^2 drum: 0.011 kg m^2 at the drum, for 2 N m x 10 = 20 N m)."""
 
 
 class Rope(_Model):
@@ -162,6 +177,8 @@ class DesignSpec(_Model):
     move_time_s: _ranged(0.0, 86400.0, "s", "moving the frame to its next placement") = 600.0
     objective: Literal["power", "cost"] = "power"
     """What the hours are traded against: the installed winch power, or the cost of winches and ropes."""
+    cost_unit: StrictStr = Field(default="", max_length=16, pattern=r"^[^\x00-\x1f<>&]*$")
+    """The unit of the catalogues' costs, as the report labels them (e.g. "EUR"); "" when not given."""
     seed: StrictInt = Field(default=1, ge=0, le=SEED_MAX)
     population: StrictInt = Field(default=24, ge=POPULATION[0], le=POPULATION[1])
     generations: StrictInt = Field(default=10, ge=GENERATIONS[0], le=GENERATIONS[1])

@@ -47,10 +47,15 @@ from marinecdpr.scenario.schema import Scenario, _validated
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
-           "CONSTRAINTS"]
+           "CONSTRAINTS", "CAPACITIES", "as_built"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
+
+CAPACITIES = {"sea_share": "the share of sea states that work", "winch_speed_m_s": "the drum's top speed",
+              "winch_power_W": "the winch's rated power", "sag_m": "limits.sag_m", "stretch_m": "limits.stretch_m",
+              "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured"}
+"""What each margin's slack (:attr:`Evaluation.slack`) is a share of: slack = margin / capacity."""
 
 
 def _designs_folder() -> Path:
@@ -235,6 +240,13 @@ class Evaluation:
     sea_reason : str
         Why the screen fails the sea states it fails ("" where it passes them all): how many
         fail on what, and the mildest one's reason (:func:`~marinecdpr.studies.screen.why_fails`).
+    cleaning_hours, turn_hours, move_hours : float
+        The parts of ``surface_hours``: the brush on its lanes and boundary pass, stepping
+        between lanes (:func:`~marinecdpr.studies.surface.turn_time`), and moving the frame
+        between placements, h (NaN where not judged).
+    slack : dict
+        Each margin of ``margins`` as a share of what it is taken from (:data:`CAPACITIES`):
+        1 unused, 0 binding, negative short.
     """
 
     x: dict
@@ -253,10 +265,30 @@ class Evaluation:
     frame_orientation_deg: list = field(default_factory=lambda: [0.0, 0.0, 0.0])
     frame_turn_deg: list = field(default_factory=lambda: [0.0, 0.0])
     sea_reason: str = ""
+    cleaning_hours: float = float("nan")
+    turn_hours: float = float("nan")
+    move_hours: float = float("nan")
+    slack: dict = field(default_factory=dict)
 
     def objective(self, kind: str) -> float:
         """The second objective: installed power (kW) or cost."""
         return self.power_kW if kind == "power" else self.cost
+
+    @property
+    def weather_hours(self) -> float:
+        """Waiting for weather: expected_hours - surface_hours, h (inf where no sea state works)."""
+        return self.expected_hours - self.surface_hours
+
+    def hours_breakdown(self) -> dict:
+        """The expected hours' parts, h: ``cleaning``, ``turns``, ``moves`` and ``weather``
+        (waiting for the seas the job works in); they sum to ``expected_hours``."""
+        return {"cleaning": self.cleaning_hours, "turns": self.turn_hours, "moves": self.move_hours,
+                "weather": self.weather_hours}
+
+    def binding(self, n: int = 2) -> list[tuple[str, float]]:
+        """The ``n`` constraints nearest their limit: (name, slack) by slack, least first."""
+        known = [(k, float(v)) for k, v in self.slack.items() if np.isfinite(v)]
+        return sorted(known, key=lambda kv: kv[1])[:n]
 
 
 def frame_turns(placements) -> np.ndarray:
@@ -356,6 +388,48 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     data.update(robot=robot, cleaning=cleaning, name=f"{spec.name}_candidate",
                 time=dict(data["time"], duration_s=duration),
                 base_motion=dict(data["base_motion"], record_s=record))
+    return _validated(data)
+
+
+def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | None = None) -> Scenario:
+    """A candidate's scenario as it would be built and flown: :func:`candidate_scenario`'s
+    robot with its rope and winches, the frame where the screen found the seas hardest
+    (``e.frame_origin_m``, turned by ``e.frame_orientation_deg``):
+
+    - the rope: its weight per metre (``robot.cable_weight_N_m``: the plan's sag), its EA
+      (elastic cables, ``simulation.cables.stiffness_EA_N``) and its breaking load over its
+      safety factor in ``robot.tension_max_N`` (with the winch's torque over its drum);
+    - the winches (``[robot.winch]``, ``simulation.cables.winch = "motor"``): the catalogue's
+      torque, speed and power at the drum (``gear_ratio`` 1), its drum's radius and inertia
+      (:attr:`~marinecdpr.scenario.design.Winch.inertia`): the plan keeps within what each
+      winch can give, and the closed loop flies each motor's dynamics and limits;
+    - on ``plant`` (default the study's, else the template's).
+
+    The cables are straight elastic ones: the prototype's sagging (catenary) cables take
+    length-controlled winches and the own plant only; the study's ``limits.sag_m`` bounds
+    the sag the straight cables leave out.
+
+    Raises
+    ------
+    ScenarioError
+        The candidate is not a valid scenario.
+    """
+    winch = next(w for w in spec.winches if w.name == e.x["winch"])
+    rope = next(r for r in spec.ropes if r.name == e.x["rope"])
+    data = candidate_scenario(spec, template, e.x).model_dump(exclude_none=True)
+    data["robot"].update(cable_weight_N_m=rope.weight_N_m,
+                         winch={"drum_radius_m": winch.drum_radius_m, "gear_ratio": 1.0,
+                                "torque_max_Nm": winch.torque_N_m, "speed_max_rad_s": winch.speed_rad_s,
+                                "power_max_W": winch.power_W, "drum_inertia_kg_m2": winch.inertia})
+    sim = data.setdefault("simulation", {})
+    sim["plant"] = plant or spec.plant or template.simulation.plant
+    sim["cables"] = dict(sim.get("cables", {}), model="elastic", stiffness_EA_N=rope.ea_N, winch="motor")
+    data["ship"] = dict(data.get("ship", {}), frame_origin_m=[float(v) for v in e.frame_origin_m],
+                        frame_orientation_deg=[float(v) for v in e.frame_orientation_deg])
+    data["description"] = (f"{spec.name}: {e.expected_hours:.4g} expected h; winches {winch.name} "
+                           f"({winch.torque_N_m:g} N m, {winch.speed_rad_s:g} rad/s, {winch.power_W:g} W, drum "
+                           f"{winch.drum_radius_m:g} m), rope {rope.name} (EA {rope.ea_N:g} N, "
+                           f"{rope.weight_N_m:g} N/m, breaking {rope.breaking_N:g} N over {rope.safety_factor:g})")
     return _validated(data)
 
 
@@ -474,6 +548,10 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))) - x["tool_width_m"],
         "clearance_m": clearance(sc) - rope.diameter_m - spec.limits.clearance_m,
     }
+    capacity = {"sea_share": share, "winch_speed_m_s": winch.speed_rad_s * winch.drum_radius_m,
+                "winch_power_W": winch.power_W, "sag_m": spec.limits.sag_m, "stretch_m": spec.limits.stretch_m,
+                "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))),
+                "clearance_m": margins["clearance_m"] + rope.diameter_m + spec.limits.clearance_m}
     short = [k for k, v in margins.items() if not v >= 0.0]
     expected = job.hours / share if share > 0 else float("inf")
     return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
@@ -481,7 +559,23 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
                       mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
                       frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
-                      sea_reason=why)
+                      sea_reason=why, **_breakdown(job), slack=_slack(margins, capacity))
+
+
+def _breakdown(job) -> dict:
+    """A surface job's hours in parts (:meth:`Evaluation.hours_breakdown`)."""
+    turns = float(job.turn_s.sum()) / 3600.0
+    return {"cleaning_hours": float(job.job_s.sum()) / 3600.0 - turns, "turn_hours": turns,
+            "move_hours": max(len(job.placements) - 1, 0) * job.move_time_s / 3600.0}
+
+
+def _slack(margins: dict, capacity: dict) -> dict:
+    """Each margin over its capacity (:data:`CAPACITIES`); -inf where nothing is available."""
+    out = {}
+    for k, m in margins.items():
+        c = capacity.get(k, float("nan"))
+        out[k] = float(m / c) if c > 0 and np.isfinite(m) else (float("-inf") if m < 0 else float("nan"))
+    return out
 
 
 def pareto_mask(f: np.ndarray) -> np.ndarray:
@@ -552,7 +646,8 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
                       tension_max_N=float(template.robot.tension_max.max()), mass_kg=template.robot.mass_kg,
                       margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst],
                       frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
-                      sea_reason=why)
+                      sea_reason=why, **_breakdown(job), slack=_slack({"sea_share": share - spec.targets.sea_share},
+                                                      {"sea_share": share}))
 
 
 def _path_time(cleaning: Cleaning) -> float:
@@ -640,12 +735,19 @@ def _from_json(d) -> Evaluation:
     if isinstance(d["placements"], bool) or not isinstance(d["placements"], int) or d["placements"] < 0:
         raise ValueError(f"placements: expected a count, got {d['placements']!r:.40}")
     out |= {k: d[k] for k in ("feasible", "reason", "placements")}
+    if not isinstance(d.get("sea_reason", ""), str):
+        raise ValueError(f"sea_reason: expected text, got {d['sea_reason']!r:.40}")
+    out["sea_reason"] = d.get("sea_reason", "")
     for k in ("surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N", "mass_kg"):
         out[k] = _number(k, d[k])
-    if "margins" in d:
-        if not isinstance(d["margins"], dict):
-            raise ValueError("margins: expected an object")
-        out["margins"] = {str(m): _number(f"margins.{m}", v) for m, v in d["margins"].items()}
+    for k in ("cleaning_hours", "turn_hours", "move_hours"):
+        if k in d:
+            out[k] = _number(k, d[k])
+    for k in ("margins", "slack"):
+        if k in d:
+            if not isinstance(d[k], dict):
+                raise ValueError(f"{k}: expected an object")
+            out[k] = {str(m): _number(f"{k}.{m}", v) for m, v in d[k].items()}
     for k in ("frame_origin_m", "frame_orientation_deg", "frame_turn_deg"):
         if k in d:
             if not isinstance(d[k], list):
@@ -887,8 +989,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
            progress: Callable[[int, int], None] | None = None) -> list[Verification]:
     """Fly the study's best ``finalists`` (the front by expected hours) through the cleaning
     job in every sea state of its scatter diagram and headings, closed loop (``plant``), on
-    ``executor`` as ``clean --seas`` does, at the placement where the screen found the seas
-    hardest; the time-domain share and hours beside the screen's there.
+    ``executor`` as ``clean --seas`` does, as built (:func:`as_built`: the rope's weight
+    and stretch, the winches' dynamics and limits) at the placement where the screen found
+    the seas hardest; the time-domain share and hours beside the screen's there.
 
     Parameters
     ----------
@@ -910,8 +1013,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     out = []
     for rank, i in enumerate(chosen, start=1):
         e = study.evaluations[i]
-        sc = candidate_scenario(spec, template, e.x).with_updates("ship", frame_origin_m=e.frame_origin_m,
-                                                                  frame_orientation_deg=e.frame_orientation_deg)
+        sc = as_built(spec, template, e, plant)
         done = (rank - 1) * len(cells)
         cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=plant, executor=executor, workers=workers,
                            scheduler=scheduler,

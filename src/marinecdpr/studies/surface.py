@@ -24,7 +24,7 @@ from marinecdpr.scenario.cleaning import Cleaning, Surface
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side", "surface_patches",
-           "MAX_SURFACE_PATCHES", "MOVE_TIME_MAX_S", "check_move_time"]
+           "MAX_SURFACE_PATCHES", "MOVE_TIME_MAX_S", "check_move_time", "turn_time"]
 
 MAX_SURFACE_PATCHES = 30_000
 """The most patches a tiling fits by default (its first grid's and every piece cut from them),
@@ -100,6 +100,10 @@ class SurfaceJob:
         The frame's panel (along x, along z), m.
     surface : str
         What the surface is.
+    turn_s : ndarray, shape (n_placements,)
+        The part of each placement's ``job_s`` the brush spends off its lanes and boundary
+        pass: stepping between lanes and moving between cells (the path's other
+        segments), s.
     """
 
     placements: list
@@ -108,6 +112,7 @@ class SurfaceJob:
     move_time_s: float
     frame_panel_m: tuple[float, float]
     surface: str
+    turn_s: np.ndarray | None = None
 
     @property
     def seconds(self) -> float:
@@ -138,6 +143,13 @@ class SurfaceJob:
 def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int = 3) -> float:
     """The coverage path's duration over a u x v panel (its sides rounded to ``digits``
     decimals of a metre) with the scenario's tool, s."""
+    return _panel_times(cleaning, u, v, cache, digits)[0]
+
+
+def _panel_times(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int = 3) -> tuple[float, float]:
+    """The coverage path's duration over a u x v panel (its sides rounded to ``digits``
+    decimals of a metre) with the scenario's tool, and the part of it spent off the lanes
+    and the boundary pass (:func:`turn_time`), s."""
     from marinecdpr.motion.trajectory import cleaning_path
 
     key = (round(u, digits), round(v, digits))
@@ -148,9 +160,10 @@ def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int
         data.pop("surface", None)
         panel = Cleaning.model_validate(data)
         try:
-            cache[key] = float(cleaning_path(panel).duration_s)
+            path = cleaning_path(panel)
+            cache[key] = (float(path.duration_s), turn_time(path))
         except (ValueError, ScenarioError):  # a patch narrower than a lane: one pass along it
-            cache[key] = max(u_, v_) / cleaning.speed_m_s
+            cache[key] = (max(u_, v_) / cleaning.speed_m_s, 0.0)
     return cache[key]
 
 
@@ -183,6 +196,14 @@ def _band_function(surface: Surface) -> Callable:
         raise ScenarioError("the band leaves the mesh: no hull side there at some stations or heights",
                             key="cleaning.surface.stations_m")
     return f
+
+
+def turn_time(path) -> float:
+    """The time a coverage path (:class:`~marinecdpr.motion.coverage.CoveragePath`) spends
+    on segments that are neither lanes nor its boundary pass (the steps between lanes, the
+    transfers between cells), s."""
+    off = ~(np.asarray(path.lane_segment, dtype=bool) | np.asarray(path.boundary_segment, dtype=bool))
+    return float(np.diff(path.vertex_time_s)[off].sum())
 
 
 def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float, float] | None = None,
@@ -236,7 +257,8 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
                             f"than stand_off_tolerance_m ({surface.stand_off_tolerance_m:g} m) even at "
                             f"{MIN_PATCH_M:g} m", key="cleaning.surface.stand_off_tolerance_m")
     cache: dict = {}
-    job = np.array([_panel_time(cleaning, *p.extent_m, cache, digits) for p in placements])
+    times = np.array([_panel_times(cleaning, *p.extent_m, cache, digits) for p in placements]).reshape(-1, 2)
+    job = times[:, 0]
     fields = np.array([[*p.centre_S, *p.normal_S, *p.offset_range_m, *p.extent_m, p.area_m2]
                        for p in placements + bad])
     if not np.isfinite(fields).all():
@@ -244,7 +266,8 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
                             key="cleaning.surface.stations_m")
     if not (np.isfinite(job).all() and np.isfinite(job.sum() + len(placements) * move_time_s)):
         raise ScenarioError("the placements' hours are not finite", key="cleaning.surface")
-    return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, move_time_s=move_time_s,
+    return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, turn_s=times[:, 1],
+                      move_time_s=float(move_time_s),
                       frame_panel_m=(width, height), surface=f"{label}, {surface.side} side, stations "
                       f"{surface.stations_m[0]:g} to {surface.stations_m[1]:g} m, heights {surface.heights_m[0]:g} "
                       f"to {surface.heights_m[1]:g} m")

@@ -1,0 +1,107 @@
+"""A design study's finalists as built (issue 37, item 1): the scenario files the study
+writes carry the rope and winches the design chose, and the time-domain verification flies
+them (elastic cables of the rope's EA, the rope's weight, motor winches of the catalogue's
+torque, speed, power and drum), not ideal cables."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pymoo")
+
+import marinecdpr  # noqa: E402
+from marinecdpr.studies.design import (  # noqa: E402
+    DesignStudy, as_built, baseline, candidate_scenario, evaluate, load_design, study_cells, study_scatter, verify,
+)
+
+HERE = Path(__file__).parent
+# the design tests' small study (test_issue24_design.SMALL) on a 3 x 2 m frame (a short job),
+# one sea state
+SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_issue24_design.py").read_text(), re.S).group(1)
+TEXT = SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("frame_height_m = 3.0",
+                                                                         "frame_height_m = 2.0")
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("as_built")
+    (folder / "seas.csv").write_text("hs_m,tp_s,probability\n1.0,8.0,1.0\n")
+    (folder / "study.toml").write_text(TEXT)
+    spec, template = load_design(folder / "study.toml")
+    spec = spec.model_copy(update={"plant": "own", "finalists": 1})
+    cells = study_cells(spec, folder)
+    x = {k: (v[0] if isinstance(v, tuple) else v) for k, v in spec.bounds().items()}
+    x |= {"winch": "medium", "rope": "light", "pattern": "uncrossed"}
+    e = evaluate(spec, template, x, cells)
+    assert e.feasible, e.reason
+    study = DesignStudy(spec=spec, evaluations=[e], generation=np.array([0]), front=[0],
+                        baseline=baseline(spec, template, cells))
+    return spec, template, study, folder
+
+
+def _check_as_built(sc) -> None:
+    """The catalogue's "medium" winch (100 N m, 13 rad/s, 1 500 W, a 0.075 m drum) and "light"
+    rope (EA 1.7e6 N, 0.2 N/m, 30 kN breaking over 5), by hand."""
+    assert sc.robot.cable_weight_N_m == 0.2
+    assert sc.simulation.cables.model == "elastic" and sc.simulation.cables.stiffness_EA_N == 1.7e6
+    assert sc.simulation.cables.winch == "motor"
+    w = sc.robot.winch
+    assert (w.drum_radius_m, w.gear_ratio, w.torque_max_Nm, w.speed_max_rad_s, w.power_max_W) == (
+        0.075, 1.0, 100.0, 13.0, 1500.0)
+    # no inertia in the catalogue: 5.5e-4 kg m^2 per N m of torque (paper_as_built's winch:
+    # 1e-4 x 10^2 + 1e-3 = 0.011 kg m^2 at the drum for 2 N m x 10)
+    assert w.drum_inertia_kg_m2 == pytest.approx(0.011 / 20.0 * 100.0, rel=1e-12)
+    assert w.rotor_inertia_kg_m2 == 0.0
+    # T_max = min(30 000 / 5, 100 / 0.075) = 1 333.3 N
+    assert sc.robot.tension_max_N == pytest.approx(100.0 / 0.075, rel=1e-12)
+    assert "breaking 30000 N over 5" in sc.description
+
+
+def test_a_finalist_s_file_holds_the_rope_and_winches_it_chose(small, tmp_path):
+    from marinecdpr.report.design import write_design
+
+    spec, template, study, _ = small
+    write_design(study, template, tmp_path)
+    sc = marinecdpr.load_scenario(tmp_path / "designs" / "small_1.toml")
+    _check_as_built(sc)
+    e = study.evaluations[0]
+    assert list(sc.ship.frame_origin_m) == pytest.approx(e.frame_origin_m, abs=1e-12)
+    # the file is the verification's scenario (on the study's plant)
+    assert sc.simulation.plant == "own"
+    assert sc.robot == as_built(spec, template, e).robot
+
+
+def test_the_finalist_is_verified_on_its_rope_and_winches(small, monkeypatch):
+    """verify flies the as-built scenario: its rope and winches are the catalogue's, and the
+    run's least tension (which the cables' stretch and the winches' loop set) differs from
+    the same job's on ideal cables."""
+    import marinecdpr.studies.cleaning as cleaning
+
+    spec, template, study, folder = small
+    flown = []
+    real = cleaning.cleaning_seas
+
+    def spy(sc, *args, **kw):
+        out = real(sc, *args, **kw)
+        flown.append((sc, out))
+        return out
+
+    monkeypatch.setattr(cleaning, "cleaning_seas", spy)
+    scatter = study_scatter(spec, folder)
+    (v,) = verify(study, template, scatter, executor="serial")
+    (sc, built), = flown
+    _check_as_built(sc)
+    assert v.plant == "own" and v.td_share == built.sea.operability
+    e = study.evaluations[0]
+    ideal = candidate_scenario(spec, template, e.x).with_updates(
+        "ship", frame_origin_m=e.frame_origin_m, frame_orientation_deg=e.frame_orientation_deg)
+    assert ideal.simulation.cables.model == "ideal"
+    other = real(ideal, scatter, headings_deg=(90.0,), plant="own").sea.results[0]
+    mine = built.sea.results[0]
+    assert mine.operable and other.operable
+    # measured: 160.02 N as built, 158.01 N on ideal cables (T_min 50 N)
+    assert abs(mine.tension_min_N - other.tension_min_N) > 0.5
