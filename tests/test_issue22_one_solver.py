@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from marinecdpr.model import kernels as K
-from marinecdpr.model.tension import distribute_tensions, full_rank, pseudo_inverse_tensions
+from marinecdpr.model.tension import EXACT_METHODS, distribute_tensions, full_rank, pseudo_inverse_tensions
 from tension_reference import reference_distribute_tensions, reference_full_rank, reference_pseudo_inverse
 from test_tension import random_problem
 
@@ -107,6 +107,16 @@ def test_plan_and_loop_agree_at_every_near_singular_pose():
         for i in range(len(ratios)):
             J6[:, dofs] = J[i]
             w6[dofs] = w[i]
-            assert K.tensions_step(J6, w6, dofs, lo, hi, code, T, work) == sol.feasible[i]
-            np.testing.assert_array_equal(T, sol.tensions[i])
+            if K.tensions_step(J6, w6, dofs, lo, hi, code, T, work):
+                assert sol.feasible[i]
+                np.testing.assert_array_equal(T, sol.tensions[i])
+            elif sol.feasible[i]:
+                # where the compiled step gives up, the plan's exact fallback (issue 37, item 10)
+                # may find tensions, which the loop then takes from the plan: they must hold
+                assert method in EXACT_METHODS
+                Ti = sol.tensions[i]
+                assert np.all(Ti >= lo - 1e-6) and np.all(Ti <= hi + 1e-6)
+                np.testing.assert_allclose(np.einsum("ia,i->a", J[i], Ti), w[i], atol=1e-6 * np.abs(w[i]).max())
+            else:
+                assert np.isnan(sol.tensions[i]).all()
 

@@ -25,7 +25,7 @@ from marinecdpr.starting import interrupted_while_starting as _interrupted_while
 catch_while_starting()
 
 import time  # noqa: E402
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -386,8 +386,15 @@ def clean(
         from marinecdpr.studies.surface import surface_job
 
         try:  # before the job: a missing surface, or one that cannot be tiled, is one line
-            with _progress("surface tiling", 100, "%") as update:
-                placed = surface_job(sc, move_time_s=move_time, progress=lambda share: update(round(100 * share)))
+            with ExitStack() as stack:
+                update = []  # the progress starts with the tiling itself, after the band's checks
+
+                def tiled(share: float) -> None:
+                    if not update:
+                        update.append(stack.enter_context(_progress("surface tiling", 100, "%")))
+                    update[0](round(100 * share))
+
+                placed = surface_job(sc, move_time_s=move_time, progress=tiled)
         except ScenarioError as exc:
             _fail_scenario(exc, scenario)
     if seas or scatter is not None:
@@ -1589,7 +1596,8 @@ def design(
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
     fly the best through the cleaning job in every sea state."""
-    from marinecdpr.studies.design import load_design, search, study_cells, study_path, study_scatter, with_options
+    from marinecdpr.studies.design import (load_design, read_journal, search, study_cells, study_key, study_path,
+                                           study_scatter, with_options)
     from marinecdpr.studies.design import verify as verify_finalists
 
     path = study_path(spec)
@@ -1609,6 +1617,11 @@ def design(
 
     steps = n_final * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST  # about: each finalist's own
     executor = _sea_executor(serial, workers, scheduler, steps) if n_final else "serial"
+    if resume:  # before the search's first line: a journal that cannot be resumed is one line
+        try:
+            read_journal(out / "journal.jsonl", study_key(study_spec, template, cells))
+        except ScenarioError as exc:
+            _fail(str(exc))
     t0 = time.perf_counter()
     with _output(out) as folder:
         with _progress_bar("design", "candidates") as bar:
