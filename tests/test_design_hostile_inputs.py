@@ -31,48 +31,7 @@ BUILTIN = Path(str(resources.files("marinecdpr") / "scenario" / "builtin"))
 TEMPLATE_BAND = ("stations_m = [-95.0, 95.0]", "stations_m = [-5.0, 5.0]"), ("heights_m = [0.0, 11.6]",
                                                                              "heights_m = [0.0, 3.0]")
 
-STUDY = """name = "tiny"
-scenario = "template.toml"
-population = 4
-generations = 1
-finalists = 1
-
-[targets]
-hours = 100000.0
-sea_share = 0.01
-
-[sea]
-scatter = "seas.csv"
-headings_deg = [90.0]
-
-[platform_mass]
-base_kg = 5.0
-
-[limits]
-stand_off_tolerance_m = 0.05
-
-[variables]
-frame_width_m = 1.9
-frame_height_m = 1.4
-platform_width_m = 0.25
-platform_height_m = 0.3
-tool_width_m = 0.2
-speed_m_s = [0.1, 0.2]
-
-[[winches]]
-name = "w"
-torque_N_m = 100.0
-speed_rad_s = 13.0
-power_W = 1500.0
-drum_radius_m = 0.075
-
-[[ropes]]
-name = "r"
-diameter_m = 0.006
-ea_N = 1.7e6
-weight_N_m = 0.2
-breaking_N = 30000.0
-"""
+STUDY = (Path(__file__).parent / "data" / "tiny_study.toml").read_text(encoding="utf-8")
 SEAS = "hs_m,tp_s,probability\n1.0,8.0,0.5\n2.0,9.0,0.5\n"
 
 
