@@ -98,15 +98,14 @@ def test_the_hours_in_parts_are_the_paths_lanes_steps_and_moves_by_hand(priced):
 
 
 def test_the_binding_constraints_are_the_margins_nearest_their_limit(priced):
-    """Slack = margin / what it is taken from: sea share (1.0 - 0.5) / 1.0 (the screen passes
-    both sea states, 0.6 + 0.4), sag
+    """Slack = margin / what it is taken from: sea share (0.6 - 0.5) / 0.6, sag
     (0.05 - 0.2 x 6.708^2 / 400) / 0.05, the winch's power (1 500 - 1 333.3 x 0.2) / 1 500
     ...; the two least are reported."""
     spec, template, study = priced
     e = study.evaluations[0]
     span = np.hypot(6.0, 3.0)
-    assert e.sea_share == 1.0
-    assert e.slack["sea_share"] == pytest.approx(0.5 / 1.0, rel=1e-12)
+    assert e.sea_share == 0.6
+    assert e.slack["sea_share"] == pytest.approx(0.1 / 0.6, rel=1e-12)
     assert e.slack["sag_m"] == pytest.approx((0.05 - 0.2 * span**2 / 400.0) / 0.05, rel=1e-12)
     assert e.slack["winch_power_W"] == pytest.approx((1500.0 - 100 / 0.075 * 0.2) / 1500.0, rel=1e-12)
     assert e.slack["winch_speed_m_s"] == pytest.approx((13 * 0.075 - 0.2) / (13 * 0.075), rel=1e-12)

@@ -75,12 +75,15 @@ __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_c
 
 GRID = (5, 3)
 """Poses judged along the path's two widest axes in C."""
-EXCEEDANCE = 0.1
+EXCEEDANCE = 0.01
 """The chance of a job breaking a criterion the screen accepts: its bound on the chance that the
-tensions leave their limits (Rice's crossings count each clump of a wave group's crossings
-many times: on the bench's most marginal design, 8 kg on T_max 300 N, the bound of 4 % and
-21 % stood beside 0 of 20 and 2 of 20 records failing in the plan), and the share of time in
-band less the one-sided quantile of one record's scatter for it (1.28 standard deviations)."""
+tensions leave their limits, and the share of time in band less the one-sided quantile of one
+record's scatter for it (2.33 standard deviations). Rice's crossings count each clump of a wave
+group's crossings many times, so the bound overstates (on the bench's most marginal design,
+8 kg on T_max 300 N, it gave 4 % and 21 % beside 0 of 20 and 2 of 20 records failing in the
+plan), and 10 % would agree with the time domain on more of the bench's pairs (179 of 204
+against 165); but at 10 % ship_side's second finalist passed two sea states its closed loop
+failed, and the screen must never say "works" where the time domain fails (issue 37, item 3)."""
 SAMPLE_S = 0.01
 """The path's sampling, s."""
 MAX_DIRECTIONS = 16
