@@ -82,3 +82,16 @@ def test_console_script_prints_no_traceback(tmp_path):
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
     assert "missing.toml: no such file" in proc.stderr
+
+
+def test_check_says_ok_in_one_line_whatever_the_path_s_length(tmp_path):
+    """A scenario in a deep folder (as pytest's and a user's paths are): check's verdict is one
+    line (it was wrapped at the terminal's width, splitting ': ok: ' from its path)."""
+    deep = tmp_path / ("a_long_folder_name_" * 4) / "paper.toml"
+    deep.parent.mkdir(parents=True)
+    deep.write_text((Path(marinecdpr.__file__).parent / "scenario" / "builtin" / "paper.toml").read_text())
+    res = runner.invoke(app, ["check", str(deep)])
+    assert res.exit_code == 0, res.output
+    first = res.stdout.splitlines()[0]
+    assert first.startswith(f"{deep}: ok: 'paper', planar robot, 4 cables, 5 kg; ") and first.endswith(
+        "steps of 0.001 s; method minimum_variance"), res.stdout

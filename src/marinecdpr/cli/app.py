@@ -1181,7 +1181,7 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
         f"{_plain(scenario)}: ok: '{_plain(sc.name)}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "
         f"base motion {sc.base_motion.type}; trajectory {sc.trajectory.type}; "
         f"{sc.time.n_steps} steps of {sc.time.step_s:g} s; method {sc.planning.method}",
-        highlight=False,
+        highlight=False, soft_wrap=True,
     )
     if sc.trajectory.type == "coverage":
         from marinecdpr.motion.trajectory import cleaning_path
