@@ -1781,15 +1781,14 @@ def scenarios() -> None:
     from marinecdpr.studies.design import builtin_studies, load_design, study_path
 
     names = builtin_scenarios()
-    studies = builtin_studies()
-    width = max(len(n) for n in names + studies)
+    width = max(len(n) for n in names)
     for name in names:
         console.print(_plain(f"{name:<{width}}  {load_scenario(name).description}"), highlight=False,
                       soft_wrap=True)
-    console.print("design studies (marinecdpr design NAME):", highlight=False)
-    for name in studies:
-        console.print(_plain(f"{name:<{width}}  {load_design(study_path(name))[0].description}"), highlight=False,
-                      soft_wrap=True)
+    for name in builtin_studies():  # after the scenarios, not led by a name: a script that takes each
+        # line's first word for a scenario meets no study
+        console.print(_plain(f"built-in design study {name} (marinecdpr design {name}): "
+                             f"{load_design(study_path(name))[0].description}"), highlight=False, soft_wrap=True)
 
 
 def _help_read_literally(typer_app: typer.Typer) -> None:
