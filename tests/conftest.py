@@ -63,3 +63,45 @@ def one_line_exit_2(res, *words) -> str:
     for w in words:
         assert w in lines[0], lines[0]
     return lines[0]
+
+
+class FakeClock:
+    """A clock the test sets (``now``, s), for the CLI's progress lines."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def perf_counter(self) -> float:
+        return self.now
+
+
+@pytest.fixture()
+def clock(monkeypatch):
+    """The CLI's clock faked and its stderr kept: ``clock.now`` to set, ``clock.out`` to read."""
+    import io
+    import types
+
+    from rich.console import Console
+
+    import marinecdpr.cli.app as cli
+
+    fake = FakeClock()
+    monkeypatch.setattr(cli, "time", types.SimpleNamespace(perf_counter=fake.perf_counter))
+    fake.out = io.StringIO()
+    monkeypatch.setattr(cli, "err_console", Console(file=fake.out, width=300, color_system=None))
+    return fake
+
+
+def one_candidate_study(spec, template, cells):
+    """A design study of one judged candidate: the spec's variables at their lower bounds, the
+    "medium" winch, the "light" rope, uncrossed (feasible, asserted); with the template's baseline."""
+    import numpy as np
+
+    from marinecdpr.studies.design import DesignStudy, baseline, evaluate
+
+    x = {k: (v[0] if isinstance(v, tuple) else v) for k, v in spec.bounds().items()}
+    x |= {"winch": "medium", "rope": "light", "pattern": "uncrossed"}
+    e = evaluate(spec, template, x, cells)
+    assert e.feasible, e.reason
+    return DesignStudy(spec=spec, evaluations=[e], generation=np.array([0]), front=[0],
+                       baseline=baseline(spec, template, cells))

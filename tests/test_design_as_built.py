@@ -8,15 +8,15 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 pytest.importorskip("pymoo")
 
 import marinecdpr  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
-    DesignStudy, as_built, baseline, candidate_scenario, evaluate, load_design, study_cells, study_scatter, verify,
+    as_built, candidate_scenario, load_design, study_cells, study_scatter, verify,
 )
+from conftest import one_candidate_study  # noqa: E402
 
 HERE = Path(__file__).parent
 # the design tests' small study (test_issue24_design.SMALL) on a 3 x 2 m frame (a short job),
@@ -34,12 +34,7 @@ def small(tmp_path_factory):
     spec, template = load_design(folder / "study.toml")
     spec = spec.model_copy(update={"plant": "own", "finalists": 1})
     cells = study_cells(spec, folder)
-    x = {k: (v[0] if isinstance(v, tuple) else v) for k, v in spec.bounds().items()}
-    x |= {"winch": "medium", "rope": "light", "pattern": "uncrossed"}
-    e = evaluate(spec, template, x, cells)
-    assert e.feasible, e.reason
-    study = DesignStudy(spec=spec, evaluations=[e], generation=np.array([0]), front=[0],
-                        baseline=baseline(spec, template, cells))
+    study = one_candidate_study(spec, template, cells)
     return spec, template, study, folder
 
 

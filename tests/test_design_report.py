@@ -21,8 +21,9 @@ pytest.importorskip("pymoo")
 import marinecdpr  # noqa: E402
 from marinecdpr.cli.app import app  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
-    DesignStudy, Evaluation, Verification, baseline, candidate_scenario, evaluate, load_design, study_cells,
+    DesignStudy, Evaluation, Verification, baseline, candidate_scenario, load_design, study_cells,
 )
+from conftest import one_candidate_study  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
 
 runner = CliRunner()
@@ -48,12 +49,7 @@ def priced(tmp_path_factory):
     spec, template = load_design(path)
     spec = spec.model_copy(update={"finalists": 1})
     cells = study_cells(spec, path.parent)
-    x = {k: (v[0] if isinstance(v, tuple) else v) for k, v in spec.bounds().items()}
-    x |= {"winch": "medium", "rope": "light", "pattern": "uncrossed"}
-    e = evaluate(spec, template, x, cells)
-    assert e.feasible, e.reason
-    study = DesignStudy(spec=spec, evaluations=[e], generation=np.array([0]), front=[0],
-                        baseline=baseline(spec, template, cells))
+    study = one_candidate_study(spec, template, cells)
     return spec, template, study
 
 

@@ -5,12 +5,9 @@ of tens of seconds (the error budget's workspace maps after ``simulate``'s runs)
 
 from __future__ import annotations
 
-import io
 import re
-import types
 
 import pytest
-from rich.console import Console
 from typer.testing import CliRunner
 
 import marinecdpr.cli.app as cli
@@ -19,24 +16,6 @@ import marinecdpr.studies.latency as latency
 
 runner = CliRunner()
 NOTICE = f"compiling the simulation kernels, once (about {simulation.KERNEL_COMPILE_S:g} s; cached for later runs)..."
-
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def perf_counter(self) -> float:
-        return self.now
-
-
-@pytest.fixture()
-def clock(monkeypatch):
-    fake = FakeClock()
-    monkeypatch.setattr(cli, "time", types.SimpleNamespace(perf_counter=fake.perf_counter))
-    out = io.StringIO()
-    monkeypatch.setattr(cli, "err_console", Console(file=out, width=300, color_system=None))
-    fake.out = out
-    return fake
 
 
 def test_the_estimate_leaves_the_first_pieces_compile_out(clock):

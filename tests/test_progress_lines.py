@@ -5,29 +5,10 @@ is known, and a closing rate that leaves a first piece's compile out (and says s
 from __future__ import annotations
 
 import io
-import types
 
-import pytest
 from rich.console import Console
 
 import marinecdpr.cli.app as cli
-
-
-class FakeClock:
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def perf_counter(self) -> float:
-        return self.now
-
-
-@pytest.fixture()
-def clock(monkeypatch):
-    fake = FakeClock()
-    monkeypatch.setattr(cli, "time", types.SimpleNamespace(perf_counter=fake.perf_counter))
-    fake.out = io.StringIO()
-    monkeypatch.setattr(cli, "err_console", Console(file=fake.out, width=300, color_system=None))
-    return fake
 
 
 def test_a_first_line_at_once_and_no_estimate_from_a_batch(clock):
