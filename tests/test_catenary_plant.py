@@ -120,7 +120,7 @@ def test_the_plans_sag_fed_forward_holds_the_heavy_cables(monkeypatch):
      r"simulation\.plant: must be \"own\" for catenary cables"),
     (lambda d: (d["robot"].update(cable_weight_N_m=W),
                 d["simulation"].update(plant="own", cables={"model": "catenary", "stiffness_EA_N": EA, "winch": "tension"})),
-     r"simulation\.cables\.winch: must be \"length\" for catenary cables"),
+     r"simulation\.cables\.winch: must be \"length\" or \"motor\" for catenary cables"),
     (lambda d: (d["robot"].update(cable_weight_N_m=W),
                 d["simulation"].update(plant="own", cables={"model": "catenary"})),
      r"simulation\.cables\.stiffness_EA_N: missing: a catenary cable"),

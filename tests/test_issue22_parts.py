@@ -27,6 +27,9 @@ def _variants():
         "elastic_tension": marinecdpr.load_scenario("paper_elastic"),
         "motor": marinecdpr.load_scenario("paper_as_built"),
         "catenary": heavy,
+        "catenary_motor": heavy.with_updates(  # paper_as_built's winches on the sagging cables
+            "robot", winch=marinecdpr.load_scenario("paper_as_built").robot.winch.model_dump()).with_updates(
+            "simulation.cables", winch="motor"),
         "clean": marinecdpr.load_scenario("paper_clean"),
         "camera": paper.with_updates("simulation.camera", latency_s=0.01, noise_m=0.001, weight=0.4),
     }
@@ -99,8 +102,8 @@ def test_each_part_writes_only_what_it_declares_and_reads_only_what_it_declares(
 def test_every_declared_signal_is_on_the_bus_and_the_parts_run_in_their_declared_order():
     table = specs()
     assert {"CableGeometry", "PoseSensor", "LoadCells", "Encoders", "Mru", "ControllerPart", "LagWinch",
-            "MotorWinch", "HeldTensions", "ElasticCables", "CatenaryCables", "BrushContact", "Camera",
-            "Log"} <= {c.__name__ for c in table}
+            "MotorWinch", "CatenaryMotorWinch", "HeldTensions", "ElasticCables", "CatenaryCables", "BrushContact",
+            "Camera", "Log"} <= {c.__name__ for c in table}
     for spec in table.values():
         assert set(spec.reads) | set(spec.writes) <= SIGNALS
     for name in VARIANTS:
@@ -109,6 +112,9 @@ def test_every_declared_signal_is_on_the_bus_and_the_parts_run_in_their_declared
     motor = [type(p).__name__ for p in _parts("motor").parts]
     # the cables' stretch over the drums' length now, then the motors under that tension
     assert motor.index("ElasticCables") < motor.index("MotorWinch")
+    heavy = [type(p).__name__ for p in _parts("catenary_motor").parts]
+    # the catenaries' tensions at both ends over the drums' length now, then the motors
+    assert heavy.index("CatenaryCables") < heavy.index("CatenaryMotorWinch") and "MotorWinch" not in heavy
 
 
 def test_a_part_reading_what_no_part_writes_is_refused():

@@ -84,7 +84,7 @@ def test_a_motor_sized_at_the_plans_peak_is_limited_in_open_loop():
      r"^test: robot\.winch: missing: motor winches"),
     (lambda d: (d["robot"].__setitem__("winch", WINCH),
                 d["simulation"].__setitem__("cables", {"model": "ideal", "winch": "motor"})),
-     r"^test: simulation\.cables\.model: must be \"elastic\" for motor winches"),
+     r"^test: simulation\.cables\.model: must be \"elastic\" or \"catenary\" for motor winches"),
     (lambda d: (d["robot"].__setitem__("winch", dict(WINCH, rotor_inertia_kg_m2=0.0, drum_inertia_kg_m2=0.0)),
                 d["simulation"].__setitem__("cables", {"model": "elastic", "stiffness_EA_N": 1e5, "winch": "motor"})),
      r"^test: robot\.winch\.rotor_inertia_kg_m2: must be > 0"),

@@ -65,7 +65,8 @@ Functions (numba-compiled, no allocation):
 - :func:`cable_force_3d`: the force on the platform in 3D for frame and platform anchors
   in a frame whose z is up;
 
-and :func:`catenary_series` runs them over (n,) arrays in a compiled loop.
+and :func:`catenary_series` runs them over (n,) arrays in a compiled loop;
+:func:`catenary_drum_stiffness` gives from it each cable's stiffness at its winch.
 
 Status codes: 0 CONVERGED; 1 NOT_CONVERGED (no convergence within max_iter); 2 SLACK (an
 equilibrium that is not a spanning cable: with h = 0 a cable longer than the vertical
@@ -86,7 +87,7 @@ __all__ = ["CONVERGED", "NOT_CONVERGED", "SLACK", "IMPOSSIBLE",
            "OUT_H", "OUT_VB", "OUT_VA", "OUT_TA", "OUT_TB", "OUT_DIR_A", "OUT_DIR_B", "OUT_L0", "OUT_ITER",
            "N_OUT", "catenary_forces", "catenary_unstretched_length", "catenary_length_from_end_force",
            "catenary_geometry", "catenary_stiffness", "catenary_arc_length", "catenary_sag", "cable_force_3d",
-           "CatenarySeries", "catenary_series"]
+           "CatenarySeries", "catenary_series", "catenary_drum_stiffness"]
 
 CONVERGED, NOT_CONVERGED, SLACK, IMPOSSIBLE = 0, 1, 2, 3
 """Status codes of the compiled solvers (see the module's docstring)."""
@@ -981,3 +982,33 @@ def catenary_series(h, v, w, EA, *, L0=None, T_B=None, max_iter=100) -> Catenary
                           dir_B=out[:, OUT_DIR_B:OUT_DIR_B + 2], L0=out[:, OUT_L0], status=status,
                           iterations=out[:, OUT_ITER].astype(np.int64), sag=sag, arc_length=arc, stiffness=K,
                           dF_dL0=dF)
+
+
+def catenary_drum_stiffness(h, v, L0, w, EA) -> np.ndarray:
+    """Each cable's stiffness at its winch: -dT_A/dL0 with both ends held, N/m, what a
+    winch's tension loop acts on (E A L / L0^2 for a straight cable; less where the cable
+    sags: its weight lets it trade length for sag). From :func:`catenary_series`'s
+    d(H, V_B)/dL0 and V_A = V_B - w L0::
+
+        dT_A/dL0 = (H dH/dL0 + V_A (dV_B/dL0 - w)) / T_A
+
+    Parameters
+    ----------
+    h, v : array_like, shape (n,) or scalar
+        The platform anchor's horizontal distance from the winch's and its height above it, m.
+    L0 : array_like, shape (n,) or scalar
+        Unstretched lengths, m.
+    w, EA : array_like, shape (n,) or scalar
+        Weight per unit unstretched length, N/m; axial stiffness, N.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        N/m; NaN where the catenary does not converge (status != 0) or is vertical.
+    """
+    cat = catenary_series(h, v, w, EA, L0=L0)
+    w = np.broadcast_to(np.asarray(w, dtype=float), cat.H.shape)
+    dH, dVB = cat.dF_dL0[:, 0], cat.dF_dL0[:, 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        k = -(cat.H * dH + cat.V_A * (dVB - w)) / cat.T_A
+    return np.where(cat.status == 0, k, np.nan)

@@ -180,7 +180,7 @@ def simulate(
         fallbacks, ship_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm, progress)
     log = asm.get("Log")
     log.pose[:, 3:] = np.unwrap(log.pose[:, 3:], axis=0)
-    motor = asm.get("MotorWinch")
+    motor = asm.get("MotorWinch") or asm.get("CatenaryMotorWinch")
     limited = motor.limited if motor is not None else (0, 0)
     return SimResult(
         run=run, plant=plant, t=t, pose_planned=np.ascontiguousarray(ref.pose[:n]), pose=log.pose,

@@ -322,7 +322,8 @@ class CableModel(_Model):
     """ideal: the commanded tension acts (as in the paper). elastic: a straight cable on a
     winch. catenary: an elastic cable that sags under its weight (``robot.cable_weight_N_m``;
     Irvine's elastic catenary, pulling along its tangent), on a length-controlled winch
-    that pays out the sag the plan computes; own plant only."""
+    that pays out the sag the plan computes, or on a motor winch whose drum carries the
+    catenary's tension at the winch end; own plant only."""
     stiffness_EA_N: _ranged(1.0, 1e10, "N", "from a rubber cord to a 25 cm steel rope") | None = None
     """Axial stiffness E A of an elastic cable, N: tension = E A (L - L0) / L0 + damping."""
     damping_N_s_m: _ranged(0.0, 1e9, "N s/m", "beyond critical for the stiffest cable") = 0.0
@@ -330,8 +331,8 @@ class CableModel(_Model):
     winch: Literal["length", "tension", "motor"] = "length"
     """length: the winch pays out a commanded unstretched length L0; tension: it tracks a
     commanded tension (with its tension sensor); motor: a tension loop through the motor's
-    dynamics, limits, inertia and friction (``[robot.winch]``; elastic cables), the drum
-    paying out what the motor turns."""
+    dynamics, limits, inertia and friction (``[robot.winch]``; elastic or catenary cables),
+    the drum paying out what the motor turns."""
     winch_time_constant_s: _ranged(0.0, 60.0, "s", "a winch that lags a minute holds nothing") = 0.0
     """First-order lag of the winch on its command (0: none)."""
 
@@ -340,9 +341,9 @@ class CableModel(_Model):
         if self.model != "ideal" and self.stiffness_EA_N is None:
             kind = "an elastic" if self.model == "elastic" else "a catenary"
             raise _KeyedError("stiffness_EA_N", f"missing: {kind} cable needs its axial stiffness")
-        if self.model == "catenary" and self.winch != "length":
-            raise _KeyedError("winch", "must be \"length\" for catenary cables: the winch pays out the length "
-                                       "the sag takes")
+        if self.model == "catenary" and self.winch == "tension":
+            raise _KeyedError("winch", "must be \"length\" or \"motor\" for catenary cables: the winch pays "
+                                       "out the length the sag takes")
         return self
 
 
@@ -568,9 +569,10 @@ class Scenario(_Model):
         if self.robot.winch is None:
             raise _KeyedError("robot.winch", "missing: motor winches (simulation.cables.winch = \"motor\") "
                                              "need the winches' design")
-        if cab.model != "elastic":
-            raise _KeyedError("simulation.cables.model", "must be \"elastic\" for motor winches: the tension "
-                                                         "is the cable's stretch over what the drum pays out")
+        if cab.model == "ideal":
+            raise _KeyedError("simulation.cables.model", "must be \"elastic\" or \"catenary\" for motor winches: "
+                                                         "the tension is the cable's stretch (and sag) over what "
+                                                         "the drum pays out")
         w = self.robot.winch
         if w.rotor_inertia_kg_m2 + w.drum_inertia_kg_m2 <= 0.0:
             raise _KeyedError("robot.winch.rotor_inertia_kg_m2", "must be > 0 (or drum_inertia_kg_m2) for motor "

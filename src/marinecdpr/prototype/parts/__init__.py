@@ -24,9 +24,9 @@ order  part (module)                       writes
 14     camera (``camera``)                 meas.x fused with its late estimate
 20     controller (``controller``)         T_cmd, L0_cmd, fallbacks
 30     winch with a lag (``winches``)      L0 (held), T_hold
-40     cables (``cables``)                 T_app (held, elastic or catenary)
+40     cables (``cables``)                 T_app (held, elastic or catenary); T_winch
+                                           (catenary: the tension at the winch end)
 45     motor winch (``winches``)           L0 (held and drum)
-46     heavy cables (``cables``)           T_app from the catenaries
 50     brush contact (``brush``)           f_ext, m_ext
 90     log (``log``)                       the run's time series
 =====  ==================================  ==========================================
@@ -72,6 +72,8 @@ class Signals(NamedTuple):
         the drums have paid out now (the encoders' reading), m.
     T_hold : (m,) the tensions tension-controlled winches hold, N.
     T_app : (m,) the tensions the cables apply over the step, N.
+    T_winch : (m,) heavy cables: the tension at each cable's winch end over what the drum
+        has paid out now (the catenary's T_A, carrying the cable's weight), N.
     f_ext, m_ext : (3,) loads on the platform beyond the known disturbance, held over the
         step, in C about P (a brush's), N and N m.
     fallbacks : (1,) int64 the controller's fallbacks so far.
@@ -92,6 +94,7 @@ class Signals(NamedTuple):
     L0_drum: np.ndarray
     T_hold: np.ndarray
     T_app: np.ndarray
+    T_winch: np.ndarray
     f_ext: np.ndarray
     m_ext: np.ndarray
     fallbacks: np.ndarray
@@ -113,7 +116,8 @@ def empty_signals(meas: Measurement, T_cmd: np.ndarray, L0_cmd: np.ndarray, T_ap
     return Signals(x=np.zeros(3), R=np.eye(3), v=np.zeros(3), w=np.zeros(3), L=np.zeros(m), Ldot=np.zeros(m),
                    J=np.zeros((m, 6)), meas=meas, T_cmd=T_cmd, L0_cmd=L0_cmd, cell_noise=np.zeros(m),
                    L0=np.zeros(m), L0_drum=np.zeros(m), T_hold=np.zeros(m),
-                   T_app=np.array(T_app0, dtype=float), f_ext=np.zeros(3), m_ext=np.zeros(3),
+                   T_app=np.array(T_app0, dtype=float), T_winch=np.array(T_app0, dtype=float),
+                   f_ext=np.zeros(3), m_ext=np.zeros(3),
                    fallbacks=np.zeros(1, dtype=np.int64))
 
 

@@ -9,7 +9,9 @@ for the plant, at its state within the step (the part's tension law):
 ``CatenaryCables``  heavy cables (``simulation.cables.model = "catenary"``, own plant):
                     each an elastic catenary (:mod:`marinecdpr.model.catenary`) from its
                     frame anchor over the winch's L0, in the true vertical, pulling along
-                    its tangent at the platform.
+                    its tangent at the platform; at the exchange, over what the drum has
+                    paid out now, also its tension at the winch end (``T_winch``: a motor
+                    winch's load).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ from numba import njit
 
 from marinecdpr.control.records import RobotModel
 from marinecdpr.geometry.elastic import axial_stiffness, elastic_tension
-from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_VB, catenary_forces
+from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_TA, OUT_VB, catenary_forces
 from marinecdpr.prototype.parts import part
 from marinecdpr.prototype.parts.geometry import length_rates
 
@@ -136,10 +138,16 @@ def catenary_cables(x, R, j, part, L0, Ldot, J, T):
 
 @njit(cache=True)
 def catenary_step(k, h, part, bus):
+    """The catenaries at the exchange's pose over what the drums have paid out now
+    (``L0_drum``; the L0 a length-controlled winch holds): the tension at the platform
+    (``T_app``) and at the winch end (``T_winch``, the catenary's T_A), each with the
+    cable's damping on its chord's rate."""
     for i in range(part.J.shape[0]):
         for c in range(6):
             part.J[i, c] = bus.J[i, c]
-    catenary_cables(bus.x, bus.R, 2 * k, part, bus.L0, bus.Ldot, part.J, bus.T_app)
+    catenary_cables(bus.x, bus.R, 2 * k, part, bus.L0_drum, bus.Ldot, part.J, bus.T_app)
+    for i in range(part.J.shape[0]):
+        bus.T_winch[i] = max(0.0, part.out[i, OUT_TA] + part.damping * bus.Ldot[i])
 
 
 @njit(cache=True)
@@ -157,7 +165,7 @@ def catenary_mujoco(part, mj, bus):  # never called: the scenario check keeps ca
         mj.ctrl[i] = bus.T_app[i]
 
 
-@part(step=catenary_step, order=46, reads=("x", "R", "J", "Ldot", "L0"), writes=("T_app",),
+@part(step=catenary_step, order=40, reads=("x", "R", "J", "Ldot", "L0_drum", "L0"), writes=("T_app", "T_winch"),
       tensions=catenary_tensions, mujoco=catenary_mujoco)
 class CatenaryCables(NamedTuple):
     """Heavy cables of weight w (N/m), stiffness EA (N) and damping (N s/m) between the
@@ -202,7 +210,7 @@ def build(context) -> list:
     EA = float(cab.stiffness_EA_N or np.inf)
     if cab.model == "ideal" or cab.winch == "tension":
         return [HeldTensions(from_winch=cab.model != "ideal")]
-    if cab.model == "catenary":  # on a length-controlled winch (the scenario's check)
+    if cab.model == "catenary":  # on a length-controlled or motor winch (the scenario's check)
         return [catenary_part(context.model, scenario.robot.cable_weight_N_m, EA, cab.damping_N_s_m,
                               context.ship_h.R_SO[:, 2, :])]
     return [ElasticCables(EA=EA, damping=float(cab.damping_N_s_m), Ldot=np.zeros(m))]

@@ -1,5 +1,8 @@
 """The winches: a first-order lag on the length or tension command (elastic cables), or
-the motors' dynamics behind a tension loop (``simulation.cables.winch = "motor"``).
+the motors' dynamics behind a tension loop (``simulation.cables.winch = "motor"``): on
+straight elastic cables (:class:`MotorWinch`, under the tension the cable part computed
+over the drum's length), or on sagging ones (:class:`CatenaryMotorWinch`, under each
+catenary's tension at the winch end, which the cable part computes too).
 
 Ideal cables apply the command as it is: they have no winch part.
 """
@@ -11,10 +14,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from marinecdpr.model.catenary import catenary_drum_stiffness
 from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, winch_motor_step
 from marinecdpr.prototype.parts import part
 
-__all__ = ["LagWinch", "MotorWinch", "MOTOR_LOOP_DAMPING", "build"]
+__all__ = ["LagWinch", "MotorWinch", "CatenaryMotorWinch", "MOTOR_LOOP_DAMPING", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -37,17 +41,15 @@ class LagWinch(NamedTuple):
     lag: float
 
 
-@njit(cache=True)
-def motor_winch_step(k, h, part, bus):
-    """The tension loop on each cable's load cell (the tension the cable applies over the
-    drum's length now, plus the cell's noise), the motor under that tension over the step;
-    the L0 the plant holds over the step is the drum's mean over it (the trapezoid of its
-    start and end: second-order in the step)."""
+@njit(cache=True, inline="always")  # inlined into each motor winch's step
+def drive_step(k, h, part, bus, T_cmd, T_drum):
+    """A motor winch part's tension loop (commanded drum tensions ``T_cmd`` (m,), N, on its
+    load cells' ``part.T_meas``) and its motors over the step under the drums' tensions
+    ``T_drum`` (m,), N; the steps limited counted; the bus's L0 (the drum's mean over the
+    step) and L0_drum (the drum's now) written."""
     drive = part.drive
-    for i in range(bus.T_cmd.shape[0]):
-        part.T_meas[i] = bus.T_app[i] + bus.cell_noise[i]
-    tension_control_step(drive, bus.T_cmd, part.T_meas, part.Ldot_ref[k], part.Lddot_ref[k])
-    if winch_motor_step(drive, drive.tau, bus.T_app, h) > 0:
+    tension_control_step(drive, T_cmd, part.T_meas, part.Ldot_ref[k], part.Lddot_ref[k])
+    if winch_motor_step(drive, drive.tau, T_drum, h) > 0:
         part.limited[0] += 1
         for i in range(bus.T_cmd.shape[0]):
             if drive.limited[i] == OVERSPEED:
@@ -56,6 +58,17 @@ def motor_winch_step(k, h, part, bus):
     for i in range(bus.T_cmd.shape[0]):  # L0 moved by -(r_d / G) h omega over the step
         bus.L0[i] = drive.L0[i] + 0.5 * drive.r[i] / drive.G[i] * h * drive.omega[i]
         bus.L0_drum[i] = drive.L0[i]
+
+
+@njit(cache=True)
+def motor_winch_step(k, h, part, bus):
+    """The tension loop on each cable's load cell (the tension the cable applies over the
+    drum's length now, plus the cell's noise), the motor under that tension over the step;
+    the L0 the plant holds over the step is the drum's mean over it (the trapezoid of its
+    start and end: second-order in the step)."""
+    for i in range(bus.T_cmd.shape[0]):
+        part.T_meas[i] = bus.T_app[i] + bus.cell_noise[i]
+    drive_step(k, h, part, bus, bus.T_cmd, bus.T_app)
 
 
 @part(step=motor_winch_step, order=45, reads=("T_cmd", "T_app", "cell_noise"), writes=("L0", "L0_drum"))
@@ -77,6 +90,41 @@ class MotorWinch(NamedTuple):
     limited: np.ndarray
 
 
+@njit(cache=True)
+def catenary_motor_winch_step(k, h, part, bus):
+    """Motor winches on sagging cables: each drum's load is its catenary's tension at the
+    winch end over what the drum has paid out now (``T_winch``: T_A, carrying the cable's
+    weight), the cable part's at this exchange. The tension loop reads the drum's load cell
+    (T_A and the cell's noise) and holds the drum's tension that the commanded platform
+    tension asks for, T_cmd + (T_A - T_B) (T_B = ``T_app``: the catenary's weight and slope
+    between its ends at this pose and length): at rest without friction the platform's end
+    then carries T_cmd. The L0 the plant holds over the step is the drum's mean over it, as
+    :func:`motor_winch_step`'s."""
+    for i in range(bus.T_cmd.shape[0]):
+        part.T_meas[i] = bus.T_winch[i] + bus.cell_noise[i]
+        part.T_drum_cmd[i] = bus.T_cmd[i] + (bus.T_winch[i] - bus.T_app[i])
+    drive_step(k, h, part, bus, part.T_drum_cmd, bus.T_winch)
+
+
+@part(step=catenary_motor_winch_step, order=45, reads=("T_cmd", "T_app", "T_winch", "cell_noise"),
+      writes=("L0", "L0_drum"))
+class CatenaryMotorWinch(NamedTuple):
+    """Motor winches (:class:`MotorWinch`'s drives, loops and limits) on sagging cables
+    (``simulation.cables.model = "catenary"``): each drum turns under its catenary's
+    tension at the winch end (:func:`catenary_motor_winch_step`).
+
+    drive, Ldot_ref, Lddot_ref, T_meas, limited: as :class:`MotorWinch`'s; T_drum_cmd (m,):
+    the drums' commanded tensions, N (scratch).
+    """
+
+    drive: WinchDrive
+    Ldot_ref: np.ndarray
+    Lddot_ref: np.ndarray
+    T_meas: np.ndarray
+    limited: np.ndarray
+    T_drum_cmd: np.ndarray
+
+
 MOTOR_LOOP_DAMPING = 0.7
 """The damping ratio of the motor winches' tension loops, on each cable's stiffness at t = 0
 (:func:`~marinecdpr.model.winch.tension_loop_damping`, tension gain k_T = 1)."""
@@ -94,13 +142,26 @@ def build(context) -> list:
     if cab.winch == "motor":
         params = WinchParams(**robot.winch.model_dump())
         L0 = bus.L0.copy()
-        k_w = tension_loop_damping(params, float(cab.stiffness_EA_N) / L0, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
+        heavy = cab.model == "catenary"
+        if heavy:  # the loop's damping on the sagging cable's stiffness at its first pose
+            model, ref = context.model, context.ctl.ref
+            d = ref.x[0] + model.p_P @ ref.R[0].T - model.c_C
+            v = d @ context.ship_h.R_SO[0, 2, :]
+            k = catenary_drum_stiffness(np.sqrt(np.maximum(np.einsum("mi,mi->m", d, d) - v * v, 0.0)), v, L0,
+                                        robot.cable_weight_N_m, float(cab.stiffness_EA_N))
+            stiffness = np.where(np.isfinite(k) & (k > 0.0), k, float(cab.stiffness_EA_N) / L0)
+        else:
+            stiffness = float(cab.stiffness_EA_N) / L0
+        k_w = tension_loop_damping(params, stiffness, zeta=MOTOR_LOOP_DAMPING, k_T=1.0)
         omega0 = -params.gear_ratio * context.plan.length_rates[0] / params.drum_radius_m
         drive = winch_drive(params, robot.n_cables, L0, omega0=omega0, k_T=1.0, k_w=k_w)
         n = context.n_steps
-        return [MotorWinch(drive=drive, Ldot_ref=np.ascontiguousarray(context.plan.length_rates[:n], dtype=float),
-                           Lddot_ref=np.ascontiguousarray(context.plan.length_accelerations[:n], dtype=float),
-                           T_meas=np.zeros(robot.n_cables), limited=np.zeros(2, dtype=np.int64))]
+        common = dict(drive=drive, Ldot_ref=np.ascontiguousarray(context.plan.length_rates[:n], dtype=float),
+                      Lddot_ref=np.ascontiguousarray(context.plan.length_accelerations[:n], dtype=float),
+                      T_meas=np.zeros(robot.n_cables), limited=np.zeros(2, dtype=np.int64))
+        if heavy:
+            return [CatenaryMotorWinch(**common, T_drum_cmd=np.zeros(robot.n_cables))]
+        return [MotorWinch(**common)]
     if cab.model == "ideal":
         return []
     lag = 1.0 if cab.winch_time_constant_s == 0 else float(-np.expm1(-h / cab.winch_time_constant_s))
