@@ -47,7 +47,7 @@ from marinecdpr.scenario.schema import Scenario, _validated
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
-           "CONSTRAINTS", "CAPACITIES", "as_built"]
+           "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -56,6 +56,26 @@ CAPACITIES = {"sea_share": "the share of sea states that work", "winch_speed_m_s
               "winch_power_W": "the winch's rated power", "sag_m": "limits.sag_m", "stretch_m": "limits.stretch_m",
               "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured"}
 """What each margin's slack (:attr:`Evaluation.slack`) is a share of: slack = margin / capacity."""
+
+SAG_SHARE = 0.01
+"""A finalist flies sagging (catenary) cables where its longest span's sag at the least
+tension exceeds this share of the span (:func:`as_built`): a shallow cable's tangent leaves
+its chord by about 4 sag / span at its ends (2.3 deg at 1 %), so the straight cable then
+misses a sideways pull of 4 % of the tension (the half of the cable's weight the platform
+carries, w L / 2 = 4 (sag / L) T_min)."""
+
+
+def span_sag(weight_N_m: float, width_m: float, height_m: float, tension_min_N: float) -> tuple[float, float]:
+    """A W x H frame's longest span (its diagonal, m) and that span's sag at the least
+    tension, w L^2 / (8 T_min) (a shallow catenary's, m), for a rope of weight w (N/m).
+
+    Returns
+    -------
+    span, sag : float
+        m, m.
+    """
+    span = float(np.hypot(width_m, height_m))
+    return span, weight_N_m * span**2 / (8.0 * max(tension_min_N, 1e-9))
 
 
 def _designs_folder() -> Path:
@@ -405,9 +425,16 @@ def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | N
       winch can give, and the closed loop flies each motor's dynamics and limits;
     - on ``plant`` (default the study's, else the template's).
 
-    The cables are straight elastic ones: the prototype's sagging (catenary) cables take
-    length-controlled winches and the own plant only; the study's ``limits.sag_m`` bounds
-    the sag the straight cables leave out.
+    The cables are elastic; they sag (``simulation.cables.model = "catenary"``: each an
+    elastic catenary in the true vertical over what its motor winch's drum pays out, the
+    drum under the catenary's tension at the winch end) where the span asks for it: where
+    the longest span's sag at the least tension (:func:`span_sag`, the frame's diagonal at
+    ``limits.tension_min_N``) exceeds :data:`SAG_SHARE` (1 %) of the span. Sagging cables fly
+    on the own plant whatever ``plant`` says (MuJoCo's tendons are straight), and stay
+    straight where the template takes the pose from the encoders (their kinematics knows
+    straight cables only); the description says which. Below 1 % the straight elastic
+    cables leave out the sag that the study's ``limits.sag_m`` bounds (ship_side's
+    finalists: at most 0.94 %, its steel rope's longest feasible span).
 
     Raises
     ------
@@ -423,14 +450,31 @@ def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | N
                                 "power_max_W": winch.power_W, "drum_inertia_kg_m2": winch.inertia})
     sim = data.setdefault("simulation", {})
     sim["plant"] = plant or spec.plant or template.simulation.plant
-    sim["cables"] = dict(sim.get("cables", {}), model="elastic", stiffness_EA_N=rope.ea_N, winch="motor")
+    span, sag = span_sag(rope.weight_N_m, e.x["frame_width_m"], e.x["frame_height_m"], spec.limits.tension_min_N)
+    sags = sag > SAG_SHARE * span
+    straight = sags and template.simulation.sensors.pose_from == "encoders"
+    model = "catenary" if sags and not straight else "elastic"
+    if model == "catenary":
+        sim["plant"] = "own"
+    sim["cables"] = dict(sim.get("cables", {}), model=model, stiffness_EA_N=rope.ea_N, winch="motor")
     data["ship"] = dict(data.get("ship", {}), frame_origin_m=[float(v) for v in e.frame_origin_m],
                         frame_orientation_deg=[float(v) for v in e.frame_orientation_deg])
     data["description"] = (f"{spec.name}: {e.expected_hours:.4g} expected h; winches {winch.name} "
                            f"({winch.torque_N_m:g} N m, {winch.speed_rad_s:g} rad/s, {winch.power_W:g} W, drum "
                            f"{winch.drum_radius_m:g} m), rope {rope.name} (EA {rope.ea_N:g} N, "
-                           f"{rope.weight_N_m:g} N/m, breaking {rope.breaking_N:g} N over {rope.safety_factor:g})")
+                           f"{rope.weight_N_m:g} N/m, breaking {rope.breaking_N:g} N over {rope.safety_factor:g}); "
+                       f"{_cables_said(model, straight, sag, span)}")
     return _validated(data)
+
+
+def _cables_said(model: str, straight: bool, sag: float, span: float) -> str:
+    """How :func:`as_built`'s description names its cables' model and why."""
+    share = f"{sag * 1000:.3g} mm of sag at the least tension over the {span:.3g} m span ({100 * sag / span:.2g} %)"
+    if model == "catenary":
+        return f"sagging cables on the own plant: {share}"
+    if straight:
+        return f"straight cables though {share}: the encoders' pose knows no sag"
+    return f"straight cables: {share}"
 
 
 def frame_placements(template: Scenario, width_m: float, height_m: float) -> tuple[np.ndarray, np.ndarray]:
@@ -519,7 +563,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     winch = next(e for e in spec.winches if e.name == x["winch"])
     rope = next(e for e in spec.ropes if e.name == x["rope"])
     W, H = x["frame_width_m"], x["frame_height_m"]
-    span = float(np.hypot(W, H))
+    span, sag = span_sag(rope.weight_N_m, W, H, spec.limits.tension_min_N)
     power_kW = 4.0 * winch.power_W / 1000.0
     cost = 4.0 * (winch.cost + rope.cost_per_m * span)
     nan = float("nan")
@@ -543,7 +587,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         "sea_share": share - spec.targets.sea_share,
         "winch_speed_m_s": winch.speed_rad_s * winch.drum_radius_m - x["speed_m_s"],
         "winch_power_W": winch.power_W - t_max * x["speed_m_s"],
-        "sag_m": spec.limits.sag_m - rope.weight_N_m * span**2 / (8.0 * max(t_min, 1e-9)),
+        "sag_m": spec.limits.sag_m - sag,
         "stretch_m": spec.limits.stretch_m - (t_max - t_min) * span / rope.ea_N,
         "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))) - x["tool_width_m"],
         "clearance_m": clearance(sc) - rope.diameter_m - spec.limits.clearance_m,
@@ -996,7 +1040,8 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     Parameters
     ----------
     plant : {"mujoco", "own"}, optional
-        Default: the study's ``plant``, else the template's.
+        Default: the study's ``plant``, else the template's; a finalist with sagging cables
+        flies on the own plant (:func:`as_built`), and its :attr:`Verification.plant` says so.
     progress : callable(done, total), optional
         Sea states flown over all finalists.
     """
@@ -1014,8 +1059,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
     for rank, i in enumerate(chosen, start=1):
         e = study.evaluations[i]
         sc = as_built(spec, template, e, plant)
+        flown = sc.simulation.plant  # the own plant for sagging cables
         done = (rank - 1) * len(cells)
-        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=plant, executor=executor, workers=workers,
+        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor, workers=workers,
                            scheduler=scheduler,
                            progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
         td = np.array([r.operable for r in cs.sea.results], dtype=bool)
@@ -1029,6 +1075,6 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
             agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
-                     for r in cs.sea.results if not r.operable], plant=plant,
+                     for r in cs.sea.results if not r.operable], plant=flown,
             screen_reasons=[why for why in screened.reasons if why]))
     return out
