@@ -58,7 +58,7 @@ from functools import cached_property
 from typing import Callable
 
 import numpy as np
-from scipy.special import j0, ndtr, ndtri
+from scipy.special import ndtr, ndtri
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.model.dynamics import uncontrolled
@@ -70,7 +70,7 @@ from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.operability import Cell
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
-           "GRID", "COMPONENTS", "MARGIN_BISECTIONS", "record_distribution", "RECORD_EXACT", "RECORD_TERMS",
+           "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
 GRID = (5, 3)
@@ -96,11 +96,6 @@ LEVEL_FLOOR_N = 0.05
 PRUNE_SIGMAS = 8.0
 """Bins further than this many of the sea's largest standard deviations beyond the nearest
 one at the same pose, tool case and facet are left out (their share is below 1e-13 of it)."""
-RECORD_EXACT = 24
-"""The largest wave components of a response whose phases :func:`record_distribution` sums
-exactly (the rest, each small, as one Gaussian)."""
-RECORD_TERMS = 256
-"""The Fourier terms of :func:`record_distribution`'s series."""
 MARGIN_BISECTIONS = 30
 """Halvings of the bracket that finds the margin (from about 100 N to below a micronewton)."""
 _H = 1e-6
@@ -236,48 +231,6 @@ def extreme_factor(m0: np.ndarray, m2: np.ndarray, duration_s: float, exceedance
     with np.errstate(divide="ignore", invalid="ignore"):
         n = np.where(m0 > 0.0, duration_s * np.sqrt(np.asarray(m2, dtype=float) / m0) / (2.0 * np.pi), 1.0)
     return np.sqrt(2.0 * np.log(np.maximum(n, 1.0) / exceedance))
-
-
-def record_distribution(amplitudes: np.ndarray, x: np.ndarray, *, exact: int = RECORD_EXACT,
-                        terms: int = RECORD_TERMS) -> tuple[np.ndarray, np.ndarray]:
-    """The marginal distribution of a response in the time domain's sea record: a sum of
-    cosines of fixed amplitudes c_j and independent uniform phases (the random-phase record of
-    :func:`~marinecdpr.motion.seastate.sea_record`), X = sum_j c_j cos(theta_j), whose tails
-    are lighter than the Gaussian of the same variance (its kurtosis is 3 - 3 sum c^4 / (2 (sum
-    c^2)^2), below 3: a record of a few wave components never reaches the Gaussian's extremes).
-
-    Its characteristic function is prod_j J0(u c_j); X lies within +-sum_j c_j, so on a period
-    L beyond that its CDF and density are the Fourier series (Gil-Pelaez on the period)
-    F(x) = 1/2 + x / L + sum_m sin(u_m x) phi(u_m) / (pi m) and p(x) = (1 + 2 sum_m cos(u_m x)
-    phi(u_m)) / L, u_m = 2 pi m / L. The ``exact`` largest amplitudes enter one by one, the
-    rest (each small) as one Gaussian of their variance.
-
-    Parameters
-    ----------
-    amplitudes : ndarray, shape (..., n_c)
-        c_j >= 0, in the response's unit.
-    x : ndarray, shape (..., n_x)
-        Levels about the mean, same unit.
-    exact, terms : int
-        Amplitudes summed exactly, and the series' terms.
-
-    Returns
-    -------
-    cdf, pdf : ndarray, shape (..., n_x)
-        P(X <= x) and the density at x (per unit).
-    """
-    c = -np.sort(-np.asarray(amplitudes, dtype=float), axis=-1)
-    x = np.asarray(x, dtype=float)
-    top, rest_var = c[..., :exact], 0.5 * (c[..., exact:] ** 2).sum(axis=-1)
-    half = top.sum(axis=-1) + 9.0 * np.sqrt(rest_var)  # beyond, below 1e-18 of the chance
-    L = 2.1 * np.maximum(np.maximum(half, np.abs(x).max(axis=-1)), 1e-300)  # (...,)
-    m = np.arange(1, terms + 1)
-    u = 2.0 * np.pi * m / L[..., None]  # (..., M)
-    phi = np.prod(j0(u[..., :, None] * top[..., None, :]), axis=-1) * np.exp(-0.5 * u * u * rest_var[..., None])
-    ux = u[..., None, :] * x[..., :, None]  # (..., n_x, M)
-    cdf = 0.5 + x / L[..., None] + (np.sin(ux) * (phi / (np.pi * m))[..., None, :]).sum(axis=-1)
-    pdf = (1.0 + 2.0 * (np.cos(ux) * phi[..., None, :]).sum(axis=-1)) / L[..., None]
-    return np.clip(cdf, 0.0, 1.0), np.maximum(pdf, 0.0)
 
 
 def _still_plus(dq: np.ndarray, scenario: Scenario):
@@ -468,13 +421,10 @@ def _rao_of(scenario: Scenario):
     return _rao(scenario.base_motion.rao.model_dump_json())
 
 
-def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario, *,
-                      amplitudes: int | None = None) -> tuple[np.ndarray, ...]:
+def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) -> tuple[np.ndarray, np.ndarray]:
     """The covariances C0 and C2 (n_cells, n_poses, 6, 6) of the wrench's response and of its
     rate in each cell's sea (their diagonals are m0 and m2), on the time domain's record
-    frequencies and directions (step 3): C0 = sum_k sum_d a_kd^2 Re(H H^*) / 2. With
-    ``amplitudes`` (a wrench component), also the record's component amplitudes of that
-    component, |H_j(omega_k, beta_d)| a_kd, (n_cells, n_poses, n_omega * n_directions)."""
+    frequencies and directions (step 3): C0 = sum_k sum_d a_kd^2 Re(H H^*) / 2."""
     from marinecdpr.motion.seastate import jonswap, pierson_moskowitz, spread_directions
 
     sea = template.base_motion
@@ -487,14 +437,13 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario, 
     n_p = model.D.shape[0]
     C0 = np.zeros((len(cells), n_p, 6, 6))
     C2 = np.zeros_like(C0)
-    amp = np.zeros((len(cells), n_p, len(rel), omega.size)) if amplitudes is not None else None
     transfer: dict[float, np.ndarray] = {}
     for i, cell in enumerate(cells):
         wp = 2.0 * np.pi / cell.tp
         S = (jonswap(omega, cell.hs, cell.tp, sea.gamma) if sea.spectrum == "jonswap"
              else pierson_moskowitz(omega, cell.hs, cell.tp))
         S = np.where((omega <= 6.0 * wp) & (S > 1e-12 * S.max()), S, 0.0)  # sea_record's components
-        for d, (r, wd) in enumerate(zip(rel, weight)):
+        for r, wd in zip(rel, weight):
             beta = float(np.mod(cell.heading_deg + np.degrees(r), 360.0))
             if beta not in transfer:
                 X = rao.at(omega, beta)  # (6, n_omega)
@@ -505,10 +454,6 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario, 
             Ha = H * a2
             C0[i] += np.einsum("pjk,plk->pjl", Ha, H.conj()).real
             C2[i] += np.einsum("pjk,plk->pjl", Ha * omega**2, H.conj()).real
-            if amp is not None:
-                amp[i, :, d] = np.abs(H[:, amplitudes]) * np.sqrt(2.0 * a2)
-    if amp is not None:
-        return C0, C2, amp.reshape(len(cells), n_p, -1)
     return C0, C2
 
 
@@ -534,9 +479,7 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     if scenario.base_motion.type != "sea_state":
         raise ScenarioError("the screen needs a sea-state base motion (its RAOs and spectrum)", key="base_motion.type")
     model = model if model is not None else screen_model(scenario)
-    moments = _response_moments(model, _rao_of(scenario), cells, scenario,
-                                amplitudes=1 if model.planar_normal else None)
-    C0, C2 = moments[:2]
+    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
     robot = scenario.robot
     c = list(model.controlled)
     k = len(c)
@@ -553,30 +496,21 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         mean = contact_force(model.w0[:, 1] - P * model.tool_n[1], scenario.cleaning,
                              static_y_N=static_weight_y(scenario))  # (n_p,), as planned
         s_n = np.sqrt(C0[:, :, 1, 1])
-        # the record's own marginal at each edge (not the Gaussian's: the record sums a few wave
-        # components, whose tails are lighter); where both edges lie beyond 8 sigmas, none
-        edge = np.broadcast_to(np.stack([lo_b - mean, hi_b - mean], axis=-1), (n_cells, n_p, 2))
-        inside = ((mean >= lo_b) & (mean <= hi_b)).astype(float)
         with np.errstate(divide="ignore", invalid="ignore"):
-            need = (s_n > 0) & ~((np.abs(edge).min(axis=-1) > 8.0 * s_n) & (inside[None] > 0))
-        cdf = np.broadcast_to(np.stack([np.zeros(n_p), inside], axis=-1), edge.shape).copy()
-        pdf = np.zeros(edge.shape)
-        if need.any():
-            cdf[need], pdf[need] = record_distribution(moments[2][need], edge[need])
-        share = cdf[..., 1] - cdf[..., 0]
+            share = np.where(s_n > 0, ndtr((hi_b - mean) / s_n) - ndtr((lo_b - mean) / s_n),
+                             ((mean >= lo_b) & (mean <= hi_b)).astype(float))
+            rate = np.where(s_n > 0, np.sqrt(C2[:, :, 1, 1]) / s_n, 0.0) / (2.0 * np.pi)
         weight = model.exposure_s / model.duration_s  # the poses' shares of the job's time
         in_band = 100.0 * share @ weight
         # one record's time out of band scatters about its expectation: excursions beyond each
-        # edge as Poisson clumps, n = T_p nu(x) of them at each pose (Rice's rate with the
-        # record's density, nu = p(x) sigma_rate / sqrt(2 pi)), each of mean length q T_p / n
-        # (q the share beyond), their lengths' second moment (4 / pi) times its square
-        # (Rayleigh's, a Gaussian process's at high levels): var = sum (4 / pi) (q T_p)^2 / n
-        s_dot = np.sqrt(C2[:, :, 1, 1])
+        # edge as Poisson clumps, n = T_p nu_0 exp(-z^2 / 2) of them at each pose, each of mean
+        # length q T_p / n (q the share beyond), their lengths' second moment (4 / pi) times its
+        # square (Rayleigh's, a Gaussian process's at high levels): var = sum (4 / pi) (q T_p)^2 / n
         var_out = np.zeros(n_cells)
-        for q, dens in ((cdf[..., 0], pdf[..., 0]), (1.0 - cdf[..., 1], pdf[..., 1])):
-            q_t = q * model.exposure_s
-            n_e = model.exposure_s * dens * s_dot / np.sqrt(2.0 * np.pi)
+        for beyond in ((lo_b - mean) / s_n, (mean - hi_b) / s_n):  # z of each edge, from the inside
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                q_t = ndtr(beyond) * model.exposure_s
+                n_e = model.exposure_s * rate * np.exp(-0.5 * beyond * beyond)
                 var_out += np.where(n_e > 0, (4.0 / np.pi) * q_t**2 / np.where(n_e > 0, n_e, 1.0), 0.0).sum(axis=1)
         in_band_low = in_band - 100.0 * sigmas * np.sqrt(var_out) / model.duration_s
     # the tensions (steps 4 and 5): the chance that the wrench leaves the set tensions within
