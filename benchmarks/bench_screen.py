@@ -13,6 +13,14 @@ Prints
     domain's verdict and why, the agreement share, and the errors by kind: "feasible"
     where the time domain fails (which a screen must not say) and "infeasible" where it works.
 
+``--records N`` also plans each pair the two disagree on over N records of its sea state (the
+time domain's own, realisation 0, and N - 1 more) and judges each as the time domain judges the
+plan (tensions within the limits at every step, the normal force in band for the target share
+of the time): the share of records that fail beside the screen's chance. The screen judges the
+sea state (it says "works" where at most ``exceedance`` of its records would fail), the time
+domain one record of it: a "fails" where the records fail more often than that is the screen
+right about the sea state and the one record lucky, and no screen of the sea state agrees there.
+
 ``--td-cache FILE`` keeps the time domain's verdicts (JSON lines, one per pair) and reads
 them back on the next run, so that the screen can be compared again without flying the
 closed loops again (the pairs missing from the file are flown and added).
@@ -59,6 +67,31 @@ def _time_domain(args):
     return r.operable, r.reason, r.tension_min_N, r.tension_max_N, r.in_band_pct
 
 
+def _records(args):
+    """How many of the pair's first ``n`` records fail as the time domain judges the plan:
+    (tensions out of their limits at some step, the normal force in band less than the
+    target share of the time)."""
+    import marinecdpr
+    from marinecdpr.prototype.parts.brush import normal_force
+    from marinecdpr.studies.cleaning import IN_BAND_TARGET_PCT
+    from marinecdpr.studies.operability import cell_scenario
+
+    name, cell, n = args
+    sc = _design(name)
+    lo, hi = sc.cleaning.band_N
+    tol = 1e-9 * max(hi, 1.0)
+    tensions = band = 0
+    for r in range(n):
+        run = cell_scenario(sc, cell, sc.time.duration_s, sc.time.step_s, r)
+        p = marinecdpr.plan(run)
+        if not p.feasible.all():
+            tensions += 1
+            continue
+        F = normal_force(p, run)[:-1]
+        band += 100.0 * np.mean((F >= lo - tol) & (F <= hi + tol)) < IN_BAND_TARGET_PCT
+    return tensions, band
+
+
 def _key(name: str, cell) -> str:
     return f"{name}|{cell.hs:g}|{cell.tp:g}|{cell.heading_deg:g}"
 
@@ -93,6 +126,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--plant", default="mujoco", choices=("mujoco", "own"))
     parser.add_argument("--td-cache", default=None, help="JSON-lines file of the time domain's verdicts")
+    parser.add_argument("--records", type=int, default=0, help="plan each disagreeing pair over this many records")
     args = parser.parse_args()
     import marinecdpr
     from marinecdpr.studies.cleaning import evaluate_cleaning_cell
@@ -163,11 +197,45 @@ def main() -> None:
     print(f"\nagreement {kinds['agree']} of {n} ({100 * kinds['agree'] / n:.1f} %); the screen says "
           f"'works' where the time domain fails: {kinds['feasible, fails']}; 'fails' where it works: "
           f"{kinds['infeasible, works']}")
+    if args.records:
+        _by_records(args, names, cells, verdicts, results)
     td_share = {name: np.mean([results[k * len(cells) + j][0] for j in range(len(cells))])
                 for k, name in enumerate(names)}
     for name in names:
         print(f"  {name:<28} works in {100 * verdicts[name].works.mean():5.1f} % of the sea states by the screen, "
               f"{100 * td_share[name]:5.1f} % in the time domain")
+
+
+def _by_records(args, names, cells, verdicts, results) -> None:
+    """The pairs the screen and the time domain disagree on, planned over ``args.records``
+    records each: how often the records fail beside the screen's chance."""
+    pairs = [(k, j) for k, name in enumerate(names) for j in range(len(cells))
+             if bool(verdicts[name].works[j]) != results[k * len(cells) + j][0]]
+    jobs = [(names[k], cells[j], args.records) for k, j in pairs]
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        counts = list(pool.map(_records, jobs))
+    print(f"\nthe {len(pairs)} pairs they disagree on, each planned over {args.records} records of its sea state "
+          f"(the time domain's own first; {time.perf_counter() - t0:.0f} s):")
+    print(f"{'design':<28} {'Hs':>4} {'Tp':>4}  {'screen':>7} {'chance':>7} {'band %':>7} {'low %':>7}  "
+          f"{'records failing (tensions, band)':<34} the time domain's record")
+    exceed = {name: verdicts[name].exceedance for name in names}
+    right = none = 0
+    for (k, j), (t_f, b_f) in zip(pairs, counts):
+        name, v = names[k], verdicts[names[k]]
+        failing = t_f + b_f
+        right += failing > exceed[name] * args.records
+        none += failing == 0
+        print(f"{name:<28} {cells[j].hs:4.1f} {cells[j].tp:4.0f}  {'works' if v.works[j] else 'fails':>7} "
+              f"{v.chance[j]:7.3f} {v.in_band_pct[j]:7.2f} {v.in_band_low_pct[j]:7.2f}  "
+              f"{f'{failing} of {args.records} ({t_f}, {b_f})':<34} "
+              f"{'works' if results[k * len(cells) + j][0] else 'fails'}")
+    n = len(names) * len(cells)
+    agree = n - len(pairs)
+    print(f"of the {len(pairs)}: {right} with more than the exceedance of their records failing (the screen right about "
+          f"the sea state, the one record lucky), {none} with none of {args.records} failing; a screen that knew "
+          f"each sea state's chance would agree with the one record on at most {agree + len(pairs) - right} of {n} "
+          f"({100 * (agree + len(pairs) - right) / n:.1f} %)")
 
 
 if __name__ == "__main__":
