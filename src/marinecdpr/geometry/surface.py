@@ -274,6 +274,10 @@ def mesh_side(vertices: np.ndarray, triangles: np.ndarray, *, side: str = "port"
     mesh's triangles facing that side whose projection on the x-z plane holds it (the
     outermost where several do); NaN where none does.
 
+    The triangles are binned by their x-z boxes on a uniform grid of about one triangle a
+    cell, so that each point is tested against its cell's few triangles only (a real hull's
+    tens of thousands of panels, a surface job's millions of points).
+
     Parameters
     ----------
     vertices : ndarray, shape (n_vertices, 3)
@@ -291,20 +295,67 @@ def mesh_side(vertices: np.ndarray, triangles: np.ndarray, *, side: str = "port"
     det = (b[:, 0] - a[:, 0]) * (c[:, 2] - a[:, 2]) - (c[:, 0] - a[:, 0]) * (b[:, 2] - a[:, 2])
     ok = np.abs(det) > 1e-15
     a, b, c, det = a[ok], b[ok], c[ok], det[ok]
+    grid = _TriangleGrid(np.stack([a, b, c], axis=1)[:, :, [0, 2]])
 
     def f(X, Z):
         X, Z = np.asarray(X, dtype=float), np.asarray(Z, dtype=float)
         shape = np.broadcast_shapes(X.shape, Z.shape)
         x, z = np.broadcast_to(X, shape).ravel(), np.broadcast_to(Z, shape).ravel()
-        out = np.full(x.size, np.nan)
-        for i0 in range(0, x.size, 256):  # points in chunks: (chunk, triangles) at once
-            px, pz = x[i0:i0 + 256, None], z[i0:i0 + 256, None]
-            l1 = ((px - a[:, 0]) * (c[:, 2] - a[:, 2]) - (c[:, 0] - a[:, 0]) * (pz - a[:, 2])) / det
-            l2 = ((b[:, 0] - a[:, 0]) * (pz - a[:, 2]) - (px - a[:, 0]) * (b[:, 2] - a[:, 2])) / det
+        out = np.full(x.size, -np.inf)
+        for i0 in range(0, x.size, 4096):  # points in chunks: their (point, triangle) pairs at once
+            point, t = grid.pairs(x[i0:i0 + 4096], z[i0:i0 + 4096])
+            px, pz = x[i0:i0 + 4096][point], z[i0:i0 + 4096][point]
+            at, bt, ct, dt = a[t], b[t], c[t], det[t]
+            l1 = ((px - at[:, 0]) * (ct[:, 2] - at[:, 2]) - (ct[:, 0] - at[:, 0]) * (pz - at[:, 2])) / dt
+            l2 = ((bt[:, 0] - at[:, 0]) * (pz - at[:, 2]) - (px - at[:, 0]) * (bt[:, 2] - at[:, 2])) / dt
             inside = (l1 >= -1e-12) & (l2 >= -1e-12) & (l1 + l2 <= 1 + 1e-12)
-            y = sign * (a[:, 1] + l1 * (b[:, 1] - a[:, 1]) + l2 * (c[:, 1] - a[:, 1]))
-            y = np.where(inside, y, -np.inf).max(axis=1)
-            out[i0:i0 + 256] = np.where(np.isfinite(y), y, np.nan)
-        return out.reshape(shape)
+            y = sign * (at[:, 1] + l1 * (bt[:, 1] - at[:, 1]) + l2 * (ct[:, 1] - at[:, 1]))
+            np.maximum.at(out[i0:i0 + 4096], point[inside], y[inside])
+        return np.where(np.isfinite(out), out, np.nan).reshape(shape)
 
     return f
+
+
+class _TriangleGrid:
+    """Triangles (n, 3, 2) in a plane binned by their boxes, grown by a margin that holds
+    the barycentric test's tolerance, on a uniform grid: :meth:`pairs` gives each point's
+    candidate triangles (every triangle whose box holds the point is among them)."""
+
+    def __init__(self, tri: np.ndarray) -> None:
+        lo, hi = tri.min(axis=1), tri.max(axis=1)
+        span = float(np.max(hi.max(axis=0) - lo.min(axis=0))) if len(tri) else 1.0
+        pad = 1e-9 * max(span, 1.0)  # >> the 1e-12 tolerance on barycentrics times a side
+        lo, hi = lo - pad, hi + pad
+        self.origin = lo.min(axis=0) if len(tri) else np.zeros(2)
+        extent = (hi.max(axis=0) - self.origin) if len(tri) else np.ones(2)
+        n_cells = max(len(tri), 1)
+        cell = np.sqrt(max(extent[0] * extent[1], 1e-300) / n_cells)
+        self.n = np.maximum(np.minimum(np.ceil(extent / max(cell, 1e-300)), 4 * n_cells), 1).astype(np.int64)
+        self.cell = extent / self.n
+        i0 = self._index(lo)
+        i1 = self._index(hi)
+        counts = (i1[:, 0] - i0[:, 0] + 1) * (i1[:, 1] - i0[:, 1] + 1)
+        tri_of = np.repeat(np.arange(len(tri)), counts)
+        k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        w = np.repeat(i1[:, 1] - i0[:, 1] + 1, counts)
+        cx = np.repeat(i0[:, 0], counts) + k // w
+        cz = np.repeat(i0[:, 1], counts) + k % w
+        cells = cx * self.n[1] + cz
+        order = np.argsort(cells, kind="stable")
+        self.triangles = tri_of[order]
+        self.start = np.searchsorted(cells[order], np.arange(self.n[0] * self.n[1] + 1))
+
+    def _index(self, p: np.ndarray) -> np.ndarray:
+        return np.clip(np.floor((p - self.origin) / self.cell).astype(np.int64), 0, self.n - 1)
+
+    def pairs(self, x: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The (point, triangle) pairs to test: each point's index into x, z and a triangle
+        of its cell (points outside the grid have none)."""
+        p = np.stack([x, z], axis=1)
+        inside = np.all((p >= self.origin) & (p <= self.origin + self.cell * self.n), axis=1)
+        idx = self._index(np.where(inside[:, None], p, self.origin))
+        cell = idx[:, 0] * self.n[1] + idx[:, 1]
+        first, count = self.start[cell], np.where(inside, self.start[cell + 1] - self.start[cell], 0)
+        point = np.repeat(np.arange(len(x)), count)
+        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+        return point, self.triangles[np.repeat(first, count) + k]
