@@ -8,7 +8,7 @@ import marinecdpr
 
 PACKAGE = Path(marinecdpr.__file__).parent
 LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed", "compiled_cache", "starting"), ("geometry",), ("scenario",), ("motion",), ("model",),
-          ("planning",), ("control",), ("prototype",), ("studies",), ("report",), ("cli",))
+          ("planning",), ("control",), ("prototype",), ("studies",), ("report",), ("commands",), ("cli",))
 
 
 def _module_name(path: Path) -> str:

@@ -35,6 +35,7 @@ from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from marinecdpr.commands.workspace import WorkspaceSpec
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
 from marinecdpr.scenario.design import GENERATIONS, POPULATION, SEED_MAX
@@ -866,56 +867,56 @@ def _grid(flag: str, text: str, example: str) -> tuple[int, int]:
 def workspace(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for workspace.csv and workspace.png."),
-    axes: str = typer.Option("xz", help="Grid plane: two of x, y, z."),
-    points: str = typer.Option("30x20", help="Grid points along the two axes, e.g. 30x20."),
-    fixed: Optional[float] = typer.Option(None, help="The third coordinate, m (default: mid-frame)."),
-    duration: Optional[float] = typer.Option(None, help="Seconds of ship motion per pose (default: the scenario's "
+    axes: str = typer.Option(WorkspaceSpec.default("axes"), help="Grid plane: two of x, y, z."),
+    points: str = typer.Option("x".join(map(str, WorkspaceSpec.default("points"))),
+                               help="Grid points along the two axes, e.g. 30x20."),
+    fixed: Optional[float] = typer.Option(WorkspaceSpec.default("fixed"),
+                                          help="The third coordinate, m (default: mid-frame)."),
+    duration: Optional[float] = typer.Option(WorkspaceSpec.default("duration"),
+                                             help="Seconds of ship motion per pose (default: the scenario's "
                                              "time.duration_s)."),
-    step: Optional[float] = typer.Option(None, help="Time step, s (default: the scenario's time.step_s)."),
+    step: Optional[float] = typer.Option(WorkspaceSpec.default("step"),
+                                         help="Time step, s (default: the scenario's time.step_s)."),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
-    from marinecdpr.report.writers import write_workspace
-    from marinecdpr.studies.workspace import workspace_map
+    from marinecdpr.commands import workspace as command
 
-    n = _grid("--points", points, "30x20")
-    if len(axes) != 2 or any(a not in "xyz" for a in axes) or axes[0] == axes[1]:
-        _fail(f"--axes {axes}: expected two different letters of x, y, z")
-    _number("--fixed", fixed, finite_only=True)
-    sc = _load(scenario, duration, step)
-    from marinecdpr.planning.budget import check_run_size
-
+    spec = _spec(WorkspaceSpec, points=points, axes=axes, fixed=fixed, duration=duration, step=step)
+    sc = _load(scenario, None, None)
     try:
-        size = check_run_size(sc, "workspace", grid=n)  # before any work: too big is one line, exit 2
+        est = command.estimate(spec, sc)  # before any work: too big is one line, exit 2
     except ScenarioError as exc:
         _fail_scenario(exc, scenario)
-    from marinecdpr.studies.workspace import singular_poses
-
-    across = singular_poses(sc)
-    _warn_singular(scenario, (across,))
+    _warn_singular(scenario, (est.singular,))
     t0 = time.perf_counter()
     with _output(out) as folder:
-        _size_notice(sc, size, n)
-        with _progress("workspace", n[0] * n[1], "poses") as update:
+        err_console.print(_plain(est.describe()), highlight=False, soft_wrap=True)
+        with _progress("workspace", spec.points[0] * spec.points[1], "poses") as update:
             try:
-                ws = workspace_map(sc, axes=(axes[0], axes[1]), n=n, fixed_m=fixed, progress=update)
+                result = command.run(spec, sc, progress=update)
             except ScenarioError as exc:
                 _fail_scenario(exc, scenario)
         elapsed = time.perf_counter() - t0
-        paths = [out / p.name for p in write_workspace(ws, sc, folder)]
-    import numpy as np
-    from marinecdpr.studies.workspace import map_singular_poses
-
-    if across.n_singular < across.n_poses:  # (every pose singular is said already)
-        _warn_singular(scenario, (map_singular_poses(sc, ws),))  # the map's own grid, and between its points
-
-    inside = np.isfinite(ws.fraction_feasible)
-    always = int((ws.fraction_feasible[inside] == 1.0).sum())
-    clear = ("" if ws.interference_free is None else
-             f", {int(ws.interference_free[inside].sum())} free of interference (clearance {ws.clearance_m:g} m), "
-             f"{int((ws.interference_free & (ws.fraction_feasible == 1.0))[inside].sum())} both")
-    console.print(f"{_plain(sc.name)}: {always} of {int(inside.sum())} poses feasible throughout{clear} "
-                  f"({ws.n_steps} steps each, {_seconds(elapsed)}); written: "
+        paths = [out / p.name for p in result.write(folder)]
+    if est.singular.n_singular < est.singular.n_poses:  # (every pose singular is said already)
+        _warn_singular(scenario, (result.singular,))  # the map's own grid, and between its points
+    s = result.summary()
+    clear = ("" if "interference_free" not in s else
+             f", {s['interference_free']} free of interference (clearance {s['clearance_m']:g} m), {s['both']} both")
+    console.print(f"{_plain(result.scenario.name)}: {s['feasible_throughout']} of {s['poses']} poses feasible "
+                  f"throughout{clear} ({s['n_steps']} steps each, {_seconds(elapsed)}); written: "
                   + ", ".join(_plain(p) for p in paths), highlight=False)
+
+
+def _spec(cls, **options):
+    """The command's spec of the options given; a bad one is one line naming its ``--flag``,
+    exit 2 (:class:`~marinecdpr.commands.base.SpecError`)."""
+    from marinecdpr.commands.base import SpecError
+
+    try:
+        return cls(**options)
+    except SpecError as exc:
+        _fail(f"{exc.flag} {exc.value}: {exc.detail}")
 
 
 @app.command()

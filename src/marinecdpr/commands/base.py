@@ -1,0 +1,142 @@
+"""What every command's contract shares: the specification's base (:class:`Spec`), the one
+error a bad option raises (:class:`SpecError`), the run's estimate (:class:`Estimate`) and
+the scenario's time options (:class:`TimeOptions`, :func:`with_time`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
+
+from typing import TYPE_CHECKING
+
+from marinecdpr.errors import MarineCDPRError
+
+if TYPE_CHECKING:  # the command line builds its options from the specs: nothing heavy at import
+    from marinecdpr.planning.budget import RunSize
+    from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["Spec", "SpecError", "Estimate", "TimeOptions", "with_time", "positive", "finite"]
+
+
+class SpecError(MarineCDPRError, ValueError):
+    """A command's option is wrong. One line, ``"{field} {value}: {what}"``.
+
+    Attributes
+    ----------
+    field : str
+        The specification's field (the command line's ``--field`` with ``_`` as ``-``).
+    value : str
+        The value as given.
+    detail : str
+        What is wrong and what was expected.
+    """
+
+    def __init__(self, field: str, value: object, detail: str):
+        self.field, self.value, self.detail = field, _said(value), detail
+        super().__init__(f"{field} {self.value}: {detail}")
+
+    @property
+    def flag(self) -> str:
+        """The command line's option for :attr:`field`."""
+        return "--" + self.field.replace("_", "-")
+
+
+def _said(value: object) -> str:
+    """A value as a user wrote it: a float as %g where that is exact (5 not 5.0)."""
+    if isinstance(value, float) and math.isfinite(value) and value == float(f"{value:g}"):
+        return f"{value:g}"
+    return str(value)
+
+
+class Spec(BaseModel):
+    """A command's options: frozen, unknown fields refused, each validator's message one
+    line. Build one with keywords (``WorkspaceSpec(points=(12, 8))``); a bad value raises
+    :class:`SpecError` naming the first field at fault."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", arbitrary_types_allowed=True)
+
+    def __init__(self, **options: Any) -> None:
+        try:
+            super().__init__(**options)
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            field = str(err["loc"][0]) if err["loc"] else "options"
+            message = err["msg"].removeprefix("Value error, ")
+            if err["type"] == "extra_forbidden":
+                message = f"no such option of {type(self).__name__}"
+            raise SpecError(field, options.get(field, err.get("input")), message[:1].lower() + message[1:]) from None
+
+    @classmethod
+    def default(cls, field: str) -> Any:
+        """A field's default (the command line shows and uses the same)."""
+        return cls.model_fields[field].default
+
+
+def positive(value: float | None, *, zero_ok: bool = False) -> float | None:
+    """A finite positive number (non-negative with ``zero_ok``), or None; else ValueError
+    with the command line's words."""
+    if value is None:
+        return None
+    if not math.isfinite(value):
+        raise ValueError("expected a finite number")
+    if value < 0 or (value == 0 and not zero_ok):
+        raise ValueError(f"expected a {'non-negative' if zero_ok else 'positive'} number")
+    return value
+
+
+def finite(value: float | None) -> float | None:
+    """A finite number, or None; else ValueError."""
+    if value is not None and not math.isfinite(value):
+        raise ValueError("expected a finite number")
+    return value
+
+
+class TimeOptions(Spec):
+    """The options that change the scenario's time: ``duration`` (s of ship motion, default
+    the scenario's ``time.duration_s``) and ``step`` (s, default ``time.step_s``)."""
+
+    duration: float | None = None
+    step: float | None = None
+
+    @field_validator("duration", "step")
+    @classmethod
+    def _positive(cls, v):
+        return positive(v)
+
+
+def with_time(spec: TimeOptions, scenario: Scenario) -> Scenario:
+    """The scenario with the spec's ``duration`` and ``step`` where given."""
+    if spec.duration is None and spec.step is None:
+        return scenario
+    return scenario.with_changes(time={"step_s": scenario.time.step_s if spec.step is None else spec.step,
+                                       "duration_s": scenario.time.duration_s if spec.duration is None
+                                       else spec.duration})
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """What a run will take, known before it starts.
+
+    Attributes
+    ----------
+    scenario : str
+        The scenario's name.
+    size : RunSize
+        Steps, records, memory (:class:`~marinecdpr.planning.budget.RunSize`).
+    grid : tuple of int, optional
+        A map's points along its two axes.
+    """
+
+    scenario: str
+    size: RunSize
+    grid: tuple[int, int] | None = None
+
+    def describe(self) -> str:
+        """One line: ``"size: NAME: ..."``, as the command line prints it before the work."""
+        from marinecdpr.planning.budget import describe_run
+
+        return f"size: {self.scenario}: {describe_run(self.size, self.grid)}"
+

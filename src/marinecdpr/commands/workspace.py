@@ -1,0 +1,159 @@
+"""``workspace``: where on the frame the platform can be held while the ship moves.
+
+:class:`WorkspaceSpec` holds the options, :func:`estimate` the run's size and the poses
+over the frame where J~ loses rank (known before any work), :func:`run` the map
+(:class:`WorkspaceResult`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Callable
+
+from pydantic import field_validator
+
+from marinecdpr.commands.base import Estimate, Spec, finite, positive, with_time
+
+if TYPE_CHECKING:  # the spec is read when the command line starts: the work's modules load with the work
+    from marinecdpr.scenario.schema import Scenario
+    from marinecdpr.studies.workspace import SingularPoses, WorkspaceMap
+
+__all__ = ["WorkspaceSpec", "WorkspaceEstimate", "WorkspaceResult", "estimate", "run"]
+
+
+class WorkspaceSpec(Spec):
+    """The options of a workspace map.
+
+    Attributes
+    ----------
+    points : (int, int)
+        Grid points along the two axes (``"30x20"`` is taken too).
+    axes : str
+        The grid's plane: two different letters of x, y, z.
+    fixed : float, optional
+        The third coordinate, m (default: mid-frame).
+    duration : float, optional
+        Seconds of ship motion per pose (default: the scenario's ``time.duration_s``).
+    step : float, optional
+        Time step, s (default: the scenario's ``time.step_s``).
+    """
+
+    points: tuple[int, int] = (30, 20)
+    axes: str = "xz"
+    fixed: float | None = None
+    duration: float | None = None
+    step: float | None = None
+
+    @field_validator("points", mode="before")
+    @classmethod
+    def _grid(cls, v):
+        try:
+            n = tuple(int(k) for k in v.lower().split("x")) if isinstance(v, str) else tuple(int(k) for k in v)
+        except (TypeError, ValueError):
+            n = ()
+        if len(n) != 2 or min(n) <= 0:
+            raise ValueError("expected two positive integers like 30x20")
+        return n
+
+    @field_validator("axes")
+    @classmethod
+    def _axes(cls, v):
+        if len(v) != 2 or any(a not in "xyz" for a in v) or v[0] == v[1]:
+            raise ValueError("expected two different letters of x, y, z")
+        return v
+
+    @field_validator("fixed")
+    @classmethod
+    def _fixed(cls, v):
+        return finite(v)
+
+    @field_validator("duration", "step")
+    @classmethod
+    def _time(cls, v):
+        return positive(v)
+
+
+@dataclass(frozen=True)
+class WorkspaceEstimate(Estimate):
+    """:class:`~marinecdpr.commands.base.Estimate`, and ``singular``: where over the frame J~
+    loses rank (:func:`~marinecdpr.studies.workspace.singular_poses`; no dynamics solved)."""
+
+    singular: SingularPoses | None = None
+
+
+def estimate(spec: WorkspaceSpec, scenario: Scenario) -> WorkspaceEstimate:
+    """The map's size (``n_steps`` of ship motion at each of the grid's poses) and the
+    singular poses over the frame, before any work.
+
+    Raises
+    ------
+    ScenarioError
+        One line where the run would not fit in memory or finish in sane time
+        (:func:`~marinecdpr.planning.budget.check_run_size`).
+    """
+    from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.studies.workspace import singular_poses
+
+    sc = with_time(spec, scenario)
+    size = check_run_size(sc, "workspace", grid=spec.points)
+    return WorkspaceEstimate(scenario=sc.name, size=size, grid=spec.points, singular=singular_poses(sc))
+
+
+@dataclass(frozen=True)
+class WorkspaceResult:
+    """A workspace map and what was found on its grid.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        As flown (with the spec's time).
+    map : WorkspaceMap
+    singular : SingularPoses
+        Where on the map's own grid, and between its points, J~ loses rank
+        (:func:`~marinecdpr.studies.workspace.map_singular_poses`).
+    """
+
+    scenario: Scenario
+    map: WorkspaceMap
+    singular: SingularPoses
+
+    def summary(self) -> dict:
+        """The poses inside the frame's range, those feasible throughout, and with
+        ``robot.clearance_m`` those free of interference and both; steps per pose."""
+        import numpy as np
+
+        ws = self.map
+        inside = np.isfinite(ws.fraction_feasible)
+        out = {"poses": int(inside.sum()), "feasible_throughout": int((ws.fraction_feasible[inside] == 1.0).sum()),
+               "n_steps": int(ws.n_steps)}
+        if ws.interference_free is not None:
+            out["interference_free"] = int(ws.interference_free[inside].sum())
+            out["both"] = int((ws.interference_free & (ws.fraction_feasible == 1.0))[inside].sum())
+            out["clearance_m"] = float(ws.clearance_m)
+        return out
+
+    def write(self, folder: str | Path) -> list[Path]:
+        """``workspace.csv`` and ``workspace.png`` in ``folder``
+        (:func:`~marinecdpr.report.writers.write_workspace`)."""
+        from marinecdpr.report.writers import write_workspace
+
+        return write_workspace(self.map, self.scenario, Path(folder))
+
+
+def run(spec: WorkspaceSpec, scenario: Scenario, *,
+        progress: Callable[[int, int], None] | None = None) -> WorkspaceResult:
+    """The map of held poses over the frame under the scenario's ship motion
+    (:func:`~marinecdpr.studies.workspace.workspace_map`), its size checked first.
+
+    Parameters
+    ----------
+    progress : callable(done, total), optional
+        Poses planned so far.
+    """
+    from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.studies.workspace import map_singular_poses, workspace_map
+
+    sc = with_time(spec, scenario)
+    check_run_size(sc, "workspace", grid=spec.points)
+    ws = workspace_map(sc, axes=(spec.axes[0], spec.axes[1]), n=spec.points, fixed_m=spec.fixed, progress=progress)
+    return WorkspaceResult(scenario=sc, map=ws, singular=map_singular_poses(sc, ws))
