@@ -81,3 +81,21 @@ def test_a_run_from_python_is_what_the_command_writes(tmp_path):
         rows = list(csv.DictReader(fh))
     written = np.array([float(r["fraction_feasible"]) for r in rows]).reshape(frac.shape)
     np.testing.assert_array_equal(written, frac)
+
+
+@pytest.mark.parametrize("command, extra", [(["operability", "paper_sea"], []),
+                                            (["rao"], ["--length", "100", "--beam", "20", "--draught", "5", "--gm", "2",
+                                                     "--omega", "0.2:1.8:3"])])
+@pytest.mark.parametrize("given, words", [
+    ("0,360", "a heading is given twice (headings are taken modulo 360 deg)"),
+    ("90,450", "expected finite headings between -360 and 360 deg"),
+    ("nan", "expected finite headings between -360 and 360 deg"),
+])
+def test_every_command_reads_headings_by_one_rule(tmp_path, command, extra, given, words):
+    """``rao`` took 0 and 360 as one heading and 450 as 90, where ``operability`` and ``clean
+    --seas`` refused both: one parse now (:func:`marinecdpr.commands.base.headings`)."""
+    from conftest import one_line_exit_2
+
+    res = runner.invoke(app, command + extra + ["--headings", given, "--out", str(tmp_path / "o")])
+    one_line_exit_2(res, f"--headings {given}: {words}")
+    assert not (tmp_path / "o").exists()

@@ -1062,6 +1062,17 @@ WORKERS_PER_CORE = 4
 """Most local Dask workers per core a sea-state study starts."""
 
 
+def _headings(text: str, example: str) -> tuple[float, ...]:
+    """``--headings``, deg, by the one rule of every command
+    (:func:`~marinecdpr.commands.base.headings`); one line, exit 2, otherwise."""
+    from marinecdpr.commands.base import headings
+
+    try:
+        return headings(text, example=example)
+    except ValueError as exc:
+        _fail(f"--headings {text}: {exc}")
+
+
 def _sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
     """A sea-state study's headings (deg) from ``--headings``, its executor options checked
     (``--serial`` alone; a ``--scheduler`` that answers)."""
@@ -1073,14 +1084,7 @@ def _sea_study_options(headings: str, serial: bool, workers: int | None, schedul
     if workers is not None and workers > WORKERS_PER_CORE * cores:
         _fail(f"--workers {workers}: more than {WORKERS_PER_CORE} per core of this machine's {cores} gains nothing "
               f"(each is a process of its own); use at most {WORKERS_PER_CORE * cores}")
-    try:
-        heads = tuple(float(h) for h in headings.split(","))
-    except ValueError:
-        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 180,150")
-    if not all(math.isfinite(h) and -360.0 <= h <= 360.0 for h in heads):
-        _fail(f"--headings {headings}: expected finite headings between -360 and 360 deg")
-    if len({h % 360.0 for h in heads}) < len(heads):
-        _fail(f"--headings {headings}: a heading is given twice (headings are taken modulo 360 deg)")
+    heads = _headings(headings, "180,150")
     if scheduler:
         try:
             check_scheduler(scheduler)
@@ -1261,13 +1265,7 @@ def rao(
         _fail(f"--roll-damping {roll_damping:g}: expected a fraction of critical damping from 0 to 1")
     from marinecdpr.planning.budget import check_bem_size
 
-    try:
-        given = [float(h) for h in headings.split(",")]
-    except ValueError:
-        _fail(f"--headings {headings}: expected numbers separated by commas, e.g. 90,180")
-    if not all(math.isfinite(h) for h in given):
-        _fail(f"--headings {headings}: expected finite headings, deg")
-    heads = tuple(sorted({h % 360.0 for h in given}))
+    heads = tuple(sorted(h % 360.0 for h in _headings(headings, "90,180")))
     try:
         first, last, count = omega.split(":")
         first, last, count = float(first), float(last), int(count)

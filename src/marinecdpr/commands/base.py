@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.planning.budget import RunSize
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Spec", "SpecError", "Estimate", "TimeOptions", "with_time", "positive", "finite"]
+__all__ = ["Spec", "SpecError", "Estimate", "TimeOptions", "with_time", "positive", "finite", "headings"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -140,3 +140,18 @@ class Estimate:
 
         return f"size: {self.scenario}: {describe_run(self.size, self.grid)}"
 
+
+
+def headings(value: str | tuple | list, *, example: str = "180,150") -> tuple[float, ...]:
+    """Wave headings, deg, from ``"180,150"`` or numbers: each finite, within -360 to 360 deg,
+    none given twice (headings are taken modulo 360 deg: 0 and 360 are one). ValueError with
+    the command line's words otherwise; ``example`` is the command's own default."""
+    try:
+        heads = tuple(float(h) for h in (value.split(",") if isinstance(value, str) else value))
+    except (TypeError, ValueError):
+        raise ValueError(f"expected numbers separated by commas, e.g. {example}") from None
+    if not heads or not all(math.isfinite(h) and -360.0 <= h <= 360.0 for h in heads):
+        raise ValueError("expected finite headings between -360 and 360 deg")
+    if len({h % 360.0 for h in heads}) < len(heads):
+        raise ValueError("a heading is given twice (headings are taken modulo 360 deg)")
+    return heads
