@@ -31,7 +31,7 @@ BUILTIN = Path(str(resources.files("marinecdpr") / "scenario" / "builtin"))
 TEMPLATE_BAND = ("stations_m = [-95.0, 95.0]", "stations_m = [-5.0, 5.0]"), ("heights_m = [0.0, 11.6]",
                                                                              "heights_m = [0.0, 3.0]")
 
-STUDY = (Path(__file__).parent / "data" / "tiny_study.toml").read_text(encoding="utf-8")
+STUDY = (Path(__file__).parents[1] / "data" / "tiny_study.toml").read_text(encoding="utf-8")
 SEAS = "hs_m,tp_s,probability\n1.0,8.0,0.5\n2.0,9.0,0.5\n"
 
 

@@ -23,7 +23,7 @@ from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from test_tension import qp_reference
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SHAPES = [(4, 3), (5, 3), (6, 3), (7, 6), (8, 6), (9, 6)]  # (n, k): r = 1, 2, 3, planar and spatial
 
 

@@ -16,7 +16,7 @@ from marinecdpr.cli.app import app
 from marinecdpr.studies.design import load_design
 
 runner = CliRunner()
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 WIREX = ROOT / "tests" / "data" / "wirex" / "IPAnema.wcrfx"
 COMMANDS = ["plan", "clean", "simulate", "workspace", "operability", "check", "rao", "windows", "control-study",
             "latency", "warmup", "design", "import", "scenarios"]

@@ -106,7 +106,7 @@ def test_the_example_file_is_the_builtin_paper_scenario():
     from importlib import resources
     from pathlib import Path
 
-    example = Path(__file__).resolve().parents[1] / "examples" / "paper.toml"
+    example = Path(__file__).resolve().parents[2] / "examples" / "paper.toml"
     assert example.read_text() == (resources.files("marinecdpr.scenario") / "builtin" / "paper.toml").read_text()
 
 

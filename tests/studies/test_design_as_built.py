@@ -23,10 +23,10 @@ from marinecdpr.studies.design import (  # noqa: E402
 )
 from conftest import one_candidate_study  # noqa: E402
 
-HERE = Path(__file__).parent
+HERE = Path(__file__).parents[1] / "studies"
 # the design tests' small study (test_issue24_design.SMALL) on a 3 x 2 m frame (a short job),
 # one sea state
-SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_issue24_design.py").read_text(), re.S).group(1)
+SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_design.py").read_text(), re.S).group(1)
 TEXT = SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("frame_height_m = 3.0",
                                                                          "frame_height_m = 2.0")
 

@@ -26,7 +26,7 @@ from marinecdpr.scenario.importing import import_robot, scenario_toml
 from marinecdpr.scenario.importing.common import _plain
 
 runner = CliRunner()
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 MODELS = {"caspr-ipanema1": DATA / "caspr" / "IPAnema_1" / "IPAnema_1_bodies.xml",
           "caspr-cogiro": DATA / "caspr" / "CoGiRo" / "CoGiRo_bodies.xml",
           "wirex-segesta": DATA / "wirex" / "Segesta.wcrfx",

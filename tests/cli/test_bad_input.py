@@ -10,8 +10,8 @@ from typer.testing import CliRunner
 from marinecdpr.cli.app import app
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-BUILTIN = Path(__file__).resolve().parents[1] / "src" / "marinecdpr" / "scenario" / "builtin"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+BUILTIN = Path(__file__).resolve().parents[2] / "src" / "marinecdpr" / "scenario" / "builtin"
 
 
 @pytest.mark.parametrize("args, message", [

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parents[1] / "src" / "marinecdpr"
+SRC = Path(__file__).resolve().parents[2] / "src" / "marinecdpr"
 
 
 @pytest.mark.parametrize("args, message", [

@@ -30,7 +30,7 @@ from marinecdpr.scenario.loading import scenario_from_dict
 from tests.conftest import one_line_exit_2
 
 runner = CliRunner()
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 CASPR = {"IPAnema 1": DATA / "caspr" / "IPAnema_1" / "IPAnema_1_bodies.xml",
          "CoGiRo": DATA / "caspr" / "CoGiRo" / "CoGiRo_bodies.xml",
          "SEGESTA": DATA / "caspr" / "SEGESTA" / "SEGESTA_bodies.xml"}

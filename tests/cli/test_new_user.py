@@ -25,7 +25,7 @@ from marinecdpr.prototype.simulation import SimResult, simulate
 from conftest import make_scenario, paper_dict
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 MAIN_JOB_FILES = {"plan.csv", "sim_open_loop.csv", "sim_closed_loop.csv", "sim_fixed_base_open_loop.csv",
                   "tensions.png", "cable_lengths.png", "tracking.png", "path.png", "summary.json", "report.html"}
 

@@ -162,7 +162,7 @@ def test_the_examples_python_loop_flies_as_the_prototypes_compiled_loop():
 
     from marinecdpr.prototype.simulation import simulate
 
-    example = runpy.run_path(str(Path(__file__).resolve().parents[1] / "examples" / "controller_loop.py"))
+    example = runpy.run_path(str(Path(__file__).resolve().parents[2] / "examples" / "controller_loop.py"))
     sc, poses = example["fly"](0.5)
     res = simulate(sc, run="closed_loop", plant="mujoco")
     np.testing.assert_allclose(poses, res.pose[:, :3], rtol=0, atol=1e-12)

@@ -29,7 +29,7 @@ from marinecdpr.scenario.loading import load_scenario, scenario_from_dict
 from conftest import paper_dict
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SECRET = "s3cr3t"
 PASSWD = ("root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n"
           f"alice:{SECRET}:1000:1000:Alice,,,:/home/alice:/bin/bash\n")

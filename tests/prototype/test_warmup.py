@@ -77,7 +77,7 @@ def test_the_readme_gives_the_first_compile_the_notice_gives():
 
     from marinecdpr.prototype.simulation import KERNEL_COMPILE_S
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     assert f"compiles the per-step kernels (about {KERNEL_COMPILE_S:g} s, once)" in readme
 
 
@@ -86,7 +86,7 @@ def test_the_readme_gives_latencys_first_compile_the_notice_gives():
 
     from marinecdpr.studies.latency import LATENCY_COMPILE_S
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
     assert f"`latency` first compiles the controller's step for about {LATENCY_COMPILE_S:g} s" in readme
 
 

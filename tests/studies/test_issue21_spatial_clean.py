@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from marinecdpr.cli.app import app
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 CLEANING = '''[trajectory]
 type = "coverage"

@@ -20,7 +20,7 @@ from marinecdpr.motion.trajectory import evaluate_trajectory
 
 from conftest import make_scenario
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 @pytest.fixture(scope="module")

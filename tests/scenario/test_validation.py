@@ -19,7 +19,7 @@ from marinecdpr.scenario.loading import scenario_from_dict
 
 from conftest import paper_dict
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAN, INF = float("nan"), float("inf")
 
 

@@ -24,7 +24,7 @@ from marinecdpr.planning.planner import iter_plan, plan, PlanSummary, trajectory
 from tests.conftest import one_line_exit_2
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 # ------------------------------------------------------------------ references (slow, obvious)

@@ -10,7 +10,7 @@ from typer.testing import CliRunner
 from marinecdpr.cli.app import app
 
 runner = CliRunner()
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 @pytest.mark.parametrize("args, message", [

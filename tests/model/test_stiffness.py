@@ -23,7 +23,7 @@ from marinecdpr.model.stiffness import (
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.scenario.schema import SinusoidalMotion
 
-CUBE8 = str(Path(__file__).resolve().parents[1] / "examples" / "spatial_cube8.toml")
+CUBE8 = str(Path(__file__).resolve().parents[2] / "examples" / "spatial_cube8.toml")
 H = 1e-5  # finite-difference step, m and rad
 
 

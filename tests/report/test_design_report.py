@@ -27,8 +27,8 @@ from conftest import one_candidate_study  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
 
 runner = CliRunner()
-HERE = Path(__file__).parent
-SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_issue24_design.py").read_text(), re.S).group(1)
+HERE = Path(__file__).parents[1] / "studies"
+SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_design.py").read_text(), re.S).group(1)
 # the small study with prices: the medium winch 4 000, the light rope 3 a metre, in EUR
 PRICED = (SMALL.replace('name = "medium"\n', 'name = "medium"\ncost = 4000.0\n')
           .replace('name = "light"\n', 'name = "light"\ncost_per_m = 3.0\n'))

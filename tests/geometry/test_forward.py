@@ -13,7 +13,7 @@ from marinecdpr.geometry.forward import (forward_work, pose_from_lengths, pose_f
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import angle_rate_matrix, euler_kinematics, matrix_from_euler
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 # workspace boxes (x, y, z, rx, ry, rz) well inside each frame: paper 1.9 x 1.4 m (x-z plane),
 # cube8 a 2 m cube
 BOXES = {

@@ -318,7 +318,7 @@ def test_a_scenario_flies_on_recorded_motion_like_on_the_analytic_one(tmp_path):
 
     import numpy as np
 
-    sys.path.insert(0, str(Path(__file__).parent))
+    sys.path.insert(0, str(Path(__file__).parents[1]))
     from conftest import make_scenario
 
     import marinecdpr
