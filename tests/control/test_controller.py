@@ -15,7 +15,7 @@ from marinecdpr.model.kernels import METHOD_CODES
 from marinecdpr.motion.basemotion import evaluate_base_motion
 
 from conftest import make_scenario
-from test_compiled_qp import EXAMPLES
+from test_tension import EXAMPLES
 
 N = 300  # steps: 0.3 s
 

@@ -20,7 +20,7 @@ from marinecdpr.prototype.simulation import simulate
 from marinecdpr.studies.control import control_study
 
 from conftest import make_scenario
-from test_compiled_qp import EXAMPLES
+from test_tension import EXAMPLES
 
 runner = CliRunner()
 

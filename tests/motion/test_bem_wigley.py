@@ -154,7 +154,7 @@ def test_roll_peaks_at_its_natural_frequency_with_sway_free(bem):
     b44 = float(bem["roll_damping"])
     assert b44 == pytest.approx(2 * 0.05 * math.sqrt(C44 * inertia("Roll", "Roll", w_n)), rel=1e-9)
     # its peak on this grid, 11.6 deg/m, is over twice the box's of the same main
-    # dimensions (4.7 deg/m, tests/test_bem.py's grid and 5 m panels)
+    # dimensions (4.7 deg/m, tests/motion/test_bem.py's grid and 5 m panels)
     assert 9.0 < np.degrees(roll.max()) < 14.0
 
 

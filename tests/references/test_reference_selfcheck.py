@@ -6,7 +6,7 @@ then serve as an oracle for the package's own tests.
 
 Run with::
 
-    /work/main/.venv/bin/python -m pytest /work/main/tests/test_reference_selfcheck.py -q
+    /work/main/.venv/bin/python -m pytest /work/main/tests/references/test_reference_selfcheck.py -q
 """
 
 from __future__ import annotations

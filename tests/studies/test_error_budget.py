@@ -10,7 +10,7 @@ from marinecdpr.studies.error_budget import error_budget
 
 import conftest
 from conftest import make_scenario
-from test_pulleys_model import with_pulleys
+from test_pulley import with_pulleys
 
 WINCH = dict(drum_radius_m=0.05, gear_ratio=10.0, torque_max_Nm=2.0, speed_max_rad_s=300.0, power_max_W=200.0,
              rotor_inertia_kg_m2=1e-4, drum_inertia_kg_m2=1e-3)
