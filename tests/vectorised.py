@@ -4,7 +4,7 @@ These are the package's array functions as they were before the model was writte
 compiled per-step functions (:mod:`marinecdpr.geometry.kinematics`,
 :mod:`marinecdpr.model.kernels`, run over time series by :mod:`marinecdpr.model.dynamics`),
 kept unchanged: numpy over whole time series, each equation as one line of component
-arithmetic. ``tests/test_one_model.py`` checks the compiled path against them. Same names,
+arithmetic. ``tests/model/test_kernels.py`` checks the compiled path against them. Same names,
 signatures, return types, frames and units as the package's functions.
 """
 
