@@ -31,7 +31,7 @@ lever arm; it is not symmetric: sum_i t_i of its antisymmetric part is -1/2 [m x
 m = sum_i t_i r_i x u_i the cables' moment, so K_geometric is symmetric where the cables
 apply no net moment. Cf. Behzadipour & Khajepour, "Stiffness of cable-based parallel
 manipulators with application to stability analysis", J. Mech. Des. 128 (2006); the
-matrix here is checked against central differences of J~^T T (``tests/test_stiffness.py``).
+matrix here is checked against central differences of J~^T T (``tests/model/test_stiffness.py``).
 
 For yaw alone (dphi = e_z dpsi) the rotational entry reads
 K_psi = sum_i t_i [(r_i x e_z)^T P_i (r_i x e_z) + r_i,xy . u_i,xy]: a string term >= 0 and

@@ -85,7 +85,7 @@ regressors' variance, under the round-off of the RLS; h = 0.25 s, p = 20: 3e-6).
 ship motion (periods 5-20 s): h = 0.25 s, p = 20, lambda = 0.998. On a noise-free
 JONSWAP record (Hs 2 m, Tp 8 s, 150 deg, the built-in box hull's BEM RAOs, MRU at 100 Hz)
 this predicts eta with an RMS error of 1-4e-4 of the motion's RMS at 1 s, 2-7e-3 at 2 s
-and 7-27 % at 5 s (``tests/test_prediction.py``). Sensor noise dominates as soon as there
+and 7-27 % at 5 s (``tests/motion/test_prediction.py``). Sensor noise dominates as soon as there
 is any: white noise of 0.1 % of the RMS on every sample gives 1-3 % at 1 s, 1 % noise
 5-8 %, no better than the Taylor extrapolation up to 1 s. :func:`prediction_error`
 measures a record, with noise if wanted.

@@ -56,7 +56,7 @@ Resolution and area error
     edges cancel where the cleaned region reaches them (a fully cleaned panel is exactly
     100 %); the areas in m^2 are that ratio times the panel's exact area (shoelace), so
     ``cleaned_area_m2 + missed_area_m2 == panel_area_m2``. Measured against exact areas
-    (``tests/test_coverage_measure.py``; boustrophedons with gaps and overlaps at 0-180 deg
+    (``tests/studies/test_coverage.py``; boustrophedons with gaps and overlaps at 0-180 deg
     over 1-10 m panels with 0.1-0.5 m brushes, random polylines, clipped paths) the error
     of ``coverage_pct`` is at most about 0.04 percentage points, usually under 0.01; the
     bound above is the worst case, for long axis-parallel boundaries.
