@@ -125,8 +125,8 @@ def test_a_late_mru_costs_tracking_and_the_prediction_wins_it_back():
     5 s) gives most of it back, the kinematic extrapolation some."""
     sc = with_simulation(marinecdpr.load_scenario("paper_sea"),
                          mru={"ar_warmup_s": 5.0, "ar_step_s": 0.1, "ar_order": 12})
-    study = control_study(sc, latencies_s=(0.02,), predictions=("none", "kinematic", "ar"), duration_s=12.0,
-                          settle_s=6.0)
+    study = control_study(sc, latencies_s=(0.02,), predictions=("none", "kinematic", "ar"), pose_from=("sensor",),
+                          duration_s=12.0, settle_s=6.0)
     short = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 12.0})
     ideal = simulate(short, run="closed_loop", plant="own")
     e = np.linalg.norm(ideal.pose_error[ideal.t >= 6.0, :3], axis=1)

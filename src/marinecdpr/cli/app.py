@@ -35,6 +35,7 @@ from rich.markup import escape
 from rich.table import Table
 from rich.text import Text
 
+from marinecdpr.commands.control_study import ControlStudySpec
 from marinecdpr.commands.workspace import WorkspaceSpec
 from marinecdpr.errors import InfeasibleError, ScenarioError, SimulationDivergedError
 from marinecdpr.memory import keep_freed_memory
@@ -1423,78 +1424,48 @@ def windows(
 @app.command("control-study")
 def control_study(
     scenario: str = typer.Argument("paper_sea", help="A scenario file, or a built-in name."),
-    latencies: str = typer.Option("0,10,20,50,100", "--latencies", help="Motion sensor latencies, ms, comma-separated."),
-    predictions: str = typer.Option("none,kinematic,ar", "--predictions",
+    latencies: str = typer.Option(",".join(f"{x:g}" for x in ControlStudySpec.default("latencies")), "--latencies",
+                                  help="Motion sensor latencies, ms, comma-separated."),
+    predictions: str = typer.Option(",".join(ControlStudySpec.default("predictions")), "--predictions",
                                     help="How the controller brings the ship's samples to the present: none, "
                                          "kinematic, ar."),
-    pose_from: str = typer.Option("sensor,encoders", "--pose-from", help="Pose sources: sensor, encoders."),
-    rate: float = typer.Option(100.0, "--rate", help="The motion sensor's samples per second, Hz."),
-    encoder_resolution: Optional[float] = typer.Option(None, "--encoder-resolution",
+    pose_from: str = typer.Option(",".join(ControlStudySpec.default("pose_from")), "--pose-from",
+                                  help="Pose sources: sensor, encoders."),
+    rate: float = typer.Option(ControlStudySpec.default("rate"), "--rate",
+                               help="The motion sensor's samples per second, Hz."),
+    encoder_resolution: Optional[float] = typer.Option(ControlStudySpec.default("encoder_resolution"),
+                                                       "--encoder-resolution",
                                                        help="The encoders' length step, m (default: the scenario's)."),
-    duration: float = typer.Option(60.0, "--duration", help="Each run's length, s."),
-    settle: Optional[float] = typer.Option(None, "--settle", help="Errors count from this time on, s (default: "
-                                                                   "the predictor's warm-up and a second)."),
-    plant: str = typer.Option("own", "--plant", help="own or mujoco."),
+    duration: float = typer.Option(ControlStudySpec.default("duration"), "--duration", help="Each run's length, s."),
+    settle: Optional[float] = typer.Option(ControlStudySpec.default("settle"), "--settle",
+                                           help="Errors count from this time on, s (default: the predictor's "
+                                                "warm-up and a second)."),
+    plant: str = typer.Option(ControlStudySpec.default("plant"), "--plant", help="own or mujoco."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for control_study.csv/.png, prediction.csv, "
                                                               "summary.json."),
 ) -> None:
     """What the ship-motion sensor's latency costs in tracking and tension margin, with the
     ship's motion predicted or not, and the pose from a pose sensor or the winches' encoders;
     and the ship-motion predictor's error against the horizon."""
-    from marinecdpr.report.writers import write_control_study
-    from marinecdpr.studies.control import PREDICTIONS, ship_prediction_error
-    from marinecdpr.studies.control import control_study as study
+    from marinecdpr.commands import control_study as command
+    from marinecdpr.commands.base import SpecError
 
-    _number("--rate", rate)
-    _number("--duration", duration)
-    try:
-        lat_s = [float(x) / 1e3 for x in latencies.split(",")]
-    except ValueError:
-        _fail(f"--latencies {latencies}: expected numbers of ms separated by commas")
-    if any(not (x >= 0.0 and x == x) for x in lat_s):
-        _fail(f"--latencies {latencies}: latencies must be >= 0 ms")
-    preds = [x.strip() for x in predictions.split(",")]
-    sources = [x.strip() for x in pose_from.split(",")]
-    for flag, given, allowed in (("--predictions", preds, PREDICTIONS), ("--pose-from", sources, ("sensor", "encoders")),
-                                 ("--plant", [plant], ("own", "mujoco"))):
-        bad = [x for x in given if x not in allowed]
-        if bad:
-            _fail(f"{flag} {bad[0]}: expected one of {', '.join(allowed)}")
-    _number("--settle", settle, zero_ok=True)
+    spec = _spec(ControlStudySpec, latencies=latencies, predictions=predictions, pose_from=pose_from, rate=rate,
+                 encoder_resolution=encoder_resolution, duration=duration, settle=settle, plant=plant)
     sc = _load(scenario, None, None)
-    if encoder_resolution is not None:
-        try:
-            sc = sc.with_updates("simulation.sensors", encoder_resolution_m=encoder_resolution)
-        except ScenarioError as exc:
-            _fail(f"--encoder-resolution {encoder_resolution:g}: {exc}")
-    if settle is None:
-        settle = sc.simulation.mru.ar_warmup_s + 1.0
-    if duration <= settle:
-        _fail(f"--duration {duration:g}: must be longer than --settle ({settle:g} s; default the predictor's "
-              "warm-up and a second)")
-    from marinecdpr.planning.budget import check_run_size
-
-    n_runs = len(lat_s) * len(preds) * len(sources)
-    try:  # the MRU's settings as the runs will set them, checked before the first run
-        sc.with_updates("simulation.mru", rate_hz=rate, latency_s=max(lat_s))
-    except ScenarioError as exc:
-        _fail(f"--rate {rate:g} / --latencies {latencies}: {exc.detail} ({exc.key})" if exc.key else
-              f"--rate {rate:g} / --latencies {latencies}: {exc.detail}")
-    try:  # before any work: runs the machine cannot hold or finish are one line
-        check_run_size(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": duration}), "simulate",
-                       repeat=n_runs)
-    except ScenarioError as exc:
-        _fail(f"--duration {duration:g} ({_count(n_runs, 'run')}): {exc.detail}")
+    try:  # before any work: what the scenario cannot take, and runs the machine cannot hold or finish
+        est = command.estimate(spec, sc)
+    except SpecError as exc:
+        _fail(f"{exc.flag} {exc.value}: {exc.detail}")
     with _output(out) as folder:
-        _compile_notice(plant)
-        with _run_errors(scenario), _progress("closed-loop runs", n_runs, "runs") as bar:
-            result = study(sc, latencies_s=lat_s, predictions=preds, pose_from=sources, rate_hz=rate,
-                           duration_s=duration, settle_s=settle, plant=plant, progress=bar)
-            prediction = ship_prediction_error(sc, rate_hz=rate, duration_s=duration, settle_s=settle)
-        _, paths = write_control_study(result, prediction, folder)
-    console.print(f"{_plain(sc.name)}: MRU {rate:g} Hz, judged from {settle:g} s of {duration:g} s runs",
+        _compile_notice(spec.plant)
+        with _run_errors(scenario), _progress("closed-loop runs", spec.n_runs, "runs") as bar:
+            result = command.run(spec, sc, progress=bar)
+        _, paths = result.write(folder)
+    name, settle = est.flown.name, result.settle
+    console.print(f"{_plain(name)}: MRU {spec.rate:g} Hz, judged from {settle:g} s of {spec.duration:g} s runs",
                   highlight=False)
-    for r in result.runs:
+    for r in result.study.runs:
         console.print(f"  latency {1e3 * r.latency_s:5.1f} ms, {r.prediction:9s}, pose from {r.pose_from:8s}: "
                       f"RMS error {r.rms_error_m:.3g} m, max {r.max_error_m:.3g} m, headroom {r.headroom_N:.4g} N, "
                       f"slack margin {r.slack_margin_N:.4g} N"
@@ -1502,7 +1473,7 @@ def control_study(
                       highlight=False, soft_wrap=True)
     console.print(_plain(f"written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False, soft_wrap=True)
     _fail_bypassed([(f"latency {1e3 * r.latency_s:g} ms, prediction {r.prediction}, pose from {r.pose_from}",
-                     r.fallbacks, result.steps) for r in result.bypassed], sc, out)
+                     r.fallbacks, result.study.steps) for r in result.study.bypassed], est.flown, out)
 
 
 @app.command()

@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.planning.budget import RunSize
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Spec", "SpecError", "Estimate", "TimeOptions", "with_time", "positive", "finite", "headings"]
+__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "TimeOptions", "with_time", "positive", "finite", "headings"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -45,10 +45,17 @@ class SpecError(MarineCDPRError, ValueError):
 
 
 def _said(value: object) -> str:
-    """A value as a user wrote it: a float as %g where that is exact (5 not 5.0)."""
-    if isinstance(value, float) and math.isfinite(value) and value == float(f"{value:g}"):
-        return f"{value:g}"
-    return str(value)
+    """A value as the message gives it: a float as %g (5, not 5.0), else as given."""
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+class BadValue(ValueError):
+    """A validator's error about a part of its field's value (``--predictions none,magic``
+    names ``magic``): ``value`` is what the message shows."""
+
+    def __init__(self, value: object, message: str):
+        self.value = value
+        super().__init__(message)
 
 
 class Spec(BaseModel):
@@ -67,7 +74,9 @@ class Spec(BaseModel):
             message = err["msg"].removeprefix("Value error, ")
             if err["type"] == "extra_forbidden":
                 message = f"no such option of {type(self).__name__}"
-            raise SpecError(field, options.get(field, err.get("input")), message[:1].lower() + message[1:]) from None
+            cause = (err.get("ctx") or {}).get("error")
+            value = cause.value if isinstance(cause, BadValue) else options.get(field, err.get("input"))
+            raise SpecError(field, value, message[:1].lower() + message[1:]) from None
 
     @classmethod
     def default(cls, field: str) -> Any:

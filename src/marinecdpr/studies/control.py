@@ -104,7 +104,7 @@ def control_study(
     *,
     latencies_s: Sequence[float] = (0.0, 0.01, 0.02, 0.05, 0.1),
     predictions: Sequence[str] = PREDICTIONS,
-    pose_from: Sequence[str] = ("sensor",),
+    pose_from: Sequence[str] = ("sensor", "encoders"),
     rate_hz: float = 100.0,
     duration_s: float = 60.0,
     settle_s: float | None = None,
@@ -122,6 +122,7 @@ def control_study(
         MRU latencies, s (>= 0).
     predictions : sequence of {"none", "kinematic", "ar"}
     pose_from : sequence of {"sensor", "encoders"}
+        Default both, as ``control-study``'s (:class:`~marinecdpr.commands.control_study.ControlStudySpec`).
     rate_hz : float
         The MRU's samples per second.
     duration_s : float
