@@ -9,11 +9,8 @@ from pathlib import Path
 import marinecdpr
 
 PACKAGE = Path(marinecdpr.__file__).parent
-MODULES = {}  # dotted module name -> the folder (package) that holds it
-for _path in PACKAGE.rglob("*.py"):
-    _parts = _path.relative_to(PACKAGE.parent).with_suffix("").parts
-    _name = ".".join(_parts[:-1] if _parts[-1] == "__init__" else _parts)
-    MODULES[_name] = ".".join(_parts[:-1])
+MODULES = {".".join(p.parts[:-1] if p.parts[-1] == "__init__" else p.parts)  # dotted names of the modules
+           for p in (q.relative_to(PACKAGE.parent).with_suffix("") for q in PACKAGE.rglob("*.py"))}
 
 
 def _private(name: str) -> bool:
@@ -31,11 +28,11 @@ def private_names_across_packages(path: Path, source: str | None = None) -> list
     found, aliases = [], {}
 
     def crossing(module: str) -> bool:
-        # the module (or package) imported lies outside the importer's folder
-        if module in MODULES:
-            folder = MODULES[module] if not (PACKAGE.parent / module.replace(".", "/")).is_dir() else module
-            return folder != home
-        return False
+        # the module (or package) lies outside the importer's folder; a package is its own folder
+        if not module.startswith("marinecdpr"):
+            return False
+        folder = module if (PACKAGE.parent / module.replace(".", "/")).is_dir() else module.rpartition(".")[0]
+        return folder != home
 
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):

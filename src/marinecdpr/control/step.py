@@ -185,7 +185,7 @@ def pose_from_encoders(meas, model, work, gains):
             for i in range(J.shape[0]):
                 s += J[i, a] * J[i, c]
             G[a, c] = s
-    K._lu_det_solve(G, b)
+    K.lu_det_solve(G, b)
     work.qdot[:] = 0.0
     for a in range(k):
         work.qdot[model.controlled[a]] = b[a]

@@ -72,7 +72,7 @@ _cache = True
 
 
 @njit(cache=_cache)
-def _lu_det_solve(A, b):
+def lu_det_solve(A, b):
     """Determinant of A (k, k) and, in b, the solution of A x = b (Gaussian elimination with
     partial pivoting; A and b are overwritten). For the small systems here it is an order of
     magnitude faster than a LAPACK call."""
@@ -1168,7 +1168,7 @@ def forward_solve_step(J, T, bias, M, controlled, out, reaction):
         fc[a] = cw[controlled[a]] - bias[controlled[a]]
         for b in range(k):
             Mc[a, b] = M[controlled[a], controlled[b]]
-    _lu_det_solve(Mc, fc)
+    lu_det_solve(Mc, fc)
     out[:] = 0.0
     for a in range(k):
         out[controlled[a]] = fc[a]

@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marinecdpr.geometry import _vec as vec
+from marinecdpr.geometry import vec
 
 __all__ = [
     "TensionSolution",

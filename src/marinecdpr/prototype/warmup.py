@@ -97,7 +97,7 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
     kernels, whose types do not depend on n, sharing the solver's), and the controller's
     records put in their list on stand-in plans (its unboxing of ~90 arrays)."""
     from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import _held, controller_records, stand_in_plans
+    from marinecdpr.control.controller import controller_records, held_records, stand_in_plans
     from marinecdpr.model.kernels import tensions_step
     from marinecdpr.planning.planner import plan_at
 
@@ -107,12 +107,12 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
         solver_ready.set()
     for base_model in ("moving", "fixed"):
         plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
-    entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
+    entry_point(held_records, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
 
 
 def stand_in_held(scenario, n: int):
     """An empty typed list of the type of the controller's records' list
-    (:func:`~marinecdpr.control.controller._held`) for n steps, from stand-in plans: what a
+    (:func:`~marinecdpr.control.controller.held_records`) for n steps, from stand-in plans: what a
     step is compiled for, without compiling the records' unboxing."""
     from numba import typeof
     from numba.typed import List
