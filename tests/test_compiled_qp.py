@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import linprog
 
 import marinecdpr
-from marinecdpr.model import kernels as K
+from marinecdpr.model import tension_solver as K
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.model.tension import TENSION_TOLERANCE, distribute_tensions

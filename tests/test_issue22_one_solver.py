@@ -12,7 +12,7 @@ called singular.
 import numpy as np
 import pytest
 
-from marinecdpr.model import kernels as K
+from marinecdpr.model import tension_solver as K
 from marinecdpr.model.tension import EXACT_METHODS, distribute_tensions, full_rank, pseudo_inverse_tensions
 from tension_reference import reference_distribute_tensions, reference_full_rank, reference_pseudo_inverse
 from test_tension import random_problem

@@ -88,17 +88,17 @@ def test_the_checker_sees_each_kind_of_crossing():
     source = ("from marinecdpr.control.controller import _held, held\n"
               "from ...control import _records\n"
               "from marinecdpr.geometry._vec import norm\n"
-              "import marinecdpr.model.kernels as kern\n"
+              "import marinecdpr.model.rigid_body as rb\n"
               "from marinecdpr.control import step\n"
               "def f():\n"
               "    from ..rig import _local\n"
               "    from .geometry import _same_folder\n"
-              "    return kern._x + step._y + step.public\n")
+              "    return rb._x + step._y + step.public\n")
     assert private_names_across_packages(here, source) == [
         "marinecdpr/prototype/parts/example.py:1 marinecdpr.control.controller._held",
         "marinecdpr/prototype/parts/example.py:2 marinecdpr.control._records",
         "marinecdpr/prototype/parts/example.py:3 marinecdpr.geometry._vec",
         "marinecdpr/prototype/parts/example.py:7 marinecdpr.prototype.rig._local",
         "marinecdpr/prototype/parts/example.py:9 marinecdpr.control.step._y",
-        "marinecdpr/prototype/parts/example.py:9 marinecdpr.model.kernels._x",
+        "marinecdpr/prototype/parts/example.py:9 marinecdpr.model.rigid_body._x",
     ]

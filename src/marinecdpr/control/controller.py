@@ -35,9 +35,9 @@ from marinecdpr.control.records import (
 from marinecdpr.control.step import control_step
 from marinecdpr.errors import InfeasibleError
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C
+from marinecdpr.model.tension_solver import METHOD_CODES
 from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
@@ -128,7 +128,7 @@ def robot_model(scenario: Scenario) -> RobotModel:
         mass=robot.mass_kg, I_PP=np.ascontiguousarray(robot.inertia), g=scenario.environment.gravity_m_s2,
         origin=frame_origin_of(scenario),
         controlled=np.asarray(robot.controlled, dtype=np.int64), lo=robot.tension_min, hi=robot.tension_max,
-        method=K.METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
+        method=METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
         damping=cables.damping_N_s_m, pulleys=robot.has_pulleys, z_C=np.ascontiguousarray(robot.pulley_axes),
         radius=np.ascontiguousarray(robot.pulley_radii), exits=np.zeros((robot.n_cables, 3)),
         wraps=np.zeros(robot.n_cables))

@@ -76,16 +76,16 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
 
 def tension_solver_args(scenario) -> tuple:
     """Arguments of the controller's per-step tension solver
-    (:func:`~marinecdpr.model.kernels.tensions_step`) with the types its step passes: J~,
+    (:func:`~marinecdpr.model.tension_solver.tensions_step`) with the types its step passes: J~,
     the wrench, the controlled DOFs, the limits, the method, the tensions and their working
     memory, as :func:`~marinecdpr.control.controller.controller_parts` makes them."""
     from marinecdpr.control.controller import robot_model
-    from marinecdpr.model import kernels as K
+    from marinecdpr.model.tension_solver import tension_work
 
     model = robot_model(scenario)
     m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
     return (np.zeros((m, 6)), np.zeros(6), model.controlled, model.lo, model.hi, model.method, np.zeros(m),
-            K.tension_work(m, k))
+            tension_work(m, k))
 
 
 def planner_copy(scenario, n: int, solver_ready) -> None:
@@ -98,7 +98,7 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
     records put in their list on stand-in plans (its unboxing of ~90 arrays)."""
     from marinecdpr.compiled_cache import entry_point
     from marinecdpr.control.controller import controller_records, held_records, stand_in_plans
-    from marinecdpr.model.kernels import tensions_step
+    from marinecdpr.model.tension_solver import tensions_step
     from marinecdpr.planning.planner import plan_at
 
     try:
