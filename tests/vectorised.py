@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from marinecdpr.geometry import _vec as vec
+from marinecdpr.geometry import vec
 from marinecdpr.geometry.kinematics import CableKinematics
 from marinecdpr.geometry.rotations import skew
 from marinecdpr.model.dynamics import AbsoluteMotion, WrenchTerms, uncontrolled

@@ -8,7 +8,7 @@ import numpy as np
 from typer.testing import CliRunner
 
 import marinecdpr
-from marinecdpr.motion.basemotion import _rao
+from marinecdpr.motion.basemotion import rao_from_source as _rao
 from marinecdpr.cli.app import app
 from marinecdpr.motion.rao import write_rao_csv
 

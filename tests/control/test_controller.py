@@ -11,7 +11,7 @@ from marinecdpr.errors import InfeasibleError
 from marinecdpr.control import Controller
 from marinecdpr.control.controller import plans
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model.kernels import METHOD_CODES
+from marinecdpr.model.tension_solver import METHOD_CODES
 from marinecdpr.motion.basemotion import evaluate_base_motion
 
 from conftest import make_scenario

@@ -113,7 +113,7 @@ def test_a_turned_frame_through_the_commands(tmp_path):
     from typer.testing import CliRunner
 
     from marinecdpr.cli.app import app
-    from marinecdpr.scenario.importing.common import _plain
+    from marinecdpr.scenario.importing.common import toml_plain as _plain
     from tests.conftest import one_line_exit_2
 
     runner = CliRunner()

@@ -424,7 +424,7 @@ def test_the_search_finds_the_optimum_known_in_closed_form(tmp_path):
     with 8 generations, up to 7.7 %), its hours within 0.5 % of the job's at v*."""
     import tomli_w
 
-    from marinecdpr.scenario.importing.common import _plain
+    from marinecdpr.scenario.importing.common import toml_plain as _plain
 
     band = _plain(marinecdpr.load_scenario("paper_clean").model_dump(exclude_none=True))
     band["cleaning"]["surface"]["stations_m"] = [-6.0, 6.0]

@@ -35,9 +35,9 @@ from marinecdpr.control.records import (
 from marinecdpr.control.step import control_step
 from marinecdpr.errors import InfeasibleError
 from marinecdpr.geometry.rotations import matrix_from_euler
-from marinecdpr.model import kernels as K
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C
+from marinecdpr.model.tension_solver import METHOD_CODES
 from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
@@ -45,7 +45,8 @@ from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "plans", "stand_in_plans",
-           "planned_brush_loads", "known_loads", "step_loads", "reference", "predictor_options"]
+           "planned_brush_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
+           "step_from_arrays", "step_entry_point"]
 
 
 @dataclass(frozen=True)
@@ -127,7 +128,7 @@ def robot_model(scenario: Scenario) -> RobotModel:
         mass=robot.mass_kg, I_PP=np.ascontiguousarray(robot.inertia), g=scenario.environment.gravity_m_s2,
         origin=frame_origin_of(scenario),
         controlled=np.asarray(robot.controlled, dtype=np.int64), lo=robot.tension_min, hi=robot.tension_max,
-        method=K.METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
+        method=METHOD_CODES[scenario.planning.method], EA=float(cables.stiffness_EA_N or np.inf),
         damping=cables.damping_N_s_m, pulleys=robot.has_pulleys, z_C=np.ascontiguousarray(robot.pulley_axes),
         radius=np.ascontiguousarray(robot.pulley_radii), exits=np.zeros((robot.n_cables, 3)),
         wraps=np.zeros(robot.n_cables))
@@ -234,18 +235,54 @@ def controller_records(scenario: Scenario, p: Plans, n: int, *, closed: bool) ->
 
 
 @njit(cache=True)
-def _held(parts):
+def held_records(parts):
     """The records in a one-item typed list: passed to a compiled function, the list is
-    one pointer, where the records are ~90 arrays to convert at every call (~7 us)."""
+    one pointer, where the records are ~90 arrays to convert at every call (~7 us).
+
+    Parameters
+    ----------
+    parts : ControllerParts
+        The controller's records (:func:`controller_parts`).
+
+    Returns
+    -------
+    numba.typed.List
+        One item, ``parts``; what :func:`step_from_arrays` and
+        :func:`~marinecdpr.control.step.control_step` take as ``held``.
+    """
     held = List()
     held.append(parts)
     return held
 
 
 @njit(cache=True)
-def _step(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
+def step_from_arrays(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
     """:func:`control_step` on a measurement given as arrays (copied into the measurement
-    record); ``held``: :func:`_held`'s list of the controller's records."""
+    record); ``held``: :func:`held_records`'s list of the controller's records.
+
+    Parameters
+    ----------
+    k : int
+        The step's index.
+    h : float
+        The step, s.
+    held : numba.typed.List
+        :func:`held_records` of the controller's records.
+    x, R, v, w : ndarray, shapes (3,), (3, 3), (3,), (3,)
+        The measured pose and twist of the platform in C (m, rotation R_PC, m/s, rad/s).
+    eta : ndarray, shape (3, 6)
+        The ship's measured eta, eta', eta'' (m and rad, per s and s^2).
+    clock : ndarray, shape (3,)
+        The exchange's time t_k, the pose's time stamp and the ship sample's, s.
+    L, Ldot, T : ndarray, shape (n_cables,)
+        The encoders' lengths (m) and rates (m/s), the measured tensions (N).
+
+    Returns
+    -------
+    int
+        1 on a fallback to the plan's tensions, else 0 (:func:`control_step`); the
+        commands are in the records' ``cmd``.
+    """
     ctl = borrowed_first(held)  # the records read in place from their list: no reference counting of their arrays
     meas = ctl.meas
     for i in range(L.shape[0]):
@@ -277,12 +314,12 @@ def _array(a, name: str, shape: tuple) -> np.ndarray:
 _FLOAT = np.dtype(np.float64)
 
 
-def _entry_point(held, m: int):
-    """:func:`_step` compiled for these records (:func:`~marinecdpr.compiled_cache.entry_point`,
+def step_entry_point(held, m: int):
+    """:func:`step_from_arrays` compiled for these records (:func:`~marinecdpr.compiled_cache.entry_point`,
     without running a step); a measurement of another dtype or layout would not be
     converted, so :meth:`Controller.step` converts its arguments first."""
     z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
-    return entry_point(_step, (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm))
+    return entry_point(step_from_arrays, (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm))
 
 
 class Controller:
@@ -320,8 +357,8 @@ class Controller:
         self._m = scenario.robot.n_cables
         self._encoders = self.parts.gains.pose_from == ENCODERS
         self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(self._m)
-        self._held = _held(self.parts)
-        self._call = _entry_point(self._held, self._m)  # m given: a typed list read from Python compiles its getitem
+        self._held = held_records(self.parts)
+        self._call = step_entry_point(self._held, self._m)  # m given: a typed list read from Python compiles its getitem
 
     @property
     def held(self):

@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 
 from marinecdpr.geometry.forward import ForwardWork, forward_work
-from marinecdpr.model import kernels as K
+from marinecdpr.model.tension_solver import TensionWork, tension_work
 from marinecdpr.motion.prediction import Predictor
 
 __all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "ControllerParts",
@@ -61,7 +61,7 @@ class RobotModel(NamedTuple):
     c_C : (m, 3) frame anchors in C. p_P : (m, 3) platform anchors in P. mass : kg.
     I_PP : (3, 3) inertia about the centre of mass in P. g : gravity, m/s^2 (> 0).
     origin : (3,) C's origin in S. controlled : (k,) int indices of the controlled DOFs.
-    lo, hi : (m,) tension limits, N. method : a ``kernels.METHOD_CODES`` value.
+    lo, hi : (m,) tension limits, N. method : a ``tension_solver.METHOD_CODES`` value.
     EA : the cables' axial stiffness, N (inf: inextensible). damping : N s/m.
     pulleys : any cable leaves over a pulley; z_C (m, 3) their swivel axes in C and radius
     (m,) their radii, m (0: a point); exits (m, 3) and wraps (m,): scratch for the exit
@@ -176,7 +176,7 @@ class Work(NamedTuple):
     wrench_parts: np.ndarray  # (5, 6)
     L: np.ndarray
     J: np.ndarray
-    tension: K.TensionWork
+    tension: TensionWork
     forecast: np.ndarray  # (3, 6) the ship's motion at mid-step, predicted
     q: np.ndarray  # (6,) the pose from the encoders (x, y, z, rx, ry, rz), the next warm start
     qdot: np.ndarray  # (6,) its rate
@@ -233,7 +233,7 @@ def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4
     return Work(x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3), w=np.empty(3), R_SO=np.empty((3, 3)),
                 w_s=np.empty(3), al_s=np.empty(3), eta=np.empty((2, 6)), a_cmd=np.empty((2, 3)),
                 m3=np.empty((3, 3, 3)), v3=np.zeros((4, 3)), wrench=np.empty(6), wrench_parts=np.empty((5, 6)),
-                L=np.empty(m), J=np.empty((m, 6)), tension=K.tension_work(m, k), forecast=np.zeros((3, 6)),
+                L=np.empty(m), J=np.empty((m, 6)), tension=tension_work(m, k), forecast=np.zeros((3, 6)),
                 q=np.zeros(6), qdot=np.zeros(6), Lg=np.empty(m), E=np.empty((3, 3)), Gk=np.empty((k, k)),
                 bk=np.empty(k), fk=forward_work(m, k, fk_atol_m, fk_rtol) if encoders else NoForwardWork(unused=0))
 

@@ -11,7 +11,7 @@ user's own loop. In order:
    autoregressive predictor);
 2. computed torque on the error to the plan at mid-step, a = a_ref + Kd e_v + Kp e (the
    rotation error in C), and the wrench it needs (eq. 15, with the known loads);
-3. the tension method (every method, exact for any redundancy: ``kernels.tensions_step``),
+3. the tension method (every method, exact for any redundancy: ``tension_solver.tensions_step``),
    or the plan's tensions where it has no solution within limits;
 4. the unstretched length a length-controlled winch pays out for that tension, and the
    lead on the winches' lag.
@@ -27,9 +27,12 @@ from numba.extending import overload
 from marinecdpr.borrowed import borrowed_first
 from marinecdpr.geometry.elastic import stretched_length, unstretched_length
 from marinecdpr.geometry.forward import pose_from_lengths_step
+from marinecdpr.geometry.kinematics import cables_step
 from marinecdpr.geometry.pulley import pulleys_step
 from marinecdpr.geometry.rotations import angle_rate_matrix, euler_step
-from marinecdpr.model import kernels as K
+from marinecdpr.model.linalg import lu_det_solve
+from marinecdpr.model.rigid_body import sum_wrench_parts, wrench_parts_step
+from marinecdpr.model.tension_solver import tensions_step
 from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
 
@@ -70,7 +73,7 @@ def cables_at(x, R, model, L, J):
     if model.pulleys:
         pulleys_step(x, R, model.c_C, model.z_C, model.radius, model.p_P, L, J, model.exits, model.wraps)
     else:
-        K.cables_step(x, R, model.c_C, model.p_P, L, J)
+        cables_step(x, R, model.c_C, model.p_P, L, J)
 
 
 @njit(cache=_cache, inline="always")
@@ -110,14 +113,14 @@ def estimate_state(k, h, meas, ref, work, how, predictor):
             for i in range(6):
                 eta_p[0, i] = fc[0, i]
                 eta_p[1, i] = fc[1, i]
-            K.euler_step(eta_p[0, 3:], eta_p[1, 3:], fc[2, 3:], work.R_SO, work.w_s, work.al_s)
+            euler_step(eta_p[0, 3:], eta_p[1, 3:], fc[2, 3:], work.R_SO, work.w_s, work.al_s)
             return fc[2, :3]
     # kinematic: over the sample's age plus half a step; none: the sample as if it were now
     hs = (meas.clock[0] - meas.clock[2]) + 0.5 * h if how != 0 else 0.0
     for i in range(6):
         eta_p[0, i] = eta[0, i] + hs * eta[1, i]
         eta_p[1, i] = eta[1, i] + hs * eta[2, i]
-    K.euler_step(eta_p[0, 3:], eta_p[1, 3:], eta[2, 3:], work.R_SO, work.w_s, work.al_s)
+    euler_step(eta_p[0, 3:], eta_p[1, 3:], eta[2, 3:], work.R_SO, work.w_s, work.al_s)
     return eta[2, :3]
 
 
@@ -185,7 +188,7 @@ def pose_from_encoders(meas, model, work, gains):
             for i in range(J.shape[0]):
                 s += J[i, a] * J[i, c]
             G[a, c] = s
-    K._lu_det_solve(G, b)
+    lu_det_solve(G, b)
     work.qdot[:] = 0.0
     for a in range(k):
         work.qdot[model.controlled[a]] = b[a]
@@ -217,12 +220,12 @@ def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predicto
                      + gains.kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
     f_k, m_k = work.v3[2], work.v3[3]
     disturbance_C(loads.f[k], loads.m[k], loads.in_P, R_m, f_k, m_k)
-    K.wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
+    wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
                         model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
-    K.sum_wrench_parts(work.wrench_parts, work.wrench)
+    sum_wrench_parts(work.wrench_parts, work.wrench)
     cables_at(x_m, R_m, model, work.L, work.J)
     # every method, exact for any redundancy, compiled (the planning layer's solvers)
-    if K.tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
+    if tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
                        work.tension):
         return 0
     for i in range(cmd.T_cmd.shape[0]):  # element by element: a slice copy compiles numba's shape-error text (1.4 s)

@@ -14,7 +14,7 @@ The model is written once, as numba-compiled functions of one step: one cable
 (:func:`cable_geometry`, eqs. 2 and 6; :func:`length_rate`, eq. 5), every cable
 (:func:`cables_step`, :func:`length_rates_step`) and J~'s rows in O
 (:func:`rows_in_O_step`, eq. 14). The closed loop calls them step by step
-(:mod:`marinecdpr.model.kernels` re-exports :func:`cables_step`); the array functions
+(:func:`marinecdpr.control.step.control_step` calls :func:`cables_step`); the array functions
 (:func:`cable_kinematics`, :func:`global_jacobian`) run them in compiled loops over the
 steps. Those take and return arrays shaped ``(n_steps, ...)``; the loops hand each step
 views of time-last buffers (the per-step functions are inlined there, so a loop over the

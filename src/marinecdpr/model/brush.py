@@ -194,7 +194,7 @@ def brush_velocity_step(v_PC, omega_PC, R_PC, offset_P, out):
 
 
 # --------------------------------------------------------------------- compiled loops
-# Time-last, C-contiguous buffers (as kernels' *_series): step k gets views of column k.
+# Time-last, C-contiguous buffers (as rigid_body's *_series): step k gets views of column k.
 
 
 @njit(cache=_cache)

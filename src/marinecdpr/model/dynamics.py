@@ -21,10 +21,10 @@ The fixed-base (traditional) model is the same with the ship still, so that
 C_s = 0 and the gravity tilt vanishes.
 
 The equations are written once, as compiled functions of one step in
-:mod:`~marinecdpr.model.kernels` (:func:`~marinecdpr.model.kernels.wrench_parts_step`,
-:func:`~marinecdpr.model.kernels.forward_step`, ...), which the closed loop calls step by
+:mod:`~marinecdpr.model.rigid_body` (:func:`~marinecdpr.model.rigid_body.wrench_parts_step`,
+:func:`~marinecdpr.model.rigid_body.forward_step`, ...), which the closed loop calls step by
 step. The functions here take whole time series, shaped ``(n_steps, ...)``, and run those
-per-step functions in compiled loops over the steps (``kernels.wrench_series`` and the
+per-step functions in compiled loops over the steps (``rigid_body.wrench_series`` and the
 like), reading and writing time-last buffers: the arrays they return are views of them
 (``docs/conventions.md``, "Array layout").
 """
@@ -36,7 +36,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from marinecdpr.model import kernels as K
+from marinecdpr.model import rigid_body as RB
 from marinecdpr.motion.ship import ShipMotion
 
 __all__ = [
@@ -135,7 +135,7 @@ def absolute_motion(
     """
     xt = _time_last(x_PC)
     out = np.empty((5, 3, xt.shape[1]))
-    K.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta),
+    RB.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta),
                       _time_last(ship.eta_dot), _time_last(ship.eta_ddot), _time_last(ship.R_SO),
                       _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _const(frame_origin_S),
                       out)  # eqs. (7)-(11)
@@ -178,7 +178,7 @@ def inertial_frame_terms(
     wt = _time_last(omega_PO_O)
     n = wt.shape[1]
     Mt, Ct, Gt = np.empty((6, 6, n)), np.empty((6, 6, n)), np.empty((6, n))
-    K.inertial_series(_time_last(R_SO), _time_last(R_PC), wt, float(mass), _const(I_PP), float(gravity),
+    RB.inertial_series(_time_last(R_SO), _time_last(R_PC), wt, float(mass), _const(I_PP), float(gravity),
                       Mt, Ct, Gt)  # eq. (13)
     return InertialTerms(M=Mt.transpose(2, 0, 1), C=Ct.transpose(2, 0, 1), G=Gt.T)
 
@@ -200,7 +200,7 @@ def spatial_inertia(R_PC: np.ndarray, mass: float, I_PP: np.ndarray) -> np.ndarr
     """
     Rt = _time_last(R_PC)
     Mt = np.empty((6, 6, Rt.shape[2]))
-    K.spatial_inertia_series(Rt, float(mass), _const(I_PP), Mt)
+    RB.spatial_inertia_series(Rt, float(mass), _const(I_PP), Mt)
     return Mt.transpose(2, 0, 1)
 
 
@@ -225,7 +225,7 @@ def disturbance_in_C(
     # only the frame's own rotation is read (the other may be None): R_SO^T for O, R_PC for P
     in_O = frame == "O"
     R = _time_last(R_SO if in_O else R_PC)
-    K.disturbance_series(ft, _time_last(m), K.FRAME_CODES["O" if in_O else "P"], R, R, fCt, mCt)
+    RB.disturbance_series(ft, _time_last(m), RB.FRAME_CODES["O" if in_O else "P"], R, R, fCt, mCt)
     return fCt.T, mCt.T
 
 
@@ -275,7 +275,7 @@ def wrench_terms(
     ft = np.zeros((3, n)) if f_ext_C is None else _time_last(f_ext_C)
     mt = np.zeros((3, n)) if m_ext_C is None else _time_last(m_ext_C)
     out = np.empty((5, 6, n))
-    K.wrench_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(R_PC), _time_last(ship.R_SO),
+    RB.wrench_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(R_PC), _time_last(ship.R_SO),
                     _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _time_last(ship.a_SO_O),
                     _const(frame_origin_S), float(mass), _const(I_PP), float(gravity), ft, mt,
                     out)  # eqs. (9)-(16)
@@ -323,5 +323,5 @@ def forward_dynamics(
     c = np.asarray(controlled, dtype=np.int64)
     acc_t, react_t = np.empty((6, n)), np.empty((6 - c.size, n))
     Jt = np.ascontiguousarray(np.asarray(J_tilde, dtype=float).transpose(2, 1, 0))  # (6, n_cables, n)
-    K.forward_series(Tt, Jt, _time_last(M), _time_last(bias), c, acc_t, react_t)
+    RB.forward_series(Tt, Jt, _time_last(M), _time_last(bias), c, acc_t, react_t)
     return acc_t.T, react_t.T

@@ -52,7 +52,7 @@ equations of motion are M_s(R) nu' + bias(q, nu, t) = J~^T T, w = M_s nu'_ref + 
 load's stiffness and damping are K_load = dw/dq and D_load = dw/dnu at the reference
 acceleration (a perturbation of the pose or the twist changes the wrench the cables must
 supply; the linearised restoring wrench is -(K + K_load) dq - (D + D_load) dnu). From
-:func:`~marinecdpr.model.kernels.wrench_parts_step`, with omega_s, alpha_s the ship's angular
+:func:`~marinecdpr.model.rigid_body.wrench_parts_step`, with omega_s, alpha_s the ship's angular
 velocity and acceleration (in S = C's axes), r = x_CS + x_PC, I_C = R_PC I_PP R_PC^T,
 W = omega_s + omega_PC, beta = alpha_PC + alpha_s + omega_s x omega_PC:
 

@@ -18,7 +18,7 @@ Methods (``method=``):
     The paper's eq. (20): minimise sum_i (T_i - E_i)^2 with E_i = (T_min,i + T_max,i)/2,
     within limits, exactly, for any redundancy: the unconstrained optimum, and where it
     breaks a limit the quadratic programme solved by a compiled dual active-set method
-    (:func:`marinecdpr.model.kernels.least_distance`). For r = 1 this is the convex
+    (:func:`marinecdpr.model.tension_solver.least_distance`). For r = 1 this is the convex
     objective's minimiser clipped to [lambda_low, lambda_high] (MODEL_NOTES' corrected
     bounds), which ``tests/tension_reference.py`` computes so as the check.
 ``closed_form``
@@ -27,7 +27,7 @@ Methods (``method=``):
 ``improved_closed_form``
     Pott's improved closed form: while a tension breaks a limit, fix the worst one
     at that limit, remove it, and repeat on the remaining cables (compiled,
-    :func:`marinecdpr.model.kernels.improved_closed_form`).
+    :func:`marinecdpr.model.tension_solver.improved_closed_form`).
 ``minimum_norm``
     Minimise sum_i T_i^2 within limits (exact, as ``minimum_variance``).
 
@@ -39,9 +39,9 @@ singular pose its rank tests can call independent limits dependent), the same pr
 solved again at that step only, in the null space of J~^T as a least-distance programme
 (:func:`exact_fallback`), and its tensions kept if they pass the same checks.
 
-Every method is written once, compiled (:func:`marinecdpr.model.kernels.solve_tensions`),
+Every method is written once, compiled (:func:`marinecdpr.model.tension_solver.solve_tensions`),
 with one rank test (:func:`full_rank`): this module runs it over time series, the closed
-loop at every step (:func:`marinecdpr.model.kernels.tensions_step`), so a plan and the loop
+loop at every step (:func:`marinecdpr.model.tension_solver.tensions_step`), so a plan and the loop
 give the same tensions, bit for bit, at the same J~ and wrench, and agree on which poses
 are singular.
 """
@@ -52,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marinecdpr.geometry import _vec as vec
+from marinecdpr.geometry import vec
 
 __all__ = [
     "TensionSolution",
@@ -113,9 +113,9 @@ def _stack(T: list, n: int) -> np.ndarray:
 def _series(J: np.ndarray, w: np.ndarray, method: int, target: np.ndarray, lo: np.ndarray, hi: np.ndarray,
             ok: np.ndarray | None, tol: float) -> TensionSolution:
     """The compiled solver of every method over the steps
-    (:func:`marinecdpr.model.kernels.tension_series`, the code the closed loop runs per step).
+    (:func:`marinecdpr.model.tension_solver.tension_series`, the code the closed loop runs per step).
     ``lo``, ``hi``: (m,), or (m, n_steps) each step's own."""
-    from marinecdpr.model import kernels
+    from marinecdpr.model import tension_solver
 
     n, m, k = J.shape
     Jt = _time_last(J)
@@ -128,7 +128,7 @@ def _series(J: np.ndarray, w: np.ndarray, method: int, target: np.ndarray, lo: n
     def columns(a: np.ndarray) -> np.ndarray:  # (m, 1) or (m, n_steps), as the kernel takes them
         return np.ascontiguousarray(a.reshape(m, -1), dtype=float)
 
-    kernels.tension_series(Jt, np.asarray(wt, dtype=float), np.ascontiguousarray(target, dtype=float), columns(lo),
+    tension_solver.tension_series(Jt, np.asarray(wt, dtype=float), np.ascontiguousarray(target, dtype=float), columns(lo),
                            columns(hi), np.ascontiguousarray(ok, dtype=bool), method, tol, T, feasible)
     return TensionSolution(T.T, feasible)
 
@@ -159,7 +159,7 @@ def pseudo_inverse_tensions(J: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, n
 
 def full_rank(J: np.ndarray) -> np.ndarray:
     """Where J~ has full column rank: the one rank test of every tension method, in the
-    plan and in the closed loop (:func:`marinecdpr.model.kernels.gram_full_rank`: the
+    plan and in the closed loop (:func:`marinecdpr.model.linalg.gram_full_rank`: the
     eigenvalues of J~^T J~ with lambda_min / lambda_max > 1e-12). False at a singular pose.
 
     Parameters
@@ -218,7 +218,7 @@ def _null_vector(cols: list, n: int) -> list:
 
 
 _METHODS = ("pseudo_inverse", "closed_form", "minimum_variance", "minimum_norm", "improved_closed_form")
-"""The methods by their code in :data:`marinecdpr.model.kernels.METHOD_CODES`."""
+"""The methods by their code in :data:`marinecdpr.model.tension_solver.METHOD_CODES`."""
 
 
 def distribute_tensions(
@@ -593,7 +593,7 @@ def _headroom_one(N: np.ndarray, T_s: np.ndarray, lo: np.ndarray, hi: np.ndarray
     T_s : ndarray, shape (n_steps, n_cables)
     lo, hi : ndarray, shape (n_cables,)
     """
-    from marinecdpr.model.kernels import headroom_one_series
+    from marinecdpr.model.tension_solver import headroom_one_series
 
     out = np.empty(N.shape[0])
     headroom_one_series(np.ascontiguousarray(N, dtype=float), np.ascontiguousarray(T_s, dtype=float),

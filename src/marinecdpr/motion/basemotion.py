@@ -18,7 +18,8 @@ from marinecdpr.motion.ship import (
 from marinecdpr.scenario.fields import SHIP_DOFS
 from marinecdpr.scenario.schema import RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
-__all__ = ["evaluate_base_motion", "seen_by_frame", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of"]
+__all__ = ["evaluate_base_motion", "seen_by_frame", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of",
+           "rao_from_source"]
 
 
 def seen_by_frame(ship: ShipMotion, scenario) -> ShipMotion:
@@ -77,7 +78,7 @@ def evaluate_base_motion(
                 f"{config.file} covers {t0:g} s to {t1:g} s (shorten time.duration_s or move start_s)",
                 key="base_motion")
         return rec.evaluate(ask)
-    # time-last buffers (see _vec): one contiguous row per DOF
+    # time-last buffers (see geometry.vec): one contiguous row per DOF
     eta = np.zeros((6, t.size))
     eta_dot = np.zeros_like(eta)
     eta_ddot = np.zeros_like(eta)
@@ -97,7 +98,17 @@ def evaluate_base_motion(
 
 
 @lru_cache(maxsize=32)
-def _rao(source_json: str):
+def rao_from_source(source_json: str):
+    """The ship's RAOs (:class:`~marinecdpr.motion.rao.RAO`) a scenario's
+    ``[base_motion.rao]`` names, read or made once per source (the last 32 are kept).
+
+    Parameters
+    ----------
+    source_json : str
+        The :class:`~marinecdpr.scenario.schema.RAOSource` as JSON (hashable, for the cache):
+        a CSV table, a Capytaine dataset, or the box hull's dimensions (then on 600
+        frequencies from 0.02 to 6 rad/s and headings every 5 deg).
+    """
     from marinecdpr.motion.rao import box_hull_rao, read_capytaine, read_rao_csv
     from marinecdpr.scenario.schema import RAOSource
 
@@ -117,7 +128,7 @@ def _sea_record(config_json: str):
 
     c = SeaStateMotion.model_validate_json(config_json)
     return sea_record(
-        hs=c.hs_m, tp=c.tp_s, heading_deg=c.heading_deg, rao=_rao(c.rao.model_dump_json()),
+        hs=c.hs_m, tp=c.tp_s, heading_deg=c.heading_deg, rao=rao_from_source(c.rao.model_dump_json()),
         spectrum=c.spectrum, gamma=c.gamma,
         spreading_kind=None if c.spreading == "none" else c.spreading,
         spreading_exponent=c.spreading_exponent, n_directions=c.n_directions,

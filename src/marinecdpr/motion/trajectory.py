@@ -13,7 +13,7 @@ from functools import lru_cache
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.geometry import _vec as vec
+from marinecdpr.geometry import vec
 from marinecdpr.geometry.rotations import euler_kinematics
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.robot import frame_axes
@@ -149,7 +149,7 @@ def evaluate_trajectory(
     n = t.size
     if isinstance(config, CoverageTrajectory):
         return _coverage_motion(config, cleaning, t)
-    # time-last buffers (see _vec); the (n_steps, 6) views are taken at the end
+    # time-last buffers (see geometry.vec); the (n_steps, 6) views are taken at the end
     pose = np.zeros((6, n))
     pose_dot = np.zeros((6, n))
     pose_ddot = np.zeros((6, n))

@@ -1,6 +1,6 @@
 """The plants the prototype's parts act on, and the compiled loops that step them.
 
-``own``     this package's forward dynamics (:func:`~marinecdpr.model.kernels.forward_step`),
+``own``     this package's forward dynamics (:func:`~marinecdpr.model.rigid_body.forward_step`),
             integrated with classic RK4 on the platform's state relative to C, the ship
             moving exactly along its motion;
 ``mujoco``  the independent engine (:mod:`~marinecdpr.prototype.mujoco_model`): robot and
@@ -25,7 +25,7 @@ from numba import njit, types
 from marinecdpr.borrowed import borrowed
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.geometry.rotations import matrix_about_y_step, matrix_from_quaternion_step
-from marinecdpr.model import kernels as K
+from marinecdpr.model import rigid_body as RB
 from marinecdpr.prototype.parts import cable_tensions, diverged, exchange, mujoco_cables
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
@@ -77,10 +77,10 @@ def _own_rhs(y, j, plant, system, dy):
     for i in range(3):  # the extra loads (a brush's at the actual velocity), held over the step
         f_j[i] += bus.f_ext[i]
         m_j[i] += bus.m_ext[i]
-    K.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
+    RB.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
                   model.origin, model.mass, model.I_PP, model.g, f_j, m_j, bias)
     acc = np.empty(6)
-    K.forward_step(J, T, bias, R, model.mass, model.I_PP, model.controlled, acc)
+    RB.forward_step(J, T, bias, R, model.mass, model.I_PP, model.controlled, acc)
     dy[0:3] = v
     # q' = 1/2 (0, omega) * q with omega in the parent frame C
     dy[3] = -0.5 * (w[0] * q[1] + w[1] * q[2] + w[2] * q[3])

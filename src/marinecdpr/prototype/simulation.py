@@ -11,7 +11,7 @@ loop (:mod:`~marinecdpr.prototype.plants`) over blocks of steps.
 
 Plants (``simulation.plant``):
   ``mujoco``  the independent engine (:mod:`~marinecdpr.prototype.mujoco_model`), the default;
-  ``own``     this package's forward dynamics (:func:`~marinecdpr.model.kernels.forward_step`),
+  ``own``     this package's forward dynamics (:func:`~marinecdpr.model.rigid_body.forward_step`),
               integrated with classic RK4 on the platform's state relative to C.
 
 Runs:

@@ -76,16 +76,16 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
 
 def tension_solver_args(scenario) -> tuple:
     """Arguments of the controller's per-step tension solver
-    (:func:`~marinecdpr.model.kernels.tensions_step`) with the types its step passes: J~,
+    (:func:`~marinecdpr.model.tension_solver.tensions_step`) with the types its step passes: J~,
     the wrench, the controlled DOFs, the limits, the method, the tensions and their working
     memory, as :func:`~marinecdpr.control.controller.controller_parts` makes them."""
     from marinecdpr.control.controller import robot_model
-    from marinecdpr.model import kernels as K
+    from marinecdpr.model.tension_solver import tension_work
 
     model = robot_model(scenario)
     m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
     return (np.zeros((m, 6)), np.zeros(6), model.controlled, model.lo, model.hi, model.method, np.zeros(m),
-            K.tension_work(m, k))
+            tension_work(m, k))
 
 
 def planner_copy(scenario, n: int, solver_ready) -> None:
@@ -97,8 +97,8 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
     kernels, whose types do not depend on n, sharing the solver's), and the controller's
     records put in their list on stand-in plans (its unboxing of ~90 arrays)."""
     from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import _held, controller_records, stand_in_plans
-    from marinecdpr.model.kernels import tensions_step
+    from marinecdpr.control.controller import controller_records, held_records, stand_in_plans
+    from marinecdpr.model.tension_solver import tensions_step
     from marinecdpr.planning.planner import plan_at
 
     try:
@@ -107,12 +107,12 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
         solver_ready.set()
     for base_model in ("moving", "fixed"):
         plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
-    entry_point(_held, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
+    entry_point(held_records, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
 
 
 def stand_in_held(scenario, n: int):
     """An empty typed list of the type of the controller's records' list
-    (:func:`~marinecdpr.control.controller._held`) for n steps, from stand-in plans: what a
+    (:func:`~marinecdpr.control.controller.held_records`) for n steps, from stand-in plans: what a
     step is compiled for, without compiling the records' unboxing."""
     from numba import typeof
     from numba.typed import List

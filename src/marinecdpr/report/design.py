@@ -242,7 +242,7 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     screen's) and ``summary.json``."""
     import tomli_w
 
-    from marinecdpr.scenario.importing.common import _plain as _toml_plain
+    from marinecdpr.scenario.importing.common import toml_plain
     from marinecdpr.studies.design import as_built
     folder = Path(folder)
     spec = study.spec
@@ -266,7 +266,7 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                 f"the winch's torque over its drum\n")
         path = designs / f"{spec.name}_{rank}.toml"
         with atomic_path(path) as tmp:
-            Path(tmp).write_text(head + tomli_w.dumps(_toml_plain(data)), encoding="utf-8")
+            Path(tmp).write_text(head + tomli_w.dumps(toml_plain(data)), encoding="utf-8")
         paths.append(path)
     if study.front and spec.finalists:
         path = folder / "finalists.csv"

@@ -36,7 +36,7 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
     path = Path(path_or_name)
     if path.is_file():
         source = str(path)
-        text = _scenario_text(path, source)
+        text = scenario_text(path, source)
     elif str(path_or_name) in builtin_scenarios():
         source = f"built-in scenario '{path_or_name}'"
         builtin = resources.files("marinecdpr.scenario") / "builtin"
@@ -62,8 +62,16 @@ def load_scenario(path_or_name: str | Path = "paper") -> Scenario:
     return scenario_from_dict(data, source=source, base_dir=base_dir)
 
 
-def _scenario_text(path: Path, source: str, max_bytes: int = 64 * 2**20) -> str:
-    """A scenario file's text: UTF-8 (a byte-order mark dropped), no NUL byte, at most 64 MiB."""
+def scenario_text(path: Path, source: str, max_bytes: int = 64 * 2**20) -> str:
+    """A scenario file's text: UTF-8 (a byte-order mark dropped), no NUL byte, at most
+    ``max_bytes`` (64 MiB).
+
+    Raises
+    ------
+    ScenarioError
+        One line naming ``source`` and what is wrong (unreadable, too large, a NUL byte or
+        not UTF-8, with the line).
+    """
     from marinecdpr.textfiles import position
 
     try:

@@ -631,7 +631,7 @@ class Scenario(_Model):
         data = self.model_dump(exclude_none=True)
         for key, value in sections.items():
             data[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
-        return _validated(data)
+        return validated_scenario(data)
 
     def with_updates(self, section: str, **values: Any) -> "Scenario":
         """A validated copy with some keys of one section or sub-section changed, the others
@@ -652,10 +652,18 @@ class Scenario(_Model):
                 node.pop(key, None)
             else:
                 node[key] = value.model_dump(exclude_none=True) if isinstance(value, BaseModel) else value
-        return _validated(data)
+        return validated_scenario(data)
 
 
-def _validated(data: dict) -> Scenario:
+def validated_scenario(data: dict) -> Scenario:
+    """A :class:`Scenario` from nested dicts (as ``model_dump`` writes them), without a
+    source's base folder: file paths are taken as they stand.
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the key (:func:`~marinecdpr.scenario.messages.scenario_error`).
+    """
     try:
         return Scenario.model_validate(data)
     except ValidationError as exc:

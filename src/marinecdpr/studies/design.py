@@ -42,7 +42,7 @@ from scipy.fft import next_fast_len
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
 from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
-from marinecdpr.scenario.schema import Scenario, _validated
+from marinecdpr.scenario.schema import Scenario, validated_scenario
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
@@ -127,7 +127,7 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
 
     from pydantic import ValidationError
 
-    from marinecdpr.scenario.loading import _scenario_text, builtin_scenarios, load_scenario
+    from marinecdpr.scenario.loading import scenario_text, builtin_scenarios, load_scenario
     from marinecdpr.scenario.messages import scenario_error
     from marinecdpr.studies.surface import surface_patches
 
@@ -143,7 +143,7 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
                             + (f"did you mean {close[0]!r}? " if close else "")
                             + f"built-in studies: {', '.join(known)})", source=src)
     try:
-        data = tomllib.loads(_scenario_text(path, src))
+        data = tomllib.loads(scenario_text(path, src))
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"not valid TOML: {exc}", source=src) from None
     except RecursionError:  # tomllib recurses into nested arrays and inline tables
@@ -408,7 +408,7 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     data.update(robot=robot, cleaning=cleaning, name=f"{spec.name}_candidate",
                 time=dict(data["time"], duration_s=duration),
                 base_motion=dict(data["base_motion"], record_s=record))
-    return _validated(data)
+    return validated_scenario(data)
 
 
 def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | None = None) -> Scenario:
@@ -464,7 +464,7 @@ def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | N
                            f"{winch.drum_radius_m:g} m), rope {rope.name} (EA {rope.ea_N:g} N, "
                            f"{rope.weight_N_m:g} N/m, breaking {rope.breaking_N:g} N over {rope.safety_factor:g}); "
                        f"{_cables_said(model, straight, sag, span)}")
-    return _validated(data)
+    return validated_scenario(data)
 
 
 def _cables_said(model: str, straight: bool, sag: float, span: float) -> str:

@@ -145,10 +145,10 @@ machine, 2026-12-04: 20.3 s compiling at once (:func:`compile_apart`), 26.1 s in
 def latency_kernels_cached() -> bool:
     """False if timing the controller must first compile its step and the timed loop
     (:func:`~marinecdpr.prototype.simulation.compiled_cached`)."""
-    from marinecdpr.control.controller import _step
+    from marinecdpr.control.controller import step_from_arrays
     from marinecdpr.prototype.simulation import compiled_cached
 
-    return compiled_cached(_step, _timed_steps)
+    return compiled_cached(step_from_arrays, _timed_steps)
 
 
 def compile_apart(scenario: Scenario) -> bool:
@@ -161,7 +161,7 @@ def compile_apart(scenario: Scenario) -> bool:
     (:func:`latency_kernels_cached`) or work cannot go to a forked process."""
     from marinecdpr import forked
     from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import _entry_point
+    from marinecdpr.control.controller import step_entry_point
     from marinecdpr.prototype.warmup import WARMUP_STEPS, compile_at_once, stand_in_held
 
     if latency_kernels_cached() or not forked.can_fork():
@@ -170,7 +170,7 @@ def compile_apart(scenario: Scenario) -> bool:
     held = stand_in_held(scenario, n)
     z3, z33 = np.zeros((1, 3)), np.zeros((1, 3, 3))
     timed = (scenario.time.step_s, held, z3, z33, z3, z3, np.zeros((1, 3, 6)), np.zeros(1, dtype=np.uint64))
-    compile_at_once(scenario, n, step=lambda: _entry_point(held, m), here=lambda: entry_point(_timed_steps, timed))
+    compile_at_once(scenario, n, step=lambda: step_entry_point(held, m), here=lambda: entry_point(_timed_steps, timed))
     return True
 
 

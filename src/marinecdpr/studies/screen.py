@@ -416,9 +416,9 @@ def at_origin(model: ScreenModel, scenario: Scenario) -> ScreenModel:
 
 def _rao_of(scenario: Scenario):
     """The RAOs of the scenario's sea-state base motion (read once per source)."""
-    from marinecdpr.motion.basemotion import _rao
+    from marinecdpr.motion.basemotion import rao_from_source
 
-    return _rao(scenario.base_motion.rao.model_dump_json())
+    return rao_from_source(scenario.base_motion.rao.model_dump_json())
 
 
 def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) -> tuple[np.ndarray, np.ndarray]:

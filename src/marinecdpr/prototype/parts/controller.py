@@ -77,10 +77,10 @@ def stand_in():
 
 
 def build(context) -> ControllerPart:
-    from marinecdpr.control.controller import _held
+    from marinecdpr.control.controller import held_records
 
     if _standing_in:  # a step that reads nothing: an empty list of the records' type (no compiling of their unboxing)
         held = List.empty_list(typeof(context.ctl))
     else:
-        held = _held(context.ctl)
+        held = held_records(context.ctl)
     return ControllerPart(held=held, step=pointer_step(held))

@@ -16,7 +16,7 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 
 __all__ = ["Imported", "scenario_toml", "read_xml", "numbers", "euler_from_matrix",
-           "held_trajectory", "MAX_XML_BYTES"]
+           "held_trajectory", "toml_plain", "MAX_XML_BYTES"]
 
 MAX_XML_BYTES = 16 * 2**20
 """Largest model file read, bytes (a robot's XML is some kB)."""
@@ -112,7 +112,7 @@ def scenario_toml(imported: Imported) -> str:
 
     head = [f"# Imported from {imported.source} by `marinecdpr import`: {', '.join(imported.files)}"]
     head += [f"# note: {n}" for n in imported.notes]
-    return "\n".join(head) + "\n\n" + one_line_arrays(tomli_w.dumps(_plain(imported.data)))
+    return "\n".join(head) + "\n\n" + one_line_arrays(tomli_w.dumps(toml_plain(imported.data)))
 
 
 ONE_LINE_MAX = 100
@@ -138,12 +138,13 @@ def one_line_arrays(text: str) -> str:
     return _NUMERIC_ARRAY.sub(join, text)
 
 
-def _plain(value: Any) -> Any:
-    """Tuples as lists, numpy numbers as Python's (tomli_w writes only plain types)."""
+def toml_plain(value: Any) -> Any:
+    """``value`` with tuples as lists and numpy numbers as Python's, at any depth of dicts
+    and lists (tomli_w writes only plain types); other values as they are."""
     if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
+        return {k: toml_plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
+        return [toml_plain(v) for v in value]
     if isinstance(value, np.generic):
         return value.item()
     return value
