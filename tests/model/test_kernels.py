@@ -5,11 +5,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from marinecdpr.model import kernels as K
+from marinecdpr.model import rigid_body as RB
+from marinecdpr.model import tension_solver as TS
 from marinecdpr.motion.basemotion import evaluate_base_motion
 from marinecdpr.model.dynamics import forward_dynamics, spatial_inertia, wrench_terms
-from marinecdpr.geometry.kinematics import cable_kinematics
-from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.geometry.kinematics import cable_kinematics, cables_step
+from marinecdpr.geometry.rotations import euler_kinematics, euler_step
 from marinecdpr.model.tension import distribute_tensions
 from marinecdpr.motion.trajectory import evaluate_trajectory
 
@@ -46,7 +47,7 @@ def test_euler_step_matches_vectorised():
         np.testing.assert_allclose(got, ref, rtol=0, atol=1e-14)
     Rk, wk, alk = np.empty((3, 3)), np.empty(3), np.empty(3)
     for i in range(5):
-        K.euler_step(a[i], r[i], acc[i], Rk, wk, alk)
+        euler_step(a[i], r[i], acc[i], Rk, wk, alk)
         np.testing.assert_allclose(Rk, R[i], atol=1e-15)
         np.testing.assert_allclose(wk, w[i], atol=1e-15)
         np.testing.assert_allclose(alk, al[i], atol=1e-14)
@@ -62,13 +63,13 @@ def test_wrench_and_cables_match_vectorised():
     kin = cable_kinematics(plat.x_PC_C, plat.R_PC, c, p)
     out, L, J = np.empty(6), np.empty(7), np.empty((7, 6))
     for i in range(t.size):
-        K.wrench_step(plat.x_PC_C[i].copy(), plat.v_PC_C[i].copy(), plat.a_PC_C[i].copy(),
+        RB.wrench_step(plat.x_PC_C[i].copy(), plat.v_PC_C[i].copy(), plat.a_PC_C[i].copy(),
                       np.ascontiguousarray(plat.R_PC[i]), plat.omega_PC_C[i].copy(),
                       plat.alpha_PC_C[i].copy(), np.ascontiguousarray(ship.R_SO[i]),
                       ship.omega_SO_S[i].copy(), ship.alpha_SO_S[i].copy(), ship.a_SO_O[i].copy(),
                       X_CS, 5.0, I_PP, 9.8, f_C[i], m_C[i], out)
         np.testing.assert_allclose(out, terms.total[i], rtol=1e-12, atol=1e-12)
-        K.cables_step(plat.x_PC_C[i].copy(), np.ascontiguousarray(plat.R_PC[i]), c, p, L, J)
+        cables_step(plat.x_PC_C[i].copy(), np.ascontiguousarray(plat.R_PC[i]), c, p, L, J)
         np.testing.assert_allclose(L, kin.lengths[i], rtol=1e-14)
         np.testing.assert_allclose(J, kin.J_tilde[i], atol=1e-14)
 
@@ -85,11 +86,11 @@ def test_tensions_step_matches_distribute_tensions(seed, method, shape):
     J6 = np.zeros((m, 6))
     w6 = np.zeros(6)
     T = np.empty(m)
-    work = K.tension_work(m, k)
+    work = TS.tension_work(m, k)
     for i in range(len(w)):
         J6[:, dofs] = J[i]
         w6[dofs] = w[i]
-        ok = K.tensions_step(J6, w6, dofs, lo, hi, K.METHOD_CODES[method], T, work)
+        ok = TS.tensions_step(J6, w6, dofs, lo, hi, TS.METHOD_CODES[method], T, work)
         assert ok == sol.feasible[i]
         # one implementation: the series (blocks of steps) and the step give the same bits
         np.testing.assert_array_equal(T, sol.tensions[i])
@@ -104,14 +105,14 @@ def test_tensions_step_does_every_method_for_any_redundancy():
     for method in ("minimum_variance", "minimum_norm", "improved_closed_form"):
         sol = distribute_tensions(J, w, lo, hi, method=method)
         assert sol.feasible[0]
-        assert K.tensions_step(J[0], w[0], np.arange(6), lo, hi, K.METHOD_CODES[method], T, K.tension_work(8, 6))
+        assert TS.tensions_step(J[0], w[0], np.arange(6), lo, hi, TS.METHOD_CODES[method], T, TS.tension_work(8, 6))
         np.testing.assert_allclose(T, sol.tensions[0], rtol=1e-9)
     J4, w4, lo4, hi4 = random_problem(5, 1, 4, 3, 10.0)
     J6 = np.zeros((4, 6))
     J6[:, [0, 2, 4]] = J4[0]
     T4 = np.empty(4)
-    assert K.tensions_step(J6, np.array([w4[0, 0], 0, w4[0, 1], 0, w4[0, 2], 0]), np.array([0, 2, 4]),
-                           lo4, hi4, K.METHOD_CODES["improved_closed_form"], T4, K.tension_work(4, 3))
+    assert TS.tensions_step(J6, np.array([w4[0, 0], 0, w4[0, 1], 0, w4[0, 2], 0]), np.array([0, 2, 4]),
+                           lo4, hi4, TS.METHOD_CODES["improved_closed_form"], T4, TS.tension_work(4, 3))
     np.testing.assert_allclose(T4, distribute_tensions(J4, w4, lo4, hi4, method="improved_closed_form")
                                .tensions[0], rtol=1e-9)
 
@@ -128,7 +129,7 @@ def test_forward_step_matches_forward_dynamics(controlled):
     acc, _ = forward_dynamics(T, J, M, bias, controlled)
     out = np.empty(6)
     for i in range(n):
-        K.forward_step(J[i], T[i], bias[i], np.ascontiguousarray(R[i]), 5.0, I_PP,
+        RB.forward_step(J[i], T[i], bias[i], np.ascontiguousarray(R[i]), 5.0, I_PP,
                        np.array(controlled), out)
         np.testing.assert_allclose(out, acc[i], rtol=1e-11, atol=1e-11)
 

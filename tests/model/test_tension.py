@@ -205,7 +205,7 @@ import pytest
 from scipy.optimize import linprog
 
 import marinecdpr
-from marinecdpr.model import kernels as K
+from marinecdpr.model import tension_solver as K
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.prototype.simulation import simulate
 from marinecdpr.model.tension import TENSION_TOLERANCE, distribute_tensions
@@ -532,7 +532,7 @@ called singular.
 import numpy as np
 import pytest
 
-from marinecdpr.model import kernels as K
+from marinecdpr.model import tension_solver as K
 from marinecdpr.model.tension import EXACT_METHODS, distribute_tensions, full_rank, pseudo_inverse_tensions
 from tension_reference import reference_distribute_tensions, reference_full_rank, reference_pseudo_inverse
 

@@ -285,7 +285,7 @@ from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.planning.planner import sampled_infeasibility
 from marinecdpr.scenario.importing import import_robot, scenario_toml
-from marinecdpr.scenario.importing.common import _plain
+from marinecdpr.scenario.importing.common import toml_plain as _plain
 
 runner = CliRunner()
 DATA = Path(__file__).resolve().parents[1] / "data"
