@@ -23,7 +23,8 @@ from marinecdpr.cli.app import app
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.tension import full_rank
-from marinecdpr.planning.planner import _direction, check_trajectory
+from marinecdpr.planning.planner import check_trajectory
+from marinecdpr.planning.verdicts import direction_words as _direction
 from marinecdpr.scenario.robot import scaled_copy
 from marinecdpr.studies.workspace import singular_poses
 

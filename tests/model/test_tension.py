@@ -662,7 +662,8 @@ from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.tension import (TENSION_TOLERANCE, _series, distribute_tensions, exact_fallback, null_space,
                                       pseudo_inverse_tensions)
-from marinecdpr.planning.planner import _sizing_hint, plan_at
+from marinecdpr.planning.planner import plan_at
+from marinecdpr.planning.verdicts import sizing_hint as _sizing_hint
 
 from test_singular import plane_robot_toml
 

@@ -1134,7 +1134,7 @@ def _warn_scale(sc, scenario: str) -> None:
 
 def _warn_singular(scenario: str, surveys) -> None:
     """Warn (stderr, exit code unchanged) where J~ loses rank in each survey
-    (:class:`~marinecdpr.planning.planner.SingularPoses`: along the trajectory, from
+    (:class:`~marinecdpr.planning.verdicts.SingularPoses`: along the trajectory, from
     :func:`~marinecdpr.planning.planner.check_trajectory`; over the frame, from
     :func:`~marinecdpr.studies.workspace.singular_poses`); the layout's hint given once."""
     hinted = False

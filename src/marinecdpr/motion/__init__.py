@@ -4,7 +4,8 @@
 - :mod:`.basemotion`  a scenario's ``[base_motion]`` evaluated at times (still, sinusoids,
   sea state, record);
 - :mod:`.seastate`    irregular seas: spectra, RAOs, time series;
-- :mod:`.rao`         response amplitude operators: box hull, CSV, Capytaine files;
+- :mod:`.rao`         response amplitude operators (a package): the RAO type, CSV tables,
+  Capytaine files, the box hull;
 - :mod:`.recorded`    measured ship motion from CSV files, smoothed and differentiated;
 - :mod:`.trajectory`  the platform's trajectory and the disturbance on it;
 - :mod:`.coverage`    boustrophedon coverage paths over a panel, jerk-limited (the cleaning job).

@@ -14,7 +14,8 @@ from typing import Callable
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.planning.planner import DEFAULT_CHUNK_STEPS, SingularPoses, describe_pose, plan_at, ship_motion_at
+from marinecdpr.planning.planner import DEFAULT_CHUNK_STEPS, plan_at, ship_motion_at
+from marinecdpr.planning.verdicts import SingularPoses, describe_pose
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["WorkspaceMap", "workspace_map", "tension_margin", "pose_range", "singular_poses", "singular_set",
