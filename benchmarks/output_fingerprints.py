@@ -1,7 +1,9 @@
 """Fingerprints of the main jobs' outputs, to show that moving code changes no number.
 
-Runs ``simulate`` on paper, paper_elastic, paper_as_built and examples/spatial_cube8.toml
-and ``clean paper_clean`` (each as a subprocess of this checkout, whole horizons), and
+Runs ``simulate`` on paper, paper_elastic, paper_as_built and examples/spatial_cube8.toml,
+``clean paper_clean`` (whole horizons), ``clean --surface``, a two-sea-state ``clean --seas``
+and ``operability``, and the tests' tiny design study without its verification (each as a
+subprocess of this checkout), and
 prints the SHA-256 of every CSV and of ``summary.json`` with its run-dependent fields
 (wall-clock times, versions) taken out. ``--write FILE`` keeps them as JSON; ``--compare
 FILE`` runs again and lists every file whose fingerprint differs, and for a CSV the largest
@@ -37,7 +39,14 @@ RUNS = {
     "simulate_paper_as_built": ["simulate", "paper_as_built"],
     "simulate_spatial_cube8": ["simulate", str(ROOT / "examples" / "spatial_cube8.toml")],
     "clean_paper_clean": ["clean", "paper_clean"],
+    "clean_surface": ["clean", "paper_clean", "--surface", "--duration", "0.2", "--no-compare"],
+    "clean_seas_small": ["clean", "paper_clean", "--seas", "--serial", "--scatter", "{scatter}", "--duration", "5"],
+    "operability_small": ["operability", "paper_sea", "--scatter", "{scatter}", "--serial", "--duration", "10",
+                          "--step", "0.1"],
+    "design_small": ["design", str(ROOT / "tests" / "data" / "tiny_study.toml"), "--no-verify"],
 }
+SCATTER = "hs_m,tp_s,probability\n0.5,7,0.7\n1.5,9,0.3\n"
+"""The small studies' scatter diagram: two sea states."""
 def fingerprint(folder: Path) -> dict[str, str]:
     """SHA-256 of the bytes of every CSV in ``folder`` and of its summary.json (which holds
     no timing or version: the same run gives the same bytes)."""
@@ -62,9 +71,13 @@ def largest_relative_difference(a: Path, b: Path) -> float:
 
 def run_all(keep: Path) -> dict[str, dict[str, str]]:
     result = {}
+    scatter = keep / "scatter.csv"
+    keep.mkdir(parents=True, exist_ok=True)
+    scatter.write_text(SCATTER)
     for name, argv in RUNS.items():
         folder = keep / name
         t0 = time.perf_counter()
+        argv = [a.replace("{scatter}", str(scatter)) for a in argv]
         proc = subprocess.run([sys.executable, "-m", "marinecdpr", *argv, "--out", str(folder)],
                               cwd=ROOT, capture_output=True, text=True)
         print(f"{name}: exit {proc.returncode} in {time.perf_counter() - t0:.1f} s", flush=True)
