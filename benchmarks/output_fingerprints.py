@@ -2,7 +2,7 @@
 
 Runs ``simulate`` on paper, paper_elastic, paper_as_built and examples/spatial_cube8.toml,
 ``clean paper_clean`` (whole horizons), ``clean --surface``, a two-sea-state ``clean --seas``
-and ``operability``, and the tests' tiny design study without its verification (each as a
+and ``operability``, and a small ship_side design study (4 x 2, without its verification) (each as a
 subprocess of this checkout), and
 prints the SHA-256 of every CSV and of ``summary.json`` with its run-dependent fields
 (wall-clock times, versions) taken out. ``--write FILE`` keeps them as JSON; ``--compare
@@ -43,7 +43,7 @@ RUNS = {
     "clean_seas_small": ["clean", "paper_clean", "--seas", "--serial", "--scatter", "{scatter}", "--duration", "5"],
     "operability_small": ["operability", "paper_sea", "--scatter", "{scatter}", "--serial", "--duration", "10",
                           "--step", "0.1"],
-    "design_small": ["design", str(ROOT / "tests" / "data" / "tiny_study.toml"), "--no-verify"],
+    "design_small": ["design", "ship_side", "--population", "4", "--generations", "2", "--no-verify"],
 }
 SCATTER = "hs_m,tp_s,probability\n0.5,7,0.7\n1.5,9,0.3\n"
 """The small studies' scatter diagram: two sea states."""
