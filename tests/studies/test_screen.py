@@ -306,7 +306,7 @@ def test_a_design_that_works_in_no_sea_state_says_why(tmp_path):
     """A design study's candidate on winches too weak for it (issue 37: "works in 0.0 % of the
     seas: inf expected h" with no reason): its evaluation names how many sea states fail on
     what, and the mildest one's reason with the frame's placement on the ship."""
-    from tests.test_issue24_design import _study, _x
+    from test_design import _study, _x
     from marinecdpr.studies.design import evaluate, load_design, study_cells
 
     path = _study(tmp_path)
