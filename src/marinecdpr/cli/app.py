@@ -317,14 +317,6 @@ def _compiling(what: str, seconds: float) -> None:
                       soft_wrap=True)
 
 
-def _size_notice(sc, size, grid: tuple[int, int] | None = None) -> None:
-    """A line on stderr saying how big the run about to start is
-    (:func:`~marinecdpr.planning.budget.describe_run`)."""
-    from marinecdpr.planning.budget import describe_run
-
-    err_console.print(_plain(f"size: {sc.name}: {describe_run(size, grid)}"), highlight=False, soft_wrap=True)
-
-
 @app.command()
 def clean(
     scenario: str = typer.Argument("paper_clean", help="A scenario file with a [cleaning] section, or a built-in name."),

@@ -1,16 +1,14 @@
 """What every command's contract shares: the specification's base (:class:`Spec`), the one
-error a bad option raises (:class:`SpecError`), the run's estimate (:class:`Estimate`) and
-the scenario's time options (:class:`TimeOptions`, :func:`with_time`)."""
+error a bad option raises (:class:`SpecError`), the run's estimate (:class:`Estimate`), the
+scenario's time from a spec (:func:`with_time`) and the checks several specs share."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
-
-from typing import TYPE_CHECKING
+from pydantic import BaseModel, ConfigDict, ValidationError
 
 from marinecdpr.errors import MarineCDPRError
 
@@ -18,7 +16,7 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.planning.budget import RunSize
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "TimeOptions", "with_time", "positive", "finite", "headings"]
+__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "headings"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -103,21 +101,9 @@ def finite(value: float | None) -> float | None:
     return value
 
 
-class TimeOptions(Spec):
-    """The options that change the scenario's time: ``duration`` (s of ship motion, default
-    the scenario's ``time.duration_s``) and ``step`` (s, default ``time.step_s``)."""
-
-    duration: float | None = None
-    step: float | None = None
-
-    @field_validator("duration", "step")
-    @classmethod
-    def _positive(cls, v):
-        return positive(v)
-
-
-def with_time(spec: TimeOptions, scenario: Scenario) -> Scenario:
-    """The scenario with the spec's ``duration`` and ``step`` where given."""
+def with_time(spec: Spec, scenario: Scenario) -> Scenario:
+    """The scenario with a spec's ``duration`` and ``step`` (s; fields a spec that changes the
+    scenario's time declares) where given."""
     if spec.duration is None and spec.step is None:
         return scenario
     return scenario.with_changes(time={"step_s": scenario.time.step_s if spec.step is None else spec.step,
