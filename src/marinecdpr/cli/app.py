@@ -886,7 +886,7 @@ def workspace(
         err_console.print(_plain(est.describe()), highlight=False, soft_wrap=True)
         with _progress("workspace", spec.points[0] * spec.points[1], "poses") as update:
             try:
-                result = command.run(spec, sc, progress=update)
+                result = command.run(spec, sc, estimated=est, progress=update)
             except ScenarioError as exc:
                 _fail_scenario(exc, scenario)
         elapsed = time.perf_counter() - t0
@@ -1452,7 +1452,7 @@ def control_study(
     with _output(out) as folder:
         _compile_notice(spec.plant)
         with _run_errors(scenario), _progress("closed-loop runs", spec.n_runs, "runs") as bar:
-            result = command.run(spec, sc, progress=bar)
+            result = command.run(spec, sc, estimated=est, progress=bar)
         _, paths = result.write(folder)
     name, settle = est.flown.name, result.settle
     console.print(f"{_plain(name)}: MRU {spec.rate:g} Hz, judged from {settle:g} s of {spec.duration:g} s runs",

@@ -176,7 +176,7 @@ class ControlStudyResult:
         return write_control_study(self.study, self.prediction, Path(folder))
 
 
-def run(spec: ControlStudySpec, scenario: Scenario, *,
+def run(spec: ControlStudySpec, scenario: Scenario, *, estimated: ControlStudyEstimate | None = None,
         progress: Callable[[int, int], None] | None = None) -> ControlStudyResult:
     """Every run of the spec (:func:`~marinecdpr.studies.control.control_study`) and the
     predictor's error (:func:`~marinecdpr.studies.control.ship_prediction_error`), the spec
@@ -184,12 +184,14 @@ def run(spec: ControlStudySpec, scenario: Scenario, *,
 
     Parameters
     ----------
+    estimated : ControlStudyEstimate, optional
+        :func:`estimate`'s of this spec and scenario, where the caller has it: not made again.
     progress : callable(done, total), optional
         Runs flown so far.
     """
     from marinecdpr.studies.control import control_study, ship_prediction_error
 
-    est = estimate(spec, scenario)
+    est = estimate(spec, scenario) if estimated is None else estimated
     sc = est.flown
     study = control_study(sc, latencies_s=[x / 1e3 for x in spec.latencies], predictions=list(spec.predictions),
                           pose_from=list(spec.pose_from), rate_hz=spec.rate, duration_s=spec.duration,

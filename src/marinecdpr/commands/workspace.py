@@ -140,13 +140,16 @@ class WorkspaceResult:
         return write_workspace(self.map, self.scenario, Path(folder))
 
 
-def run(spec: WorkspaceSpec, scenario: Scenario, *,
+def run(spec: WorkspaceSpec, scenario: Scenario, *, estimated: WorkspaceEstimate | None = None,
         progress: Callable[[int, int], None] | None = None) -> WorkspaceResult:
     """The map of held poses over the frame under the scenario's ship motion
     (:func:`~marinecdpr.studies.workspace.workspace_map`), its size checked first.
 
     Parameters
     ----------
+    estimated : WorkspaceEstimate, optional
+        :func:`estimate`'s of this spec and scenario, where the caller has it: the size is
+        not checked again.
     progress : callable(done, total), optional
         Poses planned so far.
     """
@@ -154,6 +157,7 @@ def run(spec: WorkspaceSpec, scenario: Scenario, *,
     from marinecdpr.studies.workspace import map_singular_poses, workspace_map
 
     sc = with_time(spec, scenario)
-    check_run_size(sc, "workspace", grid=spec.points)
+    if estimated is None:
+        check_run_size(sc, "workspace", grid=spec.points)
     ws = workspace_map(sc, axes=(spec.axes[0], spec.axes[1]), n=spec.points, fixed_m=spec.fixed, progress=progress)
     return WorkspaceResult(scenario=sc, map=ws, singular=map_singular_poses(sc, ws))
