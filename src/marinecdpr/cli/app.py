@@ -192,12 +192,12 @@ def _fail(message: str, code: int = EXIT_BAD_INPUT) -> None:
 def _number(flag: str, value: float | None, *, zero_ok: bool = False, finite_only: bool = False) -> None:
     """Refuse an option's number that is not finite, or (unless ``finite_only``) not positive
     (not negative with ``zero_ok``): one line, exit 2."""
-    if value is None:
-        return
-    if not math.isfinite(value):
-        _fail(f"{flag} {value}: expected a finite number")
-    if not finite_only and (value < 0 or (value == 0 and not zero_ok)):
-        _fail(f"{flag} {value:g}: expected a {'non-negative' if zero_ok else 'positive'} number")
+    from marinecdpr.commands.base import finite, positive
+
+    try:
+        finite(value) if finite_only else positive(value, zero_ok=zero_ok)
+    except ValueError as exc:
+        _fail(f"{flag} {value:g}: {exc}")
 
 
 def _fail_scenario(exc: ScenarioError, scenario: str) -> None:
@@ -845,15 +845,14 @@ def _progress(label: str, total: int, unit: str = "", eta_after: float = 0.0):
 
 
 def _grid(flag: str, text: str, example: str) -> tuple[int, int]:
-    """A grid's two positive point counts from ``AxB`` (checked here, not by ``assert``: the
-    checks hold under ``python -O``); one line, exit 2, otherwise."""
+    """A grid's two positive point counts from ``AxB`` (:func:`~marinecdpr.commands.base.grid`);
+    one line, exit 2, otherwise."""
+    from marinecdpr.commands.base import grid
+
     try:
-        n = tuple(int(k) for k in text.lower().split("x"))
-    except ValueError:
-        n = ()
-    if len(n) != 2 or min(n) <= 0:
-        _fail(f"{flag} {text}: expected two positive integers like {example}")
-    return n
+        return grid(text, example=example)
+    except ValueError as exc:
+        _fail(f"{flag} {text}: {exc}")
 
 
 @app.command()
@@ -909,7 +908,13 @@ def _spec(cls, **options):
     try:
         return cls(**options)
     except SpecError as exc:
-        _fail(f"{exc.flag} {exc.value}: {exc.detail}")
+        _fail_spec(exc)
+
+
+def _fail_spec(exc) -> None:
+    """A command's :class:`~marinecdpr.commands.base.SpecError` as one line naming its
+    ``--flag``, exit 2."""
+    _fail(f"{exc.flag} {exc.value}: {exc.detail}")
 
 
 @app.command()
@@ -1448,7 +1453,7 @@ def control_study(
     try:  # before any work: what the scenario cannot take, and runs the machine cannot hold or finish
         est = command.estimate(spec, sc)
     except SpecError as exc:
-        _fail(f"{exc.flag} {exc.value}: {exc.detail}")
+        _fail_spec(exc)
     with _output(out) as folder:
         _compile_notice(spec.plant)
         with _run_errors(scenario), _progress("closed-loop runs", spec.n_runs, "runs") as bar:

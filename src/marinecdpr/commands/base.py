@@ -16,7 +16,7 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.planning.budget import RunSize
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "headings"]
+__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "grid", "headings"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -135,6 +135,17 @@ class Estimate:
 
         return f"size: {self.scenario}: {describe_run(self.size, self.grid)}"
 
+
+def grid(value: str | tuple | list, *, example: str = "30x20") -> tuple[int, int]:
+    """A grid's two positive point counts from ``"30x20"`` or two numbers; ValueError with
+    the command line's words otherwise (``example``: the option's own)."""
+    try:
+        n = tuple(int(k) for k in (value.lower().split("x") if isinstance(value, str) else value))
+    except (TypeError, ValueError):
+        n = ()
+    if len(n) != 2 or min(n) <= 0:
+        raise ValueError(f"expected two positive integers like {example}")
+    return n
 
 
 def headings(value: str | tuple | list, *, example: str = "180,150") -> tuple[float, ...]:

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Estimate, Spec, finite, positive, with_time
+from marinecdpr.commands.base import Estimate, Spec, finite, grid, positive, with_time
 
 if TYPE_CHECKING:  # the spec is read when the command line starts: the work's modules load with the work
     from marinecdpr.scenario.schema import Scenario
@@ -47,13 +47,7 @@ class WorkspaceSpec(Spec):
     @field_validator("points", mode="before")
     @classmethod
     def _grid(cls, v):
-        try:
-            n = tuple(int(k) for k in v.lower().split("x")) if isinstance(v, str) else tuple(int(k) for k in v)
-        except (TypeError, ValueError):
-            n = ()
-        if len(n) != 2 or min(n) <= 0:
-            raise ValueError("expected two positive integers like 30x20")
-        return n
+        return grid(v)
 
     @field_validator("axes")
     @classmethod
