@@ -303,8 +303,9 @@ def mesh_side(vertices: np.ndarray, triangles: np.ndarray, *, side: str = "port"
         x, z = np.broadcast_to(X, shape).ravel(), np.broadcast_to(Z, shape).ravel()
         out = np.full(x.size, -np.inf)
         for i0 in range(0, x.size, 4096):  # points in chunks: their (point, triangle) pairs at once
-            point, t = grid.pairs(x[i0:i0 + 4096], z[i0:i0 + 4096])
-            px, pz = x[i0:i0 + 4096][point], z[i0:i0 + 4096][point]
+            xs, zs = x[i0:i0 + 4096], z[i0:i0 + 4096]
+            point, t = grid.pairs(xs, zs)
+            px, pz = xs[point], zs[point]
             at, bt, ct, dt = a[t], b[t], c[t], det[t]
             l1 = ((px - at[:, 0]) * (ct[:, 2] - at[:, 2]) - (ct[:, 0] - at[:, 0]) * (pz - at[:, 2])) / dt
             l2 = ((bt[:, 0] - at[:, 0]) * (pz - at[:, 2]) - (px - at[:, 0]) * (bt[:, 2] - at[:, 2])) / dt
@@ -336,7 +337,7 @@ class _TriangleGrid:
         i1 = self._index(hi)
         counts = (i1[:, 0] - i0[:, 0] + 1) * (i1[:, 1] - i0[:, 1] + 1)
         tri_of = np.repeat(np.arange(len(tri)), counts)
-        k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        k = _within(counts)
         w = np.repeat(i1[:, 1] - i0[:, 1] + 1, counts)
         cx = np.repeat(i0[:, 0], counts) + k // w
         cz = np.repeat(i0[:, 1], counts) + k % w
@@ -356,6 +357,10 @@ class _TriangleGrid:
         idx = self._index(np.where(inside[:, None], p, self.origin))
         cell = idx[:, 0] * self.n[1] + idx[:, 1]
         first, count = self.start[cell], np.where(inside, self.start[cell + 1] - self.start[cell], 0)
-        point = np.repeat(np.arange(len(x)), count)
-        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        return point, self.triangles[np.repeat(first, count) + k]
+        return np.repeat(np.arange(len(x)), count), self.triangles[np.repeat(first, count) + _within(count)]
+
+
+def _within(counts: np.ndarray) -> np.ndarray:
+    """Each item's place within its group, groups of ``counts`` items laid end to end:
+    [2, 3] -> [0, 1, 0, 1, 2]."""
+    return np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
