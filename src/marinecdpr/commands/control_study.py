@@ -16,16 +16,13 @@ from typing import TYPE_CHECKING, Any, Callable
 from pydantic import field_validator
 
 from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, positive
+from marinecdpr.scenario.fields import POSE_SOURCES, PREDICTIONS
 
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["ControlStudySpec", "ControlStudyEstimate", "ControlStudyResult", "estimate", "run", "PREDICTIONS",
-           "POSE_SOURCES", "PLANTS"]
+__all__ = ["ControlStudySpec", "ControlStudyEstimate", "ControlStudyResult", "estimate", "run", "PLANTS"]
 
-PREDICTIONS = ("none", "kinematic", "ar")
-"""How the controller brings the ship's samples to the present."""
-POSE_SOURCES = ("sensor", "encoders")
 PLANTS = ("own", "mujoco")
 
 

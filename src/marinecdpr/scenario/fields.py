@@ -35,6 +35,13 @@ TENSION_METHODS = (
     "minimum_norm",
 )
 
+PREDICTIONS = ("none", "kinematic", "ar")
+"""How a controller brings the motion sensor's samples of the ship to the present
+(``[simulation.mru] prediction``)."""
+
+POSE_SOURCES = ("sensor", "encoders")
+"""Where a controller's pose comes from (``[simulation.sensors] pose_from``)."""
+
 Vec3 = tuple[StrictFloat, StrictFloat, StrictFloat]
 ANCHOR_TOLERANCE_M = 1e-9
 

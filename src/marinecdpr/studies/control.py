@@ -21,13 +21,12 @@ from marinecdpr.control.controller import predictor_options
 from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.motion.prediction import PredictionError, prediction_error
 from marinecdpr.prototype.simulation import simulate
+from marinecdpr.scenario.fields import POSE_SOURCES, PREDICTIONS
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.prototype_runs import controller_verdict
 
 __all__ = ["ControlRun", "ControlStudy", "control_study", "ship_prediction_error", "worst_moving_dof",
            "moving_dofs", "PREDICTIONS"]
-
-PREDICTIONS = ("none", "kinematic", "ar")
 
 
 @dataclass(frozen=True)
@@ -104,7 +103,7 @@ def control_study(
     *,
     latencies_s: Sequence[float] = (0.0, 0.01, 0.02, 0.05, 0.1),
     predictions: Sequence[str] = PREDICTIONS,
-    pose_from: Sequence[str] = ("sensor", "encoders"),
+    pose_from: Sequence[str] = POSE_SOURCES,
     rate_hz: float = 100.0,
     duration_s: float = 60.0,
     settle_s: float | None = None,
