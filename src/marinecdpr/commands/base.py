@@ -59,7 +59,9 @@ class BadValue(ValueError):
 class Spec(BaseModel):
     """A command's options: frozen, unknown fields refused, each validator's message one
     line. Build one with keywords (``WorkspaceSpec(points=(12, 8))``); a bad value raises
-    :class:`SpecError` naming the first field at fault."""
+    :class:`SpecError` naming the first field at fault. A rule on options that go together
+    (a ``model_validator(mode="after")``) raises :class:`SpecError` itself, naming the field
+    the user should change (``SpecError("hull_area", 5e3, "cannot go with --surface")``)."""
 
     model_config = ConfigDict(frozen=True, extra="forbid", arbitrary_types_allowed=True)
 
@@ -68,11 +70,13 @@ class Spec(BaseModel):
             super().__init__(**options)
         except ValidationError as exc:
             err = exc.errors()[0]
+            cause = (err.get("ctx") or {}).get("error")
+            if isinstance(cause, SpecError):  # a rule on options that go together names its own field
+                raise cause from None
             field = str(err["loc"][0]) if err["loc"] else "options"
             message = err["msg"].removeprefix("Value error, ")
             if err["type"] == "extra_forbidden":
                 message = f"no such option of {type(self).__name__}"
-            cause = (err.get("ctx") or {}).get("error")
             value = cause.value if isinstance(cause, BadValue) else options.get(field, err.get("input"))
             raise SpecError(field, value, message[:1].lower() + message[1:]) from None
 
