@@ -83,7 +83,7 @@ def clock(monkeypatch):
 
     from rich.console import Console
 
-    import marinecdpr.cli.app as cli
+    import marinecdpr.cli.progress as cli
 
     fake = FakeClock()
     monkeypatch.setattr(cli, "time", types.SimpleNamespace(perf_counter=fake.perf_counter))

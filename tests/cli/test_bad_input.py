@@ -136,7 +136,7 @@ def test_a_scheduler_that_does_not_answer_fails_within_seconds(monkeypatch):
 
 
 def test_durations_read_as_a_clock_would():
-    from marinecdpr.cli.app import _seconds
+    from marinecdpr.cli.progress import seconds as _seconds
 
     assert [_seconds(s) for s in (12.34, 59.94, 59.96, 119.6, 125.0, 3599.5)] == [
         "12.3 s", "59.9 s", "1 min 00 s", "2 min 00 s", "2 min 05 s", "60 min 00 s"]

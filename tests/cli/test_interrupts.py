@@ -80,10 +80,10 @@ def test_ctrl_c_that_typer_would_swallow_still_prints_its_line():
     code = (
         "import signal, sys\n"
         "import marinecdpr.cli.app as app\n"
-        "import marinecdpr.scenario.loading as loading\n"
+        "import marinecdpr.cli.check as check\n"
         "def interrupted(*a, **k):\n"
         "    raise KeyboardInterrupt\n"
-        "app.load_scenario = interrupted\n"
+        "check.load_scenario = interrupted\n"
         "sys.argv = ['marinecdpr', 'check', 'paper']\n"
         "app.main()\n"
     )
@@ -105,7 +105,8 @@ def test_ctrl_c_that_python_would_swallow_still_interrupts(where, late):
         "import sys, time, weakref\n"
         "import marinecdpr.cli.app as app\n"
         f"if {late}: app._interrupt_thread_soon = lambda thread_id: time.sleep(60)\n"
-        "real = app.load_scenario\n"
+        "import marinecdpr.cli.check as check\n"
+        "real = check.load_scenario\n"
         "class Thing:\n"
         "    def __del__(self):\n"
         f"        if {where == '__del__'}: raise KeyboardInterrupt\n"
@@ -116,7 +117,7 @@ def test_ctrl_c_that_python_would_swallow_still_interrupts(where, late):
         f"    r = weakref.ref(t, ctrl_c) if {where == 'weakref callback'} else None\n"
         "    del t\n"
         "    return real(*a, **k)\n"
-        "app.load_scenario = loading\n"
+        "check.load_scenario = loading\n"
         "sys.argv = ['marinecdpr', 'check', 'paper']\n"
         "app.main()\n"
     )
@@ -176,7 +177,7 @@ def test_ctrl_c_while_the_files_are_committed_leaves_no_staging_folder(tmp_path,
 def test_ctrl_c_as_the_files_go_in_says_the_folder_holds_the_new_run(tmp_path, monkeypatch, python_sigint, capsys):
     import typer
 
-    import marinecdpr.cli.app as cli
+    import marinecdpr.cli.common as cli
     import marinecdpr.report.files as files
 
     real_replace = files.os.replace
@@ -189,7 +190,7 @@ def test_ctrl_c_as_the_files_go_in_says_the_folder_holds_the_new_run(tmp_path, m
     monkeypatch.setattr(files.os, "replace", replace)
     out = tmp_path / "out"
     with pytest.raises(typer.Exit) as exit_:
-        with cli._output(out) as stage:
+        with cli.output(out) as stage:
             (stage / "summary.json").write_text("{}\n")
     assert exit_.value.exit_code == 130
     assert capsys.readouterr().err.strip() == f"error: interrupted; --out {out} holds this run's files, complete"
@@ -259,6 +260,7 @@ import pytest
 from rich.console import Console
 
 import marinecdpr.cli.app as cli
+import marinecdpr.cli.common as common
 
 
 def test_ctrl_c_as_the_commands_are_built_is_one_line_exit_130(monkeypatch):
@@ -269,8 +271,9 @@ def test_ctrl_c_as_the_commands_are_built_is_one_line_exit_130(monkeypatch):
     monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)  # main() sets its own: put back after
     handler = signal.getsignal(signal.SIGINT)
     monkeypatch.setattr(cli, "app", building)
-    monkeypatch.setattr(cli, "err_console", Console(file=err, width=200, color_system=None))
-    monkeypatch.setattr(cli, "_interruption_said", False)
+    for module in (cli, common):  # main's own lines, and fail's
+        monkeypatch.setattr(module, "err_console", Console(file=err, width=200, color_system=None))
+    monkeypatch.setattr(cli.state, "interruption_said", False)
     try:
         with pytest.raises(SystemExit) as stop:
             cli.main()

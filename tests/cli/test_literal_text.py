@@ -10,6 +10,7 @@ import typer
 from typer.testing import CliRunner
 
 from marinecdpr.cli import app as cli
+from marinecdpr.cli import common
 
 runner = CliRunner()
 BRACKETED = re.compile(r"\[[a-z][a-z_.]*\]")
@@ -53,5 +54,5 @@ def test_a_message_with_brackets_is_printed_as_written(monkeypatch):
 
 def test_styled_prefixes_keep_the_message_literal(capsys):
     with pytest.raises(typer.Exit):
-        cli._fail("pip install 'marinecdpr[bem]' [bold]x[/bold] \\[y]")
+        common.fail("pip install 'marinecdpr[bem]' [bold]x[/bold] \\[y]")
     assert capsys.readouterr().err.strip() == "error: pip install 'marinecdpr[bem]' [bold]x[/bold] \\[y]"

@@ -440,7 +440,7 @@ from scipy.optimize import linprog
 from typer.testing import CliRunner
 
 import marinecdpr
-import marinecdpr.cli.app as cli
+import marinecdpr.cli.progress
 from marinecdpr.cli.app import app
 from marinecdpr.scenario.loading import scenario_from_dict
 
@@ -596,7 +596,7 @@ def test_piped_workspace_prints_progress_lines(tmp_path, monkeypatch):
     assert re.fullmatch(r"workspace: 48 of 48 poses in \d+\.\d s \([\d,.]+ poses/s( after the first \d+, which "
                         r"took \d+\.\d s with the start-up)?\)", last)
     # without the minimum interval: a line at every tenth of the grid, then the closing line
-    monkeypatch.setattr(cli, "PROGRESS_LINE_MIN_S", 0.0)
+    monkeypatch.setattr(marinecdpr.cli.progress, "PROGRESS_LINE_MIN_S", 0.0)
     res = runner.invoke(app, args)
     lines = res.stderr.strip().splitlines()
     assert lines.pop(0).startswith("size: paper: 48 poses (8 x 6) x 21 steps")  # before the work

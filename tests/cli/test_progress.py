@@ -8,13 +8,13 @@ import io
 
 from rich.console import Console
 
-import marinecdpr.cli.app as cli
+import marinecdpr.cli.progress as cli
 
 
 def test_a_first_line_at_once_and_no_estimate_from_a_batch(clock):
     """A design search: 16 candidates, the first four judged at one moment, 2.3 s in (this
     printed nothing for 10 s, then "2 of 16 candidates (12%), 2.3 s, about 0.0 s left")."""
-    bar = cli._PlainProgress("design", "candidates")
+    bar = cli.PlainProgress("design", "candidates")
     task = bar.add_task("", total=16)
     assert clock.out.getvalue().splitlines() == ["design: 0 of 16 candidates, started"]
     clock.now = 2.3
@@ -34,7 +34,7 @@ def test_a_first_line_at_once_and_no_estimate_from_a_batch(clock):
 def test_work_in_runs_is_estimated_once_a_run_s_worth_is_known(clock):
     """clean: three runs of 1000 steps, each planned for 3 s first, then 1000 steps/s (this
     said "about 0.5 s left" at 11 %: the first run's pace, without the next runs' plans)."""
-    with cli._progress("clean", 3000, "steps", eta_after=1000) as update:
+    with cli.task_progress("clean", 3000, "steps", eta_after=1000) as update:
         t = 0.0
         for run in range(3):
             t += 3.0  # its plan
@@ -55,7 +55,7 @@ def test_work_in_runs_is_estimated_once_a_run_s_worth_is_known(clock):
 def test_the_closing_rate_leaves_the_compile_out(clock):
     """simulate's first run: its first 500 steps take a 30 s compile, then 5000 steps/s (this
     said "(478 steps/s)", the compile counted in)."""
-    bar = cli._PlainProgress("simulate", "steps")
+    bar = cli.PlainProgress("simulate", "steps")
     task = bar.add_task("open loop", total=15001)
     for done in list(range(500, 15001, 500)) + [15001]:
         clock.now = 30.0 + (done - 500) / 5000.0
@@ -67,7 +67,7 @@ def test_the_closing_rate_leaves_the_compile_out(clock):
 
 def test_the_terminal_bar_shows_no_estimate_from_one_piece(monkeypatch, clock):
     monkeypatch.setattr(cli, "err_console", Console(file=io.StringIO(), width=200, force_terminal=True))
-    with cli._progress_bar("design", "candidates") as bar:
+    with cli.progress_bar("design", "candidates") as bar:
         task = bar.add_task("", total=16)
         clock.now = 2.3
         bar.update(task, completed=1)
@@ -94,8 +94,9 @@ import re
 import pytest
 from typer.testing import CliRunner
 
-import marinecdpr.cli.app as cli
+import marinecdpr.cli.progress as cli
 import marinecdpr.prototype.simulation as simulation
+from marinecdpr.cli.app import app
 import marinecdpr.studies.latency as latency
 
 runner = CliRunner()
@@ -103,7 +104,7 @@ NOTICE = f"compiling the simulation kernels, once (about {simulation.KERNEL_COMP
 
 
 def test_the_estimate_leaves_the_first_pieces_compile_out(clock):
-    bar = cli._PlainProgress("simulate", "steps")
+    bar = cli.PlainProgress("simulate", "steps")
     task = bar.add_task("open loop", total=100)
     clock.now = 75.0  # the first piece: a 75 s compile and a moment's work
     bar.update(task, completed=1)
@@ -121,7 +122,7 @@ def test_the_estimate_leaves_the_first_pieces_compile_out(clock):
 def test_no_estimate_before_three_pieces_after_the_first(clock):
     """Issue 37, item 8: one or two pieces after the first say too little (this said "about
     5 min 08 s left" after one, "2 min 42 s" after two); from the third, 3 runs in 23 s."""
-    bar = cli._PlainProgress("control-study", "runs")
+    bar = cli.PlainProgress("control-study", "runs")
     task = bar.add_task("", total=30)
     clock.now = 400.0  # 7 min: the compile and the first run
     bar.update(task, completed=1)  # a line (10 s have passed), with no estimate from one piece
@@ -166,7 +167,7 @@ COMMANDS = {
 def test_every_command_that_compiles_the_simulation_says_so_first(name, cold, tmp_path, monkeypatch, one_cell):
     _cold(monkeypatch, cold)
     args = COMMANDS[name] + (["--scatter", str(one_cell)] if name.startswith("operability") else [])
-    res = runner.invoke(cli.app, args + ["--out", str(tmp_path / "o")])
+    res = runner.invoke(app, args + ["--out", str(tmp_path / "o")])
     assert res.exit_code in (0, 3), res.output
     lines = res.stderr.strip().splitlines()
     assert [ln for ln in lines if ln.startswith("compiling ")] == ([NOTICE] if cold else [])
@@ -178,7 +179,7 @@ def test_every_command_that_compiles_the_simulation_says_so_first(name, cold, tm
 @pytest.mark.parametrize("cold", [True, False])
 def test_latency_says_it_compiles_the_controllers_step(cold, monkeypatch):
     _cold(monkeypatch, cold)
-    res = runner.invoke(cli.app, ["latency", "paper", "--calls", "20"])
+    res = runner.invoke(app, ["latency", "paper", "--calls", "20"])
     assert res.exit_code == 0, res.output
     notice = (f"compiling the controller's step, once (about {latency.LATENCY_COMPILE_S:g} s; cached for later "
               "runs)...")
@@ -187,14 +188,14 @@ def test_latency_says_it_compiles_the_controllers_step(cold, monkeypatch):
 
 def test_the_deciders_read_numbas_cache():
     # warm in this process once a step has been compiled or loaded
-    runner.invoke(cli.app, ["latency", "paper", "--calls", "5"])
+    runner.invoke(app, ["latency", "paper", "--calls", "5"])
     assert latency.latency_kernels_cached()
     assert simulation.compiled_cached() is True  # nothing to compile
     assert simulation.compiled_cached(object()) is True  # not a dispatcher: unsure, so no notice
 
 
 def test_simulate_tells_the_error_budgets_maps_after_its_runs(tmp_path):
-    res = runner.invoke(cli.app, ["simulate", "paper_as_built", "--plant", "own", "--duration", "0.1",
+    res = runner.invoke(app, ["simulate", "paper_as_built", "--plant", "own", "--duration", "0.1",
                                   "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output
     lines = res.stderr.strip().splitlines()
@@ -216,17 +217,20 @@ from types import SimpleNamespace
 
 from typer.testing import CliRunner
 
-import marinecdpr.cli.app as cli
+import marinecdpr.cli.clean
+import marinecdpr.cli.common
+from marinecdpr.cli.app import app
+from marinecdpr.scenario.loading import load_scenario
 
 runner = CliRunner()
 
 
 def test_a_duration_beyond_the_scenario_is_one_warning_line(capsys):
-    sc = cli._scenario_to_fly("paper", 100.0, "virtual_prototype")
+    sc = marinecdpr.cli.common.scenario_to_fly("paper", 100.0, "virtual_prototype")
     assert sc.time.duration_s == 15.0
     assert capsys.readouterr().err.strip().splitlines() == [
         "warning: --duration 100: paper lasts 15 s; flying those 15 s"]
-    sc = cli._scenario_to_fly("paper", 2.0, "virtual_prototype")
+    sc = marinecdpr.cli.common.scenario_to_fly("paper", 2.0, "virtual_prototype")
     assert sc.time.duration_s == 2.0 and capsys.readouterr().err == ""
 
 
@@ -245,11 +249,11 @@ def test_clean_with_a_guarantee_met_at_once_ends_its_progress_on_the_runs_flown(
     monkeypatch.setattr(cleaning, "guaranteed_job", guaranteed_job)
     monkeypatch.setattr(report, "write_cleaning", lambda job, folder: [Path(folder) / "clean.csv"])
     monkeypatch.setattr(report, "cleaning_findings", lambda summary: [])
-    monkeypatch.setattr(cli, "_compile_notice", lambda plant: None)
-    res = runner.invoke(cli.app, ["clean", "--guarantee", "--no-compare", "--duration", "1", "--out",
+    monkeypatch.setattr(marinecdpr.cli.clean, "compile_notice", lambda plant: None)
+    res = runner.invoke(app, ["clean", "--guarantee", "--no-compare", "--duration", "1", "--out",
                                   str(tmp_path / "o")], terminal_width=2000)
     assert res.exit_code == 0, res.output
     last = [ln for ln in res.stderr.splitlines() if ln.startswith("clean: ")][-1]
-    n = cli.load_scenario("paper_clean").time.step_s
+    n = load_scenario("paper_clean").time.step_s
     steps = round(1.0 / n) + 1
     assert last.startswith(f"clean: {steps} of {steps} steps in "), last

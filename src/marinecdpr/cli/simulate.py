@@ -1,0 +1,79 @@
+"""The ``simulate`` command: the main job: plan, fly the plan on the virtual prototype, write the report."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.table import Table
+
+from marinecdpr.cli.common import (compile_notice, console, err_console, fail, fail_bypassed, number, output, plain,
+    run_errors, scenario_to_fly)
+from marinecdpr.cli.progress import progress_bar
+
+
+def simulate(
+    scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
+    out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for the CSVs, figures and report."),
+    plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
+    duration: Optional[float] = typer.Option(None, help="Simulate only the first seconds."),
+    max_error: Optional[float] = typer.Option(None, help="Flag runs whose position or cable-length "
+                                              "error passes this, m (default: the scenario's, 1% of the frame)."),
+) -> None:
+    """The main job: plan, fly the plan on the virtual prototype, write the report.
+
+    Runs open loop, closed loop and the fixed-base plan on the moving ship; writes
+    plan.csv, sim_<run>.csv, figures like the paper's 5-7, the path, summary.json and
+    report.html. Exits 5 (the files written) if the closed loop's controller was bypassed on
+    more than simulation.max_bypassed_share of its steps.
+    """
+    from marinecdpr.studies.prototype_runs import virtual_prototype
+    from marinecdpr.report.figures import RUN_TITLES
+    from marinecdpr.report.text import beyond_text, error_table, findings
+    from marinecdpr.report.writers import write_virtual_prototype
+    from marinecdpr.prototype.simulation import RUNS
+
+    if plant is not None and plant not in ("mujoco", "own"):
+        fail(f"--plant {plant}: expected mujoco or own")
+    number("--duration", duration)
+    number("--max-error", max_error)
+    sc = scenario_to_fly(scenario, duration, "virtual_prototype")
+    t0 = time.perf_counter()
+    with output(out) as folder:
+        compile_notice(plant or sc.simulation.plant)
+        with progress_bar("simulate", "steps") as bar:
+            tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
+
+            def progress(run: str, done: int, total: int) -> None:
+                if run not in tasks:  # after the runs: the error budget's workspace maps, in poses
+                    tasks[run] = bar.add_task(RUN_TITLES.get(run, "error budget: workspace maps"), total=total,
+                                              unit="poses")
+                bar.update(tasks[run], completed=done, total=total)
+
+            with run_errors(scenario):
+                vp = virtual_prototype(sc, plant=plant, max_error_m=max_error, progress=progress)
+        paths = write_virtual_prototype(vp, folder)
+    elapsed = time.perf_counter() - t0
+
+    s = vp.summary
+    header, rows = error_table(s, sc)
+    table = Table(title=f"simulate: {plain(sc.name)} ({s['steps']} steps, plant {vp.results['open_loop'].plant}, "
+                        f"{elapsed:.1f} s wall time)")
+    for i, h in enumerate(header):
+        table.add_column(h, justify="left" if i == 0 else "right")
+    for row in rows:
+        table.add_row(*row)
+    console.print(table)
+    for sentence in findings(s, sc, warnings=False):
+        console.print(plain(sentence), highlight=False)
+    for run in s["runs_beyond_error_bound"]:
+        err_console.print(plain(f"warning: {run} leaves its plan beyond the error bound "
+                                 f"({beyond_text(s[run]['beyond_error_bound'])}): see {out / 'report.html'}"),
+                          highlight=False, soft_wrap=True)
+    for warning in s["warnings"]:
+        err_console.print(plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
+    console.print(plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
+    fail_bypassed([(run, vp.results[run].controller_fallbacks, s["steps"]) for run in s["runs_controller_bypassed"]],
+                   sc, out)
