@@ -38,7 +38,8 @@ def test_numpy_floor_is_numpy_2():
 
 def test_every_imported_third_party_package_is_declared():
     # llvmlite is imported directly (studies.latency, prototype.plants), not only through numba
-    assert {"numpy", "scipy", "numba", "llvmlite", "mujoco", "pydantic", "matplotlib", "typer", "rich"} <= set(REQUIRES)
+    assert {"numpy", "scipy", "numba", "llvmlite", "mujoco", "pydantic", "matplotlib", "typer", "rich",
+            "jinja2"} <= set(REQUIRES)
 
 
 def test_numba_cache_index_api():

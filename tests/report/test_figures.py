@@ -396,7 +396,7 @@ def test_the_report_numbers_its_figures_in_page_order_and_names_the_papers(short
     page = (tmp_path / "report.html").read_text()
     captions = re.findall(r"<figcaption>(.*?)</figcaption>", page)
     assert [c.split(":")[0] for c in captions] == ["Figure 1", "Figure 2", "Figure 3", "Figure 4"]
-    assert "like the paper&#x27;s figure 5" in captions[0] and "like the paper&#x27;s figure 7" in captions[2]
+    assert "like the paper&#39;s figure 5" in captions[0] and "like the paper&#39;s figure 7" in captions[2]
     # paper builds nothing beyond point anchors: no table of dashes
     assert "Cables as built" not in page
 

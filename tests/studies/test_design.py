@@ -250,7 +250,7 @@ def test_design_writes_its_files_and_the_finalists_run(tmp_path):
         assert (out / name).stat().st_size > 5000
     page = (out / "report.html").read_text()
     assert "<h1>Design study: small</h1>" in page and page.count("<tr><td>front ") == len(s["front"])
-    assert "<tr><td>template&#x27;s robot</td><td>1.9 x 1.4</td>" in page and page.count("data:image/png") == 3
+    assert "<tr><td>template&#39;s robot</td><td>1.9 x 1.4</td>" in page and page.count("data:image/png") == 3
 
 
 def test_a_design_s_drawing_puts_the_platform_at_the_panel_s_corners(small):

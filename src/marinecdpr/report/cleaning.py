@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import base64
-import html
 from pathlib import Path
 
 import numpy as np
@@ -11,10 +9,9 @@ import numpy as np
 from marinecdpr.report.figures import (
     FIGURE_DPI, _figure_columns, _legend_below, _plain, _pyplot, _save, decimate, length_unit, plot_operability,
 )
-from marinecdpr.report.files import _write_csv, atomic_path, write_json
+from marinecdpr.report.files import _write_csv, write_json
 from marinecdpr.report.text import _fmt_length, describe_base_motion
 from marinecdpr.report.view3d import view_section
-from marinecdpr.textfiles import strip_control
 
 __all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
            "SEA_STATE_COLUMNS", "write_cleaning_seas"]
@@ -205,22 +202,21 @@ def _figure_row(key: str, value: float) -> tuple[str, str]:
     return name, fmt(value)
 
 
-def _comparison_table(comparison: dict, esc) -> str:
-    """The job beside calm water and without the brush's drag: one column per variant."""
-    if not comparison:
-        return ""
+def _comparison_rows(comparison: dict) -> tuple[list[str], list[tuple[str, list[str]]]]:
+    """The job beside calm water and without the brush's drag: the variants' names, and a row
+    per figure (its name, its value in each variant)."""
     names = list(comparison)
-    head = "".join(f"<th>{esc(n)}</th>" for n in names)
-    rows = "".join(f"<tr><th>{esc(FIGURES[k][0])}</th>"
-                   + "".join(f"<td>{esc(_figure_row(k, comparison[n][k])[1])}</td>" for n in names) + "</tr>"
-                   for k in comparison[names[0]])
-    return (f"<h2>What the sea and the brush do</h2><p>The same job flown in calm water and without the brush's "
-            f"drag (friction and jet 0, the same preload):</p><table><tr><th></th>{head}</tr>{rows}</table>")
+    return names, [(FIGURES[k][0], [_figure_row(k, comparison[n][k])[1] for n in names])
+                   for k in (comparison[names[0]] if names else ())]
 
 
 def write_cleaning_html(job, figures: dict, path: Path) -> Path:
-    def esc(text: str) -> str:
-        return html.escape(strip_control(text))
+    """The job's page (:func:`~marinecdpr.report.page.render_page`): the scenario, the job's
+    figures, what they say, the job beside calm water and without the brush's drag, the
+    figures and the robot on the ship in 3D."""
+    from markupsafe import Markup
+
+    from marinecdpr.report.page import embedded_figures, render_page
 
     sc, s = job.scenario, job.summary
     c = sc.cleaning
@@ -232,7 +228,6 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
                       f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s"),
              ("pass along the edges", f"{s['boundary_pass_length_m']:.3g} m, {s['boundary_pass_time_s']:.1f} s of "
                                       "the path" if s.get("boundary_pass_length_m", 0.0) > 0 else "none")]
-    rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
     table = [_figure_row(k, s[k]) for k in FIGURES]
     if s.get("partial"):  # the run ended before the path: its figures are the part flown's
         table = [(f"{name} (over the part flown)", value) if name == FIGURES["area_rate_m2_h"][0] else (name, value)
@@ -249,26 +244,10 @@ def write_cleaning_html(job, figures: dict, path: Path) -> Path:
                            f"{hull['move_time_s']:g} s per move"),
                   ("hull: time", f"{hull['hours']:.1f} h"),
                   ("hull: area rate, moves included", f"{hull['area_rate_m2_h']:.3g} m²/h")]
-    numbers = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in table)
-    notes = "".join(f"<li>{esc(x)}</li>" for x in cleaning_findings(s))
-    imgs = "".join(
-        f'<figure><img src="data:image/png;base64,{base64.b64encode(Path(p).read_bytes()).decode("ascii")}" '
-        f'alt="{esc(cap)}"><figcaption>{esc(cap)}</figcaption></figure>' for cap, p in figures.items())
-    page = f"""<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>marinecdpr clean: {esc(sc.name)}</title>
-<style>body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em; }}
-table {{ border-collapse: collapse; margin: 1em 0; }} th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em;
-text-align: left; }} img {{ max-width: 100%; }} figcaption {{ color: #555; font-size: 0.9em; }}</style>
-</head><body><h1>Cleaning job, scenario: {esc(sc.name)}</h1><p>{esc(sc.description)}</p>
-<h2>Scenario</h2><table>{rows}</table><h2>The job</h2><table>{numbers}</table><ul>{notes}</ul>
-{_comparison_table(s.get("comparison", {}), esc)}
-<h2>Figures</h2>{imgs}
-{view_section(sc, job.plan)}</body></html>
-"""
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(page, encoding="utf-8")
-    return path
+    variants, comparison = _comparison_rows(s.get("comparison", {}))
+    return render_page("clean.html", path, name=sc.name, description=sc.description, facts=facts, numbers=table,
+                       notes=cleaning_findings(s), variants=variants, comparison=comparison,
+                       figures=embedded_figures(figures), view=Markup(view_section(sc, job.plan)))
 
 
 def write_cleaning(job, folder: Path) -> list[Path]:

@@ -351,8 +351,7 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     """One page: the targets, the front beside the template's robot (its second objective
     with its unit, its hours in parts, its binding constraints, the time domain's figures
     where flown), and the figures. Says whether the finalists were flown."""
-    import base64
-    from html import escape as esc
+    from marinecdpr.report.page import embedded_figures, render_page
 
     spec = study.spec
     td = {v.index: v for v in verification or []}
@@ -366,29 +365,23 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
 
     def binding(e):
         b = e.binding()
-        return ", ".join(f"{esc(k)} ({100 * v:.3g} % left)" for k, v in b) if b else "–"
+        return ", ".join(f"{k} ({100 * v:.3g} % left)" for k, v in b) if b else "–"
 
     def row(label, e, v=None):
         x = e.x
-        td_share = f"{100 * v.td_share:.1f} %" if v is not None else "–"
-        td_hours = f"{v.td_expected_hours:.4g}" if v is not None else "–"
         obj = e.objective(spec.objective)
-        obj = "–" if obj != obj else (f"{obj:g}" if power else f"{obj:.6g}")
-        return (f"<tr><td>{esc(label)}</td><td>{x['frame_width_m']:.3g} x {x['frame_height_m']:.3g}</td>"
-                f"<td>{x['platform_width_m']:.3g} x {x['platform_height_m']:.3g}, {e.mass_kg:.3g} kg</td>"
-                f"<td>{x['tool_width_m']:.3g} m at {x['speed_m_s']:.3g} m/s</td><td>{esc(x['winch'])}, "
-                f"{esc(x['rope'])}, {esc(x.get('pattern', 'uncrossed'))}</td><td>{obj}</td><td>{e.placements}</td>"
-                f"<td>{e.surface_hours:.4g}</td><td>{100 * e.sea_share:.1f} %</td><td>{td_share}</td>"
-                f"<td>{e.expected_hours:.4g}</td><td>{td_hours}</td><td>{hours(e)}</td><td>{binding(e)}</td></tr>")
+        return [label, f"{x['frame_width_m']:.3g} x {x['frame_height_m']:.3g}",
+                f"{x['platform_width_m']:.3g} x {x['platform_height_m']:.3g}, {e.mass_kg:.3g} kg",
+                f"{x['tool_width_m']:.3g} m at {x['speed_m_s']:.3g} m/s",
+                f"{x['winch']}, {x['rope']}, {x.get('pattern', 'uncrossed')}",
+                "–" if obj != obj else (f"{obj:g}" if power else f"{obj:.6g}"), e.placements,
+                f"{e.surface_hours:.4g}", f"{100 * e.sea_share:.1f} %",
+                f"{100 * v.td_share:.1f} %" if v is not None else "–", f"{e.expected_hours:.4g}",
+                f"{v.td_expected_hours:.4g}" if v is not None else "–", hours(e), binding(e)]
 
     rows = [row("template's robot", study.baseline)] + [
         row(f"front {k}" + (" (finalist, flown)" if i in td else ""), study.evaluations[i], td.get(i))
         for k, i in enumerate(study.front, start=1)]
-    imgs = []
-    for caption, fig_path in figures.items():
-        data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
-        imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
-                    f"<figcaption>{esc(caption)}</figcaption></figure>")
     best = summary["best"]
     verdict = ("no feasible design" if best is None else
                f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
@@ -400,8 +393,8 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
         if all(np.isfinite(v) for v in h.values()):
             parts = ", ".join(f"{name} {h[k]:.3g} h" for k, name in BREAKDOWN)
             top = max(BREAKDOWN, key=lambda kn: h[kn[0]])
-            limits = (f"<p>What limits the best design: of its {e.expected_hours:.4g} expected h, {esc(top[1])} takes "
-                      f"{h[top[0]]:.3g} h ({parts}); its binding constraints: {binding(e)}.</p>")
+            limits = (f"What limits the best design: of its {e.expected_hours:.4g} expected h, {top[1]} takes "
+                      f"{h[top[0]]:.3g} h ({parts}); its binding constraints: {binding(e)}.")
     plants = sorted({v.plant for v in verification or [] if v.plant})
     if verification:
         flown = (f"The finalists were also flown as built (their rope's weight and stretch, their winches' "
@@ -411,34 +404,7 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     else:
         flown = ("The finalists were not flown in the time domain (--no-verify, or no finalist): every figure is "
                  "the screen's.")
-    page = f"""<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>marinecdpr design: {esc(spec.name)}</title>
-<style>
-body {{ font-family: system-ui, sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 1em; color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; font-size: 0.92em; }}
-th, td {{ border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: left; }}
-thead th {{ background: #f2f2f2; }}
-figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
-figcaption {{ color: #555; font-size: 0.9em; }}
-</style></head><body>
-<h1>Design study: {esc(spec.name)}</h1>
-<p>{esc(spec.description)}</p>
-<p>{_count(len(study.evaluations), 'candidate')} ({summary['feasible']} feasible), seed {spec.seed}; targets: {spec.targets.hours:g} h
-for the surface, working in {100 * spec.targets.sea_share:g} % of the sea states. {esc(verdict)}.</p>
-{limits}
-<h2>The Pareto front</h2>
-<table><thead><tr><th></th><th>frame (m)</th><th>platform</th><th>tool</th><th>winches, rope, cables</th><th>{esc(objective_label(spec))}</th>
-<th>placements</th><th>hours on the surface</th><th>works in (screen)</th><th>(time domain)</th>
-<th>expected h (screen)</th><th>(time domain)</th><th>expected h in parts (screen)</th><th>binding constraints</th></tr></thead>
-<tbody>{''.join(rows)}</tbody></table>
-<p>Expected hours: the placements' cleaning and moves over the share of sea states in which the job works;
-in parts, the brush on its lanes (cleaning), stepping between lanes (turns), moving the frame between placements
-(moves) and waiting for the seas the job works in (weather). A binding constraint is one whose margin is the
-smallest share of what it is taken from (% left). The screen judges every candidate. {flown}</p>
-<h2>Figures</h2>
-{''.join(imgs)}
-</body></html>
-"""
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(page, encoding="utf-8")
-    return path
+    return render_page("design.html", path, spec=spec, candidates=_count(len(study.evaluations), "candidate"),
+                       feasible=summary["feasible"], verdict=verdict, limits=limits or None,
+                       objective=objective_label(spec), rows=rows, flown=flown, figures=embedded_figures(figures),
+                       view="")

@@ -7,10 +7,8 @@ from pathlib import Path
 
 from marinecdpr.planning.planner import TWIST_NAMES
 from marinecdpr.report.figures import RUN_TITLES, _pose_names, length_unit
-from marinecdpr.report.files import atomic_path
 from marinecdpr.report.view3d import view_section
 from marinecdpr.scenario.schema import Scenario
-from marinecdpr.textfiles import strip_control
 
 __all__ = ["write_report_html", "error_table", "findings", "describe_base_motion", "beyond_text"]
 
@@ -184,29 +182,20 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
     paper's experiment), what the numbers say, every figure, and the robot on the ship in 3D
     (:func:`~marinecdpr.report.view3d.view_section`, at ``plan``'s poses, else the scenario's
     trajectory's)."""
-    import base64
-    import html
+    from markupsafe import Markup
 
-    def esc(text: str) -> str:
-        return html.escape(strip_control(text))
+    from marinecdpr.report.page import embedded_figures, render_page
 
     runs = _sim_runs(summary)
     header, rows = error_table(summary, scenario)
-    body = []
-    for row in rows:
-        cells = "".join(f"<td><b>{esc(c)}</b></td>" if c.startswith("NO") else f"<td>{esc(c)}</td>"
-                        for c in row[1:])
-        body.append(f"<tr><th>{esc(row[0])}</th>{cells}</tr>")
-    lead = "<td>–</td>" if "paper_reported" in summary else ""
-    cells = "".join(f"<td>{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N</td>"
-                    for r in runs)
-    body.append(f"<tr><th>applied tensions</th>{lead}{cells}</tr>")
-    cells = "".join(
-        "<td>within</td>" if summary[r]["tension_limit_excess_N"] == 0 else
-        f"<td><b>outside by {summary[r]['tension_limit_excess_N']:.3g} N</b></td>" for r in runs)
+    table = [(row[0], [(c, c.startswith("NO")) for c in row[1:]]) for row in rows]
+    lead = [("–", False)] if "paper_reported" in summary else []
+    table.append(("applied tensions", lead + [
+        (f"{summary[r]['tension_min_N']:.1f} .. {summary[r]['tension_max_N']:.1f} N", False) for r in runs]))
     limits = f"{scenario.robot.tension_min.min():g} .. {scenario.robot.tension_max.max():g} N"
-    body.append(f"<tr><th>tension limits ({limits})</th>{lead}{cells}</tr>")
-    head = "".join(f"<th>{esc(h)}</th>" for h in header)
+    table.append((f"tension limits ({limits})", lead + [
+        ("within", False) if summary[r]["tension_limit_excess_N"] == 0 else
+        (f"outside by {summary[r]['tension_limit_excess_N']:.3g} N", True) for r in runs]))
     sim = scenario.simulation
     r = scenario.robot
     facts = [
@@ -225,59 +214,19 @@ def write_report_html(summary: dict, scenario: Scenario, figures: dict[str, Path
         ("closed loop", f"computed torque, bandwidth {sim.control.bandwidth_hz:g} Hz, damping ratio "
                         f"{sim.control.damping_ratio:g}"),
     ]
-    fact_rows = "".join(f"<tr><th>{esc(k)}</th><td>{esc(v)}</td></tr>" for k, v in facts)
-    notes = "".join(f"<li>{esc(sentence)}</li>" for sentence in findings(summary, scenario))
-    budget_rows = "".join(
-        f"<tr><th>{esc(name)}</th><td>{_budget_cell(e['length_change_m'], 1e3, 'mm')}</td>"
-        f"<td>{_budget_cell(e['tension_change_N'], 1.0, 'N')}</td>"
-        f"<td>{_budget_cell(e.get('workspace_change'), 100.0, '%')}</td><td>{esc(e['note'])}</td></tr>"
-        for name, e in summary.get("error_budget", {}).items())
+    budget = [(name, _budget_cell(e["length_change_m"], 1e3, "mm"), _budget_cell(e["tension_change_N"], 1.0, "N"),
+               _budget_cell(e.get("workspace_change"), 100.0, "%"), e["note"])
+              for name, e in summary.get("error_budget", {}).items()]
     held = summary.get("error_budget_workspace_held_share_point")
     built = any(e.get(k) is not None for e in summary.get("error_budget", {}).values()
                 for k in ("length_change_m", "tension_change_N", "workspace_change"))
-    # only where the scenario builds something beyond point anchors: else every cell is "–"
-    budget = "" if not built else f"""<h2>Cables as built: what each effect changes against point anchors</h2>
-<table><thead><tr><th>effect</th><th>largest length change</th><th>largest tension change</th>
-<th>workspace held</th><th></th></tr></thead><tbody>{budget_rows}</tbody></table>
-<p>Over the plan's steps and cables; "–": the scenario does not describe the effect (the
-note names the key). Workspace held: the change, in points of the frame's map, of where the
-platform can be held at every step of the ship's motion{
-    f" (the point model holds {held * 100:.1f} % of it)" if held is not None else
-    " (mapped only for a robot with pulleys or winches)"}.</p>"""
-    imgs = []
-    for caption, fig_path in figures.items():
-        data = base64.b64encode(Path(fig_path).read_bytes()).decode("ascii")
-        imgs.append(f'<figure><img src="data:image/png;base64,{data}" alt="{esc(caption)}">'
-                    f"<figcaption>{esc(caption)}</figcaption></figure>")
-    title = "Tracking errors, the paper's and ours" if "paper_reported" in summary else "Tracking errors"
-    page = f"""<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>marinecdpr: {esc(scenario.name)}</title>
-<style>
-body {{ font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; padding: 0 1em;
-       color: #222; }}
-table {{ border-collapse: collapse; margin: 1em 0; }}
-th, td {{ border: 1px solid #ccc; padding: 0.3em 0.7em; text-align: left; }}
-thead th {{ background: #f2f2f2; }}
-figure {{ margin: 1.5em 0; }} img {{ max-width: 100%; }}
-figcaption {{ color: #555; font-size: 0.9em; }}
-</style></head><body>
-<h1>Virtual prototype, scenario: {esc(scenario.name)}</h1>
-<p>{esc(scenario.description)}</p>
-<h2>Scenario</h2><table>{fact_rows}</table>
-<h2>{title}</h2>
-<table><thead><tr>{head}</tr></thead>
-<tbody>{''.join(body)}</tbody></table>
-<p>Errors are the largest of |actual − planned| over the run, each row in one unit.</p>
-<ul>{notes}</ul>
-{budget}
-<h2>Figures</h2>
-{''.join(imgs)}
-{view_section(scenario, plan)}</body></html>
-"""
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(page, encoding="utf-8")
-    return path
+    return render_page(
+        "simulate.html", path, name=scenario.name, description=scenario.description, facts=facts,
+        title="Tracking errors, the paper's and ours" if "paper_reported" in summary else "Tracking errors",
+        header=header, table=table, notes=findings(summary, scenario),
+        budget=budget if built else None,  # only where the scenario builds something beyond point anchors
+        held=None if held is None else f"{held * 100:.1f} %",
+        figures=embedded_figures(figures), view=Markup(view_section(scenario, plan)))
 
 
 def describe_base_motion(bm) -> str:
