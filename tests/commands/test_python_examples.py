@@ -32,3 +32,16 @@ def test_the_python_page_runs_as_written_and_its_results_hold(tmp_path, monkeypa
     # 20 ms late without prediction tracks worse than on time (the ship moves meanwhile)
     errors = ns["errors"]
     assert set(errors) == {0.0, 0.02} and errors[0.02] > errors[0.0] > 0.0
+
+
+def test_the_readme_s_python_runs_as_written(tmp_path, monkeypatch):
+    readme = DOC.parents[1] / "README.md"
+    (block,) = re.findall(r"```python\n(.*?)```", readme.read_text(encoding="utf-8"), flags=re.S)
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(block, str(readme), "exec"), ns)  # noqa: S102 - the README's own example
+    # the map's summary counts the map; the plan is the paper's: 15 001 steps, feasible throughout
+    frac, summary = ns["result"].map.fraction_feasible, ns["result"].summary()
+    assert summary["poses"] == int(np.isfinite(frac).sum()) and summary["feasible_throughout"] == int((frac == 1).sum())
+    assert (tmp_path / "out" / "workspace.csv").is_file()
+    assert ns["p"].t.shape == (15001,) and bool(ns["p"].feasible.all())

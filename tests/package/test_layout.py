@@ -1,5 +1,5 @@
 """The package's layout: layers import only the layers below them, and no module imports
-itself through others (README, "Layout"). Imports inside functions count too."""
+itself through others (docs/layout.md). Imports inside functions count too."""
 
 import ast
 from pathlib import Path
@@ -40,7 +40,7 @@ def _layer(module: str) -> int:
     for i, names in enumerate(LAYERS):
         if top in names:
             return i
-    raise AssertionError(f"{module} is in no layer: add it to LAYERS and the README")
+    raise AssertionError(f"{module} is in no layer: add it to LAYERS and docs/layout.md")
 
 
 GRAPH = {_module_name(p): _imports(p) for p in PACKAGE.rglob("*.py")

@@ -1,4 +1,4 @@
-"""No private name crosses a package (issue 38, item 5; README, "Layout"): a name with a
+"""No private name crosses a package (issue 38, item 5; docs/layout.md): a name with a
 leading underscore is imported, or read as ``module._name``, only inside the folder of
 ``src/marinecdpr`` that defines it. A package is a folder (``prototype`` and
 ``prototype/parts`` are two). Imports inside functions count too."""

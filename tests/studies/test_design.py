@@ -468,7 +468,7 @@ def test_crossed_cables_pass_each_other_in_their_two_planes(small):
 
 
 def test_the_readme_s_best_ship_side_design_is_judged_as_it_says():
-    """The best design of `marinecdpr design ship_side` (README): a 9.40 x 5.47 m frame,
+    """The best design of `marinecdpr design ship_side` (docs/design-study.md): a 9.40 x 5.47 m frame,
     0.568 x 1.11 m platform of 23.6 kg, a 0.82 m tool at 0.435 m/s, four large winches (20
     kW, T_max 4 000 N) on 6 mm Dyneema, uncrossed: 130 placements, 24.84 h on the surface,
     the screen passing 98.3 % of the seas (its frame placed and turned as the flared side

@@ -379,7 +379,7 @@ def test_scatter_from_a_spreadsheet_bom_and_crlf(tmp_path):
 
 def test_the_workspace_grid_is_where_the_platform_fits():
     """The grid spans where the platform's centre can be with its anchors in the frame, so in
-    calm water every pose of the README's 12x8 grid is held (before: 28 of 96 never were)."""
+    calm water every pose of docs/seas.md's 12x8 grid is held (before: 28 of 96 never were)."""
     sc = marinecdpr.load_scenario("paper_sea").with_changes(
         base_motion={"type": "still"}, time={"step_s": 0.1, "duration_s": 0.2})
     lo, hi = pose_range(sc)
@@ -391,7 +391,7 @@ def test_the_workspace_grid_is_where_the_platform_fits():
 
 
 def test_the_readme_workspace_example_gives_a_real_answer(tmp_path):
-    """The README's --workspace 12x8 --min-area 1 on a short record: calm seas keep the whole
+    """docs/seas.md's --workspace 12x8 --min-area 1 on a short record: calm seas keep the whole
     frame, a rough one loses its corners; neither 0 % nor 100 %."""
     scatter = _scatter(tmp_path, "hs_m,tp_s,probability\n0.5,8,0.6\n6.5,10,0.4\n")
     res = runner.invoke(app, ["operability", "--scatter", str(scatter), "--workspace", "12x8", "--min-area", "1",
