@@ -201,7 +201,7 @@ def test_the_plan_flags_the_same_steps_in_pieces_and_whole(cube8):
         ends = x + sc.robot.platform_anchors @ R.T
         for n, (i, j) in enumerate(whole.clearances.pairs):
             ref = reference_segment_distance(sc.robot.frame_anchors[i], ends[i], sc.robot.frame_anchors[j], ends[j])
-            assert whole.clearance_cables[k, n] == pytest.approx(ref, abs=1e-14)
+            assert whole.clearances.cable_cable[k, n] == pytest.approx(ref, abs=1e-14)
 
 
 # ------------------------------------------------------------------ through every command

@@ -295,7 +295,7 @@ def test_the_bem_estimate_by_hand():
     n = 512
     assert size.panels == n and size.memory_bytes == 300e6 + 64 * n * n
     assert size.seconds == pytest.approx(33 * (5e-7 * n * n + 1e-10 * n ** 3 + 2e-8 * n * n * 10))
-    assert size.seconds < 10  # docs/seas.md's default hull: started
+    assert size.seconds < 10  # docs/performance.md's default hull: started
     check_bem_size(shape="box", length_m=100, beam_m=20, draught_m=5, panel_m=2.5, frequencies=33, headings=4,
                    memory_bytes=8 * GIB)
 

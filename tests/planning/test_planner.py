@@ -5,6 +5,7 @@ import pytest
 
 import marinecdpr
 from marinecdpr.scenario.fields import TENSION_METHODS
+from marinecdpr.planning.planner import plan_at
 
 from conftest import make_scenario
 
@@ -121,3 +122,26 @@ def test_spatial_robot_plans_with_redundancy_two():
         assert np.all(p.tensions >= 10.0 - 1e-9) and np.all(p.tensions <= 450.0 + 1e-9)
     # minimum norm rests on T_min: the exact QP path for r > 1 is exercised
     assert np.isclose(marinecdpr.plan(sc, method="minimum_norm").tensions, 10.0).any()
+
+
+def test_a_plan_s_piece_is_the_plan_of_those_steps():
+    """Plan.take (issue 38, item 5: the core plan and its records): the steps of a plan with
+    winches, heavy cables and clearances are the plan of those steps, every record sliced."""
+    sc = marinecdpr.load_scenario("paper_as_built").with_updates("robot", clearance_m=0.05)
+    sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 0.5})
+    whole = marinecdpr.plan(sc)
+    assert whole.winch is not None and whole.sag is not None and whole.clearances is not None
+    part = plan_at(sc, whole.t[100:140])
+    piece = whole.take(slice(100, 140))
+    for name in ("t", "pose", "lengths", "tensions", "tensions_pinv", "wrench", "feasible"):
+        np.testing.assert_array_equal(getattr(piece, name), getattr(part, name))
+    for record, names in (("winch", ("length_accelerations", "lower", "upper", "limit")),
+                          ("sag", ("lengths", "winch_tensions")),
+                          ("clearances", ("cable_cable", "cable_platform", "cable_obstacle"))):
+        for name in names:
+            a, b = getattr(getattr(piece, record), name), getattr(getattr(part, record), name)
+            if record == "winch" and name in ("length_accelerations", "lower", "upper", "limit"):
+                a, b = a[1:-1], b[1:-1]  # L'' by central differences: the piece's ends see one side only
+            np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(piece.clearance, part.clearance)
+    assert piece.take(slice(0, 1)).winch.lower.shape == (1, 4)

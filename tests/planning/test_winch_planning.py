@@ -31,26 +31,27 @@ def test_length_accelerations_are_the_derivative_of_the_rates(free_plan):
     sc = with_winch()
     p = marinecdpr.plan(sc)
     grid = length_accelerations(p.length_rates, sc.time.step_s)
-    scale = np.abs(p.length_accelerations).max()
+    scale = np.abs(p.winch.length_accelerations).max()
     assert scale > 0.05
-    np.testing.assert_allclose(p.length_accelerations[1:-1], grid[1:-1], atol=1e-5 * scale)
+    np.testing.assert_allclose(p.winch.length_accelerations[1:-1], grid[1:-1], atol=1e-5 * scale)
     chunked = marinecdpr.plan(sc, chunk_steps=777)
-    for name in ("length_accelerations", "tension_lower", "tension_upper", "winch_limit", "tensions"):
-        np.testing.assert_array_equal(getattr(chunked, name), getattr(p, name))
+    for name in ("length_accelerations", "lower", "upper", "limit"):
+        np.testing.assert_array_equal(getattr(chunked.winch, name), getattr(p.winch, name))
+    np.testing.assert_array_equal(chunked.tensions, p.tensions)
 
 
 def test_a_strong_winch_changes_nothing(free_plan):
     p = marinecdpr.plan(with_winch())
     np.testing.assert_array_equal(p.tensions, free_plan.tensions)
-    assert p.all_feasible and not p.winch_limit.any()
+    assert p.all_feasible and not p.winch.limit.any()
     # the bounds are the winch's at the plan's motion, cut by the cable's limits
-    b = winch_tension_bounds(p.length_rates, p.length_accelerations, WinchParams(**WINCH), 10.0, 450.0)
-    np.testing.assert_array_equal(p.tension_lower, b.lower_N)
-    np.testing.assert_array_equal(p.tension_upper, b.upper_N)
+    b = winch_tension_bounds(p.length_rates, p.winch.length_accelerations, WinchParams(**WINCH), 10.0, 450.0)
+    np.testing.assert_array_equal(p.winch.lower, b.lower_N)
+    np.testing.assert_array_equal(p.winch.upper, b.upper_N)
     # at rest the most a winch holds is tau_max G eta / r_d less friction: (2 - 0.02) 10 0.9 / 0.05 = 356.4 N
     still = np.flatnonzero(np.all(p.length_rates == 0.0, axis=1))
     if still.size:
-        assert p.tension_upper[still[0]] == pytest.approx(356.4, rel=1e-12)
+        assert p.winch.upper[still[0]] == pytest.approx(356.4, rel=1e-12)
 
 
 @pytest.mark.parametrize("method", ["minimum_variance", "improved_closed_form"])
@@ -67,8 +68,8 @@ def test_a_weak_winch_bounds_the_plan(free_plan, method):
     ok = p.feasible
     assert ok.all() if method == "minimum_variance" else ok.mean() > 0.9
     tol = 1e-9 * 450
-    assert np.all(p.tensions[ok] >= p.tension_lower[ok] - tol) and np.all(p.tensions[ok] <= p.tension_upper[ok] + tol)
-    inside = np.all((free.tensions >= p.tension_lower - tol) & (free.tensions <= p.tension_upper + tol), axis=1)
+    assert np.all(p.tensions[ok] >= p.winch.lower[ok] - tol) and np.all(p.tensions[ok] <= p.winch.upper[ok] + tol)
+    inside = np.all((free.tensions >= p.winch.lower - tol) & (free.tensions <= p.winch.upper + tol), axis=1)
     assert 0 < inside.sum() < p.n_steps and ok[inside].all()
     np.testing.assert_allclose(p.tensions[inside], free.tensions[inside], rtol=0, atol=1e-9)
     moved = ok & ~inside
@@ -86,7 +87,7 @@ def test_a_weaker_winch_loses_steps_and_says_why():
     """A 1 N m motor holds 176 N at rest: some steps have no tensions within its range."""
     p = marinecdpr.plan(with_winch(torque_max_Nm=1.0))
     assert 0 < p.feasible.sum() < p.n_steps
-    assert not (p.winch_limit == WINCH_OVERSPEED).any()
+    assert not (p.winch.limit == WINCH_OVERSPEED).any()
     msg = p.infeasibility()
     assert "its winch's most" in msg and "short" in msg
 
@@ -97,14 +98,14 @@ def test_an_overspeed_is_named():
     sc = with_winch(speed_max_rad_s=20.0)
     p = marinecdpr.plan(sc)
     over = np.abs(p.length_rates) * 10.0 / 0.05 > 20.0
-    np.testing.assert_array_equal(p.winch_limit == WINCH_OVERSPEED, over)
+    np.testing.assert_array_equal(p.winch.limit == WINCH_OVERSPEED, over)
     np.testing.assert_array_equal(p.feasible, ~over.any(axis=1) & p.feasible)
     assert not p.feasible[over.any(axis=1)].any()
     msg = p.infeasibility()
     assert "faster than its motor can turn (robot.winch.speed_max_rad_s)" in msg
     first = np.flatnonzero(over.any(axis=1))[0]
     assert f"t = {p.t[first]:.4g} s" in msg
-    assert not (p.winch_limit == WINCH_NO_TENSION).any()
+    assert not (p.winch.limit == WINCH_NO_TENSION).any()
 
 
 def test_the_cli_refuses_a_plan_a_winch_cannot_follow(tmp_path):
@@ -135,10 +136,10 @@ def test_plan_csv_has_the_winches_bounds_and_the_sag(tmp_path):
     p = marinecdpr.plan(sc)
     path = write_plan_csv(p, sc, tmp_path / "plan.csv")
     rows = np.genfromtxt(path, delimiter=",", names=True)
-    for prefix, field in (("Tlo", "tension_lower"), ("Thi", "tension_upper"), ("sag", "sag_lengths"),
-                          ("Twinch", "winch_tensions")):
+    for prefix, values in (("Tlo", p.winch.lower), ("Thi", p.winch.upper), ("sag", p.sag.lengths),
+                           ("Twinch", p.sag.winch_tensions)):
         got = np.column_stack([rows[f"{prefix}{i}"] for i in range(1, 5)])
-        np.testing.assert_allclose(got, getattr(p, field), rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(got, values, rtol=1e-9, atol=1e-12)
     assert rows.dtype.names[-1] == "feasible"
     with plan_csv_writer(sc, tmp_path / "pieces.csv") as write:
         for piece in marinecdpr.iter_plan(sc, chunk_steps=4000):

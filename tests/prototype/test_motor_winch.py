@@ -64,7 +64,7 @@ def test_a_motor_sized_at_the_plans_peak_is_limited_in_open_loop():
     the open loop's tension loop corrects its error; the closed loop's errors stay smaller."""
     sc = motor_scenario()
     p = marinecdpr.plan(sc)
-    peak = winch_report(p.tensions, p.length_rates, p.length_accelerations, sc.time.step_s,
+    peak = winch_report(p.tensions, p.length_rates, p.winch.length_accelerations, sc.time.step_s,
                         WinchParams(**WINCH)).peak_torque_Nm.max()
     tight = motor_scenario(torque_max_Nm=float(peak) * (1 + 1e-4))
     p = marinecdpr.plan(tight)

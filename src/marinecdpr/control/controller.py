@@ -113,7 +113,7 @@ def reference(ff: Plan, *, sag: bool = False) -> Reference:
     the step is second-order accurate); with ``sag`` (catenary cables) the extra length the
     plan's heavy cables sag by, else zeros."""
     c = np.ascontiguousarray  # every array C-ordered: one compiled loop for every plan length
-    sag = (np.nan_to_num(ff.sag_lengths, nan=0.0) if sag and ff.sag_lengths is not None
+    sag = (np.nan_to_num(ff.sag.lengths, nan=0.0) if sag and ff.sag is not None
            else np.zeros_like(ff.lengths))
     return Reference(x=c(ff.pose[:, :3]), R=c(matrix_from_euler(ff.pose[:, 3:])), v=c(ff.twist[:, :3]),
                      w=c(ff.twist[:, 3:]), a=c(ff.twist_dot[:, :3]), al=c(ff.twist_dot[:, 3:]), T=c(ff.tensions),

@@ -40,7 +40,7 @@ class Reference(NamedTuple):
     R : (n_steps, 3, 3) R_PC. w, al : (n_steps, 3) angular velocity and acceleration in C.
     T, L, Ldot : (n_steps, m) planned tensions (N), cable lengths (m) and their rates (m/s).
     sag : (n_steps, m) the extra unstretched length a heavy cable's sag takes at the planned
-    tension (:attr:`~marinecdpr.planning.Plan.sag_lengths`; zeros for weightless cables), m.
+    tension (:attr:`~marinecdpr.planning.planner.CableSag.lengths`; zeros for weightless cables), m.
     """
 
     x: np.ndarray

@@ -35,11 +35,67 @@ from marinecdpr.planning.verdicts import (  # also planner's public names, as be
 )
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Plan", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
+__all__ = ["Plan", "WinchBounds", "CableSag", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
            "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference", "required_wrench",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
+
+
+def _rows(a: np.ndarray, rows: slice) -> np.ndarray:
+    return a[rows].copy()
+
+
+@dataclass(frozen=True)
+class WinchBounds:
+    """What the winches (``robot.winch``) can do along a plan. Arrays shaped (n_steps, n_cables).
+
+    Attributes
+    ----------
+    length_accelerations : ndarray
+        The cables' L'', m/s^2.
+    lower, upper : ndarray
+        The tensions each winch can give at that step within the cable's limits, N (the
+        tension method's bounds: :func:`~marinecdpr.model.winch.winch_tension_bounds`).
+    limit : ndarray of int8
+        0 the winch can give the planned tension; :data:`WINCH_OVERSPEED` the cable moves
+        faster than the motor can turn; :data:`WINCH_NO_TENSION` no tension within the
+        cable's limits is within the motor's torque and power at that motion. A step with
+        either is infeasible.
+    """
+
+    length_accelerations: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    limit: np.ndarray
+
+    def take(self, rows: slice) -> "WinchBounds":
+        """The steps ``rows``, copied."""
+        return WinchBounds(*(_rows(a, rows) for a in (self.length_accelerations, self.lower, self.upper, self.limit)))
+
+
+@dataclass(frozen=True)
+class CableSag:
+    """Heavy cables (``robot.cable_weight_N_m`` > 0) along a plan: each free span an elastic
+    catenary (:mod:`~marinecdpr.model.catenary`, EA of ``simulation.cables``, infinite for
+    ideal cables) in the true vertical, carrying the planned tension at the platform. Arrays
+    shaped (n_steps, n_cables); NaN where infeasible.
+
+    Attributes
+    ----------
+    lengths : ndarray
+        The extra unstretched length the winch pays out against a straight cable at that
+        tension, m.
+    winch_tensions : ndarray
+        The tension at the winch end, N.
+    """
+
+    lengths: np.ndarray
+    winch_tensions: np.ndarray
+
+    def take(self, rows: slice) -> "CableSag":
+        """The steps ``rows``, copied."""
+        return CableSag(_rows(self.lengths, rows), _rows(self.winch_tensions, rows))
 
 
 @dataclass(frozen=True)
@@ -74,26 +130,15 @@ class Plan:
     robot : Robot, optional
         The robot planned for; with it, :meth:`infeasibility` names the cables at their
         limits.
-    length_accelerations, tension_lower, tension_upper : ndarray, shape (n_steps, n_cables), optional
-        With winches (``robot.winch``): the cables' L'' (m/s^2), and the tensions each winch
-        can give at that step within the cable's limits, N (the tension method's bounds:
-        :func:`~marinecdpr.model.winch.winch_tension_bounds`). None without.
-    winch_limit : ndarray of int8, shape (n_steps, n_cables), optional
-        With winches: 0 the winch can give the planned tension; :data:`WINCH_OVERSPEED` the
-        cable moves faster than the motor can turn; :data:`WINCH_NO_TENSION` no tension
-        within the cable's limits is within the motor's torque and power at that motion.
-        A step with either is infeasible.
-    sag_lengths, winch_tensions : ndarray, shape (n_steps, n_cables), optional
-        With heavy cables (``robot.cable_weight_N_m`` > 0): each cable's free span an elastic
-        catenary (:mod:`~marinecdpr.model.catenary`, EA of ``simulation.cables``, infinite
-        for ideal cables) in the true vertical, carrying the planned tension at the platform:
-        the extra unstretched length the winch pays out against a straight cable at that
-        tension (m), and the tension at the winch end (N). NaN where infeasible. None without.
-    clearance_cables, clearance_platform, clearance_obstacles : ndarray, optional
-        With ``robot.clearance_m``: the cables' least distances to each other (shape
-        (n_steps, n_pairs), the pairs of :func:`~marinecdpr.geometry.interference.cable_pairs`),
-        to the platform's body (n_steps, n_cables) and to each obstacle (n_steps, n_cables,
-        n_obstacles), m (:mod:`~marinecdpr.planning.interference`). None without.
+    winch : WinchBounds, optional
+        With winches (``robot.winch``): what they can do at each step. None without.
+    sag : CableSag, optional
+        With heavy cables (``robot.cable_weight_N_m`` > 0): the catenaries' extra lengths and
+        winch-end tensions. None without.
+    clearances : Clearances, optional
+        With ``robot.clearance_m``: the cables' least distances to each other, to the
+        platform's body and to each obstacle
+        (:class:`~marinecdpr.planning.interference.Clearances`). None without.
     obstacle_labels : tuple of str
         How :meth:`interference` names the obstacles.
     tension_headroom : ndarray, shape (n_steps,), optional
@@ -120,33 +165,29 @@ class Plan:
     method: str
     base_model: str
     robot: Robot | None = None
-    length_accelerations: np.ndarray | None = None
-    tension_lower: np.ndarray | None = None
-    tension_upper: np.ndarray | None = None
-    winch_limit: np.ndarray | None = None
-    sag_lengths: np.ndarray | None = None
-    winch_tensions: np.ndarray | None = None
     tension_headroom: np.ndarray | None = None
-    clearance_cables: np.ndarray | None = None
-    clearance_platform: np.ndarray | None = None
-    clearance_obstacles: np.ndarray | None = None
+    winch: WinchBounds | None = None
+    sag: CableSag | None = None
+    clearances: Clearances | None = None
     obstacle_labels: tuple[str, ...] = ()
 
     @property
     def n_steps(self) -> int:
         return self.t.size
 
-    @property
-    def clearances(self) -> Clearances | None:
-        """The cables' distances (:class:`~marinecdpr.planning.interference.Clearances`);
-        None unless the robot has a ``clearance_m``."""
-        if self.clearance_platform is None:
-            return None
-        from marinecdpr.geometry.interference import cable_pairs
+    def take(self, rows: slice) -> "Plan":
+        """The steps ``rows`` of the plan, copied (a piece of it, or one step)."""
+        from dataclasses import replace
 
-        return Clearances(pairs=cable_pairs(self.robot.frame_anchors, self.robot.platform_anchors),
-                          cable_cable=self.clearance_cables, cable_platform=self.clearance_platform,
-                          cable_obstacle=self.clearance_obstacles)
+        per_step = {f: _rows(getattr(self, f), rows) for f in _STEP_FIELDS}
+        if self.tension_headroom is not None:
+            per_step["tension_headroom"] = _rows(self.tension_headroom, rows)
+        c = self.clearances
+        return replace(self, **per_step, winch=None if self.winch is None else self.winch.take(rows),
+                       sag=None if self.sag is None else self.sag.take(rows),
+                       clearances=None if c is None else replace(
+                           c, cable_cable=_rows(c.cable_cable, rows), cable_platform=_rows(c.cable_platform, rows),
+                           cable_obstacle=_rows(c.cable_obstacle, rows)))
 
     @property
     def clearance(self) -> np.ndarray | None:
@@ -222,14 +263,17 @@ class Plan:
         return verdicts.limiting_cables(self, i)
 
 
-_ARRAY_FIELDS = (
-    "t", "pose", "twist", "twist_dot", "lengths", "length_rates", "wrench", "C_s", "F_s",
-    "tensions_pinv", "tensions", "feasible", "reaction",
+_STEP_FIELDS = ("t", "pose", "twist", "twist_dot", "lengths", "length_rates", "wrench", "C_s", "F_s",
+                "tensions_pinv", "tensions", "feasible", "reaction")
+"""The plan's arrays every robot has, each shaped (n_steps, ...)."""
+_CHUNK_ARRAYS = _STEP_FIELDS + (
     "length_accelerations", "tension_lower", "tension_upper", "winch_limit",  # with winches only
     "sag_lengths", "winch_tensions",  # with heavy cables only
     "tension_headroom",  # when asked for (iter_plan(headroom=True))
     "clearance_cables", "clearance_platform", "clearance_obstacles",  # with robot.clearance_m only
 )
+"""A piece's arrays as :func:`_plan_chunk` gives them, before :func:`_make_plan` gathers
+the winches', the sag's and the clearances' into their records."""
 LENGTH_ACCELERATION_STEP_S = 1e-4
 """The step of the central difference of the cables' L' that gives L'', s."""
 
@@ -282,7 +326,7 @@ def _length_accelerations(scenario: Scenario, t: np.ndarray, length_rates: np.nd
 
 def _winch_bounds(scenario: Scenario, t: np.ndarray, length_rates: np.ndarray) -> dict:
     """With ``robot.winch``: the cables' L'', the tensions each winch can give at each step
-    (:func:`~marinecdpr.model.winch.winch_tension_bounds`) and :attr:`Plan.winch_limit`."""
+    (:func:`~marinecdpr.model.winch.winch_tension_bounds`) and :attr:`WinchBounds.limit`."""
     from marinecdpr.model.winch import WinchParams, winch_tension_bounds
 
     robot = scenario.robot
@@ -297,8 +341,8 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
          tensions: np.ndarray) -> dict:
     """Heavy cables (``robot.cable_weight_N_m``): each free span from ``spans_from`` (n, m, 3)
     to the platform anchors (n, m, 3), in C, an elastic catenary in the vertical ``up_C``
-    (n, 3) carrying ``tensions`` (n, m) at the platform: :attr:`Plan.sag_lengths` and
-    :attr:`Plan.winch_tensions` (NaN where the tension is, or where no catenary carries it)."""
+    (n, 3) carrying ``tensions`` (n, m) at the platform: :attr:`CableSag.lengths` and
+    :attr:`CableSag.winch_tensions` (NaN where the tension is, or where no catenary carries it)."""
     from marinecdpr.model.catenary import catenary_series
 
     cab = scenario.simulation.cables
@@ -569,9 +613,25 @@ def ship_motion_at(scenario: Scenario, t: np.ndarray, base_model: str | None = N
 
 
 def _make_plan(scenario: Scenario, arrays: dict, method: str, base_model: str) -> Plan:
+    """The plan of a piece's arrays (:data:`_CHUNK_ARRAYS`): what only some robots have in
+    its records."""
+    arrays = dict(arrays)
     names = tuple(TWIST_NAMES[i] for i in uncontrolled(scenario.robot.controlled))
+    winch = sag = gaps = None
+    if "winch_limit" in arrays:
+        winch = WinchBounds(arrays.pop("length_accelerations"), arrays.pop("tension_lower"),
+                            arrays.pop("tension_upper"), arrays.pop("winch_limit"))
+    if "sag_lengths" in arrays:
+        sag = CableSag(arrays.pop("sag_lengths"), arrays.pop("winch_tensions"))
+    if "clearance_platform" in arrays:
+        from marinecdpr.geometry.interference import cable_pairs
+
+        robot = scenario.robot
+        gaps = Clearances(pairs=cable_pairs(robot.frame_anchors, robot.platform_anchors),
+                          cable_cable=arrays.pop("clearance_cables"), cable_platform=arrays.pop("clearance_platform"),
+                          cable_obstacle=arrays.pop("clearance_obstacles"))
     return Plan(**arrays, reaction_dofs=names, method=method, base_model=base_model, robot=scenario.robot,
-                obstacle_labels=tuple(obstacle_labels(scenario.obstacles)))
+                winch=winch, sag=sag, clearances=gaps, obstacle_labels=tuple(obstacle_labels(scenario.obstacles)))
 
 
 def iter_plan(
@@ -648,8 +708,6 @@ class PlanSummary:
 
     def add(self, piece: Plan) -> None:
         """Count one piece of the plan (the next in time)."""
-        from dataclasses import replace
-
         self.method, self.base_model = piece.method, piece.base_model
         for name, acc in self._ranges.items():
             a = getattr(piece, name)
@@ -659,8 +717,7 @@ class PlanSummary:
                 acc[0] = min(acc[0], float(np.nanmin(a)))
                 acc[1] = max(acc[1], float(np.nanmax(a)))
         def step(i: int) -> Plan:
-            return replace(piece, **{f: getattr(piece, f)[i : i + 1].copy() for f in _ARRAY_FIELDS
-                                     if getattr(piece, f) is not None})
+            return piece.take(slice(i, i + 1))
 
         ok = int(piece.feasible.sum())
         if self._first_bad is None and ok < piece.n_steps:
@@ -780,7 +837,7 @@ def plan_at(
     out: dict[str, np.ndarray] = {}
     i0 = 0
     for piece in _chunks(scenario, t, method, base_model, chunk_steps, ship):
-        for name in _ARRAY_FIELDS:
+        for name in _CHUNK_ARRAYS:
             arr = piece.get(name)
             if arr is None:
                 continue

@@ -44,7 +44,7 @@ def controlled_pose_names(controlled: tuple[int, ...]) -> list[str]:
 
 
 WINCH_OVERSPEED, WINCH_NO_TENSION = 1, 2
-"""Codes of :attr:`~marinecdpr.planning.planner.Plan.winch_limit`, each worded by :func:`winch_cause`."""
+"""Codes of :attr:`~marinecdpr.planning.planner.WinchBounds.limit`, each worded by :func:`winch_cause`."""
 
 
 def infeasibility_line(plan, i: int, n_bad: int, n_steps: int, steps: str = "steps",
@@ -63,14 +63,14 @@ def infeasibility_line(plan, i: int, n_bad: int, n_steps: int, steps: str = "ste
 
 def winch_cause(plan, i: int) -> str | None:
     """Which of ``plan``'s winches cannot follow at step ``i`` (None if all can)."""
-    if plan.winch_limit is None or not plan.winch_limit[i].any():
+    if plan.winch is None or not plan.winch.limit[i].any():
         return None
     parts = []
     for code, why in ((WINCH_OVERSPEED, "the cable moves faster than its motor can turn "
                                          "(robot.winch.speed_max_rad_s)"),
                       (WINCH_NO_TENSION, "its torque and power give no tension within the cable's "
                                           "limits at that motion (robot.winch)")):
-        cables = [str(c + 1) for c in np.flatnonzero(plan.winch_limit[i] == code)]
+        cables = [str(c + 1) for c in np.flatnonzero(plan.winch.limit[i] == code)]
         if cables:
             parts.append(f"winch{'es' if len(cables) > 1 else ''} {', '.join(cables)}: {why}")
     return "; ".join(parts)
@@ -98,8 +98,8 @@ def limiting_cables(plan, i: int) -> str | None:
     if not (np.isfinite(A).all() and np.isfinite(w).all()):
         return None
     lo, hi = robot.tension_min, robot.tension_max
-    if plan.tension_lower is not None:  # what the winches can give at that step
-        lo, hi = plan.tension_lower[i], plan.tension_upper[i]
+    if plan.winch is not None:  # what the winches can give at that step
+        lo, hi = plan.winch.lower[i], plan.winch.upper[i]
     is_moment = np.array(c) >= 3
     radius = max(float(np.linalg.norm(robot.platform_anchors, axis=1).max()), 1e-3)
     weight = np.where(is_moment, 1.0 / radius, 1.0)
@@ -135,7 +135,7 @@ def limiting_cables(plan, i: int) -> str | None:
                 lacking = (word, unit, axis_word, np.flatnonzero(rows), part / value)
     at, n_at = [], 0
     tol_T = 1e-6 * float(hi.max())
-    labels = ("T_min", "T_max") if plan.tension_lower is None else ("its winch's least", "its winch's most")
+    labels = ("T_min", "T_max") if plan.winch is None else ("its winch's least", "its winch's most")
     for label, on, limit in ((labels[0], T <= lo + tol_T, lo), (labels[1], T >= hi - tol_T, hi)):
         for value in sorted(set(limit[on].tolist())):
             cables = [str(k + 1) for k in np.flatnonzero(on & (limit == value))]
@@ -146,7 +146,7 @@ def limiting_cables(plan, i: int) -> str | None:
     line = f"{prefix}at best, {who} still leave{'s' if n_at == 1 else ''} {' and '.join(short)} short"
     if singular:
         return line
-    return line + sizing_hint(A, w, lo, hi, lacking, axes, plan.tension_lower is not None)
+    return line + sizing_hint(A, w, lo, hi, lacking, axes, plan.winch is not None)
 
 
 def sampled_line(plan, i: int, n_bad: int, n_planned: int, n_steps: int,

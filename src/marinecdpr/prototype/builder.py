@@ -90,7 +90,7 @@ def context(scenario, run: str, n: int, *, plan, ff, ship_h, brush_h, loads: Loa
     cables_at(x0, R0, ctl.model, L_init, np.empty((m, 6)))
     L0 = unstretched_length(L_init, ff.tensions[0] - cab.damping_N_s_m * ff.length_rates[0], EA)
     if cab.model == "catenary":
-        L0 += ff.sag_lengths[0]
+        L0 += ff.sag.lengths[0]
     bus.L0[:] = L0
     bus.L0_drum[:] = L0
     bus.T_hold[:] = ff.tensions[0]

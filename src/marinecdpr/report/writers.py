@@ -69,11 +69,13 @@ def plan_columns(plan: Plan, scenario: Scenario) -> tuple[list[str], np.ndarray]
         + [f"Tpinv{i}" for i in range(1, n + 1)] + [f"T{i}" for i in range(1, n + 1)]
     )
     columns = [plan.t, pose, plan.lengths, plan.tensions_pinv, plan.tensions]
-    for prefix, field in (("Tlo", "tension_lower"), ("Thi", "tension_upper"), ("sag", "sag_lengths"),
-                          ("Twinch", "winch_tensions"), ("gap", "clearance")):
-        if getattr(plan, field) is not None:
+    winch, sag = plan.winch, plan.sag
+    for prefix, values in (("Tlo", winch and winch.lower), ("Thi", winch and winch.upper),
+                           ("sag", sag and sag.lengths), ("Twinch", sag and sag.winch_tensions),
+                           ("gap", plan.clearance)):
+        if values is not None:
             names += [f"{prefix}{i}" for i in range(1, n + 1)]
-            columns.append(getattr(plan, field))
+            columns.append(values)
     return names + ["feasible"], np.column_stack(columns + [plan.feasible.astype(float)])
 
 

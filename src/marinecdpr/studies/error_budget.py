@@ -11,7 +11,7 @@ winch) is reported as not evaluated, with the key that would describe it.
   pays out that much less than the geometry);
 - sag: each cable an elastic catenary (``robot.cable_weight_N_m``) carrying the plan's
   tension at the platform, in the true vertical (the ship's attitude), as the planner
-  computes it (:attr:`~marinecdpr.planning.Plan.sag_lengths`): the extra unstretched
+  computes it (:attr:`~marinecdpr.planning.planner.CableSag.lengths`): the extra unstretched
   length the winch pays out against a straight cable, and the tension at the winch
   against the platform's;
 - winch limits: the plan keeps each tension within the range its winch can give at that
@@ -112,15 +112,15 @@ def _stretch(scenario: Scenario, p: Plan) -> Effect:
 
 def _sag(scenario: Scenario, p: Plan) -> Effect:
     w = scenario.robot.cable_weight_N_m
-    if w == 0.0 or p.sag_lengths is None:
+    if w == 0.0 or p.sag is None:
         return Effect(name="sag", length_change_m=None, tension_change_N=None,
                       note="weightless cables (robot.cable_weight_N_m)")
-    ok = np.isfinite(p.sag_lengths)
+    ok = np.isfinite(p.sag.lengths)
     if not ok.any():
         return Effect(name="sag", length_change_m=float("nan"), tension_change_N=float("nan"),
                       note=f"{w:g} N/m; no step solved")
-    dL = float(np.max(np.abs(p.sag_lengths[ok])))
-    dT = float(np.max(np.abs(p.winch_tensions[ok] - p.tensions[ok])))
+    dL = float(np.max(np.abs(p.sag.lengths[ok])))
+    dT = float(np.max(np.abs(p.sag.winch_tensions[ok] - p.tensions[ok])))
     note = f"{w:g} N/m"
     unsolved = int((~ok & np.isfinite(p.tensions)).sum())
     if unsolved:
@@ -130,7 +130,7 @@ def _sag(scenario: Scenario, p: Plan) -> Effect:
 
 def _winches(scenario: Scenario, p: Plan):
     robot = scenario.robot
-    if robot.winch is None or p.winch_limit is None:
+    if robot.winch is None or p.winch is None:
         return Effect(name="winch limits", length_change_m=None, tension_change_N=None,
                       note="no winch described (robot.winch)"), None
     params = WinchParams(**robot.winch.model_dump())
@@ -139,9 +139,10 @@ def _winches(scenario: Scenario, p: Plan):
     dT = float(np.max(np.abs(p.tensions[both] - free.tensions[both]), initial=0.0))
     lost = int((free.feasible & ~p.feasible).sum())
     ok = p.feasible
-    report = winch_report(p.tensions[ok], p.length_rates[ok], p.length_accelerations[ok], scenario.time.step_s, params)
+    report = winch_report(p.tensions[ok], p.length_rates[ok], p.winch.length_accelerations[ok], scenario.time.step_s,
+                          params)
     asks = winch_report(free.tensions[free.feasible], free.length_rates[free.feasible],
-                        p.length_accelerations[free.feasible], scenario.time.step_s, params)
+                        p.winch.length_accelerations[free.feasible], scenario.time.step_s, params)
     if lost:
         note = (f"{lost} of {p.n_steps} steps lost to the winches' limits (no tensions within what "
                 f"each can give at that motion); without those limits the plan asks up to "

@@ -157,7 +157,7 @@ def build(context) -> list:
         drive = winch_drive(params, robot.n_cables, L0, omega0=omega0, k_T=1.0, k_w=k_w)
         n = context.n_steps
         common = dict(drive=drive, Ldot_ref=np.ascontiguousarray(context.plan.length_rates[:n], dtype=float),
-                      Lddot_ref=np.ascontiguousarray(context.plan.length_accelerations[:n], dtype=float),
+                      Lddot_ref=np.ascontiguousarray(context.plan.winch.length_accelerations[:n], dtype=float),
                       T_meas=np.zeros(robot.n_cables), limited=np.zeros(2, dtype=np.int64))
         if heavy:
             return [CatenaryMotorWinch(**common, T_drum_cmd=np.zeros(robot.n_cables))]
