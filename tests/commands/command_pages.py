@@ -29,22 +29,24 @@ def run_page(command: str, folder: Path, monkeypatch) -> dict:
     return ns
 
 
-def options_table(command: str) -> dict[str, object]:
-    """The page's table of options: each row's field (its ```--flag``` as the spec's field)
-    and its default (the second column, a Python literal in backticks)."""
+def options_table(command: str, fields: dict[str, str] | None = None) -> dict[str, object]:
+    """The page's table of options: each row's field (its ```--flag``` as the spec's field,
+    or as ``fields`` maps a flag) and its default (the second column, a Python literal in
+    backticks)."""
     rows = {}
     for line in page(command).splitlines():
         m = re.match(r"\|\s*`--([a-z-]+)`\s*\|\s*`([^`]*)`\s*\|", line)
         if m:
-            field = m.group(1).replace("-", "_")
+            field = (fields or {}).get(m.group(1), m.group(1).replace("-", "_"))
             assert field not in rows, f"--{m.group(1)} is listed twice"
             rows[field] = ast.literal_eval(m.group(2))
     return rows
 
 
-def assert_table_is_the_spec(command: str, spec_class) -> None:
-    """The page lists exactly the spec's fields, each with the spec's default."""
-    rows = options_table(command)
+def assert_table_is_the_spec(command: str, spec_class, fields: dict[str, str] | None = None) -> None:
+    """The page lists exactly the spec's fields, each with the spec's default (``fields``:
+    a flag whose field is not its name, e.g. ``{"json": "as_json"}``)."""
+    rows = options_table(command, fields)
     assert set(rows) == set(spec_class.model_fields), (sorted(rows), sorted(spec_class.model_fields))
     for field, default in rows.items():
         assert default == spec_class.default(field), (field, default, spec_class.default(field))
