@@ -117,3 +117,24 @@ def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     assert json.loads((tmp_path / "out" / "summary.json").read_text()) == json.loads(json.dumps(summary))
     assert [p.name for p in ns["files"]][-2:] == ["summary.json", "report.html"]
     assert ns["said"] == ("--duration 100: paper lasts 15 s; flying those 15 s",)
+
+
+def test_the_command_says_the_cut_before_it_refuses_a_run_too_large(tmp_path):
+    """A --duration beyond a scenario too large to fly: the warning, then the refusal, as
+    before the contract (the estimate raised before its warnings could be read)."""
+    from marinecdpr.commands.simulate import duration_cut
+
+    paper = marinecdpr.load_scenario("paper")
+    scen = tmp_path / "long.toml"
+    from pathlib import Path
+
+    text = (Path(marinecdpr.__file__).parent / "scenario" / "builtin" / "paper.toml").read_text()
+    scen.write_text(text.replace("duration_s = 15.0", "duration_s = 1e6").replace("step_s = 0.001", "step_s = 1e-4"))
+    res = runner.invoke(app, ["simulate", str(scen), "--duration", "2e6", "--out", str(tmp_path / "o")])
+    lines = [" ".join(ln.split()) for ln in res.stderr.strip().splitlines()]
+    assert res.exit_code == 2 and len(lines) == 2, res.stderr
+    assert lines[0] == f"warning: --duration 2e+06: {scen} lasts 1e+06 s; flying those 1e+06 s"
+    assert lines[1].startswith(f"error: {scen}: time.duration_s: simulating 1e+10 steps")
+    assert not (tmp_path / "o").exists()
+    assert duration_cut(paper, 15.0) is None and duration_cut(paper, None) is None
+    assert duration_cut(paper, 15.5) == command.DurationCut(given=15.5, lasts=15.0)

@@ -43,9 +43,10 @@ def simulate(
     try:
         est = command.estimate(spec, sc)  # the first --duration seconds; too big is one line, exit 2
     except ScenarioError as exc:
+        cut = command.duration_cut(sc, spec.duration)  # said before the refusal, as the run was meant
+        _warn(() if cut is None else (cut.warning(plain(scenario)),))
         fail_scenario(exc, scenario)
-    for line in est.warnings(plain(scenario)):
-        err_console.print(styled("warning:", "bold yellow", line), highlight=False, soft_wrap=True)
+    _warn(est.warnings(plain(scenario)))
     sc = est.flown
     t0 = time.perf_counter()
     with output(out) as folder:
@@ -83,3 +84,8 @@ def simulate(
         err_console.print(plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
     fail_bypassed(result.bypassed(), sc, out)
+
+
+def _warn(lines) -> None:
+    for line in lines:
+        err_console.print(styled("warning:", "bold yellow", line), highlight=False, soft_wrap=True)

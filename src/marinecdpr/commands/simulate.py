@@ -18,7 +18,7 @@ from marinecdpr.commands.base import Estimate, Spec, positive
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["SimulateSpec", "SimulateEstimate", "SimulateResult", "DurationCut", "first_seconds", "estimate",
+__all__ = ["SimulateSpec", "SimulateEstimate", "SimulateResult", "DurationCut", "duration_cut", "first_seconds", "estimate",
            "run", "PLANTS"]
 
 PLANTS = ("mujoco", "own")
@@ -77,13 +77,19 @@ class DurationCut:
         return f"--duration {self.given:g}: {scenario} lasts {self.lasts:g} s; flying those {self.lasts:g} s"
 
 
+def duration_cut(scenario: Scenario, duration: float | None) -> DurationCut | None:
+    """The cut where ``duration`` is longer than the scenario (all of it flown), else None."""
+    lasts = scenario.time.duration_s
+    return DurationCut(given=duration, lasts=lasts) if duration is not None and duration > lasts else None
+
+
 def first_seconds(scenario: Scenario, duration: float | None) -> tuple[Scenario, DurationCut | None]:
     """The scenario's first ``duration`` seconds (all of it where None), and the cut where
-    ``duration`` is longer than the scenario (all of it flown)."""
+    ``duration`` is longer than the scenario (:func:`duration_cut`)."""
     if duration is None:
         return scenario, None
     lasts = scenario.time.duration_s
-    cut = DurationCut(given=duration, lasts=lasts) if duration > lasts else None
+    cut = duration_cut(scenario, duration)
     return scenario.with_changes(time={"step_s": scenario.time.step_s, "duration_s": min(duration, lasts)}), cut
 
 
