@@ -133,3 +133,12 @@ def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     planned = np.column_stack([data[f"T{i}"] for i in range(1, 5)])
     np.testing.assert_allclose((ns["lowest"], ns["highest"]), (planned.min(), planned.max()), rtol=1e-9)
     assert ns["result"].infeasibility() is None and ns["still"].summary()["base_model"] == "fixed"
+
+
+def test_the_command_line_names_the_flag_of_a_bad_spec_field(tmp_path):
+    from conftest import one_line_exit_2
+
+    res = runner.invoke(app, ["plan", "paper", "--method", "fastest", "--out", str(tmp_path / "o")])
+    assert one_line_exit_2(res) == ("error: --method fastest: expected one of pseudo_inverse, minimum_variance, "
+                                    "closed_form, improved_closed_form, minimum_norm")
+    assert not (tmp_path / "o").exists()

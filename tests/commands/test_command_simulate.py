@@ -138,3 +138,16 @@ def test_the_command_says_the_cut_before_it_refuses_a_run_too_large(tmp_path):
     assert not (tmp_path / "o").exists()
     assert duration_cut(paper, 15.0) is None and duration_cut(paper, None) is None
     assert duration_cut(paper, 15.5) == command.DurationCut(given=15.5, lasts=15.0)
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--plant", "gazebo"], "--plant gazebo: expected mujoco or own"),
+    (["--duration", "-1"], "--duration -1: expected a positive number"),
+    (["--max-error", "inf"], "--max-error inf: expected a finite number"),
+])
+def test_the_command_line_names_the_flag_of_a_bad_spec_field(tmp_path, args, words):
+    from conftest import one_line_exit_2
+
+    res = runner.invoke(app, ["simulate", "paper", *args, "--out", str(tmp_path / "o")])
+    assert one_line_exit_2(res, words) == f"error: {words}"
+    assert not (tmp_path / "o").exists()
