@@ -1,42 +1,39 @@
 """The ``latency`` command: how long the controller's step takes on this machine: called from Python and inside a
     compiled loop along the scenario's plan, beside one quadprog solve of the same tension
-    problem (the bench extra)."""
+    problem (the bench extra) (:mod:`marinecdpr.commands.latency`)."""
 
 from __future__ import annotations
 
 import typer
 
-from marinecdpr.cli.common import compiling, console, fail, load, plain, run_errors
-from marinecdpr.errors import ScenarioError
+from marinecdpr.cli.common import compiling, console, load, plain, run_errors, spec_of
+from marinecdpr.commands.latency import LatencySpec
 
 
 def latency(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
-    calls: int = typer.Option(20000, "--calls", help="Steps timed from Python and in a compiled loop (1 to "
-                              "10,000,000)."),
-    as_json: bool = typer.Option(False, "--json", help="Print one JSON object instead of a table."),
+    calls: int = typer.Option(LatencySpec.default("calls"), "--calls", help="Steps timed from Python and in a "
+                              "compiled loop (1 to 10,000,000)."),
+    as_json: bool = typer.Option(LatencySpec.default("as_json"), "--json",
+                                 help="Print one JSON object instead of a table."),
 ) -> None:
     """How long the controller's step takes on this machine: called from Python and inside a
     compiled loop along the scenario's plan, beside one quadprog solve of the same tension
     problem (the bench extra)."""
-    import dataclasses
-
-    from marinecdpr.planning.budget import check_latency_calls
+    from marinecdpr.commands import latency as command
     from marinecdpr.report.files import json_text
-    from marinecdpr.studies.latency import LATENCY_COMPILE_S, controller_latency, latency_kernels_cached
 
-    try:
-        check_latency_calls(calls)  # before any work
-    except ScenarioError as exc:
-        fail(str(exc))
+    spec = spec_of(LatencySpec, calls=calls, as_json=as_json)  # the count, before any work
     sc = load(scenario, None, None)
-    if not latency_kernels_cached():
-        compiling("the controller's step", LATENCY_COMPILE_S)
+    est = command.estimate(spec, sc)
+    if est.compile_s is not None:
+        compiling("the controller's step", est.compile_s)
     with run_errors(scenario):
-        lat = controller_latency(sc, calls=calls)
-    if as_json:
-        print(json_text(dataclasses.asdict(lat), indent=None))
+        result = command.run(spec, sc, estimated=est)
+    if spec.as_json:
+        print(json_text(result.summary(), indent=None))
         return
+    lat = result.latency
     qp = "quadprog not installed (pip install 'marinecdpr[bench]')" if lat.quadprog_p50_us is None else \
         f"{lat.quadprog_p50_us:.2f} us per solve (p50)"
     console.print(f"{plain(lat.scenario)}: {lat.cables} cables, redundancy {lat.redundancy}, {lat.method}; "

@@ -1,4 +1,5 @@
-"""The ``simulate`` command: the main job: plan, fly the plan on the virtual prototype, write the report."""
+"""The ``simulate`` command: the main job: plan, fly the plan on the virtual prototype, write the report
+(:mod:`marinecdpr.commands.simulate`: the options' spec, the scenario as flown and its size, the run)."""
 
 from __future__ import annotations
 
@@ -9,17 +10,20 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from marinecdpr.cli.common import (compile_notice, console, err_console, fail, fail_bypassed, number, output, plain,
-    run_errors, scenario_to_fly)
+from marinecdpr.cli.common import (compile_notice, console, err_console, fail_bypassed, fail_scenario, load, output,
+    plain, run_errors, spec_of, styled)
 from marinecdpr.cli.progress import progress_bar
+from marinecdpr.commands.simulate import SimulateSpec
+from marinecdpr.errors import ScenarioError
 
 
 def simulate(
     scenario: str = typer.Argument("paper", help="A scenario file, or a built-in name."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for the CSVs, figures and report."),
-    plant: Optional[str] = typer.Option(None, help="mujoco or own (default: the scenario's)."),
-    duration: Optional[float] = typer.Option(None, help="Simulate only the first seconds."),
-    max_error: Optional[float] = typer.Option(None, help="Flag runs whose position or cable-length "
+    plant: Optional[str] = typer.Option(SimulateSpec.default("plant"), help="mujoco or own (default: the scenario's)."),
+    duration: Optional[float] = typer.Option(SimulateSpec.default("duration"), help="Simulate only the first seconds."),
+    max_error: Optional[float] = typer.Option(SimulateSpec.default("max_error"),
+                                              help="Flag runs whose position or cable-length "
                                               "error passes this, m (default: the scenario's, 1% of the frame)."),
 ) -> None:
     """The main job: plan, fly the plan on the virtual prototype, write the report.
@@ -29,20 +33,24 @@ def simulate(
     report.html. Exits 5 (the files written) if the closed loop's controller was bypassed on
     more than simulation.max_bypassed_share of its steps.
     """
-    from marinecdpr.studies.prototype_runs import virtual_prototype
+    from marinecdpr.commands import simulate as command
+    from marinecdpr.prototype.simulation import RUNS
     from marinecdpr.report.figures import RUN_TITLES
     from marinecdpr.report.text import beyond_text, error_table, findings
-    from marinecdpr.report.writers import write_virtual_prototype
-    from marinecdpr.prototype.simulation import RUNS
 
-    if plant is not None and plant not in ("mujoco", "own"):
-        fail(f"--plant {plant}: expected mujoco or own")
-    number("--duration", duration)
-    number("--max-error", max_error)
-    sc = scenario_to_fly(scenario, duration, "virtual_prototype")
+    spec = spec_of(SimulateSpec, plant=plant, duration=duration, max_error=max_error)
+    sc = load(scenario, None, None)
+    try:
+        est = command.estimate(spec, sc)  # the first --duration seconds; too big is one line, exit 2
+    except ScenarioError as exc:
+        cut = command.duration_cut(sc, spec.duration)  # said before the refusal, as the run was meant
+        _warn(() if cut is None else (cut.warning(plain(scenario)),))
+        fail_scenario(exc, scenario)
+    _warn(est.warnings(plain(scenario)))
+    sc = est.flown
     t0 = time.perf_counter()
     with output(out) as folder:
-        compile_notice(plant or sc.simulation.plant)
+        compile_notice(spec.plant or sc.simulation.plant)
         with progress_bar("simulate", "steps") as bar:
             tasks = {run: bar.add_task(RUN_TITLES[run], total=sc.time.n_steps) for run in RUNS}
 
@@ -53,13 +61,13 @@ def simulate(
                 bar.update(tasks[run], completed=done, total=total)
 
             with run_errors(scenario):
-                vp = virtual_prototype(sc, plant=plant, max_error_m=max_error, progress=progress)
-        paths = write_virtual_prototype(vp, folder)
+                result = command.run(spec, sc, estimated=est, progress=progress)
+        paths = result.write(folder)
     elapsed = time.perf_counter() - t0
 
-    s = vp.summary
+    s = result.summary()
     header, rows = error_table(s, sc)
-    table = Table(title=f"simulate: {plain(sc.name)} ({s['steps']} steps, plant {vp.results['open_loop'].plant}, "
+    table = Table(title=f"simulate: {plain(sc.name)} ({s['steps']} steps, plant {result.plant}, "
                         f"{elapsed:.1f} s wall time)")
     for i, h in enumerate(header):
         table.add_column(h, justify="left" if i == 0 else "right")
@@ -75,5 +83,9 @@ def simulate(
     for warning in s["warnings"]:
         err_console.print(plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
-    fail_bypassed([(run, vp.results[run].controller_fallbacks, s["steps"]) for run in s["runs_controller_bypassed"]],
-                   sc, out)
+    fail_bypassed(result.bypassed(), sc, out)
+
+
+def _warn(lines) -> None:
+    for line in lines:
+        err_console.print(styled("warning:", "bold yellow", line), highlight=False, soft_wrap=True)

@@ -1,25 +1,28 @@
 """The ``warmup`` command: compile the virtual prototype for your scenarios now, once (cached for every later
     run): use it after installing or updating, before a demonstration, a sweep or a timed
-    run, so that their first run starts at once."""
+    run, so that their first run starts at once (:mod:`marinecdpr.commands.warmup`)."""
 
 from __future__ import annotations
 
 import typer
 
-from marinecdpr.cli.common import Plant, console, err_console, load, plain, run_errors
+from marinecdpr.cli.common import Plant, console, err_console, load, plain, run_errors, spec_of
+from marinecdpr.commands.warmup import WarmupSpec
 from marinecdpr.scenario.loading import builtin_scenarios
 
 
 def warmup(
     scenarios_: list[str] = typer.Argument(None, metavar="[SCENARIO]...",
                                            help="Scenario files or built-in names (default: every built-in)."),
-    plant: Plant = typer.Option(None, "--plant", help="Compile for this plant (default: each scenario's)."),
+    plant: Plant = typer.Option(WarmupSpec.default("plant"), "--plant",
+                                help="Compile for this plant (default: each scenario's)."),
 ) -> None:
     """Compile the virtual prototype for your scenarios now, once (cached for every later
     run): use it after installing or updating, before a demonstration, a sweep or a timed
     run, so that their first run starts at once."""
-    from marinecdpr.prototype.warmup import warm_up
+    from marinecdpr.commands import warmup as command
 
+    spec = spec_of(WarmupSpec, plant=None if plant is None else plant.value)
     names = scenarios_ or builtin_scenarios()
     loaded = [load(name, None, None) for name in names]
 
@@ -28,7 +31,8 @@ def warmup(
             err_console.print(f"compiling ({done + 1}/{total}) {plain(what)}...", highlight=False, soft_wrap=True)
 
     with run_errors(", ".join(names)):
-        out = warm_up(loaded, plants=(plant.value,) if plant is not None else None, progress=progress)
+        result = command.run(spec, loaded, progress=progress)
+    s = result.summary()
     console.print(f"compiled for {len(names)} scenario{'s' if len(names) != 1 else ''} "
-                  f"({len(out.runs)} runs) in {out.seconds:.1f} s; cached in {plain(out.cache_dir)}",
+                  f"({len(s['runs'])} runs) in {s['seconds']:.1f} s; cached in {plain(s['cache_dir'])}",
                   highlight=False, soft_wrap=True)

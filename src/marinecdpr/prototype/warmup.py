@@ -15,7 +15,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["WarmUp", "warm_up", "compile_apart", "compile_at_once", "planner_copy", "stand_in_held",
+__all__ = ["WarmUp", "warm_up", "warmup_jobs", "compile_apart", "compile_at_once", "planner_copy", "stand_in_held",
            "tension_solver_args", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
@@ -52,14 +52,7 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     from marinecdpr.compiled_cache import cache_dir
     from marinecdpr.prototype.simulation import simulate
 
-    jobs = []
-    for sc in scenarios:
-        own_only = sc.simulation.cables.model == "catenary"
-        for plant in (plants or (sc.simulation.plant,)):
-            if plant == "mujoco" and own_only:
-                continue
-            for run in ("open_loop", "closed_loop"):
-                jobs.append((sc, plant, run))
+    jobs = warmup_jobs(scenarios, plants=plants)
     done, t0 = [], time.perf_counter()
     for i, (sc, plant, run) in enumerate(jobs):
         if progress is not None:
@@ -72,6 +65,21 @@ def warm_up(scenarios, *, plants: tuple[str, ...] | None = None,
     if progress is not None:
         progress(len(jobs), len(jobs), "done")
     return WarmUp(runs=tuple(done), seconds=time.perf_counter() - t0, cache_dir=str(cache_dir()))
+
+
+def warmup_jobs(scenarios, *, plants: tuple[str, ...] | None = None) -> list[tuple]:
+    """The runs :func:`warm_up` flies, in order: (scenario, plant, run) for each scenario, each
+    of ``plants`` (default: the scenario's ``simulation.plant``; MuJoCo left out for catenary
+    cables, which only the own plant flies), open and closed loop."""
+    jobs = []
+    for sc in scenarios:
+        own_only = sc.simulation.cables.model == "catenary"
+        for plant in (plants or (sc.simulation.plant,)):
+            if plant == "mujoco" and own_only:
+                continue
+            for run in ("open_loop", "closed_loop"):
+                jobs.append((sc, plant, run))
+    return jobs
 
 
 def tension_solver_args(scenario) -> tuple:
