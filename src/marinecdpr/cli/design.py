@@ -64,7 +64,12 @@ def design(
     from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
 
     steps = n_final * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST  # about: each finalist's own
-    executor = sea_executor(serial, workers, scheduler, steps) if n_final else "serial"
+    from marinecdpr.studies.executor import Executor
+
+    executor = sea_executor(serial, workers, scheduler, steps) if n_final else Executor.serial()
+    # the candidates: on Dask where --workers or --scheduler asks for it, else one by one
+    judges = (Executor.serial() if serial or (workers is None and not scheduler)
+              else sea_executor(False, workers, scheduler, 0))
     if resume:  # before the search's first line: a journal that cannot be resumed is one line
         try:
             read_journal(out / "journal.jsonl", study_key(study_spec, template, cells))
@@ -83,8 +88,7 @@ def design(
             try:
                 with run_errors(spec):
                     study = search(study_spec, template, cells, progress=progress, journal=journal, resume=resume,
-                                   executor="dask" if (workers is not None or scheduler) else "serial",
-                                   scheduler=scheduler, workers=workers or 2)
+                                   executor=judges)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
                 fail(f"interrupted; {count(kept, 'candidate')} kept in {journal}: rerun with --resume to go on",
@@ -96,7 +100,7 @@ def design(
                 task = bar.add_task("", total=min(n_final, len(study.front)) * len(cells))
                 with run_errors(spec):
                     checked = verify_finalists(study, template, study_scatter(study_spec, path.parent),
-                                               executor=executor, workers=workers or 2, scheduler=scheduler,
+                                               executor=executor,
                                                plant=plant.value if plant is not None else None,
                                                progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         from marinecdpr.report.design import write_design

@@ -45,6 +45,7 @@ def operability(
     choose. Results are the same whichever runs.
     """
     from marinecdpr.planning.budget import check_run_size
+    from marinecdpr.studies.executor import LOCAL_WORKERS
     from marinecdpr.studies.operability import Cell, cell_scenario, study_steps
     from marinecdpr.studies.operability import operability as run
     from marinecdpr.report.writers import write_operability
@@ -65,7 +66,7 @@ def operability(
         probe = cell_scenario(sc, Cell(index=0, hs=float(diagram.hs.max()), tp=tp_min, heading_deg=heads[0],
                                        probability=1.0), duration, step)
         check_run_size(probe, "operability", cells=n_cells * realisations, grid=grid,
-                       closed_loop=max_error is not None, workers=1 if serial else (workers or 2))
+                       closed_loop=max_error is not None, workers=1 if serial else (workers or LOCAL_WORKERS))
         from marinecdpr.planning.planner import check_trajectory
         from marinecdpr.studies.workspace import singular_poses
 
@@ -76,7 +77,6 @@ def operability(
     executor = sea_executor(serial, workers, scheduler, study_steps(n_cells * realisations, duration_s=duration,
                                                                      step_s=step, workspace=grid,
                                                                      max_error_m=max_error))
-    n_workers = workers or 2
     t0 = time.perf_counter()
     with output(out) as folder:
         if max_error is not None:  # each cell flies the closed loop on the own plant
@@ -85,15 +85,14 @@ def operability(
             task = bar.add_task("", total=n_cells)
             try:
                 op = run(sc, diagram, headings_deg=heads, margin_N=margin, duration_s=duration, step_s=step,
-                         executor=executor, scheduler=scheduler, workers=n_workers,
-                         max_error_m=max_error, workspace=grid, min_area=min_area, realisations=realisations,
+                         executor=executor, max_error_m=max_error, workspace=grid, min_area=min_area, realisations=realisations,
                          progress=lambda d, tot: bar.update(task, completed=d, total=tot))
             except ScenarioError as exc:
                 fail_scenario(exc, scenario)
         elapsed = time.perf_counter() - t0
         paths = [out / p.name for p in write_operability(op, sc, folder)]
 
-    print_sea_table(op, f"operability: {plain(sc.name)}", scheduler, n_workers, elapsed)
+    print_sea_table(op, f"operability: {plain(sc.name)}", executor, elapsed)
     console.print(f"overall {percent(op.operability)}{interval(op.interval, realisations)}, the probability that "
                   f"a {duration:g} s operation succeeds ({count(realisations, 'record')} "
                   "per sea state); written: " + ", ".join(plain(p) for p in paths), highlight=False,
