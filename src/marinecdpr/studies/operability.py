@@ -29,7 +29,7 @@ from marinecdpr.scenario.schema import Scenario, SeaStateMotion
 from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
-__all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
+__all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -61,6 +61,14 @@ class ScatterDiagram:
     hs: np.ndarray
     tp: np.ndarray
     probability: np.ndarray
+
+
+def illustrative_scatter_path() -> Path:
+    """The package's illustrative scatter diagram (``data/scatter_illustrative.csv``): the
+    sea-state studies' default."""
+    from importlib import resources
+
+    return Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
 
 
 def read_scatter_csv(path: str | Path) -> ScatterDiagram:
