@@ -136,7 +136,9 @@ def test_a_run_from_python_is_what_the_command_writes(scatter, tmp_path):
              r["min_margin_N"]) for r in rows] == \
         [(c.cell.heading_deg, c.cell.hs, c.cell.tp, c.successes, "%.10g" % c.min_margin_N) for c in op.results]
     assert len({r["min_margin_N"] for r in rows}) == 6 and 0 < sum(c.successes for c in op.results) < 12
-    assert json.loads((out / "operability.json").read_text()) == json.loads(json.dumps(result.summary()))
+    from marinecdpr.report.files import json_text
+
+    assert (out / "operability.json").read_text() == json_text(result.summary()) + "\n"
     # and written from Python: the same files
     written = result.write(tmp_path / "py")
     assert sorted(p.name for p in written) == ["operability.csv", "operability.json", "operability.png"]
