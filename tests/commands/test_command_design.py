@@ -128,7 +128,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     import typer.main
 
     params = {p.name: p for p in typer.main.get_command(app).commands["design"].params}
-    options = set(params) - {"study", "out"}
+    options = set(params) - {"spec", "out"}   # the study file is the argument (named spec, as its help says)
     assert options == set(DesignCommandSpec.model_fields)
     for name in options:
         assert params[name].default == DesignCommandSpec.default(name), name
