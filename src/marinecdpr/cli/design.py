@@ -38,7 +38,8 @@ def design(
     resume: bool = typer.Option(_default("resume"), "--resume", help="Go on with the search an interrupted run kept "
                                 "in OUT/journal.jsonl (the same study, the same seed)."),
     verify: bool = typer.Option(_default("verify"), "--verify/--no-verify", help="Fly the finalists through the "
-                                "cleaning job in every sea state, closed loop (the hours reported beside the screen's)."),
+                                "cleaning job in every sea state, closed loop (the hours reported beside the "
+                                "screen's)."),
     plant: Plant = typer.Option(_default("plant"), "--plant", help="The finalists' plant (default: the study's, else "
                                 "the template's)."),
     serial: bool = typer.Option(_default("serial"), "--serial", help="Judge the candidates and fly the finalists' sea "
