@@ -12,7 +12,7 @@ runs and a serial run give identical verdicts. Target: 100 cells in <= 20 s on 2
 ``--crossover`` measures where a 2-worker local Dask cluster starts to beat a serial run,
 as the ``marinecdpr operability`` command meets them (each run in a fresh process, the
 cluster's start included), over studies of growing size; the fastest of ``--repeat``
-runs counts. ``marinecdpr.studies.operability.AUTO_DASK_MIN_STEPS`` is set from it.
+runs counts. ``marinecdpr.studies.executor.AUTO_DASK_MIN_STEPS`` is set from it.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ import time
 import numpy as np
 
 import marinecdpr
+from marinecdpr.studies.executor import Executor
 from marinecdpr.studies.operability import ScatterDiagram, operability
 
 
@@ -35,6 +36,7 @@ _ONE_RUN = """
 import json, sys, time
 import numpy as np
 import marinecdpr
+from marinecdpr.studies.executor import Executor
 from marinecdpr.studies.operability import ScatterDiagram, operability, study_steps
 if __name__ == "__main__":
     marinecdpr.keep_freed_memory()
@@ -43,7 +45,7 @@ if __name__ == "__main__":
     scatter = ScatterDiagram(np.linspace(0.5, 5.0, k), np.linspace(5.0, 14.0, k), np.full((k, k), 1.0 / (k * k)))
     sc = marinecdpr.load_scenario("paper_sea")
     t0 = time.perf_counter()
-    op = operability(sc, scatter, executor=executor, workers=2, duration_s=duration, workspace=grid)
+    op = operability(sc, scatter, executor=Executor.serial() if executor == "serial" else Executor.local(2), duration_s=duration, workspace=grid)
     print(json.dumps({"t": time.perf_counter() - t0, "steps": study_steps(k * k, duration_s=duration, step_s=0.02,
                                                                          workspace=grid),
                       "verdicts": [r.operable for r in op.results]}))
@@ -52,7 +54,7 @@ if __name__ == "__main__":
 
 def crossover(repeat: int) -> None:
     """Serial vs a 2-worker local Dask cluster, fresh processes, over growing studies."""
-    from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS
+    from marinecdpr.studies.executor import AUTO_DASK_MIN_STEPS
 
     studies = [(4, 600.0, "-"), (6, 1200.0, "-"), (10, 1200.0, "-"), (15, 1200.0, "-"), (20, 1200.0, "-"),
                (3, 60.0, "12x8"), (6, 60.0, "12x8")]
@@ -99,7 +101,7 @@ def main() -> None:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
         address = cluster.scheduler_address
         t_up = time.perf_counter() - t0
-        op = operability(sc, scatter, executor="dask", scheduler=address)
+        op = operability(sc, scatter, executor=Executor.at(address))
         total = time.perf_counter() - t0
         cluster.close()
         times[workers] = total
@@ -108,8 +110,8 @@ def main() -> None:
               f"{k * k * steps / (total - t_up) / 1e6:.2f} M steps/s; operability {100 * op.operability:.1f} %"
               + ("   target <= 20 s" if workers == 2 else ""))
     print(f"speed-up from 1 to 2 workers: {times[1] / times[2]:.2f}x")
-    serial = operability(sc, ScatterDiagram(hs[:3], tp[:3], np.full((3, 3), 1 / 9)), executor="serial")
-    on_dask = operability(sc, ScatterDiagram(hs[:3], tp[:3], np.full((3, 3), 1 / 9)), executor="dask")
+    serial = operability(sc, ScatterDiagram(hs[:3], tp[:3], np.full((3, 3), 1 / 9)), executor=Executor.serial())
+    on_dask = operability(sc, ScatterDiagram(hs[:3], tp[:3], np.full((3, 3), 1 / 9)), executor=Executor.local())
     same = all(a.operable == b.operable and a.min_margin_N == b.min_margin_N
                for a, b in zip(serial.results, on_dask.results))
     print(f"identical verdicts 1 vs 2 workers: {verdicts[1] == verdicts[2]}; serial vs Dask (9 cells, "

@@ -122,17 +122,16 @@ def test_operability_options_nobody_could_mean(args, message, tmp_path, monkeypa
 def test_a_scheduler_that_does_not_answer_fails_within_seconds(monkeypatch):
     import socket
 
-    from marinecdpr.errors import ScenarioError
-    from marinecdpr.studies.operability import check_scheduler
+    from marinecdpr.studies.executor import Executor, ExecutorError
 
     def silent(address, timeout):
         assert timeout <= 5.0
         raise TimeoutError("timed out")
 
     monkeypatch.setattr(socket, "create_connection", silent)
-    with pytest.raises(ScenarioError, match=r"--scheduler tcp://192\.0\.2\.1:8786: no Dask scheduler reachable "
+    with pytest.raises(ExecutorError, match=r"--scheduler tcp://192\.0\.2\.1:8786: no Dask scheduler reachable "
                                             r"there \(no answer within 5 s\)"):
-        check_scheduler("tcp://192.0.2.1:8786")
+        Executor.at("tcp://192.0.2.1:8786")
 
 
 def test_durations_read_as_a_clock_would():

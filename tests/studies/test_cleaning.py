@@ -394,8 +394,10 @@ def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
 def test_on_dask_the_cleaning_job_gives_the_serial_results(small):
     diagram = ScatterDiagram(np.array([0.5, 2.0]), np.array([6.0]), np.array([[0.5], [0.5]]))
     sc = small.with_changes(time={"duration_s": 2.0})
-    serial = cleaning_seas(sc, diagram, executor="serial")
-    dask = cleaning_seas(sc, diagram, executor="dask", workers=2)
+    from marinecdpr.studies.executor import Executor
+
+    serial = cleaning_seas(sc, diagram, executor=Executor.serial())
+    dask = cleaning_seas(sc, diagram, executor=Executor.local(workers=2))
     assert dask.sea.executor == "dask"
     assert [(r.operable, r.coverage_pct, r.tension_min_N, r.tension_max_N) for r in serial.sea.results] == \
         [(r.operable, r.coverage_pct, r.tension_min_N, r.tension_max_N) for r in dask.sea.results]
@@ -428,7 +430,7 @@ def test_clean_seas_writes_what_it_found_and_refuses_bad_options(small, tmp_path
         [(float(r["heading_deg"]), float(r["hs_m"]), float(r["tp_s"])) for r in failing]
     for args, words in ((["--guarantee"], "--guarantee cannot go with --seas"),
                         (["--coverage-target", "120"], "--coverage-target 120: expected a percentage"),
-                        (["--serial", "--workers", "2"], "--serial cannot go with --workers")):
+                        (["--serial", "--workers", "2"], "--workers 2: cannot go with --serial")):
         res = runner.invoke(app, ["clean", "paper_clean", "--seas", "--duration", "1", *args, "--out", str(out)])
         assert res.exit_code == 2 and words in res.stderr and res.stderr.count("\n") == 1, res.output
 

@@ -310,7 +310,7 @@ def test_the_finalist_is_flown_in_every_sea_state(small, small_path):
     spec, template, cells = small
     spec = spec.model_copy(update={"generations": 1, "finalists": 1, "plant": "own"})  # the study's plant
     study = search(spec, template, cells)
-    (v,) = verify(study, template, study_scatter(spec, small_path.parent), executor="serial")
+    (v,) = verify(study, template, study_scatter(spec, small_path.parent))
     e = study.evaluations[v.index]
     assert v.plant == "own"
     assert v.index == study.front[0] and v.screen_share >= e.sea_share  # flown where the seas were hardest
@@ -385,7 +385,9 @@ def test_the_search_on_dask_judges_the_same_candidates(small):
     spec, template, cells = small
     spec = spec.model_copy(update={"generations": 2})
     serial = search(spec, template, cells)
-    dask = search(spec, template, cells, executor="dask", workers=2)
+    from marinecdpr.studies.executor import Executor
+
+    dask = search(spec, template, cells, executor=Executor.local(workers=2))
     assert [e.__dict__ for e in dask.evaluations] == [e.__dict__ for e in serial.evaluations]
     assert dask.front == serial.front
 

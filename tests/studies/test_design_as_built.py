@@ -92,7 +92,7 @@ def test_the_finalist_is_verified_on_its_rope_and_winches(small, monkeypatch):
 
     monkeypatch.setattr(cleaning, "cleaning_seas", spy)
     scatter = study_scatter(spec, folder)
-    (v,) = verify(study, template, scatter, executor="serial")
+    (v,) = verify(study, template, scatter)
     (sc, built), = flown
     _check_as_built(sc)
     assert v.plant == "own" and v.td_share == built.sea.operability

@@ -82,9 +82,9 @@ def test_dask_gives_the_serial_results():
     """A real local cluster (two worker processes): the same verdicts and margins, to the bit."""
     diagram = ScatterDiagram(np.array([0.5, 3.0]), np.array([6.0, 10.0]), np.full((2, 2), 0.25))
     kw = dict(headings_deg=(180.0, 120.0), **SHORT)
-    serial = operability(sea_robot(), diagram, executor="serial", **kw)
+    serial = operability(sea_robot(), diagram, executor=Executor.serial(), **kw)
     seen = []
-    parallel = operability(sea_robot(), diagram, executor="dask", workers=2,
+    parallel = operability(sea_robot(), diagram, executor=Executor.local(workers=2),
                            progress=lambda done, total: seen.append((done, total)), **kw)
     assert [(r.operable, r.fraction_feasible, r.min_margin_N) for r in serial.results] == \
         [(r.operable, r.fraction_feasible, r.min_margin_N) for r in parallel.results]
@@ -93,7 +93,7 @@ def test_dask_gives_the_serial_results():
     from dask.distributed import LocalCluster
 
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        remote = operability(sea_robot(), diagram, executor="dask", scheduler=cluster.scheduler_address, **kw)
+        remote = operability(sea_robot(), diagram, executor=Executor.at(cluster.scheduler_address), **kw)
     assert [r.min_margin_N for r in remote.results] == [r.min_margin_N for r in serial.results]
 
 
@@ -214,7 +214,8 @@ from typer.testing import CliRunner
 import marinecdpr
 from marinecdpr import ScenarioError
 from marinecdpr.cli.app import app
-from marinecdpr.studies.operability import AUTO_DASK_MIN_STEPS, Cell, CellResult, ScatterDiagram, summarise, choose_executor, operability, read_scatter_csv, study_steps
+from marinecdpr.studies.executor import AUTO_DASK_MIN_STEPS, Executor
+from marinecdpr.studies.operability import Cell, CellResult, ScatterDiagram, summarise, operability, read_scatter_csv, study_steps
 from marinecdpr.studies.workspace import pose_range, workspace_map
 
 runner = CliRunner()
@@ -236,7 +237,7 @@ def _no_dask(monkeypatch):
 
 def test_auto_runs_serially_and_says_so_when_dask_is_missing(monkeypatch, tmp_path):
     _no_dask(monkeypatch)
-    assert choose_executor("auto", 10 * AUTO_DASK_MIN_STEPS) == ("serial", "no dask")
+    assert Executor.auto(10 * AUTO_DASK_MIN_STEPS) == Executor(kind="serial", why="no dask")
     scatter = _scatter(tmp_path, "hs_m,tp_s,probability\n0.5,7,0.7\n1.5,9,0.3\n")
     res = runner.invoke(app, ["operability", "--scatter", str(scatter), *FAST, "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output
@@ -255,24 +256,24 @@ def test_auto_runs_serially_and_says_so_when_dask_is_missing(monkeypatch, tmp_pa
 def test_auto_is_serial_below_the_measured_crossover():
     default = study_steps(34, duration_s=1200.0, step_s=0.02)          # the default study
     assert default == 34 * 60001
-    assert choose_executor("auto", default) == ("serial", "small")
-    assert choose_executor("auto", AUTO_DASK_MIN_STEPS - 1) == ("serial", "small")
-    assert choose_executor("auto", AUTO_DASK_MIN_STEPS) == ("dask", "large")
-    assert choose_executor("auto", 10, scheduler="tcp://127.0.0.1:8786") == ("dask", "scheduler")
-    assert choose_executor("serial", 10 ** 12) == ("serial", "asked")
-    assert choose_executor("dask", 10) == ("dask", "asked")
+    assert (Executor.auto(default).name, Executor.auto(default).why) == ("serial", "small")
+    assert (Executor.auto(AUTO_DASK_MIN_STEPS - 1).name, Executor.auto(AUTO_DASK_MIN_STEPS - 1).why) == ("serial", "small")
+    assert Executor.auto(AUTO_DASK_MIN_STEPS) == Executor(kind="local", workers=2, why="large")
+    assert Executor.choose(serial=True, steps=10 ** 12) == Executor.serial()
+    assert Executor.choose(workers=3, steps=10) == Executor(kind="local", workers=3)
     # a workspace grid's poses and a closed-loop flight (~100 planned steps a step) count as work
     assert study_steps(2, duration_s=60.0, step_s=0.02, workspace=(12, 8)) == 2 * 3001 * 96
     assert study_steps(2, duration_s=60.0, step_s=0.02, max_error_m=0.01) == 2 * 3001 * 101
-    assert choose_executor("auto", study_steps(34, duration_s=1200.0, step_s=0.02, max_error_m=0.01))[0] == "dask"
-    with pytest.raises(ValueError, match="'auto', 'serial' or 'dask'"):
-        choose_executor("threads", 10)
+    assert Executor.auto(study_steps(34, duration_s=1200.0, step_s=0.02, max_error_m=0.01)).name == "dask"
+    with pytest.raises(ValueError, match="serial, local, scheduler"):
+        Executor(kind="threads")
 
 
 def test_serial_and_dask_options_conflict(tmp_path):
     res = runner.invoke(app, ["operability", "--serial", "--workers", "3", *FAST, "--out", str(tmp_path / "o")])
     assert res.exit_code == 2
-    assert res.stderr.strip().count("\n") == 0 and "--serial cannot go with --workers" in res.stderr
+    assert res.stderr.strip().splitlines() == [
+        "error: --workers 3: cannot go with --serial (--workers and --scheduler run on Dask)"]
 
 
 def test_every_executor_gives_the_same_files(tmp_path):

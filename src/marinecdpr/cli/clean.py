@@ -198,9 +198,11 @@ def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_are
     from marinecdpr.planning.budget import check_run_size
 
     n_cells = int((diagram.probability > 0).sum()) * len(heads)
-    n_workers = workers or 2
+    from marinecdpr.studies.executor import LOCAL_WORKERS
+
     try:  # before any work: every sea state flies the job closed loop
-        check_run_size(sc, "operability", cells=n_cells, closed_loop=True, workers=1 if serial else n_workers)
+        check_run_size(sc, "operability", cells=n_cells, closed_loop=True,
+                       workers=1 if serial else (workers or LOCAL_WORKERS))
     except ScenarioError as exc:
         fail_scenario(exc, scenario)
     executor = sea_executor(serial, workers, scheduler, n_cells * sc.time.n_steps * CLOSED_LOOP_STEP_COST)
@@ -212,10 +214,10 @@ def _clean_seas(scenario: str, sc, diagram, heads, out: Path, *, plant, hull_are
             with run_errors(scenario):
                 cs = cleaning_seas(sc, diagram, headings_deg=heads, coverage_target_pct=coverage_target,
                                    in_band_target_pct=in_band_target, plant=plant, hull_area_m2=hull_area,
-                                   move_time_s=move_time, executor=executor, scheduler=scheduler, workers=n_workers,
+                                   move_time_s=move_time, executor=executor,
                                    progress=lambda d, tot: bar.update(task, completed=d, total=tot))
         paths = write_cleaning_seas(cs, sc, folder)
-    print_sea_table(cs.sea, f"cleaning job over the sea states: {plain(sc.name)}", scheduler, n_workers,
+    print_sea_table(cs.sea, f"cleaning job over the sea states: {plain(sc.name)}", executor,
                      time.perf_counter() - t0)
     what = "the hull" if hull_area is not None else "one panel"
     hours = ("no sea state" if cs.expected_hours != cs.expected_hours else

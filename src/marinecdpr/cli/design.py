@@ -1,6 +1,8 @@
 """The ``design`` command: design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
-    fly the best through the cleaning job in every sea state."""
+    fly the best through the cleaning job in every sea state. Options ->
+    :class:`~marinecdpr.commands.design.DesignCommandSpec`; the estimate, the search, the
+    finalists' flights and the files are :mod:`marinecdpr.commands.design`'s."""
 
 from __future__ import annotations
 
@@ -11,12 +13,15 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import (EXIT_INTERRUPTED, Plant, compile_notice, console, count, fail, output, plain,
-    run_errors)
+from marinecdpr.cli.common import (EXIT_INTERRUPTED, Plant, compile_notice, console, count, err_console, fail,
+    fail_spec, output, plain, run_errors, spec_of)
 from marinecdpr.cli.progress import progress_bar, seconds
-from marinecdpr.cli.seas import sea_executor, sea_study_options
+from marinecdpr.commands.base import SpecError
+from marinecdpr.commands.design import JOURNAL, DesignCommandSpec
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.design import GENERATIONS, POPULATION, SEED_MAX
+
+_default = DesignCommandSpec.default
 
 
 def design(
@@ -24,84 +29,69 @@ def design(
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for candidates.csv, pareto.csv and .png, "
                              "convergence.png, finalists.csv and .png, designs/*.toml, summary.json, report.html "
                              "and the search's journal.jsonl."),
-    population: Optional[int] = typer.Option(None, min=POPULATION[0], max=POPULATION[1],
+    population: Optional[int] = typer.Option(_default("population"), min=POPULATION[0], max=POPULATION[1],
                                              help="Candidates a generation (default: the study's)."),
-    generations: Optional[int] = typer.Option(None, min=GENERATIONS[0], max=GENERATIONS[1],
+    generations: Optional[int] = typer.Option(_default("generations"), min=GENERATIONS[0], max=GENERATIONS[1],
                                               help="Generations (default: the study's)."),
-    seed: Optional[int] = typer.Option(None, min=0, max=SEED_MAX, help="The search's seed (default: the study's)."),
-    resume: bool = typer.Option(False, "--resume", help="Go on with the search an interrupted run kept in "
-                                "OUT/journal.jsonl (the same study, the same seed)."),
-    verify: bool = typer.Option(True, "--verify/--no-verify", help="Fly the finalists through the cleaning job in "
-                                "every sea state, closed loop (the hours reported beside the screen's)."),
-    plant: Plant = typer.Option(None, "--plant", help="The finalists' plant (default: the study's, else the template's)."),
-    serial: bool = typer.Option(False, "--serial", help="Judge the candidates and fly the finalists' sea states "
-                                "one after another."),
-    workers: Optional[int] = typer.Option(None, min=1, help="Local Dask workers for the candidates and the "
-                                          "finalists' sea states (default: the candidates here, the sea states on "
+    seed: Optional[int] = typer.Option(_default("seed"), min=0, max=SEED_MAX,
+                                       help="The search's seed (default: the study's)."),
+    resume: bool = typer.Option(_default("resume"), "--resume", help="Go on with the search an interrupted run kept "
+                                "in OUT/journal.jsonl (the same study, the same seed)."),
+    verify: bool = typer.Option(_default("verify"), "--verify/--no-verify", help="Fly the finalists through the "
+                                "cleaning job in every sea state, closed loop (the hours reported beside the "
+                                "screen's)."),
+    plant: Plant = typer.Option(_default("plant"), "--plant", help="The finalists' plant (default: the study's, else "
+                                "the template's)."),
+    serial: bool = typer.Option(_default("serial"), "--serial", help="Judge the candidates and fly the finalists' sea "
+                                "states one after another."),
+    workers: Optional[int] = typer.Option(_default("workers"), min=1, help="Local Dask workers for the candidates and "
+                                          "the finalists' sea states (default: the candidates here, the sea states on "
                                           "Dask when they are many)."),
-    scheduler: Optional[str] = typer.Option(None, help="A running Dask scheduler's address for both."),
+    scheduler: Optional[str] = typer.Option(_default("scheduler"), help="A running Dask scheduler's address for both."),
 ) -> None:
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
     fly the best through the cleaning job in every sea state."""
-    from marinecdpr.studies.design import (load_design, read_journal, search, study_cells, study_key, study_path,
-                                           study_scatter, with_options)
-    from marinecdpr.studies.design import verify as verify_finalists
+    from marinecdpr.commands import design as command
 
-    path = study_path(spec)
-    try:
-        import pymoo  # noqa: F401
-    except ImportError:
-        fail("design needs pymoo: pip install 'marinecdpr[design]'")
-    try:
-        study_spec, template = load_design(path)
-        study_spec = with_options(study_spec, population=population, generations=generations, seed=seed)
-        cells = study_cells(study_spec, path.parent)
+    options = spec_of(DesignCommandSpec, population=population, generations=generations, seed=seed, resume=resume,
+                      verify=verify, plant=plant, serial=serial, workers=workers, scheduler=scheduler)
+    journal = out / JOURNAL  # beside the staged files: an interrupted run keeps it
+    try:  # before any work: the study, the executors, the journal a --resume goes on from
+        est = command.estimate(options, spec, journal=journal)
+    except SpecError as exc:
+        fail_spec(exc)
     except ScenarioError as exc:
         fail(str(exc))
-    sea_study_options(",".join(f"{h:g}" for h in study_spec.sea.headings_deg), serial, workers, scheduler)
-    n_final = study_spec.finalists if verify else 0
-    from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
-
-    steps = n_final * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST  # about: each finalist's own
-    executor = sea_executor(serial, workers, scheduler, steps) if n_final else "serial"
-    if resume:  # before the search's first line: a journal that cannot be resumed is one line
-        try:
-            read_journal(out / "journal.jsonl", study_key(study_spec, template, cells))
-        except ScenarioError as exc:
-            fail(str(exc))
+    if est.verify_executor.note:
+        err_console.print(f"note: {est.verify_executor.note}", highlight=False, soft_wrap=True)
+    study_spec, template, cells = est.study, est.template, est.cells
     t0 = time.perf_counter()
     with output(out) as folder:
         with progress_bar("design", "candidates") as bar:
-            task = bar.add_task("", total=study_spec.population * study_spec.generations)
+            task = bar.add_task("", total=est.candidates)
 
             def progress(done: int, total: int, best: float) -> None:
                 bar.update(task, completed=done, total=total,
                            description="best feasible: " + (f"{best:.4g} h" if best < float("inf") else "none yet"))
 
-            journal = out / "journal.jsonl"  # beside the staged files: an interrupted run keeps it
             try:
                 with run_errors(spec):
-                    study = search(study_spec, template, cells, progress=progress, journal=journal, resume=resume,
-                                   executor="dask" if (workers is not None or scheduler) else "serial",
-                                   scheduler=scheduler, workers=workers or 2)
+                    study = command.search(options, est, progress=progress)
             except KeyboardInterrupt:
                 kept = max(len(journal.read_text(encoding="utf-8").splitlines()) - 1, 0) if journal.is_file() else 0
                 fail(f"interrupted; {count(kept, 'candidate')} kept in {journal}: rerun with --resume to go on",
-                      EXIT_INTERRUPTED)
+                     EXIT_INTERRUPTED)
         checked = []
-        if n_final and study.front:
-            compile_notice(plant.value if plant is not None else study_spec.plant or template.simulation.plant)
+        if est.finalists and study.front:
+            compile_notice(options.plant or study_spec.plant or template.simulation.plant)
             with progress_bar("finalists", "sea states") as bar:
-                task = bar.add_task("", total=min(n_final, len(study.front)) * len(cells))
+                task = bar.add_task("", total=min(est.finalists, len(study.front)) * len(cells))
                 with run_errors(spec):
-                    checked = verify_finalists(study, template, study_scatter(study_spec, path.parent),
-                                               executor=executor, workers=workers or 2, scheduler=scheduler,
-                                               plant=plant.value if plant is not None else None,
-                                               progress=lambda d, tot: bar.update(task, completed=d, total=tot))
-        from marinecdpr.report.design import write_design
-
-        paths = [out / p.relative_to(folder) for p in write_design(study, template, folder, checked)]
+                    checked = command.verify(options, est, study,
+                                             progress=lambda d, tot: bar.update(task, completed=d, total=tot))
+        result = command.DesignResult(study=study, template=template, verified=tuple(checked), cells=len(cells))
+        paths = [out / p.relative_to(folder) for p in result.write(folder)]
     ev, b = study.evaluations, study.baseline
     console.print(plain(f"{study_spec.name}: {count(len(ev), 'candidate')} ({sum(e.feasible for e in ev)} "
                          f"feasible) over {count(len(cells), 'sea state')} in "

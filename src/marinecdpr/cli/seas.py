@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 from rich.table import Table
@@ -12,44 +11,32 @@ from marinecdpr.cli.common import console, count, err_console, fail, headings_op
 from marinecdpr.errors import ScenarioError
 
 
-WORKERS_PER_CORE = 4
-"""Most local Dask workers per core a sea-state study starts."""
-
-
 def sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
     """A sea-state study's headings (deg) from ``--headings``, its executor options checked
     (``--serial`` alone; a ``--scheduler`` that answers)."""
-    from marinecdpr.studies.operability import check_scheduler
+    from marinecdpr.studies.executor import Executor, ExecutorError
 
-    if serial and (workers is not None or scheduler):
-        fail("--serial cannot go with --workers or --scheduler (they run the sea states on Dask)")
-    cores = os.cpu_count() or 1
-    if workers is not None and workers > WORKERS_PER_CORE * cores:
-        fail(f"--workers {workers}: more than {WORKERS_PER_CORE} per core of this machine's {cores} gains nothing "
-              f"(each is a process of its own); use at most {WORKERS_PER_CORE * cores}")
-    heads = headings_option(headings, "180,150")
-    if scheduler:
-        try:
-            check_scheduler(scheduler)
-        except ScenarioError as exc:
-            fail(str(exc))
+    try:
+        Executor.check(serial=serial, workers=workers, scheduler=scheduler)
+        heads = headings_option(headings, "180,150")
+        if scheduler:
+            Executor.at(scheduler)
+    except ExecutorError as exc:
+        fail(str(exc))
     return heads
 
 
-def sea_executor(serial: bool, workers: int | None, scheduler: str | None, steps: int) -> str:
-    """What runs a sea-state study's cells ("serial" or "dask") from the options and its size;
-    a note when Dask would help but is not installed."""
-    from marinecdpr.studies.operability import choose_executor, dask_installed
+def sea_executor(serial: bool, workers: int | None, scheduler: str | None, steps: int):
+    """What runs a sea-state study's cells (:class:`~marinecdpr.studies.executor.Executor`)
+    from the options and its size; a note when Dask would help but is not installed."""
+    from marinecdpr.studies.executor import Executor, ExecutorError
 
-    asked = "serial" if serial else "dask" if (workers is not None or scheduler) else "auto"
-    executor, why = choose_executor(asked, steps, scheduler=scheduler)
-    if why == "no dask":
-        err_console.print("note: running the sea states serially: Dask is not installed "
-                          "(pip install 'marinecdpr[dask]' to run them in parallel)", highlight=False,
-                          soft_wrap=True)
-    elif executor == "dask" and not dask_installed():
-        fail("--workers and --scheduler run on Dask, which is not installed: pip install 'marinecdpr[dask]' "
-              "(or leave them out to run serially)")
+    try:
+        executor = Executor.choose(serial=serial, workers=workers, scheduler=scheduler, steps=steps)
+    except ExecutorError as exc:
+        fail(str(exc))
+    if executor.note:
+        err_console.print(f"note: {executor.note}", highlight=False, soft_wrap=True)
     return executor
 
 
@@ -65,10 +52,10 @@ def scatter_diagram(path: Path | None):
         fail(str(exc))
 
 
-def print_sea_table(op, title: str, scheduler: str | None, n_workers: int, elapsed: float) -> None:
-    """A sea-state study's table: per heading the workable share and the limiting Hs per Tp."""
-    ran = ("serial" if op.executor == "serial" else f"Dask at {scheduler}" if scheduler
-           else f"Dask, {count(n_workers, 'worker')}")
+def print_sea_table(op, title: str, executor, elapsed: float) -> None:
+    """A sea-state study's table: per heading the workable share and the limiting Hs per Tp,
+    and what ran it (``executor``)."""
+    ran = executor.describe()
     table = Table(title=title, caption=f"{count(len(op.results), 'sea state')}, {plain(ran)}, {elapsed:.1f} s")
     table.add_column("heading (deg)")
     table.add_column("operable", justify="right")

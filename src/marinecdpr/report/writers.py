@@ -37,6 +37,7 @@ __all__ = [
     "write_virtual_prototype",
     "write_workspace",
     "write_operability",
+    "operability_summary",
     "write_rao",
     "write_windows",
 ]
@@ -239,8 +240,6 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
 def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``
     (:func:`plot_operability`)."""
-    from marinecdpr.studies.operability import LIMITING_HS_MEANING
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
@@ -252,7 +251,17 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     paths = [_write_csv(names, values, folder / "operability.csv", int_last=False,
                         int_columns=(names.index("realisations"), names.index("successes"),
                                      names.index("controller_bypassed")))]
-    summary = {
+    paths.append(write_json(operability_summary(op, scenario), folder / "operability.json"))
+    paths.append(plot_operability(op, scenario, folder / "operability.png"))
+    return paths
+
+
+def operability_summary(op, scenario: Scenario) -> dict:
+    """``operability.json``'s content: the study's probability of success with its interval,
+    per heading, the limiting Hs, and what each means."""
+    from marinecdpr.studies.operability import LIMITING_HS_MEANING
+
+    return {
         "scenario": scenario.name,
         "operability": op.operability,
         "operability_interval_95": list(op.interval),
@@ -272,9 +281,6 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
         "steps_per_cell": op.results[0].n_steps if op.results else 0,
         "realisations_controller_bypassed": sum(r.controller_bypassed for r in op.results),
     }
-    paths.append(write_json(summary, folder / "operability.json"))
-    paths.append(plot_operability(op, scenario, folder / "operability.png"))
-    return paths
 
 
 # ------------------------------------------------------------------------ RAOs, windows

@@ -38,8 +38,9 @@ from marinecdpr.prototype.warmup import compile_apart
 from marinecdpr.scenario.cleaning import CoverageTrajectory
 from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.coverage import CoverageMap, coverage_map
+from marinecdpr.studies.executor import Executor
 from marinecdpr.studies.operability import (
-    Cell, Operability, ScatterDiagram, cell_scenario, check_sea_state, run_cells, scatter_cells, summarise,
+    Cell, Operability, ScatterDiagram, cell_scenario, check_sea_state, scatter_cells, summarise,
 )
 from marinecdpr.studies.prototype_runs import controller_verdict
 
@@ -465,9 +466,7 @@ def cleaning_seas(
     plant: str | None = None,
     hull_area_m2: float | None = None,
     move_time_s: float = 600.0,
-    executor: str = "serial",
-    scheduler: str | None = None,
-    workers: int = 2,
+    executor: Executor | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> CleaningSeas:
     """The cleaning job in every sea state of a scatter diagram: where it works, and the
@@ -476,8 +475,9 @@ def cleaning_seas(
     Each sea state (and heading) flies the template's job (its ``[cleaning]`` path, time
     and ``sea_state`` base motion with the cell's Hs, Tp and heading) closed loop on the
     plant, as :func:`cleaning_job` does, and judges it (:func:`evaluate_cleaning_cell`).
-    Cells run serially or on Dask exactly as :func:`~marinecdpr.studies.operability.operability`'s
-    (``executor``, ``scheduler``, ``workers``), with the same results either way.
+    Cells run on the ``executor`` (:class:`~marinecdpr.studies.executor.Executor`; default
+    serial) as :func:`~marinecdpr.studies.operability.operability`'s do, with the same
+    results whichever runs them.
 
     Parameters
     ----------
@@ -507,9 +507,9 @@ def cleaning_seas(
     cells = scatter_cells(scatter, headings)
     kwargs = dict(coverage_target_pct=coverage_target_pct, in_band_target_pct=in_band_target_pct, plant=plant,
                   hull_area_m2=hull_area_m2, move_time_s=move_time_s)
-    results = run_cells(evaluate_cleaning_cell, template, cells, kwargs, executor=executor, scheduler=scheduler,
-                        workers=workers, progress=progress)
-    sea = summarise(scatter, headings, results, 0.0, executor)
+    executor = executor or Executor.serial()
+    results = executor.map(evaluate_cleaning_cell, template, cells, kwargs, progress=progress)
+    sea = summarise(scatter, headings, results, 0.0, executor.name)
     # headings equally likely: a cell's weight is its probability over the headings
     weight = np.array([r.cell.probability / len(headings) for r in results])
     works = np.array([r.operable for r in results], dtype=bool)

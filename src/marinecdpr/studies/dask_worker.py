@@ -1,5 +1,5 @@
 """Preloaded in each worker of the local Dask cluster a sea-state study starts
-(:func:`marinecdpr.studies.operability.operability`): the worker ignores Ctrl-C.
+(:class:`marinecdpr.studies.executor.Executor`): the worker ignores Ctrl-C.
 
 Ctrl-C at a terminal goes to the whole process group, the workers too. The study's own
 process stops the study and closes the cluster, which ends its workers; a worker that

@@ -43,6 +43,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
 from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
 from marinecdpr.scenario.schema import Scenario, validated_scenario
+from marinecdpr.studies.executor import Executor
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
@@ -855,10 +856,16 @@ def read_journal(path: Path, key: str) -> dict:
     return known
 
 
+def _judge(shared: tuple, x: dict) -> Evaluation:
+    """:func:`evaluate` of one candidate, with the study's ``(spec, template, cells)``
+    shared by every candidate (what an executor sends each worker once)."""
+    spec, template, cells = shared
+    return evaluate(spec, template, x, cells)
+
+
 def search(spec: DesignSpec, template: Scenario, cells: list, *,
            progress: Callable[[int, int, float], None] | None = None, journal: Path | None = None,
-           resume: bool = False, executor: str = "serial", scheduler: str | None = None,
-           workers: int = 2) -> DesignStudy:
+           resume: bool = False, executor: Executor | None = None) -> DesignStudy:
     """NSGA-II (pymoo) over the spec's variables: ``population`` candidates a generation for
     ``generations`` generations from ``seed`` (the same seed, the same candidates); the held
     variables stay at their value, the winch and rope are choices.
@@ -873,13 +880,12 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     resume : bool
         Take the journal's candidates instead of judging them again: the same seed asks for
         the same candidates, so the search goes on where it stopped.
-    executor : {"serial", "dask"}
-        Judge a generation's candidates here one by one, or on Dask (a local cluster of
-        ``workers`` processes, or the ``scheduler``): the same candidates and results either
-        way.
+    executor : Executor, optional
+        What judges a generation's candidates (:class:`~marinecdpr.studies.executor.Executor`;
+        default serial: one by one, each counted as it is judged); one session (one local
+        cluster) for the whole search. The same candidates and results whichever runs.
     """
     import json
-    from contextlib import nullcontext
 
     from pymoo.algorithms.moo.nsga2 import RankAndCrowding
     from pymoo.core.mixed import MixedVariableGA
@@ -887,8 +893,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     from pymoo.core.variable import Choice, Real
     from pymoo.optimize import minimize
 
-    from marinecdpr.studies.operability import dask_client
-
+    executor = executor or Executor.serial()
     key = study_key(spec, template, cells)
     known = read_journal(journal, key) if resume and journal is not None else {}
     sink = None
@@ -929,32 +934,27 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
         if progress is not None:
             progress(len(evaluations), total, best[0])
 
-    def judge_all(xs: list[dict], client) -> None:
-        """Judge the candidates not yet known (each once), here or on Dask."""
-        todo = list({_candidate_key(x): x for x in xs if _candidate_key(x) not in known}.values())
-        if client is None:
-            for x in todo:
-                judged(x, evaluate(spec, template, x, cells))
-            return
-        from dask.distributed import as_completed
+    shared = (spec, template, cells)
 
-        futures = {client.submit(evaluate, *shared, x, cells_f, pure=False): x for x in todo}
-        for fut in as_completed(futures):
-            judged(futures[fut], fut.result())
+    def judge_all(xs: list[dict], session) -> None:
+        """Judge the candidates not yet known (each once), in the session, each kept in the
+        journal as it is judged."""
+        todo = list({_candidate_key(x): x for x in xs if _candidate_key(x) not in known}.values())
+        session.map(_judge, shared, todo, each=lambda k, e: judged(todo[k], e))
 
     class Study(Problem):
-        def __init__(self, client):
+        def __init__(self, session):
             super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
-            self.client = client
+            self.session = session
 
         def _evaluate(self, X, out, *args, **kwargs):
             xs = [full(xd) for xd in X]
-            if self.client is None:  # one by one, each counted as it is judged
+            if executor.kind == "serial":  # one by one, each counted as it is judged
                 for x in xs:
-                    judge_all([x], None)
+                    judge_all([x], self.session)
                     taken(known[_candidate_key(x)])
             else:
-                judge_all(xs, self.client)
+                judge_all(xs, self.session)
                 for x in xs:
                     taken(known[_candidate_key(x)])
             es = [known[_candidate_key(x)] for x in xs]
@@ -964,15 +964,12 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
                                  for e in es])
 
     try:
-        with (dask_client(scheduler, workers) if executor == "dask" else nullcontext()) as client:
-            if client is not None:
-                shared = [client.scatter(spec, broadcast=True), client.scatter(template, broadcast=True)]
-                cells_f = client.scatter(cells, broadcast=True)
+        with executor.session() as session:
             if not free:  # nothing to search: the one candidate
-                Study(client)._evaluate(np.array([{}], dtype=object), {})
+                Study(session)._evaluate(np.array([{}], dtype=object), {})
             else:
                 algorithm = MixedVariableGA(pop_size=spec.population, survival=RankAndCrowding())
-                minimize(Study(client), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
+                minimize(Study(session), algorithm, termination=("n_evals", total), seed=spec.seed, verbose=False)
     finally:
         if sink is not None:
             sink.close()
@@ -1028,12 +1025,13 @@ class Verification:
     screen_reasons: list = field(default_factory=list)
 
 
-def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "serial", workers: int = 2,
-           scheduler: str | None = None, plant: str | None = None,
+def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executor | None = None,
+           plant: str | None = None,
            progress: Callable[[int, int], None] | None = None) -> list[Verification]:
     """Fly the study's best ``finalists`` (the front by expected hours) through the cleaning
     job in every sea state of its scatter diagram and headings, closed loop (``plant``), on
-    ``executor`` as ``clean --seas`` does, as built (:func:`as_built`: the rope's weight
+    the ``executor`` (:class:`~marinecdpr.studies.executor.Executor`, default serial) as
+    ``clean --seas`` does, as built (:func:`as_built`: the rope's weight
     and stretch, the winches' dynamics and limits) at the placement where the screen found
     the seas hardest; the time-domain share and hours beside the screen's there.
 
@@ -1061,8 +1059,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: str = "
         sc = as_built(spec, template, e, plant)
         flown = sc.simulation.plant  # the own plant for sagging cables
         done = (rank - 1) * len(cells)
-        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor, workers=workers,
-                           scheduler=scheduler,
+        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor,
                            progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
         td = np.array([r.operable for r in cs.sea.results], dtype=bool)
         screened = screen_cells(sc, cells)  # at the placement flown

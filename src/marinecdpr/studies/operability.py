@@ -5,21 +5,18 @@ is one sea state. For each, the scenario's trajectory is planned over a long rec
 that sea (the scenario's ``[base_motion]`` must be a ``sea_state``: its RAOs,
 spectrum and spreading are kept, Hs, Tp, heading and seed are the cell's). A cell is
 workable when tensions exist within the limits tightened by the margin the user asks
-for (T_min + margin, T_max - margin) at every step. Cells are independent: they run serially or on Dask
-(``dask.distributed``), with the same results either way (each cell's seed is a
-function of the template's seed and of the sea state, :func:`sea_state_seed`, so a
-cell's verdict does not depend on the other cells asked for); ``executor="auto"`` picks
-serial for small studies and when Dask is not installed (:func:`choose_executor`).
-:func:`run_cells` runs any per-cell function this way (the cleaning job's study uses it).
+for (T_min + margin, T_max - margin) at every step. Cells are independent: they run on any
+:class:`~marinecdpr.studies.executor.Executor` (serially, on a local Dask cluster or on a
+scheduler) with the same results either way (each cell's seed is a function of the
+template's seed and of the sea state, :func:`sea_state_seed`, so a cell's verdict does not
+depend on the other cells asked for); :meth:`Executor.auto
+<marinecdpr.studies.executor.Executor.auto>` picks serial for small studies and when Dask
+is not installed, by :func:`study_steps`.
 """
 
 from __future__ import annotations
 
-import logging
 import math
-import signal
-import threading
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, NoReturn
@@ -27,15 +24,14 @@ from typing import Callable, NoReturn
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.memory import keep_freed_memory
 from marinecdpr.planning.planner import iter_plan
 from marinecdpr.scenario.schema import Scenario, SeaStateMotion
+from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
-__all__ = ["ScatterDiagram", "read_scatter_csv", "Cell", "CellResult", "Operability",
-           "evaluate_cell", "operability", "with_margin", "choose_executor", "dask_installed", "sea_state_seed",
-           "scatter_cells", "run_cells", "dask_client", "summarise", "wilson_interval", "REALISATIONS",
-           "study_steps", "AUTO_DASK_MIN_STEPS", "HS_RANGE_M", "TP_RANGE_S"]
+__all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "Cell", "CellResult", "Operability",
+           "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
+           "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
 HS_RANGE_M = (0.0, 30.0)
 """A scatter diagram's Hs must lie in (0, 30] m."""
@@ -65,6 +61,14 @@ class ScatterDiagram:
     hs: np.ndarray
     tp: np.ndarray
     probability: np.ndarray
+
+
+def illustrative_scatter_path() -> Path:
+    """The package's illustrative scatter diagram (``data/scatter_illustrative.csv``): the
+    sea-state studies' default."""
+    from importlib import resources
+
+    return Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
 
 
 def read_scatter_csv(path: str | Path) -> ScatterDiagram:
@@ -401,78 +405,20 @@ LIMITING_HS_MEANING = ("largest Hs (m) up to which every sea state of that headi
                        "that Tp is workable); a Tp without sea states is left out")
 """What ``limiting_hs_m`` in operability.json means (written beside it)."""
 
-# --- which executor ----------------------------------------------------------------------
-#
-# A local Dask cluster costs ~1.3 s to start and to import the package in its workers, and
-# on a 2-core machine its two workers plan at only ~1.3x the speed of one process (the
-# plans are memory-bound; the client and scheduler share the cores). Measured with
-# `benchmarks/bench_operability.py --crossover` on the 2-core CI machine (2026-12-01;
-# paper_sea, 20-min records at 50 Hz; each run a fresh process, Dask's start included;
-# fastest of 3-5 runs, serial s vs 2-worker Dask s):
-#      0.48 M steps (16 cells x 600 s)              0.57 vs  2.10
-#      2.04 M steps (the default study, 34 cells)   1.41 vs  2.07
-#      2.59 M steps (9 cells x 60 s x 12x8 poses)   1.94 vs  2.37
-#      6.00 M steps (100 cells)                     4.20 vs  3.98   <- crossover, quiet machine
-#      9.80 M steps (34 cells x 60 s x 12x8 poses)  7.77 vs  5.76
-#     13.5  M steps (225 cells)                     9.46 vs  7.33
-#     24.0  M steps (400 cells)                    16.37 vs 12.27
-# Beyond that crossover Dask saves ~25 %. While other work shares the two cores, Dask
-# loses far longer (2.16 M steps: 3.2 s vs 7.9 s; 10.4 M: 15.1 s vs 17.9 s; 13.5 M: 9.5 s
-# vs 14.3 s) and wins again from ~20 M steps (24 M: 16.4 s vs 13.9 s). Auto therefore
-# starts Dask at 20 M steps (~15 s serially), where it is faster busy or not.
-AUTO_DASK_MIN_STEPS = 20_000_000
-"""``executor="auto"`` runs serially below this many time steps in all (cells x steps per
-cell, a workspace grid's poses counted), on a local Dask cluster from it."""
-
 CLOSED_LOOP_STEP_COST = 100
 """A closed-loop step (``max_error_m``) costs about this many planned steps (measured on
 paper_sea, own plant at 50 Hz: 79 us against 0.6 us a step)."""
 
 
-def dask_installed() -> bool:
-    """Is ``dask.distributed`` importable?"""
-    try:
-        import dask.distributed  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 def study_steps(n_cells: int, *, duration_s: float, step_s: float,
                 workspace: tuple[int, int] | None = None, max_error_m: float | None = None) -> int:
-    """The work of a study in planned time steps, the measure :data:`AUTO_DASK_MIN_STEPS` uses:
+    """The work of a study in planned time steps, the measure
+    :meth:`Executor.auto <marinecdpr.studies.executor.Executor.auto>` sizes by:
     cells x steps per record x poses of a workspace grid; with ``max_error_m`` each cell's
     closed-loop flight adds :data:`CLOSED_LOOP_STEP_COST` per step of its record."""
     steps = int(math.floor(duration_s / step_s + 1e-9)) + 1 if step_s > 0 else 1   # as Time.n_steps
     poses = workspace[0] * workspace[1] if workspace is not None else 1
     return int(n_cells) * steps * poses * (1 + (CLOSED_LOOP_STEP_COST if max_error_m is not None else 0))
-
-
-def choose_executor(executor: str, total_steps: int, *, scheduler: str | None = None) -> tuple[str, str]:
-    """What runs a study's cells: ``("serial" | "dask", why)``.
-
-    Parameters
-    ----------
-    executor : {"auto", "serial", "dask"}
-        "serial" and "dask" are kept (why "asked"). "auto": Dask when a ``scheduler`` is
-        given (why "scheduler"); else serial when ``dask.distributed`` is not installed
-        (why "no dask") or the study has fewer than :data:`AUTO_DASK_MIN_STEPS` steps
-        (why "small"); else a local Dask cluster (why "large").
-    total_steps : int
-        The study's size, :func:`study_steps`.
-    scheduler : str, optional
-    """
-    if executor in ("serial", "dask"):
-        return executor, "asked"
-    if executor != "auto":
-        raise ValueError(f"executor must be 'auto', 'serial' or 'dask', not {executor!r}")
-    if scheduler:
-        return "dask", "scheduler"
-    if not dask_installed():
-        return "serial", "no dask"
-    if total_steps < AUTO_DASK_MIN_STEPS:
-        return "serial", "small"
-    return "dask", "large"
 
 
 def scatter_cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
@@ -495,9 +441,7 @@ def operability(
     margin_N: float = 0.0,
     duration_s: float = 1200.0,
     step_s: float = 0.02,
-    executor: str = "serial",
-    scheduler: str | None = None,
-    workers: int = 2,
+    executor: Executor | None = None,
     max_error_m: float | None = None,
     workspace: tuple[int, int] | None = None,
     min_area: float = 1.0,
@@ -519,16 +463,12 @@ def operability(
     duration_s, step_s : float
         The operation's duration, the length of each record (default 20 min), and its
         sampling (50 Hz).
-    executor : {"serial", "auto", "dask"}
-        ``dask``: on a local cluster of ``workers`` processes, or on ``scheduler``.
-        ``auto`` (what the ``marinecdpr operability`` command uses): serial when Dask is
-        not installed or the study is small (under :data:`AUTO_DASK_MIN_STEPS` steps in
-        all, where starting a cluster costs more than it saves), Dask otherwise or when a
-        ``scheduler`` is given; see :func:`choose_executor`. The default stays
-        ``serial``: a local cluster starts worker processes, which a script must guard
-        with ``if __name__ == "__main__":``. Results are identical whichever runs.
-    scheduler : str, optional
-        Address of a running Dask scheduler (e.g. "tcp://10.0.0.5:8786").
+    executor : Executor, optional
+        What runs the cells (:class:`~marinecdpr.studies.executor.Executor`; default
+        serial). ``Executor.auto(study_steps(...))`` is what the ``marinecdpr
+        operability`` command uses: serial when Dask is not installed or the study is
+        small. A local cluster starts worker processes, which a script must guard with
+        ``if __name__ == "__main__":``. Results are identical whichever runs.
     max_error_m : float, optional
         Also fly the closed loop (own plant) in each cell and require its position error
         to stay within this, m.
@@ -547,179 +487,9 @@ def operability(
     cells = scatter_cells(scatter, headings)
     kwargs = dict(margin_N=margin_N, duration_s=duration_s, step_s=step_s, max_error_m=max_error_m,
                   workspace=workspace, min_area=min_area, realisations=realisations)
-    executor, _ = choose_executor(executor, study_steps(len(cells) * realisations, duration_s=duration_s,
-                                                        step_s=step_s, workspace=workspace, max_error_m=max_error_m),
-                                  scheduler=scheduler)
-    results = run_cells(evaluate_cell, template, cells, kwargs, executor=executor, scheduler=scheduler,
-                        workers=workers, progress=progress)
-    return summarise(scatter, headings, results, margin_N, executor)
-
-
-def run_cells(evaluate: Callable, template: Scenario, cells: list[Cell], kwargs: dict, *, executor: str,
-              scheduler: str | None = None, workers: int = 2,
-              progress: Callable[[int, int], None] | None = None) -> list:
-    """``evaluate(template, cell, **kwargs)`` for every cell, in this process (``executor =
-    "serial"``) or on Dask (``"dask"``: a local cluster of ``workers`` processes, or the
-    ``scheduler``); the results in the cells' order, the same either way."""
-    if executor == "serial":
-        results = []
-        for k, cell in enumerate(cells, start=1):
-            results.append(evaluate(template, cell, **kwargs))
-            if progress is not None:
-                progress(k, len(cells))
-    else:
-        results = _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress)
-    results.sort(key=lambda r: r.cell.index)
-    return results
-
-
-SCHEDULER_TIMEOUT_S = 5.0
-"""How long a Dask scheduler's address may take to answer before it counts as unreachable."""
-
-
-def check_scheduler(address: str, timeout_s: float = SCHEDULER_TIMEOUT_S) -> None:
-    """Refuse a Dask scheduler address that is malformed or does not answer within
-    ``timeout_s`` (one line naming it), before any work starts.
-
-    Parameters
-    ----------
-    address : str
-        ``tcp://host:port`` or ``host:port``.
-
-    Raises
-    ------
-    ScenarioError
-    """
-    import socket
-    from urllib.parse import urlsplit
-
-    shown = address.encode("ascii", "backslashreplace").decode()[:200]
-    where = address if "://" in address else f"tcp://{address}"
-    try:
-        parts = urlsplit(where)
-        host, port = parts.hostname, parts.port
-    except ValueError:
-        host = port = None
-    if parts.scheme != "tcp" or not host or port is None or parts.path not in ("", "/"):
-        raise ScenarioError(f"--scheduler {shown}: expected a Dask scheduler address like tcp://host:8786")
-    try:
-        with socket.create_connection((host, port), timeout=timeout_s):
-            pass
-    except OSError as exc:
-        reason = (f"no answer within {timeout_s:g} s" if isinstance(exc, TimeoutError)
-                  else (exc.strerror or type(exc).__name__).lower())
-        raise ScenarioError(f"--scheduler {shown}: no Dask scheduler reachable there ({reason})") from None
-
-
-@contextmanager
-def _sigint_deferred():
-    """Ctrl-C (SIGINT) held back until the block ends, then raised as KeyboardInterrupt: a
-    local cluster interrupted while it starts leaves Dask's own half-built state to fail
-    noisily at exit. Only in the main thread (elsewhere the block runs as it is).
-
-    Both a handler (as ``report.files`` holds its signals) and the signal mask: the
-    handler holds a Ctrl-C whichever thread the signal reaches; the mask is inherited by
-    the threads the block starts (the cluster's) and by the worker processes they start,
-    so a Ctrl-C to the whole process group does not stop a worker while it starts (it
-    printed its traceback, and its nanny's "failed to start").
-    The workers ignore Ctrl-C from then on (:mod:`.dask_worker`). An error the block
-    raises after a Ctrl-C is its consequence: the Ctrl-C is raised instead."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    caught = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        try:
-            yield
-        finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a held Ctrl-C reaches the handler now
-    except BaseException:
-        signal.signal(signal.SIGINT, previous)
-        if caught:
-            raise KeyboardInterrupt from None
-        raise
-    signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt
-
-
-@contextmanager
-def dask_client(scheduler: str | None, workers: int):
-    """A Dask client for a study's work: on the ``scheduler`` at that address, or on a local
-    cluster of ``workers`` processes started here and torn down at the end (also on Ctrl-C
-    or an error, quietly: what its scheduler logs then is no news, the error raised says
-    what happened).
-
-    Raises
-    ------
-    ScenarioError
-        Dask is not installed, or the scheduler does not answer.
-    """
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise ScenarioError("Dask is not installed: pip install 'marinecdpr[dask]'") from None
-    cluster = None
-    if scheduler:
-        check_scheduler(scheduler)
-        client = Client(scheduler, timeout="20s")
-    else:
-        # what workers log when their scheduler goes away (Ctrl-C) is no news; a cell that
-        # fails raises its error here, through its future
-        from multiprocessing import resource_tracker
-
-        # started first, here: the thread that starts it is left with SIGINT unblocked, and
-        # the workers that thread would start with it (see _sigint_deferred)
-        resource_tracker.ensure_running()
-        with _sigint_deferred():
-            # the scheduler's HTTP server on a free port (None still binds 8787: two studies at
-            # once, as the suite's two workers run them, printed distributed's "port in use")
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0", silence_logs=logging.CRITICAL,
-                                   preload=[f"{__package__}.dask_worker"])  # Ctrl-C is ours to handle
-            try:
-                client = Client(cluster)
-            except BaseException:
-                cluster.close()
-                raise
-    stopped = False
-    try:
-        # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: every cell would
-        # page-fault its memory back in; the workers keep it instead (see marinecdpr.memory)
-        client.run(keep_freed_memory)
-        yield client
-    except BaseException:
-        # stopped (Ctrl-C) or failed: our own cluster is torn down mid-work, and what its
-        # scheduler logs then (comms closed while it reports a result) is no news; the
-        # error raised says what happened
-        stopped = cluster is not None
-        raise
-    finally:
-        if stopped:
-            logging.disable(logging.CRITICAL)
-        try:
-            client.close()
-            if cluster is not None:
-                cluster.close()
-        finally:
-            if stopped:
-                logging.disable(logging.NOTSET)
-
-
-def _on_dask(evaluate, template, cells, kwargs, scheduler, workers, progress):
-    with dask_client(scheduler, workers) as client:
-        from dask.distributed import as_completed
-
-        scattered = client.scatter(template, broadcast=True)
-        futures = [client.submit(evaluate, scattered, cell, pure=False, **kwargs) for cell in cells]
-        results = []
-        for k, fut in enumerate(as_completed(futures), start=1):
-            results.append(fut.result())
-            if progress is not None:
-                progress(k, len(cells))
-        return results
+    executor = executor or Executor.serial()
+    results = executor.map(evaluate_cell, template, cells, kwargs, progress=progress)
+    return summarise(scatter, headings, results, margin_N, executor.name)
 
 
 def summarise(scatter: ScatterDiagram, headings: tuple[float, ...], results: list, margin_N: float,
