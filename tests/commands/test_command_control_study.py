@@ -64,3 +64,14 @@ def test_the_estimate_checks_the_spec_against_the_scenario():
     with pytest.raises(SpecError) as err:
         command.estimate(ControlStudySpec(encoder_resolution=-1e-3, duration=warm + 2.0), sc)
     assert err.value.flag == "--encoder-resolution"
+
+
+def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
+    from command_pages import assert_table_is_the_spec, run_page
+
+    assert_table_is_the_spec("control-study", ControlStudySpec)
+    ns = run_page("control-study", tmp_path, monkeypatch)
+    rms = ns["rms"]
+    assert set(rms) == {0.0, 0.05} and rms[0.05] > rms[0.0] > 0.0  # 50 ms late tracks worse than on time
+    written = (tmp_path / "out" / "control_study.csv").read_text().splitlines()
+    assert len(written) == 3  # the header and the two runs

@@ -99,3 +99,15 @@ def test_every_command_reads_headings_by_one_rule(tmp_path, command, extra, give
     res = runner.invoke(app, command + extra + ["--headings", given, "--out", str(tmp_path / "o")])
     one_line_exit_2(res, f"--headings {given}: {words}")
     assert not (tmp_path / "o").exists()
+
+
+def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
+    from command_pages import assert_table_is_the_spec, run_page
+
+    assert_table_is_the_spec("workspace", WorkspaceSpec)
+    ns = run_page("workspace", tmp_path, monkeypatch)
+    frac = ns["result"].map.fraction_feasible
+    assert frac.shape == (5, 3) and ns["held"] == int((frac == 1.0).sum())
+    with open(tmp_path / "out" / "workspace.csv") as fh:
+        written = [float(r["fraction_feasible"]) for r in csv.DictReader(fh)]
+    np.testing.assert_array_equal(written, frac.ravel())

@@ -170,7 +170,9 @@ class ControlStudyResult:
         (:func:`~marinecdpr.report.writers.write_control_study`): the summary and the paths."""
         from marinecdpr.report.writers import write_control_study
 
-        return write_control_study(self.study, self.prediction, Path(folder))
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)  # as the other results' write
+        return write_control_study(self.study, self.prediction, folder)
 
 
 def run(spec: ControlStudySpec, scenario: Scenario, *, estimated: ControlStudyEstimate | None = None,
