@@ -80,10 +80,10 @@ def test_ctrl_c_that_typer_would_swallow_still_prints_its_line():
     code = (
         "import signal, sys\n"
         "import marinecdpr.cli.app as app\n"
-        "import marinecdpr.cli.check as check\n"
+        "import marinecdpr.cli.common as common  # where the commands load their scenarios\n"
         "def interrupted(*a, **k):\n"
         "    raise KeyboardInterrupt\n"
-        "check.load_scenario = interrupted\n"
+        "common.load_scenario = interrupted\n"
         "sys.argv = ['marinecdpr', 'check', 'paper']\n"
         "app.main()\n"
     )
@@ -105,8 +105,8 @@ def test_ctrl_c_that_python_would_swallow_still_interrupts(where, late):
         "import sys, time, weakref\n"
         "import marinecdpr.cli.app as app\n"
         f"if {late}: app._interrupt_thread_soon = lambda thread_id: time.sleep(60)\n"
-        "import marinecdpr.cli.check as check\n"
-        "real = check.load_scenario\n"
+        "import marinecdpr.cli.common as common  # where the commands load their scenarios\n"
+        "real = common.load_scenario\n"
         "class Thing:\n"
         "    def __del__(self):\n"
         f"        if {where == '__del__'}: raise KeyboardInterrupt\n"
@@ -117,7 +117,7 @@ def test_ctrl_c_that_python_would_swallow_still_interrupts(where, late):
         f"    r = weakref.ref(t, ctrl_c) if {where == 'weakref callback'} else None\n"
         "    del t\n"
         "    return real(*a, **k)\n"
-        "check.load_scenario = loading\n"
+        "common.load_scenario = loading\n"
         "sys.argv = ['marinecdpr', 'check', 'paper']\n"
         "app.main()\n"
     )
