@@ -239,8 +239,8 @@ def _paper_clean_file(tmp_path: Path, surface: str | None) -> Path:
     ('[cleaning.surface]\nform = "wigley"\nlength_m = 200.0\nbeam_m = 32.0\ndraught_m = 10.0\n'
      'stations_m = [-100.0, 10.0]\nheights_m = [0.0, 5.0]\nstand_off_tolerance_m = 0.01\n', ["--surface"],
      ["cleaning.surface.stations_m", "within the hull's length"]),
-    ("", ["--surface", "--hull-area", "2200"], ["--surface and --hull-area"]),
-    ("", ["--surface", "--seas"], ["--surface cannot go with --seas"]),
+    ("", ["--surface", "--hull-area", "2200"], ["--surface with --hull-area 2200: choose one"]),
+    ("", ["--surface", "--seas"], ["--surface with --seas: cannot go together yet"]),
 ])
 def test_clean_surface_refuses_bad_input_in_one_line(tmp_path, surface, flags, words):
     scen = BUILTIN / "paper_clean.toml" if surface == "" else _paper_clean_file(tmp_path, surface)

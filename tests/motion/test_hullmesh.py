@@ -167,7 +167,7 @@ def test_more_panels_than_a_run_can_afford_are_refused(tmp_path):
     (["--mesh", "x.gdf"], ("give --kg",)),
     (["--mesh", "x.gdf", "--kg", "2", "--length", "40"], ("--length cannot go with it",)),
     (["--length", "40", "--beam", "10"], ("missing --draught, --gm",)),
-    (["--length", "40", "--beam", "10", "--draught", "3", "--gm", "1", "--kg", "2"], ("--kg goes with --mesh",)),
+    (["--length", "40", "--beam", "10", "--draught", "3", "--gm", "1", "--kg", "2"], ("--kg 2: goes with --mesh",)),
     (["--mesh", "x.obj2", "--kg", "2"], ("ending in .obj2",)),
     (["--mesh", "x.gdf", "--kg", "2", "--mesh-units", "yd"], ("--mesh-units yd",)),
 ])

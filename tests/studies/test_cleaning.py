@@ -428,7 +428,7 @@ def test_clean_seas_writes_what_it_found_and_refuses_bad_options(small, tmp_path
     failing = rows[rows["works"] == 0]
     assert [(c["heading_deg"], c["hs_m"], c["tp_s"]) for c in summary["not_working"]] == \
         [(float(r["heading_deg"]), float(r["hs_m"]), float(r["tp_s"])) for r in failing]
-    for args, words in ((["--guarantee"], "--guarantee cannot go with --seas"),
+    for args, words in ((["--guarantee"], "--guarantee with --seas: cannot go together"),
                         (["--coverage-target", "120"], "--coverage-target 120: expected a percentage"),
                         (["--serial", "--workers", "2"], "--workers 2: cannot go with --serial")):
         res = runner.invoke(app, ["clean", "paper_clean", "--seas", "--duration", "1", *args, "--out", str(out)])

@@ -78,6 +78,8 @@ class Spec(BaseModel):
             if err["type"] == "extra_forbidden":
                 message = f"no such option of {type(self).__name__}"
             value = cause.value if isinstance(cause, BadValue) else options.get(field, err.get("input"))
+            if err["type"] == "missing":  # a field without a default, not given
+                value, message = "not given", "the option is required"
             raise SpecError(field, value, message[:1].lower() + message[1:]) from None
 
     @classmethod

@@ -14,7 +14,7 @@ from marinecdpr.report.text import _fmt_length, describe_base_motion
 from marinecdpr.report.view3d import view_section
 
 __all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
-           "SEA_STATE_COLUMNS", "write_cleaning_seas"]
+           "SEA_STATE_COLUMNS", "write_cleaning_seas", "cleaning_seas_summary"]
 
 CLEAN_COLUMNS = ("t", "brush_x_m", "brush_y_m", "brush_z_m", "brush_x_planned_m", "brush_z_planned_m",
                  "normal_force_N", "in_band", "cross_track_error_m")
@@ -273,22 +273,14 @@ def _number_or_none(x: float) -> float | None:
     return float(x) if np.isfinite(x) else None
 
 
-def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
-    """The cleaning job over a scatter diagram (:func:`~marinecdpr.studies.cleaning.cleaning_seas`):
-    ``sea_states.csv`` (one row per sea state: its verdict and figures; empty cells where
-    the job could not be flown), ``summary.json`` (the share of sea states the job works
-    in, per heading, the limiting Hs, the expected hours, and why each failing sea state
-    fails) and ``sea_states.png`` (the workable sea states, one panel per heading)."""
+def cleaning_seas_summary(cs, scenario) -> dict:
+    """``summary.json`` of the cleaning job over a scatter diagram
+    (:func:`~marinecdpr.studies.cleaning.cleaning_seas`): the share of sea states the job
+    works in, per heading, the limiting Hs, the expected hours, and why each failing sea
+    state fails."""
     from marinecdpr.studies.operability import LIMITING_HS_MEANING
 
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    rows = [[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable), r.coverage_pct,
-             r.reachable_coverage_pct, r.in_band_pct, r.tension_min_N, r.tension_max_N, r.job_time_s, r.hours]
-            for r in cs.sea.results]
-    paths = [_write_csv(list(SEA_STATE_COLUMNS), np.array(rows, dtype=float).reshape(-1, len(SEA_STATE_COLUMNS)),
-                        folder / "sea_states.csv", int_last=False, int_columns=(SEA_STATE_COLUMNS.index("works"),))]
-    summary = {
+    return {
         "scenario": scenario.name,
         "what_works": (f"the plan's tensions within limits at every step, the closed loop's controller not bypassed "
                        f"(on at most simulation.max_bypassed_share of the steps), "
@@ -312,7 +304,22 @@ def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
         "not_working": [{"heading_deg": r.cell.heading_deg, "hs_m": r.cell.hs, "tp_s": r.cell.tp, "reason": r.reason}
                         for r in cs.sea.results if not r.operable],
     }
-    paths.append(write_json(summary, folder / "summary.json"))
+
+
+def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
+    """The cleaning job over a scatter diagram (:func:`~marinecdpr.studies.cleaning.cleaning_seas`):
+    ``sea_states.csv`` (one row per sea state: its verdict and figures; empty cells where
+    the job could not be flown), ``summary.json`` (the share of sea states the job works
+    in, per heading, the limiting Hs, the expected hours, and why each failing sea state
+    fails) and ``sea_states.png`` (the workable sea states, one panel per heading)."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = [[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable), r.coverage_pct,
+             r.reachable_coverage_pct, r.in_band_pct, r.tension_min_N, r.tension_max_N, r.job_time_s, r.hours]
+            for r in cs.sea.results]
+    paths = [_write_csv(list(SEA_STATE_COLUMNS), np.array(rows, dtype=float).reshape(-1, len(SEA_STATE_COLUMNS)),
+                        folder / "sea_states.csv", int_last=False, int_columns=(SEA_STATE_COLUMNS.index("works"),))]
+    paths.append(write_json(cleaning_seas_summary(cs, scenario), folder / "summary.json"))
     paths.append(plot_operability(cs.sea, scenario, folder / "sea_states.png", workable=(
         f"the cleaning job works: >= {cs.coverage_target_pct:g} % of reach cleaned, force in band "
         f">= {cs.in_band_target_pct:g} % of the time")))

@@ -40,6 +40,7 @@ __all__ = [
     "operability_summary",
     "write_rao",
     "write_windows",
+    "windows_summary",
 ]
 
 
@@ -320,6 +321,28 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "bo
     return RaoFiles(bem=bem, approx=approx, paths=[nc, table, figure])
 
 
+def _window_rows(w) -> np.ndarray:
+    """windows.csv's rows: each window's start, end, length (h) and 1 where the operation fits."""
+    d = w.duration_h
+    return np.array([[a, b, b - a, float(b - a >= d - 1e-12)] for a, b in w.windows]).reshape(-1, 4)
+
+
+def windows_summary(series, windows, *, series_name: str, design_limit: str, days) -> dict:
+    """``summary.json`` of a weather-window study (:func:`~marinecdpr.studies.weather.weather_windows`):
+    the series, the limit, the workable share, the windows, the wait and the probability of
+    finishing within each of ``days``."""
+    w, d = windows, windows.duration_h
+    return {"series": series_name, "series_hours": float(series.t_h[-1] + series.step_h[-1]),
+            "duration_h": d, "alpha": w.alpha, "design_limit": design_limit,
+            "workable_share": float(np.sum(series.step_h * w.workable) / np.sum(series.step_h)),
+            "windows": len(w.windows), "windows_long_enough": int(_window_rows(w)[:, 3].sum()),
+            "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
+            "can_start_share": w.can_start,
+            "finish_within_days_probability": {f"{x:g}": w.finish_probability(x) for x in days},
+            "meaning": "over start times at each sample, equally likely; the operation needs one window "
+                       "of its whole duration"}
+
+
 def write_windows(series, windows, folder: Path, *, series_name: str, design_limit: str,
                   days: list[float]) -> tuple[dict, list[Path]]:
     """A weather-window study's files (:func:`~marinecdpr.studies.weather.weather_windows`):
@@ -329,17 +352,8 @@ def write_windows(series, windows, folder: Path, *, series_name: str, design_lim
 
     folder = Path(folder)
     w, d = windows, windows.duration_h
-    rows = np.array([[a, b, b - a, float(b - a >= d - 1e-12)] for a, b in w.windows]).reshape(-1, 4)
-    paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], rows, folder / "windows.csv")]
-    summary = {"series": series_name, "series_hours": float(series.t_h[-1] + series.step_h[-1]),
-               "duration_h": d, "alpha": w.alpha, "design_limit": design_limit,
-               "workable_share": float(np.sum(series.step_h * w.workable) / np.sum(series.step_h)),
-               "windows": len(w.windows), "windows_long_enough": int(rows[:, 3].sum()),
-               "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
-               "can_start_share": w.can_start,
-               "finish_within_days_probability": {f"{x:g}": w.finish_probability(x) for x in days},
-               "meaning": "over start times at each sample, equally likely; the operation needs one window "
-                          "of its whole duration"}
+    paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], _window_rows(w), folder / "windows.csv")]
+    summary = windows_summary(series, w, series_name=series_name, design_limit=design_limit, days=days)
     paths.append(write_json(summary, folder / "summary.json"))
     paths.append(plot_windows(series, w, folder / "windows.png",
                               title=f"Weather windows for a {d:g} h operation (alpha {w.alpha:g})"))
