@@ -218,20 +218,10 @@ from types import SimpleNamespace
 from typer.testing import CliRunner
 
 import marinecdpr.cli.clean
-import marinecdpr.cli.common
 from marinecdpr.cli.app import app
 from marinecdpr.scenario.loading import load_scenario
 
 runner = CliRunner()
-
-
-def test_a_duration_beyond_the_scenario_is_one_warning_line(capsys):
-    sc = marinecdpr.cli.common.scenario_to_fly("paper", 100.0, "virtual_prototype")
-    assert sc.time.duration_s == 15.0
-    assert capsys.readouterr().err.strip().splitlines() == [
-        "warning: --duration 100: paper lasts 15 s; flying those 15 s"]
-    sc = marinecdpr.cli.common.scenario_to_fly("paper", 2.0, "virtual_prototype")
-    assert sc.time.duration_s == 2.0 and capsys.readouterr().err == ""
 
 
 def test_clean_with_a_guarantee_met_at_once_ends_its_progress_on_the_runs_flown(tmp_path, monkeypatch):

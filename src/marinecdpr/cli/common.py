@@ -97,30 +97,6 @@ def load(scenario: str, duration: float | None, step: float | None):
         fail_scenario(exc, scenario)
 
 
-def scenario_to_fly(scenario: str, duration: float | None, run: str, *, cleaning: bool = False):
-    """The scenario, its first ``duration`` seconds if given, refused in one line (exit 2)
-    before any work if it is malformed, has no cleaning job where one is needed, or the
-    run would not fit in memory."""
-    from marinecdpr.planning.budget import check_run_size
-
-    try:
-        sc = load_scenario(scenario)
-        warn_scale(sc, scenario)
-        if cleaning and (sc.cleaning is None or sc.trajectory.type != "coverage"):
-            raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
-                                source=sc.name, key="cleaning")
-        if duration is not None and duration > sc.time.duration_s:
-            err_console.print(styled("warning:", "bold yellow", f"--duration {duration:g}: {plain(scenario)} lasts "
-                                      f"{sc.time.duration_s:g} s; flying those {sc.time.duration_s:g} s"),
-                              highlight=False, soft_wrap=True)
-        if duration is not None:
-            sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": min(duration, sc.time.duration_s)})
-        check_run_size(sc, run)  # before any work: too big is one line, exit 2
-    except ScenarioError as exc:
-        fail_scenario(exc, scenario)
-    return sc
-
-
 @contextmanager
 def run_errors(scenario: str):
     """A run's failures as one line each: a bad scenario exits 2, an infeasible plan 3, a
@@ -189,28 +165,6 @@ def fail_spec(exc) -> None:
     """A command's :class:`~marinecdpr.commands.base.SpecError` as one line naming its
     ``--flag``, exit 2."""
     fail(f"{exc.flag} {exc.value}: {exc.detail}")
-
-
-def grid_option(flag: str, text: str, example: str) -> tuple[int, int]:
-    """A grid's two positive point counts from ``AxB`` (:func:`~marinecdpr.commands.base.grid`);
-    one line, exit 2, otherwise."""
-    from marinecdpr.commands.base import grid
-
-    try:
-        return grid(text, example=example)
-    except ValueError as exc:
-        fail(f"{flag} {text}: {exc}")
-
-
-def headings_option(text: str, example: str) -> tuple[float, ...]:
-    """``--headings``, deg, by the one rule of every command
-    (:func:`~marinecdpr.commands.base.headings`); one line, exit 2, otherwise."""
-    from marinecdpr.commands.base import headings
-
-    try:
-        return headings(text, example=example)
-    except ValueError as exc:
-        fail(f"--headings {text}: {exc}")
 
 
 def count(number: object, noun: str) -> str:

@@ -1,55 +1,12 @@
-"""The sea-state studies' options (headings, executor), their scatter diagram and their table."""
+"""The sea-state studies' table: per heading the workable share and the limiting Hs per Tp."""
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 from rich.table import Table
 
-from marinecdpr.cli.common import console, count, err_console, fail, headings_option, interval, percent, plain
-from marinecdpr.errors import ScenarioError
-
-
-def sea_study_options(headings: str, serial: bool, workers: int | None, scheduler: str | None) -> tuple[float, ...]:
-    """A sea-state study's headings (deg) from ``--headings``, its executor options checked
-    (``--serial`` alone; a ``--scheduler`` that answers)."""
-    from marinecdpr.studies.executor import Executor, ExecutorError
-
-    try:
-        Executor.check(serial=serial, workers=workers, scheduler=scheduler)
-        heads = headings_option(headings, "180,150")
-        if scheduler:
-            Executor.at(scheduler)
-    except ExecutorError as exc:
-        fail(str(exc))
-    return heads
-
-
-def sea_executor(serial: bool, workers: int | None, scheduler: str | None, steps: int):
-    """What runs a sea-state study's cells (:class:`~marinecdpr.studies.executor.Executor`)
-    from the options and its size; a note when Dask would help but is not installed."""
-    from marinecdpr.studies.executor import Executor, ExecutorError
-
-    try:
-        executor = Executor.choose(serial=serial, workers=workers, scheduler=scheduler, steps=steps)
-    except ExecutorError as exc:
-        fail(str(exc))
-    if executor.note:
-        err_console.print(f"note: {executor.note}", highlight=False, soft_wrap=True)
-    return executor
-
-
-def scatter_diagram(path: Path | None):
-    """The scatter diagram of ``--scatter`` (default: the package's illustrative one)."""
-    from importlib import resources
-
-    from marinecdpr.studies.operability import read_scatter_csv
-
-    try:
-        return read_scatter_csv(path or Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv")))
-    except ScenarioError as exc:
-        fail(str(exc))
+from marinecdpr.cli.common import console, count, interval, percent, plain
 
 
 def print_sea_table(op, title: str, executor, elapsed: float) -> None:
