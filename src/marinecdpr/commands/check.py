@@ -24,17 +24,11 @@ class CheckSpec(Spec):
 
 
 def estimate(spec: CheckSpec, scenario: Scenario) -> Estimate:
-    """The scenario's plan's size, made in chunks as ``plan`` makes it.
+    """The scenario's plan's size, made in chunks as ``plan`` makes it
+    (:func:`marinecdpr.commands.plan.estimate`'s)."""
+    from marinecdpr.commands import plan
 
-    Raises
-    ------
-    ScenarioError
-        One line where the plan would not fit in memory or finish in sane time
-        (:func:`~marinecdpr.planning.budget.check_run_size`, ``"plan_stream"``).
-    """
-    from marinecdpr.planning.budget import check_run_size
-
-    return Estimate(scenario=scenario.name, size=check_run_size(scenario, "plan_stream"))
+    return plan.estimate(plan.PlanSpec(), scenario)
 
 
 @dataclass(frozen=True)
