@@ -93,24 +93,25 @@ def test_the_estimate_refuses_before_any_work(tmp_path, monkeypatch):
 
 
 def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
-    """Population 4, 2 generations, seed 11, no finalists flown: the typed result, and the
-    files it writes, equal the command's to the byte (the journal too)."""
-    spec = DesignCommandSpec(population=4, generations=2, seed=11, verify=False)
+    """Population 4, 1 generation, seed 11, no finalists flown: the typed result, and the
+    files it writes, equal the command's to the byte (the journal too). (The search's later
+    generations are the study's tests': tests/studies/test_design.py.)"""
+    spec = DesignCommandSpec(population=4, generations=1, seed=11, verify=False)
     seen = []
     result = command.run(spec, journal=tmp_path / "py.jsonl", progress=lambda d, n, best: seen.append((d, n)))
     study = result.study
-    assert len(study.evaluations) == 8 and list(study.generation) == [0] * 4 + [1] * 4
-    assert seen[-1] == (8, 8) and result.verified == () and result.cells == 102
+    assert len(study.evaluations) == 4 and list(study.generation) == [0] * 4
+    assert seen[-1] == (4, 4) and result.verified == () and result.cells == 102
     s = result.summary()
-    assert s["candidates"] == 8 and s["seed"] == 11 and s["verified"] is False
+    assert s["candidates"] == 4 and s["seed"] == 11 and s["verified"] is False
     assert [f["index"] for f in s["front"]] == study.front
     assert all(study.evaluations[i].feasible for i in study.front)
     written = result.write(tmp_path / "py")
     out = tmp_path / "cli"
-    res = runner.invoke(app, ["design", "--population", "4", "--generations", "2", "--seed", "11", "--no-verify",
+    res = runner.invoke(app, ["design", "--population", "4", "--generations", "1", "--seed", "11", "--no-verify",
                               "--out", str(out)])
     assert res.exit_code == 0, res.output
-    assert f"ship_side: 8 candidates ({s['feasible']} feasible) over 102 sea states" in res.stdout
+    assert f"ship_side: 4 candidates ({s['feasible']} feasible) over 102 sea states" in res.stdout
     for path in written:
         name = path.relative_to(tmp_path / "py")
         if path.suffix in (".csv", ".json", ".toml", ".html"):
@@ -120,7 +121,7 @@ def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
         hours = [r["expected_hours"] for r in csv.DictReader(fh)]
     from marinecdpr.report.files import json_text
 
-    assert len(hours) == 8 and (out / "summary.json").read_text() == json_text(s) + "\n"
+    assert len(hours) == 4 and (out / "summary.json").read_text() == json_text(s) + "\n"
 
 
 def test_the_command_line_s_defaults_are_the_spec_s():
