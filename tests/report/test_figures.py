@@ -367,13 +367,21 @@ def test_the_path_figures_legend_is_inside_the_figure(paper, captured_figures, t
 
 
 def _summary(fixed_m, moving_m=1.5e-7, bound_m=0.019):
-    run = dict(max_abs_error_x_m=moving_m, max_abs_error_z_m=moving_m, max_abs_cable_length_error_m=[moving_m] * 4,
-               max_abs_error_theta_deg=1e-6, within_error_bound=True, beyond_error_bound=[],
-               tension_limit_excess_N=0.0, controller_fallbacks=0)
-    fixed = dict(run, max_abs_error_x_m=fixed_m, within_error_bound=fixed_m <= bound_m,
-                 beyond_error_bound=[] if fixed_m <= bound_m else ["x"])
-    return {"error_bound_m": bound_m, "error_bound_deg": 1.0, "steps": 100, "open_loop": run,
-            "closed_loop": dict(run), "fixed_base_open_loop": fixed}
+    from dataclasses import replace
+
+    from marinecdpr.studies.prototype_runs import PrototypeFigures, RunFigures
+
+    run = RunFigures(max_abs_error_x_m=moving_m, max_abs_error_z_m=moving_m, max_abs_cable_length_error_m=(moving_m,) * 4,
+                     max_abs_error_theta_deg=1e-6, within_error_bound=True, beyond_error_bound=(),
+                     tension_limit_excess_N=0.0, controller_fallbacks=0, tension_min_N=10.0, tension_max_N=20.0,
+                     rms_error_x_m=moving_m, rms_error_z_m=moving_m, ship_tracking_error=0.0, plant="own")
+    fixed = replace(run, max_abs_error_x_m=fixed_m, within_error_bound=fixed_m <= bound_m,
+                    beyond_error_bound=() if fixed_m <= bound_m else ("x",))
+    return PrototypeFigures(scenario="paper", steps=100, step_s=0.001, method="closed_form", pinv_tension_min_N=1.0,
+                            opt_tension_min_N=10.0, opt_tension_max_N=20.0, error_bound_m=bound_m, error_bound_deg=1.0,
+                            controller_bypassed_share_max=0.05, open_loop_growth_rate_1_s=0.0, stability=None,
+                            error_budget={}, runs={"open_loop": run, "closed_loop": run, "fixed_base_open_loop": fixed},
+                            runs_beyond_error_bound=(), runs_controller_bypassed=(), warnings=())
 
 
 def test_the_fixed_base_plan_is_measured_against_the_error_bound(paper):
@@ -402,13 +410,14 @@ def test_the_report_numbers_its_figures_in_page_order_and_names_the_papers(short
 
 
 def test_the_cables_as_built_table_shows_where_something_is_built(short_vp, tmp_path):
-    summary = dict(short_vp.summary)
-    assert all(e["length_change_m"] is None and e["tension_change_N"] is None
-               for e in summary.get("error_budget", {}).values())
-    summary["error_budget"] = dict(summary.get("error_budget", {}))
-    summary["error_budget"]["pulleys"] = {"length_change_m": 0.0012, "tension_change_N": 3.4,
-                                          "workspace_change": None, "note": "the pulleys' wrap"}
-    path = write_report_html(summary, short_vp.scenario, {}, tmp_path / "report.html")
+    from dataclasses import replace
+
+    f = short_vp.figures
+    assert all(e["length_change_m"] is None and e["tension_change_N"] is None for e in f.error_budget.values())
+    budget = dict(f.error_budget)
+    budget["pulleys"] = {"length_change_m": 0.0012, "tension_change_N": 3.4,
+                         "workspace_change": None, "note": "the pulleys' wrap"}
+    path = write_report_html(replace(f, error_budget=budget), short_vp.scenario, {}, tmp_path / "report.html")
     page = path.read_text()
     assert "Cables as built" in page and "1.2 mm" in page
 

@@ -214,7 +214,7 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
-    paths.append(write_report_html(vp.summary, sc, figures, folder / "report.html", plan=vp.plan))
+    paths.append(write_report_html(vp.figures, sc, figures, folder / "report.html", plan=vp.plan))
     return paths
 
 
