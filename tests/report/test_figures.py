@@ -425,16 +425,21 @@ def test_the_cables_as_built_table_shows_where_something_is_built(short_vp, tmp_
 # ------------------------------------------------------------------ item 10
 @pytest.fixture(scope="module")
 def short_clean(tmp_path_factory):
-    from marinecdpr.studies.cleaning import cleaning_job, ship_side
+    from marinecdpr.studies.cleaning import cleaning_job
 
     sc = marinecdpr.load_scenario("paper_clean")
-    job = cleaning_job(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 2.0}))
-    job.summary["hull"] = ship_side(job.summary, hull_area_m2=100.0, move_time_s=600.0)
-    return job
+    return cleaning_job(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 2.0}))
 
 
-def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, tmp_path):
-    out = cleaning_report.write_cleaning(short_clean, tmp_path)
+@pytest.fixture(scope="module")
+def short_hull(short_clean):
+    from marinecdpr.studies.cleaning import ship_side
+
+    return ship_side(short_clean.figures, hull_area_m2=100.0, move_time_s=600.0)
+
+
+def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, short_hull, tmp_path):
+    out = cleaning_report.write_cleaning(short_clean, tmp_path, hull=short_hull)
     page = (tmp_path / "report.html").read_text()
     job = page[page.index("<h2>The job</h2>"):page.index("<ul>")]
     rows = dict(re.findall(r"<tr><th>(.*?)</th><td>(.*?)</td></tr>", job))
@@ -446,8 +451,8 @@ def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, t
     assert unit in ("mm", "µm", "nm") and 1.0 <= float(value) < 1000.0
     scale = {"mm": 1e-3, "µm": 1e-6, "nm": 1e-9}[unit]
     assert float(value) * scale == pytest.approx(s["p95_cross_track_error_m"], rel=5e-3)
-    assert rows["hull: time"] == f"{s['hull']['hours']:.1f} h"  # the hull estimate in the table
-    assert "252 placements" in rows["hull"] or f"{s['hull']['placements']} placements" in rows["hull"]
+    assert rows["hull: time"] == f"{short_hull['hours']:.1f} h"  # the hull estimate in the table
+    assert "252 placements" in rows["hull"] or f"{short_hull['placements']} placements" in rows["hull"]
     assert "1.2 m, 12.9 s" in page  # the pass along the edges, and what it costs
     assert len(out) == 5
 
