@@ -15,7 +15,8 @@ from marinecdpr.scenario.design import CONTINUOUS
 from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
 from marinecdpr.textfiles import atomic_path
 
-__all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometry", "pareto_figure", "convergence_figure",
+__all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometry",
+           "pareto_figure", "convergence_figure",
            "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN"]
 
 

@@ -33,7 +33,8 @@ def _error_rows(f: PrototypeFigures, scenario: Scenario) -> list[tuple[str, str,
     for name, i in zip(*_pose_names(scenario)):
         if i < 3:
             key = f"max_abs_error_{TWIST_NAMES[i]}_m"
-            rows.append((name, "m", [r.max_abs_error(TWIST_NAMES[i]) for r in runs], paper.get(key) if paper else None))
+            rows.append((name, "m", [r.max_abs_error(TWIST_NAMES[i]) for r in runs],
+                         paper.get(key) if paper else None))
         elif scenario.robot.dofs == "planar":
             key = "max_abs_error_theta_deg"
             rows.append((name, "deg", [r.max_abs_error_theta_deg for r in runs], paper.get(key) if paper else None))
@@ -75,7 +76,8 @@ def _controller_cell(run: RunFigures, steps: int | None) -> str:
     if run.controller_verdict is None:
         return "–"
     of = f" of {steps}" if steps else ""
-    return ("held" if run.controller_verdict == "held" else "BYPASSED") + f" ({run.controller_fallbacks}{of} steps fed the plan)"
+    return (("held" if run.controller_verdict == "held" else "BYPASSED")
+            + f" ({run.controller_fallbacks}{of} steps fed the plan)")
 
 
 def beyond_text(names: Sequence[str]) -> str:
@@ -170,7 +172,8 @@ def findings(f: PrototypeFigures, scenario: Scenario, *, warnings: bool = True) 
     out += [f"Warning: {w}." for w in f.warnings] if warnings else []
     for r, run in runs.items():
         if run.tension_limit_excess_N > 0:
-            out.append(f"{RUN_TITLES[r]}: applied tensions left their limits by up to {run.tension_limit_excess_N:.3g} N.")
+            out.append(f"{RUN_TITLES[r]}: applied tensions left their limits by up to "
+                       f"{run.tension_limit_excess_N:.3g} N.")
     return out
 
 

@@ -44,7 +44,8 @@ from marinecdpr.studies.operability import (
 )
 from marinecdpr.studies.prototype_runs import controller_verdict
 
-__all__ = ["CleaningFigures", "Guarantee", "CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "check_hull_estimate", "brush_positions", "normal_force",
+__all__ = ["CleaningFigures", "Guarantee", "CleaningJob", "cleaning_job", "guaranteed_job", "ship_side",
+           "check_hull_estimate", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
            "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT", "COMPARED", "job_variants",
            "compare_conditions"]
