@@ -376,13 +376,15 @@ def test_a_hull_estimate_that_would_mean_nothing_is_refused_before_the_job(args,
 def test_ship_side_never_overflows():
     from marinecdpr.studies.cleaning import ship_side
 
-    job = {"panel_area_m2": 2.0, "missed_area_m2": 0.5, "job_time_s": 100.0}
+    from types import SimpleNamespace
+
+    job = SimpleNamespace(panel_area_m2=2.0, missed_area_m2=0.5, job_time_s=100.0)
     est = ship_side(job, hull_area_m2=1e6, move_time_s=1e6)
     assert est["placements"] == 666667 and math.isfinite(est["hours"])
     with pytest.raises(ValueError, match="up to 1e\\+06"):
         ship_side(job, hull_area_m2=1e308, move_time_s=600.0)
     with pytest.raises(ValueError, match="cleaned nothing"):
-        ship_side({"panel_area_m2": 1e-310, "missed_area_m2": 0.0, "job_time_s": 1.0}, hull_area_m2=1e6,
+        ship_side(SimpleNamespace(panel_area_m2=1e-310, missed_area_m2=0.0, job_time_s=1.0), hull_area_m2=1e6,
                   move_time_s=0.0)
 
 

@@ -211,7 +211,16 @@ def test_error_table_uses_one_unit_per_row(paper):
         s[run] = {"max_abs_error_x_m": e, "max_abs_error_z_m": e / 10, "max_abs_error_theta_deg": 7e-6,
                   "max_abs_cable_length_error_m": [e, 2 * e, e, e], "within_error_bound": e < 0.019,
                   "beyond_error_bound": [] if e < 0.019 else ["x", "cable 2"]}
-    header, rows = error_table(s, paper)
+    from marinecdpr.studies.prototype_runs import PrototypeFigures
+
+    for run in ("open_loop", "closed_loop", "fixed_base_open_loop"):
+        s[run] |= {"tension_min_N": 10.0, "tension_max_N": 20.0, "tension_limit_excess_N": 0.0, "rms_error_x_m": 0.0,
+                   "rms_error_z_m": 0.0, "controller_fallbacks": 0, "ship_tracking_error": 0.0, "plant": "own"}
+    s |= {"scenario": "paper", "steps": 100, "step_s": 0.001, "method": "closed_form", "pinv_tension_min_N": 1.0,
+          "opt_tension_min_N": 10.0, "opt_tension_max_N": 20.0, "controller_bypassed_share_max": 0.05,
+          "open_loop_growth_rate_1_s": 0.0, "stability": None, "error_budget": {}, "runs_beyond_error_bound": [],
+          "runs_controller_bypassed": [], "warnings": []}
+    header, rows = error_table(PrototypeFigures.from_json(s), paper)
     assert header[1] == "paper (Adams, open loop)"
     assert rows[0] == ["x (mm)", "25", "0.00014", "0.0011", "33"]
     assert rows[1] == ["z (mm)", "13", "1.4e-05", "0.00011", "3.3"]

@@ -232,13 +232,13 @@ def test_clean_with_a_guarantee_met_at_once_ends_its_progress_on_the_runs_flown(
         n = sc.time.n_steps
         for k in (n // 2, n):
             progress(k, n)
-        return SimpleNamespace(summary={"guarantee": {"reason": "met", "lane_spacing_m": 0.1, "checked": True,
-                                                      "second_run": False},
-                                        "controller_verdict": "held", "controller_fallbacks": 0, "steps": n})
+        guarantee = SimpleNamespace(reason="met", lane_spacing_m=0.1, checked=True, second_run=False)
+        return SimpleNamespace(figures=SimpleNamespace(guarantee=guarantee, interference=None, controller_verdict="held",
+                                                       controller_fallbacks=0, steps=n), summary={})
 
     monkeypatch.setattr(cleaning, "guaranteed_job", guaranteed_job)
-    monkeypatch.setattr(report, "write_cleaning", lambda job, folder: [Path(folder) / "clean.csv"])
-    monkeypatch.setattr(report, "cleaning_findings", lambda summary: [])
+    monkeypatch.setattr(report, "write_cleaning", lambda job, folder, **kwargs: [Path(folder) / "clean.csv"])
+    monkeypatch.setattr(report, "cleaning_findings", lambda figures, **kwargs: [])
     monkeypatch.setattr(marinecdpr.cli.clean, "compile_notice", lambda plant: None)
     res = runner.invoke(app, ["clean", "--guarantee", "--no-compare", "--duration", "1", "--out",
                                   str(tmp_path / "o")], terminal_width=2000)

@@ -111,8 +111,9 @@ def test_a_bypassed_controller_is_the_result_s_verdict():
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     assert_table_is_the_spec("simulate", SimulateSpec)
     ns = run_page("simulate", tmp_path, monkeypatch)
-    closed, summary = ns["closed"], ns["summary"]
-    assert closed.t.size == 1001 and summary["steps"] == 1001
+    closed, figures = ns["closed"], ns["figures"]
+    summary = figures.to_json()
+    assert closed.t.size == 1001 and figures.steps == 1001
     assert ns["error_mm"] == pytest.approx(1e3 * np.abs(closed.pose[:, 0] - closed.pose_planned[:, 0]).max(), rel=1e-12)
     assert json.loads((tmp_path / "out" / "summary.json").read_text()) == json.loads(json.dumps(summary))
     assert [p.name for p in ns["files"]][-2:] == ["summary.json", "report.html"]

@@ -367,13 +367,21 @@ def test_the_path_figures_legend_is_inside_the_figure(paper, captured_figures, t
 
 
 def _summary(fixed_m, moving_m=1.5e-7, bound_m=0.019):
-    run = dict(max_abs_error_x_m=moving_m, max_abs_error_z_m=moving_m, max_abs_cable_length_error_m=[moving_m] * 4,
-               max_abs_error_theta_deg=1e-6, within_error_bound=True, beyond_error_bound=[],
-               tension_limit_excess_N=0.0, controller_fallbacks=0)
-    fixed = dict(run, max_abs_error_x_m=fixed_m, within_error_bound=fixed_m <= bound_m,
-                 beyond_error_bound=[] if fixed_m <= bound_m else ["x"])
-    return {"error_bound_m": bound_m, "error_bound_deg": 1.0, "steps": 100, "open_loop": run,
-            "closed_loop": dict(run), "fixed_base_open_loop": fixed}
+    from dataclasses import replace
+
+    from marinecdpr.studies.prototype_runs import PrototypeFigures, RunFigures
+
+    run = RunFigures(max_abs_error_x_m=moving_m, max_abs_error_z_m=moving_m, max_abs_cable_length_error_m=(moving_m,) * 4,
+                     max_abs_error_theta_deg=1e-6, within_error_bound=True, beyond_error_bound=(),
+                     tension_limit_excess_N=0.0, controller_fallbacks=0, tension_min_N=10.0, tension_max_N=20.0,
+                     rms_error_x_m=moving_m, rms_error_z_m=moving_m, ship_tracking_error=0.0, plant="own")
+    fixed = replace(run, max_abs_error_x_m=fixed_m, within_error_bound=fixed_m <= bound_m,
+                    beyond_error_bound=() if fixed_m <= bound_m else ("x",))
+    return PrototypeFigures(scenario="paper", steps=100, step_s=0.001, method="closed_form", pinv_tension_min_N=1.0,
+                            opt_tension_min_N=10.0, opt_tension_max_N=20.0, error_bound_m=bound_m, error_bound_deg=1.0,
+                            controller_bypassed_share_max=0.05, open_loop_growth_rate_1_s=0.0, stability=None,
+                            error_budget={}, runs={"open_loop": run, "closed_loop": run, "fixed_base_open_loop": fixed},
+                            runs_beyond_error_bound=(), runs_controller_bypassed=(), warnings=())
 
 
 def test_the_fixed_base_plan_is_measured_against_the_error_bound(paper):
@@ -402,13 +410,14 @@ def test_the_report_numbers_its_figures_in_page_order_and_names_the_papers(short
 
 
 def test_the_cables_as_built_table_shows_where_something_is_built(short_vp, tmp_path):
-    summary = dict(short_vp.summary)
-    assert all(e["length_change_m"] is None and e["tension_change_N"] is None
-               for e in summary.get("error_budget", {}).values())
-    summary["error_budget"] = dict(summary.get("error_budget", {}))
-    summary["error_budget"]["pulleys"] = {"length_change_m": 0.0012, "tension_change_N": 3.4,
-                                          "workspace_change": None, "note": "the pulleys' wrap"}
-    path = write_report_html(summary, short_vp.scenario, {}, tmp_path / "report.html")
+    from dataclasses import replace
+
+    f = short_vp.figures
+    assert all(e["length_change_m"] is None and e["tension_change_N"] is None for e in f.error_budget.values())
+    budget = dict(f.error_budget)
+    budget["pulleys"] = {"length_change_m": 0.0012, "tension_change_N": 3.4,
+                         "workspace_change": None, "note": "the pulleys' wrap"}
+    path = write_report_html(replace(f, error_budget=budget), short_vp.scenario, {}, tmp_path / "report.html")
     page = path.read_text()
     assert "Cables as built" in page and "1.2 mm" in page
 
@@ -416,16 +425,21 @@ def test_the_cables_as_built_table_shows_where_something_is_built(short_vp, tmp_
 # ------------------------------------------------------------------ item 10
 @pytest.fixture(scope="module")
 def short_clean(tmp_path_factory):
-    from marinecdpr.studies.cleaning import cleaning_job, ship_side
+    from marinecdpr.studies.cleaning import cleaning_job
 
     sc = marinecdpr.load_scenario("paper_clean")
-    job = cleaning_job(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 2.0}))
-    job.summary["hull"] = ship_side(job.summary, hull_area_m2=100.0, move_time_s=600.0)
-    return job
+    return cleaning_job(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 2.0}))
 
 
-def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, tmp_path):
-    out = cleaning_report.write_cleaning(short_clean, tmp_path)
+@pytest.fixture(scope="module")
+def short_hull(short_clean):
+    from marinecdpr.studies.cleaning import ship_side
+
+    return ship_side(short_clean.figures, hull_area_m2=100.0, move_time_s=600.0)
+
+
+def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, short_hull, tmp_path):
+    out = cleaning_report.write_cleaning(short_clean, tmp_path, hull=short_hull)
     page = (tmp_path / "report.html").read_text()
     job = page[page.index("<h2>The job</h2>"):page.index("<ul>")]
     rows = dict(re.findall(r"<tr><th>(.*?)</th><td>(.*?)</td></tr>", job))
@@ -437,8 +451,8 @@ def test_the_cleaning_report_names_its_figures_in_words_and_units(short_clean, t
     assert unit in ("mm", "µm", "nm") and 1.0 <= float(value) < 1000.0
     scale = {"mm": 1e-3, "µm": 1e-6, "nm": 1e-9}[unit]
     assert float(value) * scale == pytest.approx(s["p95_cross_track_error_m"], rel=5e-3)
-    assert rows["hull: time"] == f"{s['hull']['hours']:.1f} h"  # the hull estimate in the table
-    assert "252 placements" in rows["hull"] or f"{s['hull']['placements']} placements" in rows["hull"]
+    assert rows["hull: time"] == f"{short_hull['hours']:.1f} h"  # the hull estimate in the table
+    assert "252 placements" in rows["hull"] or f"{short_hull['placements']} placements" in rows["hull"]
     assert "1.2 m, 12.9 s" in page  # the pass along the edges, and what it costs
     assert len(out) == 5
 

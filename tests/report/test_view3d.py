@@ -194,13 +194,15 @@ def test_the_report_changes_only_by_the_section(paper_scene, tmp_path, monkeypat
     assert scene_html(scene, title="t", include_js=False).count("plotly.js v") == 0
 
 
-def _summary(tmp_path: Path) -> dict:
+def _summary(tmp_path: Path):
     import json
 
     out = tmp_path / "s"
     res = runner.invoke(app, ["simulate", "paper", "--duration", "0.05", "--plant", "own", "--out", str(out)])
     assert res.exit_code == 0, res.output
-    return json.loads((out / "summary.json").read_text())
+    from marinecdpr.studies.prototype_runs import PrototypeFigures
+
+    return PrototypeFigures.from_json(json.loads((out / "summary.json").read_text()))
 
 
 def test_the_clean_report_holds_the_view(tmp_path):

@@ -163,6 +163,12 @@ def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(c
     assert g["second_run"] and g["overlap_m"] == pytest.approx(2.1 * e95, rel=1e-12)
     assert g["lane_spacing_m"] <= short.cleaning.brush_diameter_m - 2.0 * e95
     assert g["checked"] == (2.0 * g["checked_p95_cross_track_error_m"] <= g["overlap_m"])
+    # the typed record is what summary.json says, the guarantee last; its figures the job's arrays'
+    assert job.figures.to_json() == job.summary and list(job.summary)[-1] == "guarantee"
+    assert job.figures.guarantee.to_json() == g and job.figures.guarantee.second_run is True
+    assert job.figures.p95_cross_track_error_m == float(np.percentile(job.cross_track, 95)) == g[
+        "checked_p95_cross_track_error_m"]
+    assert first.figures.guarantee is None and first.figures.steps == first.result.t.size
     # enough overlap already: one run, and it says so
     kept = guaranteed_job(_with(short, overlap_m=0.03)).summary["guarantee"]
     assert not kept["second_run"] and kept["overlap_m"] == 0.03 and "already covers" in kept["reason"]
@@ -175,7 +181,9 @@ def test_a_ship_side_is_placements_of_the_frame_by_hand():
     from marinecdpr.studies.cleaning import ship_side
 
     # 1.04 m2 panels, 0.04 m2 missed each: 1 m2 per placement in 100 s; 10.5 m2 of hull
-    s = {"panel_area_m2": 1.04, "missed_area_m2": 0.04, "job_time_s": 100.0}
+    from types import SimpleNamespace
+
+    s = SimpleNamespace(panel_area_m2=1.04, missed_area_m2=0.04, job_time_s=100.0)
     hull = ship_side(s, hull_area_m2=10.5, move_time_s=60.0)
     assert hull["placements"] == 11
     assert hull["hours"] == pytest.approx((11 * 100.0 + 10 * 60.0) / 3600.0)
@@ -218,7 +226,7 @@ def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, 
     assert set(summary["comparison"]) == {"as asked", "calm water", "no brush drag"}
     page = (out / "report.html").read_text()
     assert "What the sea and the brush do" in page and "The sea: in calm water" in page
-    assert any(line.startswith("The sea: in calm water") for line in cleaning_findings(summary))
+    assert any(line.startswith("The sea: in calm water") for line in cleaning_findings(job.figures, comparison=cmp))
     res = runner.invoke(app, ["clean", "paper_clean", "--duration", "1", "--no-compare", "--out", str(out)])
     assert res.exit_code == 0 and "comparison" not in json.loads((out / "summary.json").read_text())
 
@@ -294,6 +302,11 @@ def test_a_whole_run_is_not_partial():
          "partial": False, "normal_force_in_band_pct": 100.0, "contact_lost_s": 0.0, "tension_min_N": 50.0,
          "tension_max_N": 300.0, "infeasible_steps": 0, "max_cross_track_error_m": 1e-5,
          "p95_cross_track_error_m": 1e-6, "winch_energy_kJ": 1.0}
+    from dataclasses import fields
+
+    from marinecdpr.studies.cleaning import CleaningFigures
+
+    s = CleaningFigures(**({f.name: None for f in fields(CleaningFigures)} | s))  # the rest unread here
     assert cleaning_findings(s)[1] == ("5 lanes 0.15 m apart, 7.3 m of path in 77.8 s: 47.7 m2/h; the pass along "
                                        "the edges the lanes leave takes 1.2 m and 12.9 s of it.")
 
@@ -357,7 +370,7 @@ def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
                               s["tension_min_N"], s["tension_max_N"], s["job_time_s"])
     assert r.operable and r.reason == "" and r.hours == s["job_time_s"] / 3600.0
     hull = evaluate_cleaning_cell(small, cell, coverage_target_pct=90.0, hull_area_m2=50.0, move_time_s=300.0)
-    assert hull.hours == ship_side(s, hull_area_m2=50.0, move_time_s=300.0)["hours"]
+    assert hull.hours == ship_side(job.figures, hull_area_m2=50.0, move_time_s=300.0)["hours"]
     strict = evaluate_cleaning_cell(small, cell, coverage_target_pct=100.0, in_band_target_pct=100.0)
     assert not strict.operable and "reachable coverage" in strict.reason
     rough = evaluate_cleaning_cell(small, Cell(0, 14.0, 10.0, 90.0, 0.2))

@@ -260,12 +260,12 @@ def test_a_design_s_drawing_puts_the_platform_at_the_panel_s_corners(small):
 
     spec, template, _ = small
     g = drawing_geometry(candidate_scenario(spec, template, _x(spec)))
-    np.testing.assert_allclose(g["frame"], [[0, 3], [6, 3], [6, 0], [0, 0]], atol=0)
-    np.testing.assert_allclose(g["platforms"][0], [[0.15, 0.65], [0.65, 0.65], [0.65, 0.15], [0.15, 0.15]],
+    np.testing.assert_allclose(g.frame, [[0, 3], [6, 3], [6, 0], [0, 0]], atol=0)
+    np.testing.assert_allclose(g.platforms[0], [[0.15, 0.65], [0.65, 0.65], [0.65, 0.15], [0.15, 0.15]],
                                atol=1e-12)
-    np.testing.assert_allclose(g["platforms"][2], [[5.35, 2.85], [5.85, 2.85], [5.85, 2.35], [5.35, 2.35]],
+    np.testing.assert_allclose(g.platforms[2], [[5.35, 2.85], [5.85, 2.85], [5.85, 2.35], [5.35, 2.35]],
                                atol=1e-12)
-    np.testing.assert_allclose(g["cables"][0, 1], [[6.0, 3.0], [0.65, 0.65]], atol=1e-12)
+    np.testing.assert_allclose(g.cables[0, 1], [[6.0, 3.0], [0.65, 0.65]], atol=1e-12)
 
 
 def test_the_built_in_study_loads_and_its_baseline_is_the_paper_robot():

@@ -23,19 +23,19 @@ def check(scenario: str = typer.Argument(..., help="A scenario file, or a built-
     warn_singular(scenario, (result.frame, result.along))  # valid, but the robot is singular there
     if result.interference is not None:  # valid, but the cables come too close there
         err_console.print(plain(f"warning: {scenario}: {result.interference}"), highlight=False, soft_wrap=True)
-    s = result.summary()
+    flown, r = result.scenario, result.scenario.robot
     console.print(
-        f"{plain(scenario)}: ok: '{plain(s['name'])}', {s['dofs']} robot, {s['cables']} cables, {s['mass_kg']:g} kg; "
-        f"base motion {s['base_motion']}; trajectory {s['trajectory']}; "
-        f"{s['steps']} steps of {s['step_s']:g} s; method {s['method']}",
+        f"{plain(scenario)}: ok: '{plain(flown.name)}', {r.dofs} robot, {r.n_cables} cables, {r.mass_kg:g} kg; "
+        f"base motion {flown.base_motion.type}; trajectory {flown.trajectory.type}; "
+        f"{flown.time.n_steps} steps of {flown.time.step_s:g} s; method {flown.planning.method}",
         highlight=False, soft_wrap=True,
     )
-    if "coverage" in s:
-        c = s["coverage"]
-        console.print(f"coverage path: {c['lanes']} lanes {c['spacing_m']:.4g} m apart at {c['direction_deg']:g} deg, "
-                      f"{c['length_m']:.4g} m, {c['duration_s']:.4g} s"
-                      + (f" (the pass along the edges {c['boundary_length_m']:.4g} m, {c['boundary_duration_s']:.4g} s "
-                         "of it)" if c["boundary_length_m"] > 0 else "")
-                      + ("" if not c["cut"] else
+    if result.path is not None:
+        c = result.path
+        console.print(f"coverage path: {c.lanes} lanes {c.spacing_m:.4g} m apart at {c.direction_deg:g} deg, "
+                      f"{c.length_m:.4g} m, {c.duration_s:.4g} s"
+                      + (f" (the pass along the edges {c.boundary_length_m:.4g} m, {c.boundary_duration_s:.4g} s "
+                         "of it)" if c.boundary_length_m > 0 else "")
+                      + ("" if not result.path_cut else
                          f" (the scenario's {sc.time.duration_s:g} s ends before the path: only part of the panel)"),
                       highlight=False, soft_wrap=True)

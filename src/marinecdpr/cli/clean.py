@@ -124,25 +124,25 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
     if result.surface is not None:
         import numpy as np
 
-        u = result.surface.summary()
+        u = result.surface
         frame = np.ptp(result.scenario.robot.frame_anchors, axis=0)  # the frame's extent along C's x and z, m
-        console.print(plain(f"surface: {u['surface']}: {u['placements']} placements of the {frame[0]:.3g} x "
-                            f"{frame[2]:.3g} m frame, each cleaning its {u['frame_panel_m'][0]:g} x "
-                            f"{u['frame_panel_m'][1]:g} m panel, {u['area_m2']:.4g} m2: "
-                            f"{u['hours']:.4g} h ({u['cleaning_hours']:.4g} h cleaning, moves of {spec.move_time:g} s; "
-                            f"{u['area_rate_m2_h']:.3g} m2/h)"
-                            + (f"; {u['uncleanable_patches']} patches ({u['uncleanable_area_m2']:.3g} m2) curved "
-                               "beyond the stand-off tolerance" if u["uncleanable_patches"] else "")),
+        console.print(plain(f"surface: {u.surface}: {len(u.placements)} placements of the {frame[0]:.3g} x "
+                            f"{frame[2]:.3g} m frame, each cleaning its {u.frame_panel_m[0]:g} x "
+                            f"{u.frame_panel_m[1]:g} m panel, {u.area_m2:.4g} m2: "
+                            f"{u.hours:.4g} h ({u.cleaning_hours:.4g} h cleaning, moves of {spec.move_time:g} s; "
+                            f"{u.area_rate_m2_h:.3g} m2/h)"
+                            + (f"; {len(u.uncleanable)} patches ({u.uncleanable_area_m2:.3g} m2) curved "
+                               "beyond the stand-off tolerance" if u.uncleanable else "")),
                       highlight=False, soft_wrap=True)
-    s = result.job.summary
-    close = s.get("interference")
+    f = result.job.figures
+    close = f.interference
     if close is not None and close["first"] is not None:
         err_console.print(plain(f"warning: plan: {close['first']}"), highlight=False, soft_wrap=True)
     if spec.guarantee:
-        g = s["guarantee"]
-        console.print(plain(f"guarantee: {g['reason']}; lanes {g['lane_spacing_m']:.4g} m apart; "
-                            + (("checked by a second run" if g["second_run"] else "as flown") if g["checked"] else
-                               f"NOT met: the run's p95 cross-track error is {g['checked_p95_cross_track_error_m']:.3g} m")),
+        g = f.guarantee
+        console.print(plain(f"guarantee: {g.reason}; lanes {g.lane_spacing_m:.4g} m apart; "
+                            + (("checked by a second run" if g.second_run else "as flown") if g.checked else
+                               f"NOT met: the run's p95 cross-track error is {g.checked_p95_cross_track_error_m:.3g} m")),
                       highlight=False, soft_wrap=True)
     console.print(f"written to {plain(str(out))}/: {', '.join(p.name for p in paths)} ({elapsed:.1f} s)",
                   highlight=False, soft_wrap=True)

@@ -45,10 +45,10 @@ def import_(
         fail(str(exc))
     except OSError as exc:
         fail(f"--out {out}: cannot write ({exc.strerror or exc})")
-    s = result.summary()
-    console.print(plain(f"{out}: '{s['name']}' from {s['toolkit']}, a {s['dofs']} robot with {s['cables']} cables, "
-                        f"{s['mass_kg']:g} kg; trajectory {s['trajectory']}"), highlight=False, soft_wrap=True)
-    for note in s["notes"]:
+    console.print(plain(f"{out}: '{result.name}' from {result.imported.source}, a {result.dofs} robot with "
+                        f"{result.cables} cables, {result.mass_kg:g} kg; trajectory {result.trajectory}"),
+                  highlight=False, soft_wrap=True)
+    for note in result.imported.notes:
         console.print(plain(f"note: {note}"), highlight=False, soft_wrap=True)
     checked = command.check_written(out)  # a robot that cannot hold its platform, said at once (the file stays)
     if checked.scenario is not None:

@@ -44,21 +44,22 @@ def plan(
             result = command.run(spec, sc, folder, estimated=est)
     except ScenarioError as exc:
         fail_scenario(exc, scenario)
-    s = result.summary()
-    csv_path, fig_path = (out / p.name for p in result.paths)
+    p = result.plan
+    csv_path, fig_path = (out / path.name for path in result.paths)
 
-    table = Table(title=f"plan: {plain(sc.name)} ({s['method']}, {s['base_model']} base)")
+    table = Table(title=f"plan: {plain(sc.name)} ({p.method}, {p.base_model} base)")
     table.add_column("quantity")
     table.add_column("value", justify="right")
-    table.add_row("steps", f"{s['steps']} ({s['planning_s'] * 1e3:.1f} ms)")
-    table.add_row("feasible steps", f"{s['feasible']} of {s['steps']}")
-    if s["singular"]:
-        table.add_row("singular steps (J~ loses rank)", f"{s['singular']} of {s['steps']}")
-    for name, (lo, hi) in (("eq. 18 tensions (N)", s["pinv_range"]), ("planned tensions (N)", s["tension_range"])):
+    table.add_row("steps", f"{p.n_steps} ({p.planning_s * 1e3:.1f} ms)")
+    table.add_row("feasible steps", f"{p.n_feasible} of {p.n_steps}")
+    if p.n_singular:
+        table.add_row("singular steps (J~ loses rank)", f"{p.n_singular} of {p.n_steps}")
+    for name, (lo, hi) in (("eq. 18 tensions (N)", tuple(p.pinv_range)),
+                           ("planned tensions (N)", tuple(p.tension_range))):
         table.add_row(name, "none" if math.isnan(lo) else f"{lo:.2f} .. {hi:.2f}")
     if sc.robot.clearance_m is not None:
         table.add_row(f"steps closer than {sc.robot.clearance_m:g} m (interference)",
-                      f"{s['interfering']} of {s['steps']}")
+                      f"{p.n_interfering} of {p.n_steps}")
     table.add_row("written", f"{csv_path}\n{fig_path}")
     console.print(table)
     for label, text in (("infeasible:", result.infeasibility()), ("interference:", result.interference())):

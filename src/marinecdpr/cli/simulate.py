@@ -65,22 +65,22 @@ def simulate(
         paths = result.write(folder)
     elapsed = time.perf_counter() - t0
 
-    s = result.summary()
-    header, rows = error_table(s, sc)
-    table = Table(title=f"simulate: {plain(sc.name)} ({s['steps']} steps, plant {result.plant}, "
+    f = result.figures
+    header, rows = error_table(f, sc)
+    table = Table(title=f"simulate: {plain(sc.name)} ({f.steps} steps, plant {result.plant}, "
                         f"{elapsed:.1f} s wall time)")
     for i, h in enumerate(header):
         table.add_column(h, justify="left" if i == 0 else "right")
     for row in rows:
         table.add_row(*row)
     console.print(table)
-    for sentence in findings(s, sc, warnings=False):
+    for sentence in findings(f, sc, warnings=False):
         console.print(plain(sentence), highlight=False)
-    for run in s["runs_beyond_error_bound"]:
+    for run in f.runs_beyond_error_bound:
         err_console.print(plain(f"warning: {run} leaves its plan beyond the error bound "
-                                 f"({beyond_text(s[run]['beyond_error_bound'])}): see {out / 'report.html'}"),
+                                 f"({beyond_text(f.runs[run].beyond_error_bound)}): see {out / 'report.html'}"),
                           highlight=False, soft_wrap=True)
-    for warning in s["warnings"]:
+    for warning in f.warnings:
         err_console.print(plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
     fail_bypassed(result.bypassed(), sc, out)

@@ -32,7 +32,7 @@ def warmup(
 
     with run_errors(", ".join(names)):
         result = command.run(spec, loaded, progress=progress)
-    s = result.summary()
+    warm = result.warm
     console.print(f"compiled for {len(names)} scenario{'s' if len(names) != 1 else ''} "
-                  f"({len(s['runs'])} runs) in {s['seconds']:.1f} s; cached in {plain(s['cache_dir'])}",
+                  f"({len(warm.runs)} runs) in {warm.seconds:.1f} s; cached in {plain(warm.cache_dir)}",
                   highlight=False, soft_wrap=True)

@@ -44,10 +44,10 @@ def windows(
     result = command.run(spec, estimated=est)
     with output(out) as folder:
         paths = result.write(folder)
-    w, s = result.windows, result.summary()
+    w = result.windows
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
-    finish = s["finish_within_days_probability"]
-    console.print(plain(f"{count(len(w.windows), 'window')}, {s['windows_long_enough']} of them {spec.duration_h:g} h "
+    finish = {f"{d:g}": w.finish_probability(d) for d in spec.days}
+    console.print(plain(f"{count(len(w.windows), 'window')}, {w.long_enough} of them {spec.duration_h:g} h "
                         f"or longer; wait before the operation can start: {wait} (it can start from "
                         f"{100 * w.can_start:.1f} % of the start times); done within "
                         + ", ".join(f"{count(d, 'day')}: {100 * p:.1f} %" for d, p in finish.items())

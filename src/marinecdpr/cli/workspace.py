@@ -50,9 +50,9 @@ def workspace(
         paths = [out / p.name for p in result.write(folder)]
     if est.singular.n_singular < est.singular.n_poses:  # (every pose singular is said already)
         warn_singular(scenario, (result.singular,))  # the map's own grid, and between its points
-    s = result.summary()
-    clear = ("" if "interference_free" not in s else
-             f", {s['interference_free']} free of interference (clearance {s['clearance_m']:g} m), {s['both']} both")
-    console.print(f"{plain(result.scenario.name)}: {s['feasible_throughout']} of {s['poses']} poses feasible "
-                  f"throughout{clear} ({s['n_steps']} steps each, {seconds(elapsed)}); written: "
+    clear = ("" if result.interference_free is None else
+             f", {result.interference_free} free of interference (clearance {result.map.clearance_m:g} m), "
+             f"{result.both} both")
+    console.print(f"{plain(result.scenario.name)}: {result.feasible_throughout} of {result.poses} poses feasible "
+                  f"throughout{clear} ({result.map.n_steps} steps each, {seconds(elapsed)}); written: "
                   + ", ".join(plain(p) for p in paths), highlight=False)

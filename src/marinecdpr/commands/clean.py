@@ -282,7 +282,7 @@ class CleanResult:
     scenario : Scenario
         As flown (its first ``duration`` seconds).
     job : CleaningJob
-        The job (with ``guarantee``, the run whose lanes were kept; its ``summary`` holds
+        The job (with ``guarantee``, the run whose lanes were kept; its ``figures`` hold
         ``guarantee``).
     comparison : dict of {str: dict of {str: float}}, optional
         With ``compare``: the job's figures beside calm water's and without the brush's drag
@@ -316,23 +316,22 @@ class CleanResult:
         """What the numbers say, in sentences (:func:`~marinecdpr.report.cleaning.cleaning_findings`)."""
         from marinecdpr.report.cleaning import cleaning_findings
 
-        return cleaning_findings(self.summary())
+        return cleaning_findings(self.job.figures, hull=self.hull, comparison=self.comparison)
 
     def bypassed(self) -> list[tuple[str, int, int]]:
         """The closed loops whose controller was bypassed: (name, bypassed steps, steps) of the
         job, the guarantee's first run and the compared variants (beyond
         ``simulation.max_bypassed_share``)."""
-        s = self.job.summary
+        f = self.job.figures
         share = self.scenario.simulation.max_bypassed_share
-        runs = [("the cleaning job", s["controller_fallbacks"], s["steps"])] if s["controller_verdict"] == "bypassed" \
-            else []
-        g = s.get("guarantee")
-        if g is not None and g["second_run"] and g["first_run_controller_verdict"] == "bypassed":
-            runs.append(("the guarantee's first run", g["first_run_controller_fallbacks"], s["steps"]))
+        runs = [("the cleaning job", f.controller_fallbacks, f.steps)] if f.controller_verdict == "bypassed" else []
+        g = f.guarantee
+        if g is not None and g.second_run and g.first_run_controller_verdict == "bypassed":
+            runs.append(("the guarantee's first run", g.first_run_controller_fallbacks, f.steps))
         for name, figures in (self.comparison or {}).items():
             if name != "as asked" and figures["controller_bypassed_share"] > share:
                 runs.append((f"the job in {name}" if name == "calm water" else f"the job with {name}",
-                             figures["controller_fallbacks"], s["steps"]))
+                             figures["controller_fallbacks"], f.steps))
         return runs
 
     def write(self, folder: str | Path) -> list[Path]:
@@ -342,8 +341,8 @@ class CleanResult:
         in ``folder``; returns the paths."""
         from marinecdpr.report.cleaning import write_cleaning, write_surface
 
-        job = type(self.job)(**{**vars(self.job), "summary": self.summary()})  # the job with the whole summary
-        paths = write_cleaning(job, Path(folder))
+        paths = write_cleaning(self.job, Path(folder), hull=self.hull, comparison=self.comparison,
+                               summary=self.summary())
         return paths + (write_surface(self.surface, Path(folder)) if self.surface is not None else [])
 
 
@@ -433,7 +432,7 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
     hull = None
     if spec.hull_area is not None:
         try:
-            hull = ship_side(job.summary, hull_area_m2=spec.hull_area, move_time_s=spec.move_time)
+            hull = ship_side(job.figures, hull_area_m2=spec.hull_area, move_time_s=spec.move_time)
         except ValueError as exc:
             raise SpecError("hull_area", spec.hull_area, str(exc)) from None
     return CleanResult(spec=spec, scenario=sc, job=job, comparison=comparison, hull=hull,

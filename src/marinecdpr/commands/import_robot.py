@@ -113,14 +113,37 @@ class ImportResult:
     imported: Any
     text: str
 
+    @property
+    def name(self) -> str:
+        """The scenario's name."""
+        return self.imported.data["name"]
+
+    @property
+    def dofs(self) -> str:
+        """The robot's ``planar`` or ``spatial``."""
+        return self.imported.data["robot"]["dofs"]
+
+    @property
+    def cables(self) -> int:
+        """The robot's cables."""
+        return len(self.imported.data["robot"]["cables"])
+
+    @property
+    def mass_kg(self) -> float:
+        """The platform's mass, kg."""
+        return self.imported.data["robot"]["mass_kg"]
+
+    @property
+    def trajectory(self) -> str:
+        """The trajectory's type."""
+        return self.imported.data["trajectory"]["type"]
+
     def summary(self) -> dict:
         """``name``, ``toolkit``, ``files``, the robot's ``dofs``, ``cables`` and ``mass_kg``, the
         ``trajectory``'s type and the ``notes``."""
-        data = self.imported.data
-        r = data["robot"]
-        return {"name": data["name"], "toolkit": self.imported.source, "files": list(self.imported.files),
-                "dofs": r["dofs"], "cables": len(r["cables"]), "mass_kg": r["mass_kg"],
-                "trajectory": data["trajectory"]["type"], "notes": list(self.imported.notes)}
+        return {"name": self.name, "toolkit": self.imported.source, "files": list(self.imported.files),
+                "dofs": self.dofs, "cables": self.cables, "mass_kg": self.mass_kg,
+                "trajectory": self.trajectory, "notes": list(self.imported.notes)}
 
     def write(self, out: str | Path) -> list[Path]:
         """The scenario file ``out`` (``.toml``; its folders made where missing, and removed

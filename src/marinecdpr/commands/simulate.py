@@ -148,17 +148,23 @@ class SimulateResult:
         """The plant flown."""
         return self.prototype.results["open_loop"].plant
 
+    @property
+    def figures(self):
+        """Each run's errors, tensions and verdicts, the runs beyond the error bound, those whose
+        controller was bypassed, and the warnings
+        (:class:`~marinecdpr.studies.prototype_runs.PrototypeFigures`)."""
+        return self.prototype.figures
+
     def summary(self) -> dict:
-        """``summary.json``'s content: each run's errors, tensions and verdicts, the runs
-        beyond the error bound, those whose controller was bypassed, and the warnings."""
-        return self.prototype.summary
+        """``summary.json``'s content: :attr:`figures` as JSON."""
+        return self.prototype.figures.to_json()
 
     def bypassed(self) -> list[tuple[str, int, int]]:
         """Each run whose controller was bypassed on more than ``simulation.max_bypassed_share``
         of its steps, as (name, bypassed steps, steps): the command then exits 5."""
-        s = self.prototype.summary
-        return [(run, self.prototype.results[run].controller_fallbacks, s["steps"])
-                for run in s["runs_controller_bypassed"]]
+        f = self.prototype.figures
+        return [(run, self.prototype.results[run].controller_fallbacks, f.steps)
+                for run in f.runs_controller_bypassed]
 
     def write(self, folder: str | Path) -> list[Path]:
         """``plan.csv``, ``sim_<run>.csv``, the four figures, ``summary.json`` and ``report.html``

@@ -111,18 +111,49 @@ class WorkspaceResult:
     map: WorkspaceMap
     singular: SingularPoses
 
-    def summary(self) -> dict:
-        """The poses inside the frame's range, those feasible throughout, and with
-        ``robot.clearance_m`` those free of interference and both; steps per pose."""
+    @property
+    def poses(self) -> int:
+        """The map's poses inside the frame's range."""
+        import numpy as np
+
+        return int(np.isfinite(self.map.fraction_feasible).sum())
+
+    @property
+    def feasible_throughout(self) -> int:
+        """The poses feasible at every step."""
+        import numpy as np
+
+        f = self.map.fraction_feasible
+        return int((f[np.isfinite(f)] == 1.0).sum())
+
+    @property
+    def interference_free(self) -> int | None:
+        """The poses free of interference (None without ``robot.clearance_m``)."""
         import numpy as np
 
         ws = self.map
-        inside = np.isfinite(ws.fraction_feasible)
-        out = {"poses": int(inside.sum()), "feasible_throughout": int((ws.fraction_feasible[inside] == 1.0).sum()),
-               "n_steps": int(ws.n_steps)}
+        if ws.interference_free is None:
+            return None
+        return int(ws.interference_free[np.isfinite(ws.fraction_feasible)].sum())
+
+    @property
+    def both(self) -> int | None:
+        """The poses feasible throughout and free of interference (None without ``robot.clearance_m``)."""
+        import numpy as np
+
+        ws = self.map
+        if ws.interference_free is None:
+            return None
+        return int((ws.interference_free & (ws.fraction_feasible == 1.0))[np.isfinite(ws.fraction_feasible)].sum())
+
+    def summary(self) -> dict:
+        """The poses inside the frame's range, those feasible throughout, and with
+        ``robot.clearance_m`` those free of interference and both; steps per pose."""
+        ws = self.map
+        out = {"poses": self.poses, "feasible_throughout": self.feasible_throughout, "n_steps": int(ws.n_steps)}
         if ws.interference_free is not None:
-            out["interference_free"] = int(ws.interference_free[inside].sum())
-            out["both"] = int((ws.interference_free & (ws.fraction_feasible == 1.0))[inside].sum())
+            out["interference_free"] = self.interference_free
+            out["both"] = self.both
             out["clearance_m"] = float(ws.clearance_m)
         return out
 

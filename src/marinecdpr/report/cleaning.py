@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +13,9 @@ from marinecdpr.report.figures import (
 from marinecdpr.report.files import _write_csv, write_json
 from marinecdpr.report.text import _fmt_length, describe_base_motion
 from marinecdpr.report.view3d import view_section
+
+if TYPE_CHECKING:
+    from marinecdpr.studies.cleaning import CleaningFigures
 
 __all__ = ["CLEAN_COLUMNS", "write_cleaning", "plot_coverage", "plot_cleaning_series", "cleaning_findings",
            "SEA_STATE_COLUMNS", "write_cleaning_seas", "cleaning_seas_summary"]
@@ -54,9 +58,9 @@ def plot_coverage(job, path: Path) -> Path:
     ax.plot(job.brush[:, 0], job.brush[:, 2], color="k", lw=0.4, alpha=0.5, label="brush centre (actual)")
     for colour, label in (("#d73027", "missed"), ("#91cf60", "cleaned once"), ("#1a9850", "cleaned twice or more")):
         ax.fill_between([], [], color=colour, label=label)
-    s = job.summary
-    ax.set_title(f"{s['coverage_pct']:.2f} % of the panel cleaned ({s['reachable_coverage_pct']:.2f} % of what a "
-                 f"round brush can reach), {s['overlap_pct']:.1f} % overlap", fontsize=10)
+    s = job.figures
+    ax.set_title(f"{s.coverage_pct:.2f} % of the panel cleaned ({s.reachable_coverage_pct:.2f} % of what a "
+                 f"round brush can reach), {s.overlap_pct:.1f} % overlap", fontsize=10)
     ax.set_xlabel("x in C (m)")
     ax.set_ylabel("z in C (m)")
     ax.set_aspect("equal")
@@ -98,29 +102,31 @@ def plot_cleaning_series(job, path: Path) -> Path:
     return _save(fig, path)
 
 
-def cleaning_findings(summary: dict) -> list[str]:
-    """What the numbers say, in sentences written from them."""
-    s = summary
-    out = [f"The brush cleaned {s['coverage_pct']:.2f} % of the {s['panel_area_m2']:.3g} m2 panel "
-           f"({s['reachable_coverage_pct']:.2f} % of the {s['reachable_area_m2']:.3g} m2 a round brush of "
-           f"{s['brush_width_m']:g} m can reach); {s['missed_area_m2']:.3g} m2 missed.",
+def cleaning_findings(figures: CleaningFigures, *, hull: dict | None = None,
+                      comparison: dict | None = None) -> list[str]:
+    """What the numbers say, in sentences written from them: the job's ``figures``, with the
+    ``hull`` estimate (:func:`~marinecdpr.studies.cleaning.ship_side`) and the ``comparison``
+    (:func:`~marinecdpr.studies.cleaning.compare_conditions`) where made."""
+    s = figures
+    out = [f"The brush cleaned {s.coverage_pct:.2f} % of the {s.panel_area_m2:.3g} m2 panel "
+           f"({s.reachable_coverage_pct:.2f} % of the {s.reachable_area_m2:.3g} m2 a round brush of "
+           f"{s.brush_width_m:g} m can reach); {s.missed_area_m2:.3g} m2 missed.",
            _path_sentence(s),
-           f"The normal force stayed within its band {s['normal_force_in_band_pct']:.2f} % of the time "
-           f"(contact lost {s['contact_lost_s']:.2f} s).",
-           f"Tensions {s['tension_min_N']:.1f} .. {s['tension_max_N']:.1f} N; {s['infeasible_steps']} infeasible "
-           f"steps in the plan; cross-track error at most {_length(s['max_cross_track_error_m'])} "
-           f"(95 % below {_length(s['p95_cross_track_error_m'])}); winches {s['winch_energy_kJ']:.3g} kJ."]
-    if s.get("controller_verdict") == "bypassed":
+           f"The normal force stayed within its band {s.normal_force_in_band_pct:.2f} % of the time "
+           f"(contact lost {s.contact_lost_s:.2f} s).",
+           f"Tensions {s.tension_min_N:.1f} .. {s.tension_max_N:.1f} N; {s.infeasible_steps} infeasible "
+           f"steps in the plan; cross-track error at most {_length(s.max_cross_track_error_m)} "
+           f"(95 % below {_length(s.p95_cross_track_error_m)}); winches {s.winch_energy_kJ:.3g} kJ."]
+    if s.controller_verdict == "bypassed":
         from marinecdpr.studies.prototype_runs import bypassed_text
 
-        out.insert(0, "The job FAILED: " + bypassed_text(s["controller_fallbacks"], s["steps"],
-                                                         s["controller_bypassed_share_max"]) + ".")
-    if "hull" in s:
-        hull = s["hull"]
+        out.insert(0, "The job FAILED: " + bypassed_text(s.controller_fallbacks, s.steps,
+                                                         s.controller_bypassed_share_max) + ".")
+    if hull is not None:
         out.append(f"A hull of {hull['hull_area_m2']:g} m2 takes {hull['placements']} placements of the frame: "
                    f"{hull['hours']:.1f} h with {hull['move_time_s']:g} s per move ({hull['area_rate_m2_h']:.3g} m2/h)"
-                   + (f", estimated from the partial run's first {s['job_time_s']:.1f} s." if s.get("partial") else "."))
-    cmp = s.get("comparison", {})
+                   + (f", estimated from the partial run's first {s.job_time_s:.1f} s." if s.partial else "."))
+    cmp = comparison or {}
     here = cmp.get("as asked")
     if here and "calm water" in cmp:
         calm = cmp["calm water"]
@@ -137,28 +143,28 @@ def cleaning_findings(summary: dict) -> list[str]:
                    f"and the winches {free['winch_energy_kJ']:.3g} kJ (with it {here['winch_energy_kJ']:.3g} kJ).")
     out.append("Model: the brush's drag and moment on the prototype follow its simulated velocity; "
                + ("the cables hold the brush on the hull at the preload, the normal force (a spatial robot's "
-                  "cables control the platform along the normal)." if s.get("robot_dofs") == "spatial" else
+                  "cables control the platform along the normal)." if s.robot_dofs == "spatial" else
                   "the normal force is the pusher's preload plus the platform's inertia and weight along the hull "
                   "normal from the plan (the guide holds the platform along the normal)."))
     return out
 
 
-def _path_sentence(s: dict) -> str:
+def _path_sentence(s: CleaningFigures) -> str:
     """The path and the rate; for a partial run (``partial``: the run ended before the path)
     the part flown, labelled, beside the whole path's length and time."""
-    if not s.get("partial"):
-        return (f"{s['lanes']} lanes {s['lane_spacing_m']:.3g} m apart, {s['path_length_m']:.3g} m of path in "
-                f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h"
-                + (f"; the pass along the edges the lanes leave takes {s['boundary_pass_length_m']:.3g} m and "
-                   f"{s['boundary_pass_time_s']:.1f} s of it." if s.get("boundary_pass_length_m", 0.0) > 0 else "."))
+    if not s.partial:
+        return (f"{s.lanes} lanes {s.lane_spacing_m:.3g} m apart, {s.path_length_m:.3g} m of path in "
+                f"{s.job_time_s:.1f} s: {s.area_rate_m2_h:.3g} m2/h"
+                + (f"; the pass along the edges the lanes leave takes {s.boundary_pass_length_m:.3g} m and "
+                   f"{s.boundary_pass_time_s:.1f} s of it." if s.boundary_pass_length_m > 0 else "."))
     edges = ""
-    if s.get("boundary_pass_length_m", 0.0) > 0:
-        edges = (f"; {s['boundary_pass_flown_m']:.3g} m of it along the edges (of the pass's "
-                 f"{s['boundary_pass_length_m']:.3g} m)" if s["boundary_pass_flown_m"] > 0 else
-                 f"; the pass along the edges ({s['boundary_pass_length_m']:.3g} m) not reached")
-    return (f"A PARTIAL run: {s['path_flown_m']:.3g} m of the {s['path_length_m']:.3g} m path ({s['lanes']} lanes "
-            f"{s['lane_spacing_m']:.3g} m apart, {s['path_duration_s']:.1f} s) flown in the first "
-            f"{s['job_time_s']:.1f} s: {s['area_rate_m2_h']:.3g} m2/h over the part flown, not the whole job's"
+    if s.boundary_pass_length_m > 0:
+        edges = (f"; {s.boundary_pass_flown_m:.3g} m of it along the edges (of the pass's "
+                 f"{s.boundary_pass_length_m:.3g} m)" if s.boundary_pass_flown_m > 0 else
+                 f"; the pass along the edges ({s.boundary_pass_length_m:.3g} m) not reached")
+    return (f"A PARTIAL run: {s.path_flown_m:.3g} m of the {s.path_length_m:.3g} m path ({s.lanes} lanes "
+            f"{s.lane_spacing_m:.3g} m apart, {s.path_duration_s:.1f} s) flown in the first "
+            f"{s.job_time_s:.1f} s: {s.area_rate_m2_h:.3g} m2/h over the part flown, not the whole job's"
             f"{edges}.")
 
 
@@ -210,48 +216,53 @@ def _comparison_rows(comparison: dict) -> tuple[list[str], list[tuple[str, list[
                    for k in (comparison[names[0]] if names else ())]
 
 
-def write_cleaning_html(job, figures: dict, path: Path) -> Path:
+def write_cleaning_html(job, figures: dict, path: Path, *, hull: dict | None = None,
+                        comparison: dict | None = None) -> Path:
     """The job's page (:func:`~marinecdpr.report.page.render_page`): the scenario, the job's
-    figures, what they say, the job beside calm water and without the brush's drag, the
-    figures and the robot on the ship in 3D."""
+    figures (``job.figures``), what they say, the ``hull`` estimate and the job beside calm
+    water and without the brush's drag (``comparison``) where made, the figures and the robot
+    on the ship in 3D."""
     from markupsafe import Markup
 
     from marinecdpr.report.page import embedded_figures, render_page
 
-    sc, s = job.scenario, job.summary
+    sc, s = job.scenario, job.figures
     c = sc.cleaning
     facts = [("robot", f"{sc.robot.dofs}, {sc.robot.n_cables} cables, {sc.robot.mass_kg:g} kg"),
              ("base motion", describe_base_motion(sc.base_motion)),
              ("brush", f"{c.brush}, {c.brush_diameter_m:g} m, friction {c.friction:g}, preload {c.preload:g} N, "
                        f"band {c.band_N[0]:g} .. {c.band_N[1]:g} N"),
-             ("path", f"{s['lanes']} lanes, spacing {s['lane_spacing_m']:.3g} m, {s['path_length_m']:.3g} m, "
-                      f"{s['path_duration_s']:.1f} s at up to {c.speed_m_s:g} m/s"),
-             ("pass along the edges", f"{s['boundary_pass_length_m']:.3g} m, {s['boundary_pass_time_s']:.1f} s of "
-                                      "the path" if s.get("boundary_pass_length_m", 0.0) > 0 else "none")]
-    table = [_figure_row(k, s[k]) for k in FIGURES]
-    if s.get("partial"):  # the run ended before the path: its figures are the part flown's
+             ("path", f"{s.lanes} lanes, spacing {s.lane_spacing_m:.3g} m, {s.path_length_m:.3g} m, "
+                      f"{s.path_duration_s:.1f} s at up to {c.speed_m_s:g} m/s"),
+             ("pass along the edges", f"{s.boundary_pass_length_m:.3g} m, {s.boundary_pass_time_s:.1f} s of "
+                                      "the path" if s.boundary_pass_length_m > 0 else "none")]
+    table = [_figure_row(k, getattr(s, k)) for k in FIGURES]
+    if s.partial:  # the run ended before the path: its figures are the part flown's
         table = [(f"{name} (over the part flown)", value) if name == FIGURES["area_rate_m2_h"][0] else (name, value)
                  for name, value in table]
-        table.insert(5, ("job time (a PARTIAL run)", f"{s['job_time_s']:.1f} s of the path's "
-                                                     f"{s['path_duration_s']:.1f} s"))
-        table.insert(6, ("path flown", f"{s['path_flown_m']:.3g} m of {s['path_length_m']:.3g} m"))
+        table.insert(5, ("job time (a PARTIAL run)", f"{s.job_time_s:.1f} s of the path's "
+                                                     f"{s.path_duration_s:.1f} s"))
+        table.insert(6, ("path flown", f"{s.path_flown_m:.3g} m of {s.path_length_m:.3g} m"))
     else:
-        table.insert(5, ("job time", f"{s['job_time_s']:.1f} s"))
-    table.append(("controller", "BYPASSED: a failed run" if s["controller_verdict"] == "bypassed" else "held"))
-    if "hull" in s:
-        hull = s["hull"]
+        table.insert(5, ("job time", f"{s.job_time_s:.1f} s"))
+    table.append(("controller", "BYPASSED: a failed run" if s.controller_verdict == "bypassed" else "held"))
+    if hull is not None:
         table += [("hull", f"{hull['hull_area_m2']:g} m², {hull['placements']} placements of the frame, "
                            f"{hull['move_time_s']:g} s per move"),
                   ("hull: time", f"{hull['hours']:.1f} h"),
                   ("hull: area rate, moves included", f"{hull['area_rate_m2_h']:.3g} m²/h")]
-    variants, comparison = _comparison_rows(s.get("comparison", {}))
+    variants, rows = _comparison_rows(comparison or {})
     return render_page("clean.html", path, name=sc.name, description=sc.description, facts=facts, numbers=table,
-                       notes=cleaning_findings(s), variants=variants, comparison=comparison,
+                       notes=cleaning_findings(s, hull=hull, comparison=comparison), variants=variants,
+                       comparison=rows,
                        figures=embedded_figures(figures), view=Markup(view_section(sc, job.plan)))
 
 
-def write_cleaning(job, folder: Path) -> list[Path]:
-    """Every file of the cleaning job in ``folder``; returns the paths written."""
+def write_cleaning(job, folder: Path, *, hull: dict | None = None, comparison: dict | None = None,
+                   summary: dict | None = None) -> list[Path]:
+    """Every file of the cleaning job in ``folder``, with the ``hull`` estimate and the
+    ``comparison`` where made; ``summary.json`` holds ``summary`` (default ``job.summary``).
+    Returns the paths written."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [write_clean_csv(job, folder / "clean.csv")]
@@ -259,8 +270,8 @@ def write_cleaning(job, folder: Path) -> list[Path]:
                "Figure 2: tensions, normal force and cross-track error":
                    plot_cleaning_series(job, folder / "cleaning.png")}
     paths += list(figures.values())
-    paths.append(write_json(job.summary, folder / "summary.json"))
-    paths.append(write_cleaning_html(job, figures, folder / "report.html"))
+    paths.append(write_json(job.summary if summary is None else summary, folder / "summary.json"))
+    paths.append(write_cleaning_html(job, figures, folder / "report.html", hull=hull, comparison=comparison))
     return paths
 
 

@@ -4,6 +4,7 @@ figure, the search's convergence, the finalists as ready-to-run scenarios, and t
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -14,7 +15,8 @@ from marinecdpr.scenario.design import CONTINUOUS
 from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
 from marinecdpr.textfiles import atomic_path
 
-__all__ = ["write_design", "design_summary", "drawing_geometry", "pareto_figure", "convergence_figure",
+__all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometry",
+           "pareto_figure", "convergence_figure",
            "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN"]
 
 
@@ -82,14 +84,13 @@ def design_summary(study, verification=None) -> dict:
     spec = study.spec
     ev = study.evaluations
     front = [_short(ev[i], spec.objective) | {"index": i} for i in study.front]
-    best = front[0] if front else None
     return {
         "study": spec.name, "objective": spec.objective, "objective_label": objective_label(spec),
         "targets": spec.targets.model_dump(),
-        "candidates": len(ev), "feasible": int(sum(e.feasible for e in ev)), "seed": spec.seed,
+        "candidates": len(ev), "feasible": study.feasible, "seed": spec.seed,
         "population": spec.population, "generations": spec.generations,
-        "front": front, "best": best,
-        "target_met": bool(best is not None and best["expected_hours"] <= spec.targets.hours),
+        "front": front, "best": front[0] if front else None,
+        "target_met": study.target_met,
         "baseline": _short(study.baseline, spec.objective),
         "screen": "expected hours = placements' cleaning and moves / the share of sea states the fast screen "
                   "passes (studies.screen: frequency-domain extremes, conservative)",
@@ -276,22 +277,32 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                 w.writerow(FINALIST_COLUMNS)
                 w.writerows(_finalist_rows(study, verification))
         paths.append(path)
-    summary = design_summary(study, verification)
-    paths.append(write_json(summary, folder / "summary.json"))
+    paths.append(write_json(design_summary(study, verification), folder / "summary.json"))
     drawn = _draw_finalists(study, template, folder / "finalists.png")
     paths.append(drawn)
-    paths.append(_report_html(study, summary, verification, {"The Pareto front": folder / "pareto.png",
-                                                             "Convergence": folder / "convergence.png",
-                                                             "The finalists beside the template's robot": drawn},
+    paths.append(_report_html(study, verification, {"The Pareto front": folder / "pareto.png",
+                                                    "Convergence": folder / "convergence.png",
+                                                    "The finalists beside the template's robot": drawn},
                               folder / "report.html"))
     return paths
 
 
-def drawing_geometry(scenario) -> dict:
-    """What a design's drawing shows, in C's x-z plane (m): the frame anchors (4, 2), the
-    panel's outline (n, 2), and the platform anchors and cables with the platform's centre
-    at each corner of the panel less the brush's offset (the poses the job's path reaches
-    first and last): ``platforms`` (4, n_cables, 2) and ``cables`` (4, n_cables, 2, 2)."""
+@dataclass(frozen=True)
+class DrawingGeometry:
+    """What a design's drawing shows, in C's x-z plane (m): the frame anchors ``frame``
+    (n_cables, 2), the panel's outline ``panel`` (n, 2), and the platform anchors
+    ``platforms`` (4, n_cables, 2) and cables ``cables`` (4, n_cables, 2, 2) with the
+    platform's centre at each corner of the panel less the brush's offset."""
+
+    frame: np.ndarray
+    panel: np.ndarray
+    platforms: np.ndarray
+    cables: np.ndarray
+
+
+def drawing_geometry(scenario) -> DrawingGeometry:
+    """What a design's drawing shows (:class:`DrawingGeometry`), the platform at the four
+    corners of the panel (the poses the job's path reaches first and last)."""
     c = scenario.robot.frame_anchors[:, [0, 2]]
     p = scenario.robot.platform_anchors[:, [0, 2]]
     panel = np.asarray(scenario.cleaning.panel_m, dtype=float)
@@ -300,7 +311,7 @@ def drawing_geometry(scenario) -> dict:
     corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]]) - offset
     platforms = corners[:, None, :] + p[None]
     cables = np.stack([np.broadcast_to(c, platforms.shape), platforms], axis=2)
-    return {"frame": c, "panel": panel, "platforms": platforms, "cables": cables}
+    return DrawingGeometry(frame=c, panel=panel, platforms=platforms, cables=cables)
 
 
 def finalists_figure(study, template):
@@ -321,12 +332,12 @@ def finalists_figure(study, template):
     span = max(float(np.ptp(sc.robot.frame_anchors[:, [0, 2]], axis=0).max()) for _, sc in shown)
     for ax, (label, sc) in zip(axes[0], shown):
         g = drawing_geometry(sc)
-        ax.fill(*g["panel"].T, color="tab:green", alpha=0.25)
+        ax.fill(*g.panel.T, color="tab:green", alpha=0.25)
         for k in range(4):
-            for seg in g["cables"][k]:
+            for seg in g.cables[k]:
                 ax.plot(*seg.T, color="tab:red", lw=0.6, alpha=0.6)
-            ax.fill(*g["platforms"][k].T, color="tab:blue", alpha=0.5)
-        f = g["frame"]
+            ax.fill(*g.platforms[k].T, color="tab:blue", alpha=0.5)
+        f = g.frame
         ax.plot(*np.vstack([f, f[:1]]).T, "k-", lw=1.2)
         ax.plot(*f.T, "ko", ms=4)
         ax.set_aspect("equal")
@@ -347,7 +358,7 @@ def _draw_finalists(study, template, path: Path) -> Path:
     return _save(finalists_figure(study, template), path)
 
 
-def _report_html(study, summary: dict, verification, figures: dict, path: Path) -> Path:
+def _report_html(study, verification, figures: dict, path: Path) -> Path:
     """One page: the targets, the front beside the template's robot (its second objective
     with its unit, its hours in parts, its binding constraints, the time domain's figures
     where flown), and the figures. Says whether the finalists were flown."""
@@ -382,10 +393,10 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
     rows = [row("template's robot", study.baseline)] + [
         row(f"front {k}" + (" (finalist, flown)" if i in td else ""), study.evaluations[i], td.get(i))
         for k, i in enumerate(study.front, start=1)]
-    best = summary["best"]
+    best = study.best
     verdict = ("no feasible design" if best is None else
-               f"best: {best['expected_hours']:.4g} expected h against the target {spec.targets.hours:g} h: "
-               + ("met" if summary["target_met"] else "not met"))
+               f"best: {best.expected_hours:.4g} expected h against the target {spec.targets.hours:g} h: "
+               + ("met" if study.target_met else "not met"))
     limits = ""
     if study.front:
         e = study.evaluations[study.front[0]]
@@ -405,6 +416,6 @@ def _report_html(study, summary: dict, verification, figures: dict, path: Path) 
         flown = ("The finalists were not flown in the time domain (--no-verify, or no finalist): every figure is "
                  "the screen's.")
     return render_page("design.html", path, spec=spec, candidates=_count(len(study.evaluations), "candidate"),
-                       feasible=summary["feasible"], verdict=verdict, limits=limits or None,
+                       feasible=study.feasible, verdict=verdict, limits=limits or None,
                        objective=objective_label(spec), rows=rows, flown=flown, figures=embedded_figures(figures),
                        view="")

@@ -214,7 +214,7 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
     }
     paths += list(figures.values())
     paths.append(write_json(vp.summary, folder / "summary.json"))
-    paths.append(write_report_html(vp.summary, sc, figures, folder / "report.html", plan=vp.plan))
+    paths.append(write_report_html(vp.figures, sc, figures, folder / "report.html", plan=vp.plan))
     return paths
 
 
@@ -335,7 +335,7 @@ def windows_summary(series, windows, *, series_name: str, design_limit: str, day
     return {"series": series_name, "series_hours": float(series.t_h[-1] + series.step_h[-1]),
             "duration_h": d, "alpha": w.alpha, "design_limit": design_limit,
             "workable_share": float(np.sum(series.step_h * w.workable) / np.sum(series.step_h)),
-            "windows": len(w.windows), "windows_long_enough": int(_window_rows(w)[:, 3].sum()),
+            "windows": len(w.windows), "windows_long_enough": w.long_enough,
             "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
             "can_start_share": w.can_start,
             "finish_within_days_probability": {f"{x:g}": w.finish_probability(x) for x in days},

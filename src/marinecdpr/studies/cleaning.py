@@ -23,7 +23,7 @@ the normal force above; the controller's load model holds them along the plan.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import Callable
 
 import numpy as np
@@ -44,10 +44,106 @@ from marinecdpr.studies.operability import (
 )
 from marinecdpr.studies.prototype_runs import controller_verdict
 
-__all__ = ["CleaningJob", "cleaning_job", "guaranteed_job", "ship_side", "check_hull_estimate", "brush_positions", "normal_force",
+__all__ = ["CleaningFigures", "Guarantee", "CleaningJob", "cleaning_job", "guaranteed_job", "ship_side",
+           "check_hull_estimate", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
            "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT", "COMPARED", "job_variants",
            "compare_conditions"]
+
+
+@dataclass(frozen=True)
+class Guarantee:
+    """Which lane spacing :func:`guaranteed_job` flew and why (``summary.json``'s ``guarantee``)."""
+
+    first_run_p95_cross_track_error_m: float
+    overlap_m: float
+    lane_spacing_m: float
+    reason: str
+    second_run: bool
+    checked: bool
+    """False if the run's p95 cross-track error still passes half the overlap."""
+    checked_p95_cross_track_error_m: float
+    first_run_controller_fallbacks: int
+    first_run_controller_verdict: str | None
+
+    def to_json(self) -> dict:
+        """``summary.json``'s ``guarantee``."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+_OPTIONAL = ("controller_bypassed_share", "controller_verdict", "interference", "guarantee")
+""":class:`CleaningFigures`' fields that ``summary.json`` holds only where they exist."""
+
+
+@dataclass(frozen=True)
+class CleaningFigures:
+    """A cleaning job's figures (``summary.json``: :meth:`to_json`, its keys these fields' names
+    in this order). Areas m^2, lengths m, times s, forces N, percentages 0-100.
+
+    ``partial``: the run ended before the path (the figures are the part flown's);
+    ``controller_bypassed_share`` and ``controller_verdict``
+    (:func:`~marinecdpr.studies.prototype_runs.controller_verdict`) None without a controller;
+    ``interference`` (:meth:`~marinecdpr.planning.planner.Plan.interference_summary`) None
+    without clearances; ``guarantee`` (:class:`Guarantee`) None unless :func:`guaranteed_job`.
+    """
+
+    scenario: str
+    robot_dofs: str
+    steps: int
+    panel_polygon_m: tuple[tuple[float, ...], ...]
+    brush_width_m: float
+    lane_spacing_m: float
+    panel_area_m2: float
+    coverage_pct: float
+    missed_area_m2: float
+    reachable_area_m2: float
+    reachable_coverage_pct: float
+    overlap_pct: float
+    path_length_m: float
+    lanes: int
+    path_duration_s: float
+    boundary_pass_length_m: float
+    boundary_pass_time_s: float
+    partial: bool
+    path_flown_m: float
+    path_flown_s: float
+    boundary_pass_flown_m: float
+    job_time_s: float
+    area_rate_m2_h: float
+    normal_force_band_N: tuple[float, float]
+    normal_force_in_band_pct: float
+    normal_force_min_N: float
+    normal_force_max_N: float
+    contact_lost_s: float
+    tension_min_N: float
+    tension_max_N: float
+    infeasible_steps: int
+    max_cross_track_error_m: float
+    p95_cross_track_error_m: float
+    winch_energy_kJ: float
+    coverage_resolution_m: float
+    controller_fallbacks: int
+    controller_bypassed_share: float | None
+    controller_verdict: str | None
+    controller_bypassed_share_max: float
+    interference: dict | None
+    guarantee: Guarantee | None
+
+    def to_json(self) -> dict:
+        """``summary.json``'s job figures (the optional ones only where they exist)."""
+        out: dict = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if v is None and f.name in _OPTIONAL:
+                continue
+            if f.name == "panel_polygon_m":
+                v = [list(p) for p in v]
+            elif f.name == "normal_force_band_N":
+                v = list(v)
+            elif f.name == "guarantee":
+                v = v.to_json()
+            out[f.name] = v
+        return out
 
 
 @dataclass(frozen=True)
@@ -69,8 +165,10 @@ class CleaningJob:
     cross_track : ndarray, shape (n_steps,)
         The actual brush's distance across its planned direction of travel, m.
     coverage : CoverageMap
+    figures : CleaningFigures
+        The job's figures.
     summary : dict
-        The job's figures (``summary.json``).
+        ``summary.json``'s content: ``figures.to_json()``, and what a command sets beside it.
     """
 
     scenario: Scenario
@@ -82,6 +180,7 @@ class CleaningJob:
     in_band: np.ndarray
     cross_track: np.ndarray
     coverage: CoverageMap
+    figures: CleaningFigures
     summary: dict
 
 
@@ -161,13 +260,13 @@ def cleaning_job(
     cross = cross_track_error(brush[:, [0, 2]], planned[:, [0, 2]], v_planned[:, [0, 2]])
     cov = coverage_map(np.asarray(cleaning.panel_m), [np.asarray(h) for h in cleaning.holes_m],
                        brush[:, [0, 2]], in_band, width_m=cleaning.brush_diameter_m)
-    summary = _summary(scenario, p, res, F_n, in_band, cross, cov)
+    figures = _figures(scenario, p, res, F_n, in_band, cross, cov)
     return CleaningJob(scenario=scenario, plan=p, result=res, brush=brush, brush_planned=planned, normal_force=F_n,
-                       in_band=in_band, cross_track=cross, coverage=cov, summary=summary)
+                       in_band=in_band, cross_track=cross, coverage=cov, figures=figures, summary=figures.to_json())
 
 
-def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.ndarray, in_band: np.ndarray,
-             cross: np.ndarray, cov: CoverageMap) -> dict:
+def _figures(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.ndarray, in_band: np.ndarray,
+             cross: np.ndarray, cov: CoverageMap) -> CleaningFigures:
     cleaning = scenario.cleaning
     path = cleaning_path(cleaning)
     reach = reachable_cells(cov, 0.5 * cleaning.brush_diameter_m)
@@ -181,47 +280,50 @@ def _summary(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.nda
     partial = path_time < path.duration_s * (1.0 - 1e-9)
     rates = np.gradient(res.lengths, h, axis=0) if n > 1 else np.zeros_like(res.lengths)
     energy = float(np.sum(np.abs(res.tensions * rates)) * h)  # sum over cables of |T L'| dt, J
-    return {
-        "scenario": scenario.name,
-        "robot_dofs": scenario.robot.dofs,
-        "steps": int(n),
-        "panel_polygon_m": [list(map(float, v)) for v in cleaning.panel_m],
-        "brush_width_m": float(cleaning.brush_diameter_m),
-        "lane_spacing_m": float(path.spacing_m),
-        "panel_area_m2": float(cov.panel_area_m2),
-        "coverage_pct": float(cov.coverage_pct),
-        "missed_area_m2": float(cov.missed_area_m2),
-        "reachable_area_m2": float(reach.sum() * cov.resolution_m ** 2),
-        "reachable_coverage_pct": float(100.0 * (cleaned & reach).sum() / max(reach.sum(), 1)),
-        "overlap_pct": float(cov.overlap_pct),
-        "path_length_m": float(path.length_m),
-        "lanes": int(path.lanes),
-        "path_duration_s": float(path.duration_s),
-        "boundary_pass_length_m": float(path.boundary_length_m),
-        "boundary_pass_time_s": float(path.boundary_duration_s),
-        "partial": bool(partial),
-        "path_flown_m": float(flown_m),
-        "path_flown_s": float(path_time),
-        "boundary_pass_flown_m": float(flown_edge_m),
-        "job_time_s": float(job_time),
-        "area_rate_m2_h": float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
-        "normal_force_band_N": [float(v) for v in cleaning.band_N],
-        "normal_force_in_band_pct": float(100.0 * in_band.mean()) if n else 0.0,
-        "normal_force_min_N": float(normal_force_N.min()) if n else 0.0,
-        "normal_force_max_N": float(normal_force_N.max()) if n else 0.0,
-        "contact_lost_s": float(np.count_nonzero(~in_band) * h),
-        "tension_min_N": float(res.tensions.min()),
-        "tension_max_N": float(res.tensions.max()),
-        "infeasible_steps": int(np.count_nonzero(~p.feasible)),
-        "max_cross_track_error_m": float(cross.max()) if n else 0.0,
-        "p95_cross_track_error_m": float(np.percentile(cross, 95)) if n else 0.0,
-        "winch_energy_kJ": energy / 1000.0,
-        "coverage_resolution_m": float(cov.resolution_m),
-        "controller_fallbacks": int(res.controller_fallbacks),
-        **controller_verdict(res, scenario),
-        "controller_bypassed_share_max": float(scenario.simulation.max_bypassed_share),
-        **({} if p.clearance is None else {"interference": p.interference_summary()}),
-    }
+    verdict = controller_verdict(res, scenario)
+    return CleaningFigures(
+        scenario=scenario.name,
+        robot_dofs=scenario.robot.dofs,
+        steps=int(n),
+        panel_polygon_m=tuple(tuple(map(float, v)) for v in cleaning.panel_m),
+        brush_width_m=float(cleaning.brush_diameter_m),
+        lane_spacing_m=float(path.spacing_m),
+        panel_area_m2=float(cov.panel_area_m2),
+        coverage_pct=float(cov.coverage_pct),
+        missed_area_m2=float(cov.missed_area_m2),
+        reachable_area_m2=float(reach.sum() * cov.resolution_m ** 2),
+        reachable_coverage_pct=float(100.0 * (cleaned & reach).sum() / max(reach.sum(), 1)),
+        overlap_pct=float(cov.overlap_pct),
+        path_length_m=float(path.length_m),
+        lanes=int(path.lanes),
+        path_duration_s=float(path.duration_s),
+        boundary_pass_length_m=float(path.boundary_length_m),
+        boundary_pass_time_s=float(path.boundary_duration_s),
+        partial=bool(partial),
+        path_flown_m=float(flown_m),
+        path_flown_s=float(path_time),
+        boundary_pass_flown_m=float(flown_edge_m),
+        job_time_s=float(job_time),
+        area_rate_m2_h=float(cov.cleaned_area_m2 / job_time * 3600.0) if job_time > 0 else 0.0,
+        normal_force_band_N=tuple(float(v) for v in cleaning.band_N),
+        normal_force_in_band_pct=float(100.0 * in_band.mean()) if n else 0.0,
+        normal_force_min_N=float(normal_force_N.min()) if n else 0.0,
+        normal_force_max_N=float(normal_force_N.max()) if n else 0.0,
+        contact_lost_s=float(np.count_nonzero(~in_band) * h),
+        tension_min_N=float(res.tensions.min()),
+        tension_max_N=float(res.tensions.max()),
+        infeasible_steps=int(np.count_nonzero(~p.feasible)),
+        max_cross_track_error_m=float(cross.max()) if n else 0.0,
+        p95_cross_track_error_m=float(np.percentile(cross, 95)) if n else 0.0,
+        winch_energy_kJ=energy / 1000.0,
+        coverage_resolution_m=float(cov.resolution_m),
+        controller_fallbacks=int(res.controller_fallbacks),
+        controller_bypassed_share=verdict.get("controller_bypassed_share"),
+        controller_verdict=verdict.get("controller_verdict"),
+        controller_bypassed_share_max=float(scenario.simulation.max_bypassed_share),
+        interference=None if p.clearance is None else p.interference_summary(),
+        guarantee=None,
+    )
 
 
 def guaranteed_job(
@@ -236,11 +338,11 @@ def guaranteed_job(
     A first run measures the brush's cross-track error; its 95th percentile e95 calls for
     lanes no more than ``brush_diameter_m - 2 e95`` apart, an overlap of at least 2 e95. If
     the scenario's overlap is less, a second run flies the path with that overlap and checks
-    that its own e95 stays within half of it. ``summary["guarantee"]`` says which spacing
+    that its own e95 stays within half of it. ``figures.guarantee`` says which spacing
     was used and why; ``checked`` is False if the second run's error still passes the margin.
     """
     first = cleaning_job(scenario, plant=plant, n_steps=n_steps, progress=progress)
-    e95 = first.summary["p95_cross_track_error_m"]
+    e95 = first.figures.p95_cross_track_error_m
     cleaning = scenario.cleaning
     needed = 2.0 * e95
     if cleaning.overlap_m >= needed:
@@ -253,20 +355,15 @@ def guaranteed_job(
                   f"cross-track error ({e95:.3g} m) with a 5 % margin")
         wider = scenario.with_changes(cleaning=cleaning.model_dump(exclude_none=True) | {"overlap_m": overlap})
         job = cleaning_job(wider, plant=plant, n_steps=n_steps, progress=progress)
-    e95_check = job.summary["p95_cross_track_error_m"]
-    summary = dict(job.summary)
-    summary["guarantee"] = {
-        "first_run_p95_cross_track_error_m": float(e95),
-        "overlap_m": float(overlap),
-        "lane_spacing_m": float(job.summary["lane_spacing_m"]),
-        "reason": reason,
-        "second_run": job is not first,
-        "checked": bool(2.0 * e95_check <= overlap + 1e-12),
-        "checked_p95_cross_track_error_m": float(e95_check),
-        "first_run_controller_fallbacks": int(first.result.controller_fallbacks),
-        "first_run_controller_verdict": first.summary["controller_verdict"],
-    }
-    return CleaningJob(**{**job.__dict__, "summary": summary})
+    e95_check = job.figures.p95_cross_track_error_m
+    guarantee = Guarantee(
+        first_run_p95_cross_track_error_m=float(e95), overlap_m=float(overlap),
+        lane_spacing_m=float(job.figures.lane_spacing_m), reason=reason, second_run=job is not first,
+        checked=bool(2.0 * e95_check <= overlap + 1e-12), checked_p95_cross_track_error_m=float(e95_check),
+        first_run_controller_fallbacks=int(first.result.controller_fallbacks),
+        first_run_controller_verdict=first.figures.controller_verdict)
+    figures = replace(job.figures, guarantee=guarantee)
+    return replace(job, figures=figures, summary=figures.to_json())
 
 
 HULL_AREA_MAX_M2 = 1e6
@@ -286,11 +383,11 @@ def check_hull_estimate(hull_area_m2: float, move_time_s: float) -> None:
         raise ValueError(f"move_time_s must be a number of seconds from 0 to {MOVE_TIME_MAX_S:g}, got {move_time_s:g}")
 
 
-def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict:
+def ship_side(figures: CleaningFigures, *, hull_area_m2: float, move_time_s: float) -> dict:
     """How long a hull of ``hull_area_m2`` takes, panel by panel, from one panel's job.
 
-    Each frame placement cleans what the panel's job cleaned (``cleaned area`` = panel
-    less missed, m^2) in ``job_time_s``; moving the frame to its next place takes
+    Each frame placement cleans what the panel's job cleaned (``figures``' ``panel_area_m2``
+    less ``missed_area_m2``, m^2) in ``job_time_s``; moving the frame to its next place takes
     ``move_time_s``. Placements = ceil(hull area / cleaned area).
 
     Returns
@@ -300,11 +397,11 @@ def ship_side(summary: dict, *, hull_area_m2: float, move_time_s: float) -> dict
         (hull area over the whole time, moves included).
     """
     check_hull_estimate(hull_area_m2, move_time_s)
-    cleaned = summary["panel_area_m2"] - summary["missed_area_m2"]
+    cleaned = figures.panel_area_m2 - figures.missed_area_m2
     if not (cleaned > 0 and math.isfinite(hull_area_m2 / cleaned)):
         raise ValueError("the panel's job cleaned nothing: no estimate for the hull")
     placements = int(np.ceil(hull_area_m2 / cleaned - 1e-9))
-    seconds = placements * summary["job_time_s"] + max(placements - 1, 0) * move_time_s
+    seconds = placements * figures.job_time_s + max(placements - 1, 0) * move_time_s
     return {"hull_area_m2": float(hull_area_m2), "move_time_s": float(move_time_s), "placements": placements,
             "hours": seconds / 3600.0, "area_rate_m2_h": float(hull_area_m2 / seconds * 3600.0) if seconds else 0.0}
 
@@ -335,9 +432,9 @@ def compare_conditions(job: CleaningJob, *, plant: str | None = None, n_steps: i
     Returns {variant: {figure: value}}, the job itself first ("as asked")."""
     out = {}
     for name, sc in job_variants(job.scenario).items():
-        s = job.summary if name == "as asked" else cleaning_job(sc, plant=plant, n_steps=n_steps,
-                                                               progress=progress).summary
-        out[name] = {k: s[k] for k in COMPARED}
+        f = job.figures if name == "as asked" else cleaning_job(sc, plant=plant, n_steps=n_steps,
+                                                               progress=progress).figures
+        out[name] = {k: getattr(f, k) for k in COMPARED}
     return out
 
 
@@ -401,27 +498,27 @@ def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pc
         return CleaningCellResult(cell=cell, operable=False, reason="the closed loop diverged", coverage_pct=nan,
                                   reachable_coverage_pct=nan, in_band_pct=nan, tension_min_N=nan, tension_max_N=nan,
                                   job_time_s=nan, hours=nan)
-    s = job.summary
+    s = job.figures
     reasons = []
-    if s["controller_verdict"] == "bypassed":
-        reasons.append(f"the controller was bypassed at {s['controller_fallbacks']} of {s['steps']} steps (above "
-                       f"simulation.max_bypassed_share = {s['controller_bypassed_share_max']:g}): its tensions "
+    if s.controller_verdict == "bypassed":
+        reasons.append(f"the controller was bypassed at {s.controller_fallbacks} of {s.steps} steps (above "
+                       f"simulation.max_bypassed_share = {s.controller_bypassed_share_max:g}): its tensions "
                        "outside the limits, the plan's fed forward")
-    if s["reachable_coverage_pct"] < coverage_target_pct:
-        reasons.append(f"reachable coverage {s['reachable_coverage_pct']:.2f} % < {coverage_target_pct:g} %")
-    if s["normal_force_in_band_pct"] < in_band_target_pct:
-        reasons.append(f"normal force in band {s['normal_force_in_band_pct']:.2f} % of the time "
+    if s.reachable_coverage_pct < coverage_target_pct:
+        reasons.append(f"reachable coverage {s.reachable_coverage_pct:.2f} % < {coverage_target_pct:g} %")
+    if s.normal_force_in_band_pct < in_band_target_pct:
+        reasons.append(f"normal force in band {s.normal_force_in_band_pct:.2f} % of the time "
                        f"< {in_band_target_pct:g} %")
     if hull_area_m2 is None:
-        hours = s["job_time_s"] / 3600.0
-    elif s["panel_area_m2"] > s["missed_area_m2"]:
+        hours = s.job_time_s / 3600.0
+    elif s.panel_area_m2 > s.missed_area_m2:
         hours = ship_side(s, hull_area_m2=hull_area_m2, move_time_s=move_time_s)["hours"]
     else:  # nothing cleaned: the hull never gets done
         hours = float("inf")
     return CleaningCellResult(cell=cell, operable=not reasons, reason="; ".join(reasons),
-                              coverage_pct=s["coverage_pct"], reachable_coverage_pct=s["reachable_coverage_pct"],
-                              in_band_pct=s["normal_force_in_band_pct"], tension_min_N=s["tension_min_N"],
-                              tension_max_N=s["tension_max_N"], job_time_s=s["job_time_s"],
+                              coverage_pct=s.coverage_pct, reachable_coverage_pct=s.reachable_coverage_pct,
+                              in_band_pct=s.normal_force_in_band_pct, tension_min_N=s.tension_min_N,
+                              tension_max_N=s.tension_max_N, job_time_s=s.job_time_s,
                               hours=float(hours))
 
 

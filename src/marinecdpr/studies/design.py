@@ -657,6 +657,22 @@ class DesignStudy:
     front: list
     baseline: Evaluation
 
+    @property
+    def feasible(self) -> int:
+        """How many candidates are feasible."""
+        return int(sum(e.feasible for e in self.evaluations))
+
+    @property
+    def best(self) -> Evaluation | None:
+        """The front's first (the fewest expected hours), or None if no candidate is feasible."""
+        return self.evaluations[self.front[0]] if self.front else None
+
+    @property
+    def target_met(self) -> bool:
+        """Whether the best design's expected hours are within the target's."""
+        best = self.best
+        return bool(best is not None and best.expected_hours <= self.spec.targets.hours)
+
 
 TEMPLATE_OWN = "the template's"
 """The baseline's winch and rope: its own (its T_max), not the catalogue's."""

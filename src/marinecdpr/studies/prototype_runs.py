@@ -15,7 +15,8 @@ from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.error_budget import budget_summary, error_budget
 from marinecdpr.studies.stability import plan_stability, stability_summary
 
-__all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "run_summary", "summary",
+__all__ = ["PAPER_REPORTED", "VirtualPrototype", "virtual_prototype", "RunFigures", "run_figures", "run_summary",
+           "PrototypeFigures", "prototype_figures", "summary",
            "is_paper_scenario", "error_bounds", "run_warnings", "controller_verdict", "bypassed_text"]
 
 PAPER_REPORTED = {
@@ -68,61 +69,141 @@ def _rotation_error_deg(res: SimResult) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
-def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None = None) -> dict:
-    """The figures of one run.
+@dataclass(frozen=True)
+class RunFigures:
+    """The figures of one run (:func:`run_figures`); :meth:`to_json` is its part of ``summary.json``.
 
-    Keys: ``max_abs_error_x_m``, ``max_abs_error_z_m``, ``max_abs_error_theta_deg``
-    (theta_y for a planar robot; the rotation angle between planned and actual
-    orientation for a spatial one, which also gets ``y``, ``rx``, ``ry``, ``rz``),
-    ``max_abs_cable_length_error_m`` (one per cable), ``tension_min_N``,
-    ``tension_max_N`` (applied), ``tension_limit_excess_N`` (how far applied tensions left
-    their limits beyond the tension tolerance, 0 if never), ``rms_error_x_m``,
-    ``rms_error_z_m``, ``controller_fallbacks``, for the closed loop its
-    :func:`controller_verdict` (``controller_bypassed_share``, ``controller_verdict``), with
-    motor winches ``winch_limited_steps``
-    and ``winch_overspeed_steps``, ``ship_tracking_error`` (m or rad),
-    ``plant``, ``within_error_bound`` (False if a position or cable-length error passed
-    :func:`error_bounds`' first value or the angle error its second) and
-    ``beyond_error_bound`` (the quantities that did, e.g. ``["x", "rz", "cable 3"]``).
+    The orientation error ``max_abs_error_theta_deg`` is theta_y for a planar robot and the
+    rotation angle between planned and actual orientation for a spatial one, which also has
+    ``max_abs_error_y_m`` and ``max_abs_error_{rx,ry,rz}_deg`` (None for a planar robot).
+    ``controller_bypassed_share`` and ``controller_verdict`` (:func:`controller_verdict`) are
+    None for a run without a controller; ``winch_limited_steps`` and ``winch_overspeed_steps``
+    None without motor winches. ``within_error_bound`` is False if a position or cable-length
+    error passed :func:`error_bounds`' first value or the angle error its second;
+    ``beyond_error_bound`` names the quantities that did, e.g. ``("x", "rz", "cable 3")``.
     """
+
+    max_abs_error_x_m: float
+    max_abs_error_z_m: float
+    max_abs_error_theta_deg: float
+    max_abs_cable_length_error_m: tuple[float, ...]
+    tension_min_N: float
+    tension_max_N: float
+    tension_limit_excess_N: float
+    rms_error_x_m: float
+    rms_error_z_m: float
+    controller_fallbacks: int
+    ship_tracking_error: float
+    plant: str
+    within_error_bound: bool
+    beyond_error_bound: tuple[str, ...]
+    max_abs_error_y_m: float | None = None
+    max_abs_error_rx_deg: float | None = None
+    max_abs_error_ry_deg: float | None = None
+    max_abs_error_rz_deg: float | None = None
+    controller_bypassed_share: float | None = None
+    controller_verdict: str | None = None
+    winch_limited_steps: int | None = None
+    winch_overspeed_steps: int | None = None
+
+    @property
+    def largest_position_error_m(self) -> float:
+        """The largest of the position errors (x, z, and y for a spatial robot), m."""
+        return max(v for v in (self.max_abs_error_x_m, self.max_abs_error_z_m, self.max_abs_error_y_m)
+                   if v is not None)
+
+    def max_abs_error(self, dof: str) -> float:
+        """The largest error of one controlled DOF: ``x``, ``y``, ``z`` (m) or ``rx``, ``ry``,
+        ``rz`` (deg; for a spatial robot)."""
+        value = getattr(self, f"max_abs_error_{dof}_{'m' if dof in ('x', 'y', 'z') else 'deg'}")
+        if value is None:
+            raise ValueError(f"this run has no {dof} error (a planar robot)")
+        return value
+
+    def to_json(self) -> dict:
+        """This run's part of ``summary.json`` (the optional figures only where they exist)."""
+        out: dict = {"max_abs_error_x_m": self.max_abs_error_x_m, "max_abs_error_z_m": self.max_abs_error_z_m,
+                     "max_abs_error_theta_deg": self.max_abs_error_theta_deg}
+        if self.max_abs_error_y_m is not None:
+            out["max_abs_error_y_m"] = self.max_abs_error_y_m
+            out["max_abs_error_rx_deg"] = self.max_abs_error_rx_deg
+            out["max_abs_error_ry_deg"] = self.max_abs_error_ry_deg
+            out["max_abs_error_rz_deg"] = self.max_abs_error_rz_deg
+        out["max_abs_cable_length_error_m"] = list(self.max_abs_cable_length_error_m)
+        out["tension_min_N"] = self.tension_min_N
+        out["tension_max_N"] = self.tension_max_N
+        out["tension_limit_excess_N"] = self.tension_limit_excess_N
+        out["rms_error_x_m"] = self.rms_error_x_m
+        out["rms_error_z_m"] = self.rms_error_z_m
+        out["controller_fallbacks"] = self.controller_fallbacks
+        if self.controller_verdict is not None:
+            out["controller_bypassed_share"] = self.controller_bypassed_share
+            out["controller_verdict"] = self.controller_verdict
+        if self.winch_limited_steps is not None:
+            out["winch_limited_steps"] = self.winch_limited_steps
+            out["winch_overspeed_steps"] = self.winch_overspeed_steps
+        out["ship_tracking_error"] = self.ship_tracking_error
+        out["plant"] = self.plant
+        out["within_error_bound"] = self.within_error_bound
+        out["beyond_error_bound"] = list(self.beyond_error_bound)
+        return out
+
+    @classmethod
+    def from_json(cls, data: dict) -> RunFigures:
+        """The record back from :meth:`to_json`'s dict (a run's part of a ``summary.json`` read back).
+
+        Raises
+        ------
+        ValueError
+            A key that is not a run's figure, or a figure missing.
+        """
+        return cls(**_record_fields(cls, data, "a run's figures",
+                                    tuples=("max_abs_cable_length_error_m", "beyond_error_bound")))
+
+
+def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None = None) -> RunFigures:
+    """The figures of one run (:class:`RunFigures`)."""
     err = res.pose_error
-    out: dict = {}
+    f: dict = {}
     for i in (0, 2):
-        out[f"max_abs_error_{_NAMES[i]}_m"] = float(np.abs(err[:, i]).max())
+        f[f"max_abs_error_{_NAMES[i]}_m"] = float(np.abs(err[:, i]).max())
     if scenario.robot.dofs == "planar":
-        out["max_abs_error_theta_deg"] = float(np.degrees(np.abs(err[:, 4]).max()))
+        f["max_abs_error_theta_deg"] = float(np.degrees(np.abs(err[:, 4]).max()))
     else:
-        out["max_abs_error_theta_deg"] = float(_rotation_error_deg(res).max())
-        out["max_abs_error_y_m"] = float(np.abs(err[:, 1]).max())
+        f["max_abs_error_theta_deg"] = float(_rotation_error_deg(res).max())
+        f["max_abs_error_y_m"] = float(np.abs(err[:, 1]).max())
         for i in (3, 4, 5):
-            out[f"max_abs_error_{_NAMES[i]}_deg"] = float(np.degrees(np.abs(err[:, i]).max()))
-    out["max_abs_cable_length_error_m"] = [
-        float(v) for v in np.abs(res.lengths - res.lengths_planned).max(axis=0)]
-    out["tension_min_N"] = float(res.tensions.min())
-    out["tension_max_N"] = float(res.tensions.max())
+            f[f"max_abs_error_{_NAMES[i]}_deg"] = float(np.degrees(np.abs(err[:, i]).max()))
+    cables = tuple(float(v) for v in np.abs(res.lengths - res.lengths_planned).max(axis=0))
     lo, hi = scenario.robot.tension_min, scenario.robot.tension_max
     # by how much the applied tensions left their limits (elastic dynamics, lag, noise)
     excess = float(max(0.0, (lo - res.tensions).max(), (res.tensions - hi).max()))
-    out["tension_limit_excess_N"] = excess if excess > _tension_tolerance(hi) else 0.0
-    out["rms_error_x_m"] = float(np.sqrt(np.mean(err[:, 0] ** 2)))
-    out["rms_error_z_m"] = float(np.sqrt(np.mean(err[:, 2] ** 2)))
-    out["controller_fallbacks"] = res.controller_fallbacks
-    out.update(controller_verdict(res, scenario))
+    verdict = controller_verdict(res, scenario)
     if scenario.simulation.cables.winch == "motor":
-        out["winch_limited_steps"] = res.winch_limited_steps
-        out["winch_overspeed_steps"] = res.winch_overspeed_steps
-    out["ship_tracking_error"] = res.ship_tracking_error
-    out["plant"] = res.plant
+        f["winch_limited_steps"] = res.winch_limited_steps
+        f["winch_overspeed_steps"] = res.winch_overspeed_steps
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
-    beyond = [name for name in ("x", "y", "z") if out.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
+    beyond = [name for name in ("x", "y", "z") if f.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
     if scenario.robot.dofs == "planar":
-        beyond += ["theta_y"] if out["max_abs_error_theta_deg"] > bound_deg else []
+        beyond += ["theta_y"] if f["max_abs_error_theta_deg"] > bound_deg else []
     else:
-        beyond += [name for name in ("rx", "ry", "rz") if out[f"max_abs_error_{name}_deg"] > bound_deg]
-    beyond += [f"cable {i + 1}" for i, v in enumerate(out["max_abs_cable_length_error_m"]) if v > bound_m]
-    out["within_error_bound"] = not beyond
-    out["beyond_error_bound"] = beyond
-    return out
+        beyond += [name for name in ("rx", "ry", "rz") if f[f"max_abs_error_{name}_deg"] > bound_deg]
+    beyond += [f"cable {i + 1}" for i, v in enumerate(cables) if v > bound_m]
+    return RunFigures(
+        **f, max_abs_cable_length_error_m=cables,
+        tension_min_N=float(res.tensions.min()), tension_max_N=float(res.tensions.max()),
+        tension_limit_excess_N=excess if excess > _tension_tolerance(hi) else 0.0,
+        rms_error_x_m=float(np.sqrt(np.mean(err[:, 0] ** 2))), rms_error_z_m=float(np.sqrt(np.mean(err[:, 2] ** 2))),
+        controller_fallbacks=res.controller_fallbacks,
+        controller_bypassed_share=verdict.get("controller_bypassed_share"),
+        controller_verdict=verdict.get("controller_verdict"),
+        ship_tracking_error=res.ship_tracking_error, plant=res.plant,
+        within_error_bound=not beyond, beyond_error_bound=tuple(beyond))
+
+
+def run_summary(res: SimResult, scenario: Scenario, *, max_error_m: float | None = None) -> dict:
+    """The figures of one run as in ``summary.json``: :func:`run_figures`' :meth:`RunFigures.to_json`."""
+    return run_figures(res, scenario, max_error_m=max_error_m).to_json()
 
 
 def _tension_tolerance(hi: np.ndarray) -> float:
@@ -131,46 +212,165 @@ def _tension_tolerance(hi: np.ndarray) -> float:
     return TENSION_TOLERANCE * max(1.0, float(np.max(np.abs(hi))))
 
 
+@dataclass(frozen=True)
+class PrototypeFigures:
+    """The main job's figures (:func:`prototype_figures`); :meth:`to_json` is ``summary.json``.
+
+    Attributes
+    ----------
+    scenario : str
+    steps : int
+    step_s : float
+    method : str
+        The planner's tension method.
+    pinv_tension_min_N, opt_tension_min_N, opt_tension_max_N : float
+        The plan's tension range, the pseudo-inverse's (eq. 18) least alone, N.
+    error_bound_m, error_bound_deg : float
+        :func:`error_bounds`.
+    controller_bypassed_share_max : float
+        ``simulation.max_bypassed_share``.
+    open_loop_growth_rate_1_s : float
+    stability : dict
+        :func:`~marinecdpr.studies.stability.stability_summary`.
+    error_budget : dict
+        The cables-as-built error budget (:func:`~marinecdpr.studies.error_budget.budget_summary`),
+        with ``error_budget_workspace_held_share_point`` where maps were made and ``winches``
+        with a winch report (else None).
+    error_budget_workspace_held_share_point : float or None
+    winches : dict or None
+    paper_reported : dict or None
+        :data:`PAPER_REPORTED`, for the paper's experiment only (:func:`is_paper_scenario`).
+    runs : dict of str to RunFigures
+        Each run's, in the order flown.
+    runs_beyond_error_bound, runs_controller_bypassed : tuple of str
+    warnings : tuple of str
+        :func:`run_warnings`, and the plan's first close approach.
+    interference : dict or None
+        :meth:`~marinecdpr.planning.planner.Plan.interference_summary`.
+    """
+
+    scenario: str
+    steps: int
+    step_s: float
+    method: str
+    pinv_tension_min_N: float
+    opt_tension_min_N: float
+    opt_tension_max_N: float
+    error_bound_m: float
+    error_bound_deg: float
+    controller_bypassed_share_max: float
+    open_loop_growth_rate_1_s: float
+    stability: dict
+    error_budget: dict
+    runs: dict
+    runs_beyond_error_bound: tuple[str, ...]
+    runs_controller_bypassed: tuple[str, ...]
+    warnings: tuple[str, ...]
+    error_budget_workspace_held_share_point: float | None = None
+    winches: dict | None = None
+    paper_reported: dict | None = None
+    interference: dict | None = None
+
+    def to_json(self) -> dict:
+        """``summary.json``'s content (each run's figures under its name)."""
+        out: dict = {
+            "scenario": self.scenario,
+            "steps": self.steps,
+            "step_s": self.step_s,
+            "method": self.method,
+            "pinv_tension_min_N": self.pinv_tension_min_N,
+            "opt_tension_min_N": self.opt_tension_min_N,
+            "opt_tension_max_N": self.opt_tension_max_N,
+            "error_bound_m": self.error_bound_m,
+            "error_bound_deg": self.error_bound_deg,
+            "controller_bypassed_share_max": self.controller_bypassed_share_max,
+            "open_loop_growth_rate_1_s": self.open_loop_growth_rate_1_s,
+            "stability": self.stability,
+            "error_budget": self.error_budget,
+        }
+        if self.error_budget_workspace_held_share_point is not None:
+            out["error_budget_workspace_held_share_point"] = self.error_budget_workspace_held_share_point
+        if self.winches is not None:
+            out["winches"] = self.winches
+        if self.paper_reported is not None:
+            out["paper_reported"] = self.paper_reported
+        for name, run in self.runs.items():
+            out[name] = run.to_json()
+        out["runs_beyond_error_bound"] = list(self.runs_beyond_error_bound)
+        out["runs_controller_bypassed"] = list(self.runs_controller_bypassed)
+        out["warnings"] = list(self.warnings)
+        if self.interference is not None:
+            out["interference"] = self.interference
+        return out
+
+    @classmethod
+    def from_json(cls, data: dict) -> PrototypeFigures:
+        """The record back from :meth:`to_json`'s dict (a ``summary.json`` read back).
+
+        Raises
+        ------
+        ValueError
+            A key that is neither a figure nor a run's name, or a figure missing.
+        """
+        runs = {name: RunFigures.from_json(data[name]) for name in RUNS if name in data}
+        rest = {k: v for k, v in data.items() if k not in runs}
+        return cls(runs=runs, **_record_fields(cls, rest, "the main job's figures",
+                                               tuples=("runs_beyond_error_bound", "runs_controller_bypassed",
+                                                       "warnings")))
+
+
+def _record_fields(cls, data: dict, what: str, *, tuples: tuple[str, ...]) -> dict:
+    """``data``'s keys as ``cls``'s fields (``tuples`` as tuples), refusing a key it does not
+    have or a required field missing, with one line naming them."""
+    from dataclasses import MISSING, fields
+
+    names = {f.name for f in fields(cls)}
+    unknown = sorted(set(data) - names)
+    if unknown:
+        raise ValueError(f"{what}: unknown key(s) {', '.join(unknown)}")
+    missing = sorted(f.name for f in fields(cls) if f.default is MISSING and f.name not in data and f.name != "runs")
+    if missing:
+        raise ValueError(f"{what}: missing key(s) {', '.join(missing)}")
+    return {k: tuple(v) if k in tuples else v for k, v in data.items()}
+
+
+def prototype_figures(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
+                      max_error_m: float | None = None,
+                      progress: Callable[[int, int], None] | None = None) -> PrototypeFigures:
+    """The main job's figures (:class:`PrototypeFigures`): each run's, the plan's tension range,
+    the error bounds, the open loop's stability along the plan (:mod:`~marinecdpr.studies.stability`),
+    the cables-as-built error budget (:mod:`~marinecdpr.studies.error_budget`), the closed loops
+    whose controller was bypassed (beyond ``controller_bypassed_share_max``:
+    :func:`controller_verdict`), and (for the paper's experiment only, see
+    :func:`is_paper_scenario`) the paper's errors."""
+    bound_m, bound_deg = error_bounds(scenario, max_error_m)
+    g = plan_stability(plan, scenario)
+    budget = budget_summary(*error_budget(scenario, plan, progress=progress))
+    runs = {name: run_figures(res, scenario, max_error_m=max_error_m) for name, res in results.items()}
+    warnings = run_warnings(results, scenario)
+    close = plan.interference_summary()
+    if close is not None and close["first"] is not None:
+        warnings.append(f"plan: {close['first']}")
+    return PrototypeFigures(
+        scenario=scenario.name, steps=int(plan.n_steps), step_s=scenario.time.step_s, method=plan.method,
+        pinv_tension_min_N=float(np.nanmin(plan.tensions_pinv)), opt_tension_min_N=float(np.nanmin(plan.tensions)),
+        opt_tension_max_N=float(np.nanmax(plan.tensions)), error_bound_m=bound_m, error_bound_deg=bound_deg,
+        controller_bypassed_share_max=scenario.simulation.max_bypassed_share,
+        open_loop_growth_rate_1_s=g.rate, stability=stability_summary(g),
+        error_budget=budget["error_budget"],
+        error_budget_workspace_held_share_point=budget.get("error_budget_workspace_held_share_point"),
+        winches=budget.get("winches"),
+        paper_reported=PAPER_REPORTED if is_paper_scenario(scenario) else None,
+        runs=runs,
+        runs_beyond_error_bound=tuple(name for name, r in runs.items() if not r.within_error_bound),
+        runs_controller_bypassed=tuple(name for name, r in runs.items() if r.controller_verdict == "bypassed"),
+        warnings=tuple(warnings), interference=close)
+
+
 def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,
             max_error_m: float | None = None, progress: Callable[[int, int], None] | None = None) -> dict:
-    """``summary.json``: each run's figures, the plan's tension range, the error bounds, the
-    open loop's stability along the plan (``open_loop_growth_rate_1_s`` and ``stability``:
-    :mod:`~marinecdpr.studies.stability`), the cables-as-built error budget
-    (``error_budget``, ``winches``: :mod:`~marinecdpr.studies.error_budget`), the closed loops
-    whose controller was bypassed (``runs_controller_bypassed``, beyond
-    ``controller_bypassed_share_max``: :func:`controller_verdict`), and (for the paper's
-    experiment only, see :func:`is_paper_scenario`) the paper's errors."""
-    bound_m, bound_deg = error_bounds(scenario, max_error_m)
-    out: dict = {
-        "scenario": scenario.name,
-        "steps": int(plan.n_steps),
-        "step_s": scenario.time.step_s,
-        "method": plan.method,
-        "pinv_tension_min_N": float(np.nanmin(plan.tensions_pinv)),
-        "opt_tension_min_N": float(np.nanmin(plan.tensions)),
-        "opt_tension_max_N": float(np.nanmax(plan.tensions)),
-        "error_bound_m": bound_m,
-        "error_bound_deg": bound_deg,
-        "controller_bypassed_share_max": scenario.simulation.max_bypassed_share,
-    }
-    g = plan_stability(plan, scenario)
-    out["open_loop_growth_rate_1_s"] = g.rate
-    out["stability"] = stability_summary(g)
-    out.update(budget_summary(*error_budget(scenario, plan, progress=progress)))
-    if is_paper_scenario(scenario):
-        out["paper_reported"] = PAPER_REPORTED
-    for name, res in results.items():
-        out[name] = run_summary(res, scenario, max_error_m=max_error_m)
-    out["runs_beyond_error_bound"] = [name for name in results if not out[name]["within_error_bound"]]
-    out["runs_controller_bypassed"] = [name for name in results
-                                       if out[name].get("controller_verdict") == "bypassed"]
-    out["warnings"] = run_warnings(results, scenario)
-    close = plan.interference_summary()
-    if close is not None:
-        out["interference"] = close
-        if close["first"] is not None:
-            out["warnings"].append(f"plan: {close['first']}")
-    return out
+    """``summary.json``: :func:`prototype_figures`' :meth:`PrototypeFigures.to_json`."""
+    return prototype_figures(plan, results, scenario, max_error_m=max_error_m, progress=progress).to_json()
 
 
 def controller_verdict(res: SimResult, scenario: Scenario) -> dict:
@@ -227,12 +427,18 @@ def run_warnings(results: dict[str, SimResult], scenario: Scenario) -> list[str]
 
 @dataclass(frozen=True)
 class VirtualPrototype:
-    """The paper's verification, done: the plan, each simulated run, and their figures."""
+    """The paper's verification, done: the plan, each simulated run, and their figures
+    (``figures``, :class:`PrototypeFigures`; ``summary``, its JSON)."""
 
     scenario: Scenario
     plan: Plan
     results: dict
-    summary: dict
+    figures: PrototypeFigures
+
+    @property
+    def summary(self) -> dict:
+        """``summary.json``'s content: :meth:`PrototypeFigures.to_json`."""
+        return self.figures.to_json()
 
 
 def virtual_prototype(
@@ -294,5 +500,5 @@ def virtual_prototype(
     # the error budget's workspace maps (a scenario with pulleys or winches) take a while: told as "error_budget"
     maps = None if progress is None else (lambda done, total: progress("error_budget", done, total))
     return VirtualPrototype(scenario=scenario, plan=p, results=results,
-                            summary=summary(p, results, scenario, max_error_m=max_error_m,
-                                                          progress=maps))
+                            figures=prototype_figures(p, results, scenario, max_error_m=max_error_m,
+                                                      progress=maps))

@@ -128,15 +128,30 @@ class SurfaceJob:
         """The cleanable patches' curved area, m^2."""
         return float(sum(p.area_m2 for p in self.placements))
 
+    @property
+    def uncleanable_area_m2(self) -> float:
+        """The patches curved beyond the stand-off tolerance: their curved area, m^2."""
+        return float(sum(p.area_m2 for p in self.uncleanable))
+
+    @property
+    def cleaning_hours(self) -> float:
+        """All placements' cleaning, without the moves, h."""
+        return float(self.job_s.sum()) / 3600.0
+
+    @property
+    def area_rate_m2_h(self) -> float:
+        """The cleanable area over the whole time, moves included, m^2/h."""
+        return self.area_m2 / self.hours if self.hours > 0 else 0.0
+
     def summary(self) -> dict:
         """``summary.json``'s ``surface``."""
         dev = [p.deviation_m for p in self.placements]
         return {"surface": self.surface, "frame_panel_m": list(self.frame_panel_m), "placements": len(self.placements),
                 "uncleanable_patches": len(self.uncleanable),
-                "uncleanable_area_m2": float(sum(p.area_m2 for p in self.uncleanable)),
-                "area_m2": self.area_m2, "cleaning_hours": float(self.job_s.sum()) / 3600.0,
+                "uncleanable_area_m2": self.uncleanable_area_m2,
+                "area_m2": self.area_m2, "cleaning_hours": self.cleaning_hours,
                 "move_time_s": self.move_time_s, "hours": self.hours,
-                "area_rate_m2_h": self.area_m2 / self.hours if self.hours > 0 else 0.0,
+                "area_rate_m2_h": self.area_rate_m2_h,
                 "largest_stand_off_deviation_m": float(max(dev)) if dev else 0.0}
 
 

@@ -224,6 +224,11 @@ class Windows:
     mean_wait_h: float
     can_start: float
 
+    @property
+    def long_enough(self) -> int:
+        """How many windows the operation fits in (``duration_h`` or longer)."""
+        return sum(1 for a, b in self.windows if b - a >= self.duration_h - 1e-12)
+
     def finish_probability(self, days: float) -> float:
         """The probability (over start times) that the operation is finished within
         ``days``: it can start, and wait + duration <= days x 24 h."""
