@@ -65,9 +65,10 @@ def test_wrench_and_cables_match_vectorised():
     for i in range(t.size):
         RB.wrench_step(plat.x_PC_C[i].copy(), plat.v_PC_C[i].copy(), plat.a_PC_C[i].copy(),
                       np.ascontiguousarray(plat.R_PC[i]), plat.omega_PC_C[i].copy(),
-                      plat.alpha_PC_C[i].copy(), np.ascontiguousarray(ship.R_SO[i]),
-                      ship.omega_SO_S[i].copy(), ship.alpha_SO_S[i].copy(), ship.a_SO_O[i].copy(),
-                      X_CS, 5.0, I_PP, 9.8, f_C[i], m_C[i], out)
+                      plat.alpha_PC_C[i].copy(),
+                      RB.ShipAt(np.ascontiguousarray(ship.R_SO[i]), ship.omega_SO_S[i].copy(),
+                                ship.alpha_SO_S[i].copy(), ship.a_SO_O[i].copy()),
+                      RB.RigidBody(5.0, I_PP, 9.8, X_CS), f_C[i], m_C[i], out)
         np.testing.assert_allclose(out, terms.total[i], rtol=1e-12, atol=1e-12)
         cables_step(plat.x_PC_C[i].copy(), np.ascontiguousarray(plat.R_PC[i]), c, p, L, J)
         np.testing.assert_allclose(L, kin.lengths[i], rtol=1e-14)
@@ -325,9 +326,10 @@ def test_the_closed_loops_per_step_functions():
             _close(rates[:m], kin.length_rates[k], what)
             v, w_pc = np.ascontiguousarray(c["twist"][k, :3]), np.ascontiguousarray(c["twist"][k, 3:])
             a, al_pc = np.ascontiguousarray(c["twist_dot"][k, :3]), np.ascontiguousarray(c["twist_dot"][k, 3:])
-            args = (x, v, a, R, w_pc, al_pc, np.ascontiguousarray(ship.R_SO[k]), ship.omega_SO_S[k].copy(),
-                    ship.alpha_SO_S[k].copy(), ship.a_SO_O[k].copy(), c["origin"], c["mass"], c["inertia"],
-                    c["gravity"], f_C[k].copy(), m_C[k].copy())
+            ship_k = K.ShipAt(np.ascontiguousarray(ship.R_SO[k]), ship.omega_SO_S[k].copy(),
+                              ship.alpha_SO_S[k].copy(), ship.a_SO_O[k].copy())
+            body = K.RigidBody(c["mass"], c["inertia"], c["gravity"], c["origin"])
+            args = (x, v, a, R, w_pc, al_pc, ship_k, body, f_C[k].copy(), m_C[k].copy())
             K.wrench_step(*args, w)
             _close(w, terms.total[k], what)
             K.wrench_parts_step(*args, parts)
@@ -396,3 +398,37 @@ def test_the_closed_loop_and_planning_share_the_kernel():
     from marinecdpr.control import step
 
     assert step.cables_step is GK.cables_step
+
+
+def test_the_rigid_body_and_the_ship_go_in_as_records():
+    """The body's constants (mass, I_PP, g, origin) and the ship's state at a step (R_SO,
+    omega_s, alpha_s, a_SO) are one record each (issue 38, item 5); any record with the
+    body's attributes serves, in any field order, bit for bit (the controller passes its
+    RobotModel). Hand-worked: the platform at rest at C's origin, the ship level and still
+    but accelerating at a_SO = (1, 0, 0) m/s^2 in O: w = (m a_SO + (0, 0, m g), 0) - (f, m)."""
+    from typing import NamedTuple
+
+    class Other(NamedTuple):  # the attributes of RigidBody among others, in another order
+        origin: np.ndarray
+        method: int
+        g: float
+        I_PP: np.ndarray
+        mass: float
+
+    zero, I3 = np.zeros(3), np.eye(3)
+    ship = RB.ShipAt(I3.copy(), zero.copy(), zero.copy(), np.array([1.0, 0.0, 0.0]))
+    f, m = np.array([0.5, -0.25, 2.0]), np.array([0.125, 0.0, -1.0])
+    body = RB.RigidBody(4.0, np.diag([0.1, 0.2, 0.3]), 9.8, zero.copy())
+    w, w_other = np.empty(6), np.empty(6)
+    RB.wrench_step(zero, zero, zero, I3, zero, zero, ship, body, f, m, w)
+    np.testing.assert_array_equal(w, [4.0 - 0.5, 0.25, 4.0 * 9.8 - 2.0, -0.125, 0.0, 1.0])
+    # a general state: the record's type changes nothing in the arithmetic
+    rng = np.random.default_rng(3)
+    x, v, a, w_pc, al_pc = rng.normal(size=(5, 3))
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    ship = RB.ShipAt(np.linalg.qr(rng.normal(size=(3, 3)))[0], *rng.normal(size=(3, 3)))
+    body = RB.RigidBody(4.0, np.diag([0.1, 0.2, 0.3]), 9.8, rng.normal(size=3))
+    RB.wrench_step(x, v, a, R, w_pc, al_pc, ship, body, f, m, w)
+    RB.wrench_step(x, v, a, R, w_pc, al_pc, ship, Other(body.origin, 1, body.g, body.I_PP, body.mass), f, m,
+                   w_other)
+    np.testing.assert_array_equal(w_other, w)

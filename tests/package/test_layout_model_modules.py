@@ -13,7 +13,8 @@ import pytest
 SUBJECTS = {
     "marinecdpr.model.linalg": {"lu_det_solve", "cholesky", "cholesky_solve", "gram_full_rank", "RCOND"},
     "marinecdpr.model.rigid_body": {"wrench_parts_step", "wrench_step", "forward_step", "forward_solve_step",
-                                    "spatial_inertia_step", "wrench_series", "FRAME_CODES"},
+                                    "spatial_inertia_step", "wrench_series", "FRAME_CODES",
+                                    "RigidBody", "ShipAt"},
     "marinecdpr.model.tension_solver": {"tensions_step", "solve_tensions", "least_distance", "improved_closed_form",
                                         "tension_series", "TensionWork", "METHOD_CODES"},
 }

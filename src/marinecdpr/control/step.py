@@ -31,7 +31,7 @@ from marinecdpr.geometry.kinematics import cables_step
 from marinecdpr.geometry.pulley import pulleys_step
 from marinecdpr.geometry.rotations import angle_rate_matrix, euler_step
 from marinecdpr.model.linalg import lu_det_solve
-from marinecdpr.model.rigid_body import sum_wrench_parts, wrench_parts_step
+from marinecdpr.model.rigid_body import ShipAt, sum_wrench_parts, wrench_parts_step
 from marinecdpr.model.tension_solver import tensions_step
 from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
@@ -220,8 +220,8 @@ def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predicto
                      + gains.kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
     f_k, m_k = work.v3[2], work.v3[3]
     disturbance_C(loads.f[k], loads.m[k], loads.in_P, R_m, f_k, m_k)
-    wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, work.R_SO, work.w_s, work.al_s, a_SO, model.origin,
-                        model.mass, model.I_PP, model.g, f_k, m_k, work.wrench_parts)
+    ship = ShipAt(work.R_SO, work.w_s, work.al_s, a_SO)
+    wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, ship, model, f_k, m_k, work.wrench_parts)
     sum_wrench_parts(work.wrench_parts, work.wrench)
     cables_at(x_m, R_m, model, work.L, work.J)
     # every method, exact for any redundancy, compiled (the planning layer's solvers)

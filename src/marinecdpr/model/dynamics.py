@@ -135,10 +135,10 @@ def absolute_motion(
     """
     xt = _time_last(x_PC)
     out = np.empty((5, 3, xt.shape[1]))
-    RB.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta),
-                      _time_last(ship.eta_dot), _time_last(ship.eta_ddot), _time_last(ship.R_SO),
-                      _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _const(frame_origin_S),
-                      out)  # eqs. (7)-(11)
+    ship_t = RB.ShipAt(_time_last(ship.R_SO), _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S),
+                       _time_last(ship.eta_ddot)[:3])
+    RB.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta)[:3],
+                       _time_last(ship.eta_dot)[:3], ship_t, _const(frame_origin_S), out)  # eqs. (7)-(11)
     return AbsoluteMotion(*(out[p].T for p in range(5)))
 
 
@@ -275,10 +275,11 @@ def wrench_terms(
     ft = np.zeros((3, n)) if f_ext_C is None else _time_last(f_ext_C)
     mt = np.zeros((3, n)) if m_ext_C is None else _time_last(m_ext_C)
     out = np.empty((5, 6, n))
-    RB.wrench_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(R_PC), _time_last(ship.R_SO),
-                    _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S), _time_last(ship.a_SO_O),
-                    _const(frame_origin_S), float(mass), _const(I_PP), float(gravity), ft, mt,
-                    out)  # eqs. (9)-(16)
+    ship_t = RB.ShipAt(_time_last(ship.R_SO), _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S),
+                       _time_last(ship.a_SO_O))
+    body = RB.RigidBody(float(mass), _const(I_PP), float(gravity), _const(frame_origin_S))
+    RB.wrench_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(R_PC), ship_t, body, ft, mt,
+                     out)  # eqs. (9)-(16)
     return WrenchTerms(*(out[p].T for p in range(5)))
 
 

@@ -16,6 +16,8 @@ numpy implementation as the tests' reference). The cables (eqs. 2 and 6) are
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -23,6 +25,8 @@ from marinecdpr.model.linalg import lu_det_solve
 
 __all__ = [
     "FRAME_CODES",
+    "RigidBody",
+    "ShipAt",
     "wrench_parts_step",
     "wrench_step",
     "sum_wrench_parts",
@@ -41,6 +45,37 @@ __all__ = [
 ]
 
 _cache = True
+
+
+class RigidBody(NamedTuple):
+    """The platform's constants as the compiled functions take them (one record, passed by
+    numba as a struct).
+
+    mass : float, kg. I_PP : ndarray (3, 3), inertia about the centre of mass in P, kg m^2.
+    g : float, magnitude of gravity, m/s^2 (g_O = (0, 0, -g)). origin : ndarray (3,), x_CS:
+    C's origin in S, m. Any record with these attributes serves (the controller's
+    ``RobotModel`` has them; numba compiles once per record type).
+    """
+
+    mass: float
+    I_PP: np.ndarray
+    g: float
+    origin: np.ndarray
+
+
+class ShipAt(NamedTuple):
+    """The ship's motion as the compiled functions take it: at one step, or as time-last
+    series for the ``*_series`` functions (then each field gains a last axis of n steps).
+
+    R_SO : ndarray (3, 3), R_S^O. w_s, al_s : ndarray (3,), omega_s and alpha_s, the ship's
+    angular velocity (rad/s) and acceleration (rad/s^2) in S. a_SO_O : ndarray (3,), the
+    acceleration of S's origin in O, m/s^2.
+    """
+
+    R_SO: np.ndarray
+    w_s: np.ndarray
+    al_s: np.ndarray
+    a_SO_O: np.ndarray
 
 
 # ------------------------------------------------------------ the dynamics at one step
@@ -104,8 +139,7 @@ def _sym_matvec(S, v0, v1, v2):
 
 
 @njit(cache=_cache, inline="always")
-def wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origin, mass, I_PP, g,
-                      f_C, m_C, parts):
+def wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, ship, body, f_C, m_C, parts):
     """The required wrench (eq. 15) at one step, split by cause, written to parts (5, 6).
 
     Rows of ``parts``, each (force N, moment N m) in C about the centre of mass, in the
@@ -131,26 +165,19 @@ def wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origi
     w_pc, al_pc : ndarray, shape (3,)
         omega_PC, alpha_PC: P's angular velocity (rad/s) and acceleration (rad/s^2)
         relative to C, in C.
-    R_SO : ndarray, shape (3, 3)
-        R_S^O.
-    w_s, al_s : ndarray, shape (3,)
-        omega_s, alpha_s: the ship's angular velocity (rad/s) and acceleration (rad/s^2)
-        in S.
-    a_SO_O : ndarray, shape (3,)
-        Acceleration of S's origin in O, m/s^2.
-    origin : ndarray, shape (3,)
-        x_CS: C's origin in S, m.
-    mass : float
-        m, kg.
-    I_PP : ndarray, shape (3, 3)
-        Inertia about the centre of mass in P, kg m^2.
-    g : float
-        Magnitude of gravity, m/s^2; g_O = (0, 0, -g).
+    ship : ShipAt
+        The ship at this step: R_SO (3, 3); omega_s, alpha_s (3,) in S (rad/s, rad/s^2);
+        a_SO (3,) in O, m/s^2.
+    body : RigidBody
+        Or any record with its attributes: mass (kg), I_PP (3, 3, kg m^2, in P), g (m/s^2;
+        g_O = (0, 0, -g)) and origin (3,): x_CS, C's origin in S, m.
     f_C, m_C : ndarray, shape (3,)
         Disturbance force f_r (N) and moment m_r (N m) in C.
     parts : ndarray, shape (5, 6)
         Written: relative, gravity, C_s, gravity_tilt, external.
     """
+    R_SO, w_s, al_s, a_SO_O = ship.R_SO, ship.w_s, ship.al_s, ship.a_SO_O
+    mass, I_PP, g, origin = body.mass, body.I_PP, body.g, body.origin
     I_C = _rotate_inertia(R_PC, I_PP)  # R_PC I_PP R_PC^T
     Iw = _sym_matvec(I_C, w_pc[0], w_pc[1], w_pc[2])
     gyro = _cross(w_pc[0], w_pc[1], w_pc[2], Iw[0], Iw[1], Iw[2])  # omega_PC x I_C omega_PC
@@ -186,16 +213,14 @@ def wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origi
 
 
 @njit(cache=_cache)
-def wrench_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origin, mass, I_PP, g,
-                f_C, m_C, out):
+def wrench_step(x, v, a, R_PC, w_pc, al_pc, ship, body, f_C, m_C, out):
     """Required wrench w (eq. 15) at one step: force and moment in C, written to out (6,).
 
     The sum relative + gravity + C_s + gravity_tilt + external of :func:`wrench_parts_step`,
     which documents the arguments.
     """
     parts = np.empty((5, 6))
-    wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, R_SO, w_s, al_s, a_SO_O, origin, mass, I_PP, g,
-                      f_C, m_C, parts)
+    wrench_parts_step(x, v, a, R_PC, w_pc, al_pc, ship, body, f_C, m_C, parts)
     sum_wrench_parts(parts, out)
 
 
@@ -207,7 +232,7 @@ def sum_wrench_parts(parts, out):
 
 
 @njit(cache=_cache, inline="always")
-def absolute_step(x, v, a, w_pc, al_pc, x_SO_O, v_SO_O, a_SO_O, R_SO, w_s, al_s, origin, out):
+def absolute_step(x, v, a, w_pc, al_pc, x_SO_O, v_SO_O, ship, origin, out):
     """The platform's motion in O at one step (eqs. 7-11), written to out (5, 3).
 
     Rows of ``out``: x_PO, v_PO, a_PO (m, m/s, m/s^2: P's centre of mass in O), omega_PO and
@@ -219,17 +244,17 @@ def absolute_step(x, v, a, w_pc, al_pc, x_SO_O, v_SO_O, a_SO_O, R_SO, w_s, al_s,
         x_PC, v_PC, a_PC relative to C, in C (m, m/s, m/s^2).
     w_pc, al_pc : ndarray, shape (3,)
         omega_PC, alpha_PC relative to C, in C (rad/s, rad/s^2).
-    x_SO_O, v_SO_O, a_SO_O : ndarray, shape (3,)
-        Position, velocity and acceleration of S's origin in O (m, m/s, m/s^2).
-    R_SO : ndarray, shape (3, 3)
-        R_S^O.
-    w_s, al_s : ndarray, shape (3,)
-        The ship's angular velocity and acceleration in S (rad/s, rad/s^2).
+    x_SO_O, v_SO_O : ndarray, shape (3,)
+        Position and velocity of S's origin in O (m, m/s).
+    ship : ShipAt
+        The ship at this step: R_SO (3, 3); omega_s, alpha_s (3,) in S (rad/s, rad/s^2);
+        a_SO (3,) in O, m/s^2.
     origin : ndarray, shape (3,)
         x_CS: C's origin in S, m.
     out : ndarray, shape (5, 3)
         Written.
     """
+    R_SO, w_s, al_s, a_SO_O = ship.R_SO, ship.w_s, ship.al_s, ship.a_SO_O
     r0, r1, r2 = x[0] + origin[0], x[1] + origin[1], x[2] + origin[2]  # x_PS^S
     wr = _cross(w_s[0], w_s[1], w_s[2], r0, r1, r2)
     Rr = _matvec(R_SO, r0, r1, r2)
@@ -406,17 +431,17 @@ def forward_step(J, T, bias, R_PC, mass, I_PP, controlled, out):
 
 
 @njit(cache=_cache)
-def absolute_series(xt, twt, tdt, et, edt, eddt, RSt, wst, alst, origin, out):
+def absolute_series(xt, twt, tdt, xSt, vSt, ship_t, origin, out):
     """:func:`absolute_step` at every step.
 
-    xt (3, n): x_PC; twt, tdt (6, n): the twist and its rate; et, edt, eddt (6, n): eta
-    and its rates; RSt (3, 3, n): R_SO; wst, alst (3, n): the ship's angular velocity and
-    acceleration in S. Writes out (5, 3, n).
+    xt (3, n): x_PC; twt, tdt (6, n): the twist and its rate; xSt, vSt (3, n): x_SO, v_SO
+    in O; ship_t: a :class:`ShipAt` of series (R_SO (3, 3, n); omega_s, alpha_s, a_SO
+    (3, n)). Writes out (5, 3, n).
     """
     for k in range(xt.shape[1]):
-        absolute_step(xt[:, k], twt[:3, k], tdt[:3, k], twt[3:, k], tdt[3:, k], et[:3, k],
-                      edt[:3, k], eddt[:3, k], RSt[:, :, k], wst[:, k], alst[:, k], origin,
-                      out[:, :, k])
+        ship = ShipAt(ship_t.R_SO[:, :, k], ship_t.w_s[:, k], ship_t.al_s[:, k], ship_t.a_SO_O[:, k])
+        absolute_step(xt[:, k], twt[:3, k], tdt[:3, k], twt[3:, k], tdt[3:, k], xSt[:, k], vSt[:, k],
+                      ship, origin, out[:, :, k])
 
 
 @njit(cache=_cache)
@@ -458,17 +483,17 @@ def disturbance_series(ft, mt, frame, RSt, RPt, fCt, mCt):
 
 
 @njit(cache=_cache)
-def wrench_series(xt, twt, tdt, RPt, RSt, wst, alst, aSt, origin, mass, I_PP, g, ft, mt, out):
+def wrench_series(xt, twt, tdt, RPt, ship_t, body, ft, mt, out):
     """:func:`wrench_parts_step` at every step.
 
-    xt (3, n): x_PC; twt, tdt (6, n): the twist and its rate; RPt, RSt (3, 3, n): R_PC,
-    R_SO; wst, alst (3, n): the ship's angular velocity and acceleration in S; aSt (3, n):
-    a_SO in O; ft, mt (3, n): the disturbance in C. Writes out (5, 6, n): the parts.
+    xt (3, n): x_PC; twt, tdt (6, n): the twist and its rate; RPt (3, 3, n): R_PC; ship_t:
+    a :class:`ShipAt` of series (R_SO (3, 3, n); omega_s, alpha_s, a_SO (3, n)); body: a
+    :class:`RigidBody`; ft, mt (3, n): the disturbance in C. Writes out (5, 6, n): the parts.
     """
     for k in range(xt.shape[1]):
+        ship = ShipAt(ship_t.R_SO[:, :, k], ship_t.w_s[:, k], ship_t.al_s[:, k], ship_t.a_SO_O[:, k])
         wrench_parts_step(xt[:, k], twt[:3, k], tdt[:3, k], RPt[:, :, k], twt[3:, k], tdt[3:, k],
-                          RSt[:, :, k], wst[:, k], alst[:, k], aSt[:, k], origin, mass, I_PP, g,
-                          ft[:, k], mt[:, k], out[:, :, k])
+                          ship, body, ft[:, k], mt[:, k], out[:, :, k])
 
 
 @njit(cache=_cache)

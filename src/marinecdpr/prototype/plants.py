@@ -77,8 +77,8 @@ def _own_rhs(y, j, plant, system, dy):
     for i in range(3):  # the extra loads (a brush's at the actual velocity), held over the step
         f_j[i] += bus.f_ext[i]
         m_j[i] += bus.m_ext[i]
-    RB.wrench_step(x, v, zero, R, w, zero, plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j],
-                  model.origin, model.mass, model.I_PP, model.g, f_j, m_j, bias)
+    ship = RB.ShipAt(plant.R_SO[j], plant.w_s[j], plant.al_s[j], plant.a_SO[j])
+    RB.wrench_step(x, v, zero, R, w, zero, ship, model, f_j, m_j, bias)
     acc = np.empty(6)
     RB.forward_step(J, T, bias, R, model.mass, model.I_PP, model.controlled, acc)
     dy[0:3] = v
