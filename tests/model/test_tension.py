@@ -245,7 +245,7 @@ def solve(A, b, target, lo, hi, rcond=0.0):
     n, k = A.shape
     T = np.empty(n)
     state = np.empty(n, dtype=np.int64)
-    status = K.least_distance(A, b, target, lo, hi, tol_of(hi), rcond, T, np.zeros((3, k, k)),
+    status = K.least_distance(A, b, target, K.Limits(lo, hi, tol_of(hi)), rcond, T, np.zeros((3, k, k)),
                               np.empty((2, k)), np.empty((2, n)), state)
     return status, T, state
 
@@ -886,3 +886,27 @@ def test_a_square_of_four_cables_by_hand():
     u = f.normal[0] @ np.array([60.0, -30.0])
     head = (f.half_width[0] - np.abs(u)) / f.per_newton[0]
     assert head.min() == pytest.approx(20.0, rel=1e-12)  # (100 - 60) / 2: each x cable gives 20 N
+
+
+def test_the_limits_go_in_as_one_record():
+    """The solvers take the limits and their tolerance as one record, Limits(lo, hi, tol)
+    (issue 38, item 5). Hand-worked: two cables pull one DOF, T1 + T2 = 20 N nearest the
+    target (5, 5) N: (10, 10) N within [0, 10] N; within [0, 9] N none (18 N at most);
+    within [0, 9] N widened by tol = 1 N, (10, 10) N again (each 1 N over, which tol allows)."""
+    A, b, target = np.array([[1.0], [1.0]]), np.array([20.0]), np.array([5.0, 5.0])
+
+    def run(hi, tol):
+        T, state = np.empty(2), np.empty(2, dtype=np.int64)
+        limits = K.Limits(np.zeros(2), np.full(2, hi), tol)
+        status = K.least_distance(A, b, target, limits, 0.0, T, np.zeros((3, 1, 1)), np.empty((2, 1)),
+                                  np.empty((2, 2)), state)
+        return status, T
+
+    status, T = run(10.0, 1e-9)
+    assert status == 1
+    np.testing.assert_array_equal(T, [10.0, 10.0])
+    status, T = run(9.0, 1e-9)
+    assert status == 0 and np.isnan(T).all()
+    status, T = run(9.0, 1.0)
+    assert status == 1
+    np.testing.assert_array_equal(T, [10.0, 10.0])

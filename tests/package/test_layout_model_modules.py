@@ -16,7 +16,7 @@ SUBJECTS = {
                                     "spatial_inertia_step", "wrench_series", "FRAME_CODES",
                                     "RigidBody", "ShipAt"},
     "marinecdpr.model.tension_solver": {"tensions_step", "solve_tensions", "least_distance", "improved_closed_form",
-                                        "tension_series", "TensionWork", "METHOD_CODES"},
+                                        "tension_series", "TensionWork", "METHOD_CODES", "Limits"},
 }
 
 

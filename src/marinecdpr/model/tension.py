@@ -128,8 +128,9 @@ def _series(J: np.ndarray, w: np.ndarray, method: int, target: np.ndarray, lo: n
     def columns(a: np.ndarray) -> np.ndarray:  # (m, 1) or (m, n_steps), as the kernel takes them
         return np.ascontiguousarray(a.reshape(m, -1), dtype=float)
 
-    tension_solver.tension_series(Jt, np.asarray(wt, dtype=float), np.ascontiguousarray(target, dtype=float), columns(lo),
-                           columns(hi), np.ascontiguousarray(ok, dtype=bool), method, tol, T, feasible)
+    limits = tension_solver.Limits(columns(lo), columns(hi), float(tol))
+    tension_solver.tension_series(Jt, np.asarray(wt, dtype=float), np.ascontiguousarray(target, dtype=float), limits,
+                                  np.ascontiguousarray(ok, dtype=bool), method, T, feasible)
     return TensionSolution(T.T, feasible)
 
 

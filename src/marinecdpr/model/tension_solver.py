@@ -28,6 +28,7 @@ from marinecdpr.model.linalg import (
 __all__ = [
     "METHOD_CODES",
     "tensions_step",
+    "Limits",
     "TensionWork",
     "tension_work",
     "least_distance",
@@ -43,6 +44,19 @@ METHOD_CODES = {"pseudo_inverse": 0, "closed_form": 1, "minimum_variance": 2, "m
 _cache = True
 
 
+class Limits(NamedTuple):
+    """The tension limits as the compiled solvers take them (one record, a struct to numba).
+
+    lo, hi : ndarray, N: (n,) at one step; for :func:`tension_series` (n, 1), the same at
+    every step, or (n, n_steps), each step's own. tol : float, N: a tension within [lo -
+    tol, hi + tol] counts as within limits (TENSION_TOLERANCE x max(1, max hi)).
+    """
+
+    lo: np.ndarray
+    hi: np.ndarray
+    tol: float
+
+
 # ----------------------------------------------------------------- exact tension QP
 # The exact methods for any redundancy and Pott's improved closed form, per step, all
 # compiled: one implementation for planning (tension.distribute_tensions loops over the
@@ -54,12 +68,13 @@ _cache = True
 
 
 @njit(cache=_cache)
-def _solve_active(A, b, target, lo, hi, state, rcond, M, y, T):
+def _solve_active(A, b, target, limits, state, rcond, M, y, T):
     """The equality-constrained minimiser of |T - target|^2 with the active set held at its
     limits: T_W = limits, T_F = target_F + A_F y, (A_F^T A_F) y = b - A_W^T T_W - A_F^T target_F.
     M[0] holds A^T A. Returns False (T untouched) where A_F^T A_F fails the rank test
     (:func:`gram_full_rank` with rcond)."""
     n, k = A.shape
+    lo, hi = limits.lo, limits.hi
     G, L = M[1], M[2]
     gram_free(A, state, M[0], G)
     if not gram_full_rank(G, L, cholesky(G, L), rcond):
@@ -83,7 +98,8 @@ def _solve_active(A, b, target, lo, hi, state, rcond, M, y, T):
 
 
 @njit(cache=_cache)
-def _within(T, lo, hi, tol):
+def _within(T, limits):
+    lo, hi, tol = limits.lo, limits.hi, limits.tol
     for i in range(T.shape[0]):
         if not (T[i] >= lo[i] - tol and T[i] <= hi[i] + tol):
             return False
@@ -91,11 +107,11 @@ def _within(T, lo, hi, tol):
 
 
 @njit(cache=_cache)
-def least_distance(A, b, target, lo, hi, tol, rcond, T, M, v, wn, state):
+def least_distance(A, b, target, limits, rcond, T, M, v, wn, state):
     """Exactly minimise |T - target|^2 subject to A^T T = b and lo <= T <= hi, written to T.
 
-    A (n, k), b (k,), target, lo, hi (n,); tol: the tolerance within which a tension counts
-    as within limits (TENSION_TOLERANCE x max(1, max hi)); rcond: the rank test of
+    A (n, k), b (k,), target (n,); limits: a :class:`Limits`, lo, hi (n,) and tol, the
+    tolerance within which a tension counts as within limits; rcond: the rank test of
     :func:`_solve_active` for A^T A (0 to flag only a breakdown). Work arrays: M (3, k, k),
     v (2, k), wn (2, n) float and state (n,) int64 (it holds the final active set).
 
@@ -107,16 +123,16 @@ def least_distance(A, b, target, lo, hi, tol, rcond, T, M, v, wn, state):
     gram(A, M[0])
     for i in range(n):
         state[i] = 0
-    if not _solve_active(A, b, target, lo, hi, state, rcond, M, v[0], T):
+    if not _solve_active(A, b, target, limits, state, rcond, M, v[0], T):
         T[:] = np.nan
         return -1
-    if _within(T, lo, hi, tol):  # the unconstrained optimum (the usual case)
+    if _within(T, limits):  # the unconstrained optimum (the usual case)
         return 1
-    return _active_set(A, b, target, lo, hi, tol, T, M, v, wn, state)
+    return _active_set(A, b, target, limits, T, M, v, wn, state)
 
 
 @njit(cache=_cache)
-def _active_set(A, b, target, lo, hi, tol, T, M, v, wn, state):
+def _active_set(A, b, target, limits, T, M, v, wn, state):
     """:func:`least_distance` from the unconstrained optimum T (M[0] = A^T A, state all 0).
 
     The dual active-set method of Goldfarb and Idnani (quadprog's algorithm) specialised to
@@ -135,6 +151,7 @@ def _active_set(A, b, target, lo, hi, tol, T, M, v, wn, state):
     A^T T = b); a cap on the iterations guards against rounding-induced cycling.
     """
     n, k = A.shape
+    lo, hi, tol = limits.lo, limits.hi, limits.tol
     G, L = M[1], M[2]
     y, c = v[0], v[1]
     u, zr = wn[0], wn[1]
@@ -233,7 +250,7 @@ def _active_set(A, b, target, lo, hi, tol, T, M, v, wn, state):
             state[drop] = 0
             u[drop] = 0.0
     # the optimum, re-solved exactly on its active set (and checked: never out of range)
-    if not (_solve_active(A, b, target, lo, hi, state, 0.0, M, y, T) and _within(T, lo, hi, tol)
+    if not (_solve_active(A, b, target, limits, state, 0.0, M, y, T) and _within(T, limits)
             and _residual_ok(A, b, T)):
         T[:] = np.nan
         return 0
@@ -256,10 +273,10 @@ def _residual_ok(A, b, T):
 
 
 @njit(cache=_cache)
-def improved_closed_form(A, b, mid, lo, hi, tol, rcond, T, M, y, state):
+def improved_closed_form(A, b, mid, limits, rcond, T, M, y, state):
     """Pott's improved closed form at one step, written to T; True if within limits.
 
-    mid (n,): E = (lo + hi) / 2. The closed form T = E + A_F (A_F^T A_F)^-1
+    mid (n,): E = (lo + hi) / 2; limits: a :class:`Limits`. The closed form T = E + A_F (A_F^T A_F)^-1
     (b - A^T T_fixed - A_F^T E_F) on the free cables; while a free tension breaks a limit
     by more than tol, the worst one (the first on a tie) is held at that limit, at most
     n - k times. False (T NaN) if a subproblem is singular (the rank test of
@@ -267,11 +284,12 @@ def improved_closed_form(A, b, mid, lo, hi, tol, rcond, T, M, y, state):
     y (k,), state (n,) as in :func:`least_distance`.
     """
     n, k = A.shape
+    lo, hi, tol = limits.lo, limits.hi, limits.tol
     gram(A, M[0])
     for i in range(n):
         state[i] = 0
     for _ in range(n - k + 1):
-        if not _solve_active(A, b, mid, lo, hi, state, rcond, M, y, T):
+        if not _solve_active(A, b, mid, limits, state, rcond, M, y, T):
             break
         j = -1
         worst = 0.0
@@ -307,14 +325,14 @@ def _step_matrix(Jt, wt, s, A, b):
 
 
 @njit(cache=_cache)
-def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
+def tension_series(Jt, wt, target, limits, ok, method, Tt, feasible):
     """Every tension method over a time series: :func:`solve_tensions` at every step.
 
     Jt (k, n, n_steps) and wt (k, n_steps): J~_c and w_c, time last; method: a
     :data:`METHOD_CODES` value; target (n,): the closed forms' and exact methods' target (0
-    for the pseudo-inverse and minimum norm, E for the others); lo, hi (n, 1) the tension
-    limits of every step, or (n, n_steps) each step's own; ok (n_steps,): steps to solve
-    (the others are infeasible); tol as in :func:`least_distance`. Writes Tt (n, n_steps),
+    for the pseudo-inverse and minimum norm, E for the others); limits: a :class:`Limits`
+    with lo, hi (n, 1) the tension limits of every step, or (n, n_steps) each step's own;
+    ok (n_steps,): steps to solve (the others are infeasible). Writes Tt (n, n_steps),
     NaN where infeasible, and feasible (n_steps,).
 
     The common case, the closed form on every cable within limits, runs on blocks of steps
@@ -325,6 +343,7 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
     (:func:`_active_set`) from this optimum, or :func:`improved_closed_form`.
     """
     k, n, n_steps = Jt.shape
+    lo, hi, tol = limits.lo, limits.hi, limits.tol
     G = np.empty((k, k, _BLOCK))
     Lb = np.empty((k, k, _BLOCK))
     det, piv, tr, dmax = np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK), np.empty(_BLOCK)
@@ -338,6 +357,7 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
     wn = np.empty((2, n))
     state = np.empty(n, dtype=np.int64)
     lo_s, hi_s = np.empty(n), np.empty(n)  # this step's limits
+    limits_s = Limits(lo_s, hi_s, tol)
     per_step = lo.shape[1] > 1
     for s0 in range(0, n_steps, _BLOCK):
         nb = min(_BLOCK, n_steps - s0)
@@ -379,7 +399,7 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
                         break
                 if status == 0 and method == 4:
                     _step_matrix(Jt, wt, s, A, b)
-                    if improved_closed_form(A, b, target, lo_s, hi_s, tol, RCOND, T, M, v[0], state):
+                    if improved_closed_form(A, b, target, limits_s, RCOND, T, M, v[0], state):
                         status = 2
                 elif status == 0 and method >= 2:
                     # the active-set method from this unconstrained optimum and Gram matrix
@@ -391,7 +411,7 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
                     for i in range(n):
                         state[i] = 0
                         T[i] = Tb[i, j]
-                    if _active_set(A, b, target, lo_s, hi_s, tol, T, M, v, wn, state) == 1:
+                    if _active_set(A, b, target, limits_s, T, M, v, wn, state) == 1:
                         status = 2
             for i in range(n):
                 Tt[i, s] = Tb[i, j] if status == 1 else (T[i] if status == 2 else np.nan)
@@ -399,12 +419,12 @@ def tension_series(Jt, wt, target, lo, hi, ok, method, tol, Tt, feasible):
 
 
 @njit(cache=_cache)
-def solve_tensions(A, b, target, lo, hi, tol, method, T, M, v, wn, state):
+def solve_tensions(A, b, target, limits, method, T, M, v, wn, state):
     """Tensions at one step by ``method`` (a :data:`METHOD_CODES` value), written to T (n,);
     True if within limits (else T is NaN). The one implementation of every method.
 
     A (n, k): J~_c; b (k,): w_c; target (n,): 0 for the pseudo-inverse and minimum norm, E
-    = (lo + hi) / 2 for the others; tol as in :func:`least_distance`. Work arrays M (3, k,
+    = (lo + hi) / 2 for the others; limits: a :class:`Limits`. Work arrays M (3, k,
     k), v (2, k), wn (2, n), state (n,) int64. Every method starts from the closed form
     on every cable, T = target + A (A^T A)^-1 (b - A^T target) (eq. 18 for target 0), under
     the one rank test (:func:`gram_full_rank`, :data:`RCOND`): the pseudo-inverse and
@@ -414,13 +434,13 @@ def solve_tensions(A, b, target, lo, hi, tol, method, T, M, v, wn, state):
     tension at its limit and repeats (:func:`improved_closed_form`).
     """
     if method == 4:
-        return improved_closed_form(A, b, target, lo, hi, tol, RCOND, T, M, v[0], state)
+        return improved_closed_form(A, b, target, limits, RCOND, T, M, v[0], state)
     if method >= 2:
-        return least_distance(A, b, target, lo, hi, tol, RCOND, T, M, v, wn, state) == 1
+        return least_distance(A, b, target, limits, RCOND, T, M, v, wn, state) == 1
     gram(A, M[0])
     for i in range(A.shape[0]):
         state[i] = 0
-    if _solve_active(A, b, target, lo, hi, state, RCOND, M, v[0], T) and _within(T, lo, hi, tol):
+    if _solve_active(A, b, target, limits, state, RCOND, M, v[0], T) and _within(T, limits):
         return True
     T[:] = np.nan
     return False
@@ -469,7 +489,7 @@ def tensions_step(J, w, controlled, lo, hi, method, T, work):
         top = max(top, abs(hi[i]))
     tol = 1e-9 * top
     target = work.zero if (method == 0 or method == 3) else mid
-    return solve_tensions(A, wc, target, lo, hi, tol, method, T, work.M, work.v, work.wn, work.state)
+    return solve_tensions(A, wc, target, Limits(lo, hi, tol), method, T, work.M, work.v, work.wn, work.state)
 
 
 @njit(cache=_cache)
