@@ -16,7 +16,8 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.planning.budget import RunSize
     from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "grid", "headings"]
+__all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "grid", "headings", "PLANTS",
+           "plant"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -97,6 +98,18 @@ def positive(value: float | None, *, zero_ok: bool = False) -> float | None:
         raise ValueError("expected a finite number")
     if value < 0 or (value == 0 and not zero_ok):
         raise ValueError(f"expected a {'non-negative' if zero_ok else 'positive'} number")
+    return value
+
+
+PLANTS = ("mujoco", "own")
+"""The virtual prototype's plants."""
+
+
+def plant(value: str | None) -> str | None:
+    """A plant's name (:data:`PLANTS`), or None (the scenario's); else ValueError with the
+    command line's words."""
+    if value is not None and value not in PLANTS:
+        raise ValueError(f"expected {' or '.join(PLANTS)}")
     return value
 
 

@@ -13,16 +13,13 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Estimate, Spec, positive
+from marinecdpr.commands.base import PLANTS, Estimate, Spec, plant, positive
 
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["SimulateSpec", "SimulateEstimate", "SimulateResult", "DurationCut", "duration_cut", "first_seconds", "estimate",
            "run", "PLANTS"]
-
-PLANTS = ("mujoco", "own")
-"""The virtual prototype's plants."""
 
 
 class SimulateSpec(Spec):
@@ -47,9 +44,7 @@ class SimulateSpec(Spec):
     @field_validator("plant")
     @classmethod
     def _plant(cls, v):
-        if v is not None and v not in PLANTS:
-            raise ValueError(f"expected {' or '.join(PLANTS)}")
-        return v
+        return plant(v)
 
     @field_validator("duration", "max_error")
     @classmethod

@@ -14,15 +14,12 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Spec
+from marinecdpr.commands.base import PLANTS, Spec, plant
 
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["WarmupSpec", "WarmupEstimate", "WarmupResult", "estimate", "run", "PLANTS"]
-
-PLANTS = ("mujoco", "own")
-"""The virtual prototype's plants."""
 
 
 class WarmupSpec(Spec):
@@ -40,9 +37,7 @@ class WarmupSpec(Spec):
     @field_validator("plant")
     @classmethod
     def _plant(cls, v):
-        if v is not None and v not in PLANTS:
-            raise ValueError(f"expected {' or '.join(PLANTS)}")
-        return v
+        return plant(v)
 
 
 @dataclass(frozen=True)
