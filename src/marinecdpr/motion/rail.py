@@ -1,0 +1,629 @@
+"""A rail along the ship and the carriage's jerk-limited motion on it (issue 39, item 1).
+
+The rail is a polyline in the ship frame S whose inner corners are rounded by circular
+arcs of one radius, each tangent to its two segments and lying in their plane. It is
+parametrised by its arc length ``s`` (m, from the first point); :meth:`Rail.at` gives the
+position, the unit tangent and its two arc-length derivatives, and the heading of the
+tangent's horizontal part with its derivatives, exactly (closed forms on each straight
+piece and arc).
+
+The tangent is continuous along the rail, but its derivative (the curvature vector
+``dt``) jumps where a straight piece meets an arc (from 0 to ``|dt| = 1/R`` and back):
+a line-and-arc path has piecewise-constant curvature. So do ``ddt``, ``dheading`` and
+``ddheading``. At a join, :meth:`Rail.at` returns the values of the piece that starts
+there (the one-sided limit from above); at the rail's end, those of the last piece.
+
+The carriage moves from station to station with rest-to-rest double-S (7-phase,
+jerk-limited) moves, Biagiotti & Melchiorri, *Trajectory planning for automatic machines
+and robots* (Springer 2008), sec. 3.4, and rests at each station for a dwell:
+:func:`scurve_move`, :func:`carriage_profile`, :func:`profile_schedule`.
+
+Every bad input is refused with a :class:`RailError` (a
+:class:`~marinecdpr.errors.ScenarioError`, hence a ``ValueError``) whose message is one
+line naming the offending entry (array entries counted from 1, like the cables).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+
+__all__ = [
+    "RailError",
+    "RailPoints",
+    "Rail",
+    "check_rail",
+    "check_stations",
+    "Move",
+    "scurve_move",
+    "carriage_profile",
+    "profile_schedule",
+]
+
+_MIN_SPACING_M = 1e-9  # two consecutive points closer than this are refused
+_COLLINEAR_SIN = 1e-12  # |sin(turn)| below this (and the turn forward) is a straight joint, no arc
+_UTURN_RAD = 1e-6  # a turn within this of 180 deg is a U-turn (refused)
+_MIN_HORIZONTAL = 1e-6  # the tangent's horizontal part below this: heading undefined (refused)
+_S_TOL_M = 1e-9  # arc lengths / stations this far outside [0, length] are clipped, not refused
+
+
+class RailError(ScenarioError):
+    """A rail, a station on it or a carriage's limits are malformed or impossible."""
+
+
+# --- validation helpers ----------------------------------------------------------------------
+
+
+def _finite(value, name: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise RailError(f"must be a number, got {value!r}", key=name) from None
+    if not np.isfinite(v):
+        raise RailError(f"must be finite, got {v!r}", key=name)
+    return v
+
+
+def _positive(value, name: str) -> float:
+    v = _finite(value, name)
+    if v <= 0.0:
+        raise RailError(f"must be > 0, got {v!r}", key=name)
+    return v
+
+
+def _vector(values, name: str) -> np.ndarray:
+    """A finite 1-D float array (a scalar becomes shape (1,))."""
+    try:
+        a = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise RailError("must be numbers", key=name) from None
+    if a.ndim > 1:
+        raise RailError(f"must be one-dimensional, shape (n,), got shape {a.shape}", key=name)
+    a = np.atleast_1d(a)
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise RailError(f"must be finite, got {a[bad[0]]!r}", key=f"{name}[{bad[0] + 1}]")
+    return a
+
+
+def _listed(values: np.ndarray, idx: np.ndarray, limit: int = 3) -> str:
+    """``[i]=v`` for the first few offending entries (counted from 1), and how many more."""
+    items = ", ".join(f"[{i + 1}]={values[i]!r}" for i in idx[:limit])
+    more = f" and {idx.size - limit} more" if idx.size > limit else ""
+    return items + more
+
+
+# --- the rail ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RailPoints:
+    """The rail's geometry at arc lengths ``s`` (every array's leading axis is ``n``).
+
+    Attributes
+    ----------
+    r : ndarray, shape (n, 3)
+        Position on the rail, in S, m.
+    t : ndarray, shape (n, 3)
+        ``dr/ds``, the unit tangent, in S.
+    dt : ndarray, shape (n, 3)
+        ``d2r/ds2``, the curvature vector, in S, 1/m (0 on a straight piece, ``1/R``
+        towards the arc's centre on an arc; it jumps at the joins).
+    ddt : ndarray, shape (n, 3)
+        ``d3r/ds3``, in S, 1/m^2 (``-t/R^2`` on an arc).
+    heading : ndarray, shape (n,)
+        ``psi = atan2(t_y, t_x)``, rad: the direction of the tangent's horizontal part,
+        from S's x axis towards its y axis, unwrapped continuous along ``s`` (its value at
+        the rail's start is in (-pi, pi]).
+    dheading : ndarray, shape (n,)
+        ``dpsi/ds``, rad/m.
+    ddheading : ndarray, shape (n,)
+        ``d2psi/ds2``, rad/m^2.
+    """
+
+    r: np.ndarray
+    t: np.ndarray
+    dt: np.ndarray
+    ddt: np.ndarray
+    heading: np.ndarray
+    dheading: np.ndarray
+    ddheading: np.ndarray
+
+
+@dataclass(frozen=True)
+class Rail:
+    """A polyline rail in S with its inner corners rounded by circular arcs.
+
+    Build it with :func:`check_rail` (constructing it directly checks the same things).
+
+    Attributes
+    ----------
+    points_S : ndarray, shape (n_points, 3)
+        The polyline's vertices in S, m (a read-only copy).
+    corner_radius_m : float
+        Radius of the arc that rounds each inner corner, m: tangent to both segments at
+        ``R tan(theta/2)`` from the corner (``theta`` the turn there), in their plane.
+        Collinear middle points get no arc.
+    """
+
+    points_S: np.ndarray
+    corner_radius_m: float
+    # the pieces (straight or arc) in order along s: start arc length (m), start point (m),
+    # tangent at the start, unit normal towards the arc's centre (0 on straight pieces),
+    # curvature 1/R (0 on straight pieces), heading at the start (rad, unwrapped)
+    _pieces: tuple = field(init=False, repr=False, compare=False)
+    _length: float = field(init=False, repr=False, compare=False)
+    _corners: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        points, radius = _checked_rail_input(self.points_S, self.corner_radius_m)
+        pieces, length, corners = _build_pieces(points, radius)
+        object.__setattr__(self, "points_S", points)
+        object.__setattr__(self, "corner_radius_m", radius)
+        object.__setattr__(self, "_pieces", pieces)
+        object.__setattr__(self, "_length", length)
+        object.__setattr__(self, "_corners", corners)
+
+    @property
+    def length_m(self) -> float:
+        """Total arc length of the rounded path, m."""
+        return self._length
+
+    @property
+    def least_radius_m(self) -> float:
+        """The least radius of curvature along the rail, m: ``corner_radius_m`` if it has a
+        corner (a non-collinear inner point), ``inf`` for a straight rail."""
+        return self.corner_radius_m if self._corners else float("inf")
+
+    def at(self, s) -> RailPoints:
+        """The rail's geometry at arc lengths ``s``.
+
+        Parameters
+        ----------
+        s : array_like, shape (n,)
+            Arc lengths from the first point, m, in ``[0, length_m]`` (values within 1e-9 m
+            outside are clipped; others are refused with :class:`RailError` naming them).
+
+        Returns
+        -------
+        RailPoints
+            Position, tangent and its derivatives in S, heading and its derivatives, each
+            with leading axis ``n``. At a join between a straight piece and an arc the
+            piece starting there is used (``dt``, ``ddt`` and the heading's derivatives
+            jump there).
+        """
+        s = _vector(s, "s")
+        length = self._length
+        out = np.flatnonzero((s < -_S_TOL_M) | (s > length + _S_TOL_M))
+        if out.size:
+            raise RailError(
+                f"arc lengths outside the rail's [0, {length!r}] m: {_listed(s, out)}", key="s"
+            )
+        s = np.clip(s, 0.0, length)
+        s0, a0, u, nrm, kappa, psi0 = self._pieces
+        k = np.clip(np.searchsorted(s0, s, side="right") - 1, 0, s0.size - 1)
+        sigma = (s - s0[k])[:, None]
+        kap = kappa[k][:, None]
+        uk, nk = u[k], nrm[k]
+        arc = kap[:, 0] > 0.0
+        phi = sigma * kap
+        c, sn = np.cos(phi), np.sin(phi)
+        # along: sin(k sigma)/k, across: (1 - cos(k sigma))/k; sigma and 0 on a straight piece
+        safe = np.where(arc[:, None], kap, 1.0)
+        along = np.where(arc[:, None], sn / safe, sigma)
+        across = np.where(arc[:, None], 2.0 * np.sin(0.5 * phi) ** 2 / safe, 0.0)
+        r = a0[k] + along * uk + across * nk
+        t = c * uk + sn * nk
+        dt = kap * (c * nk - sn * uk)
+        ddt = -kap * kap * t
+        # heading: exact on each piece, continued from the piece's unwrapped start value
+        raw = np.arctan2(t[:, 1], t[:, 0])
+        psi = psi0[k] + (raw - psi0[k] + np.pi) % (2.0 * np.pi) - np.pi
+        q = t[:, 0] ** 2 + t[:, 1] ** 2
+        num = t[:, 0] * dt[:, 1] - t[:, 1] * dt[:, 0]
+        dnum = t[:, 0] * ddt[:, 1] - t[:, 1] * ddt[:, 0]
+        dq = 2.0 * (t[:, 0] * dt[:, 0] + t[:, 1] * dt[:, 1])
+        dpsi = num / q
+        ddpsi = (dnum * q - num * dq) / (q * q)
+        return RailPoints(r=r, t=t, dt=dt, ddt=ddt, heading=psi, dheading=dpsi, ddheading=ddpsi)
+
+
+def check_rail(points_S, corner_radius_m) -> Rail:
+    """Check a rail's polyline and corner radius; return the :class:`Rail`.
+
+    Parameters
+    ----------
+    points_S : array_like, shape (n_points, 3)
+        The polyline's vertices in S, m; at least 2, finite, consecutive points at least
+        1e-9 m apart.
+    corner_radius_m : float
+        Radius of the arcs rounding the inner corners, m: > 0 if the rail has a corner
+        (>= 0 otherwise).
+
+    Returns
+    -------
+    Rail
+        The rail, its points a read-only float copy.
+
+    Raises
+    ------
+    RailError
+        One line naming the entry: fewer than 2 points, a wrong shape, non-finite values,
+        two consecutive points closer than 1e-9 m, a U-turn (a turn within 1e-6 rad of
+        180 deg), a non-positive radius with a corner, a rounding that does not fit (the
+        tangent lengths ``R tan(theta/2)`` of the corners at a segment's two ends exceed
+        its length; the message names the corner and the largest radius that fits the
+        whole rail), or a rail whose tangent turns vertical (heading undefined).
+    """
+    return Rail(points_S, corner_radius_m)
+
+
+def _checked_rail_input(points_S, corner_radius_m) -> tuple[np.ndarray, float]:
+    try:
+        p = np.array(points_S, dtype=float)
+    except (TypeError, ValueError):
+        raise RailError("must be numbers, shape (n_points, 3)", key="points_S") from None
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise RailError(f"must have shape (n_points, 3), got shape {p.shape}", key="points_S")
+    if p.shape[0] < 2:
+        raise RailError(f"needs at least 2 points, got {p.shape[0]}", key="points_S")
+    bad = np.argwhere(~np.isfinite(p))
+    if bad.size:
+        i, j = bad[0]
+        raise RailError(f"must be finite, got {p[i, j]!r}", key=f"points_S[{i + 1}]")
+    radius = _finite(corner_radius_m, "corner_radius_m")
+    if radius < 0.0:
+        raise RailError(f"must be >= 0, got {radius!r}", key="corner_radius_m")
+    gaps = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    close = np.flatnonzero(gaps < _MIN_SPACING_M)
+    if close.size:
+        i = close[0]
+        raise RailError(
+            f"points {i + 1} and {i + 2} are {gaps[i]!r} m apart, closer than {_MIN_SPACING_M} m",
+            key=f"points_S[{i + 2}]",
+        )
+    p.flags.writeable = False
+    return p, radius
+
+
+def _build_pieces(p: np.ndarray, radius: float):
+    """The rail's pieces (straight, arc, straight, ...), its length and corner count."""
+    d = np.diff(p, axis=0)
+    seg = np.linalg.norm(d, axis=1)
+    u = d / seg[:, None]
+    n_seg = seg.size
+    # the turn at each inner point and its arc's tangent length
+    theta = np.zeros(n_seg + 1)
+    normal = np.zeros((n_seg + 1, 3))
+    for i in range(1, n_seg):
+        a, b = u[i - 1], u[i]
+        cross = np.linalg.norm(np.cross(a, b))
+        dot = float(a @ b)
+        if cross <= _COLLINEAR_SIN and dot > 0.0:
+            continue  # collinear: no arc
+        th = float(np.arctan2(cross, dot))
+        if th > np.pi - _UTURN_RAD:
+            raise RailError(
+                f"the rail turns back on itself at point {i + 1} (a U-turn of {np.degrees(th):.6g} deg)",
+                key=f"points_S[{i + 1}]",
+            )
+        theta[i] = th
+        normal[i] = (b - dot * a) / cross
+    corners = int(np.count_nonzero(theta))
+    if corners and radius <= 0.0:
+        first = int(np.flatnonzero(theta)[0])
+        raise RailError(
+            f"must be > 0: the rail has a corner at point {first + 1} "
+            f"(a turn of {np.degrees(theta[first]):.6g} deg)",
+            key="corner_radius_m",
+        )
+    tan_half = np.tan(0.5 * theta)
+    need = tan_half[:-1] + tan_half[1:]  # per segment: the two tangent lengths over R
+    with np.errstate(divide="ignore"):
+        fits = np.where(need > 0.0, seg / np.where(need > 0.0, need, 1.0), np.inf)
+    over = np.flatnonzero(radius * need > seg * (1.0 + 1e-12))
+    if over.size:
+        i = int(over[0])
+        corner = i if tan_half[i] >= tan_half[i + 1] else i + 1
+        raise RailError(
+            f"the corner at point {corner + 1} cannot be rounded with radius {radius!r} m: the arcs' "
+            f"tangent lengths R tan(theta/2) at points {i + 1} and {i + 2} add up to "
+            f"{radius * need[i]:.6g} m, more than the segment's {seg[i]:.6g} m; "
+            f"the largest radius that fits is {float(fits.min()):.6g} m",
+            key="corner_radius_m",
+        )
+    tangent = radius * tan_half
+    s0, a0, tu, tn, kap = [], [], [], [], []
+    s = 0.0
+    for i in range(n_seg):
+        start = p[i] + tangent[i] * u[i]
+        straight = max(0.0, seg[i] - tangent[i] - tangent[i + 1])
+        s0.append(s), a0.append(start), tu.append(u[i]), tn.append(np.zeros(3)), kap.append(0.0)
+        s += straight
+        if i + 1 < n_seg and theta[i + 1] > 0.0:
+            s0.append(s), a0.append(p[i + 1] - tangent[i + 1] * u[i])
+            tu.append(u[i]), tn.append(normal[i + 1]), kap.append(1.0 / radius)
+            s += radius * theta[i + 1]
+    s0, a0, tu, tn, kap = (np.array(x, dtype=float) for x in (s0, a0, tu, tn, kap))
+    # the tangent's horizontal part along each piece: refuse a rail that turns vertical
+    for k in range(s0.size):
+        low = _least_horizontal(tu[k], tn[k], kap[k] * _piece_length(k, s0, s))
+        if low < _MIN_HORIZONTAL:
+            raise RailError(
+                f"the rail's tangent turns vertical near s = {s0[k]:.6g} m (its horizontal part "
+                f"falls to {low:.3g}); the carriage's heading is undefined there",
+                key="points_S",
+            )
+    # heading at each piece's start, unwrapped along the rail (the tangent is continuous)
+    psi0 = np.empty(s0.size)
+    psi = float(np.arctan2(tu[0, 1], tu[0, 0]))
+    for k in range(s0.size):
+        raw = np.arctan2(tu[k, 1], tu[k, 0])
+        psi = psi + (raw - psi + np.pi) % (2.0 * np.pi) - np.pi
+        psi0[k] = psi
+        if kap[k] > 0.0:  # carry the heading across the arc
+            phi = kap[k] * _piece_length(k, s0, s)
+            end = np.cos(phi) * tu[k] + np.sin(phi) * tn[k]
+            psi = _continued(psi, end)
+    pieces = (s0, a0, tu, tn, kap, psi0)
+    for x in pieces:
+        x.flags.writeable = False
+    return pieces, float(s), corners
+
+
+def _piece_length(k: int, s0: np.ndarray, total: float) -> float:
+    return (s0[k + 1] if k + 1 < s0.size else total) - s0[k]
+
+
+def _continued(psi: float, end: np.ndarray) -> float:
+    """The unwrapped heading of tangent ``end`` at an arc's end from ``psi`` at its start:
+    the horizontal tangent turns by less than pi along an arc of turn below pi, so the
+    wrapped difference is the turn."""
+    raw = np.arctan2(end[1], end[0])
+    return psi + (raw - psi + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def _least_horizontal(u: np.ndarray, n: np.ndarray, phi: float) -> float:
+    """Least horizontal norm of ``cos(f) u + sin(f) n`` over ``f`` in ``[0, phi]``."""
+    a = u[0] ** 2 + u[1] ** 2
+    c = n[0] ** 2 + n[1] ** 2
+    b = u[0] * n[0] + u[1] * n[1]
+    cands = [0.0, phi]
+    f = 0.5 * np.arctan2(2.0 * b, a - c)  # stationary points of the quadratic form
+    for g in (f, f + 0.5 * np.pi, f + np.pi, f - 0.5 * np.pi):
+        if 0.0 <= g <= phi:
+            cands.append(g)
+    vals = [a * np.cos(g) ** 2 + 2.0 * b * np.cos(g) * np.sin(g) + c * np.sin(g) ** 2 for g in cands]
+    return float(np.sqrt(max(min(vals), 0.0)))
+
+
+def check_stations(rail: Rail, stations_m) -> np.ndarray:
+    """Check the carriage's stations against a rail.
+
+    Parameters
+    ----------
+    rail : Rail
+        The rail.
+    stations_m : array_like, shape (m,)
+        Arc lengths along the rail where the carriage stops, m, finite, in
+        ``[0, rail.length_m]`` (values within 1e-9 m outside are clipped).
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        The stations, m.
+
+    Raises
+    ------
+    RailError
+        One line naming the stations outside the rail (counted from 1) and its length.
+    """
+    st = _vector(stations_m, "stations_m")
+    length = rail.length_m
+    out = np.flatnonzero((st < -_S_TOL_M) | (st > length + _S_TOL_M))
+    if out.size:
+        raise RailError(
+            f"stations outside the rail's [0, {length!r}] m: {_listed(st, out)}", key="stations_m"
+        )
+    return np.clip(st, 0.0, length)
+
+
+# --- the carriage's motion --------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Move:
+    """A rest-to-rest jerk-limited (double-S, 7-phase) move.
+
+    Attributes
+    ----------
+    distance_m : float
+        Signed distance, m (negative: a move backwards).
+    duration_s : float
+        Its duration, s (the sum of the phases).
+    phases_s : tuple of 7 float
+        The phases' durations, s: ``(Tj, Ta - 2Tj, Tj, Tv, Tj, Ta - 2Tj, Tj)`` with
+        Biagiotti & Melchiorri's ``Tj`` (jerk), ``Ta`` (acceleration; equal to the
+        deceleration ``Td`` rest to rest) and ``Tv`` (constant speed).
+    jerk : float
+        The jerk's magnitude, m/s^3 (``j_max``); its sign per phase is
+        ``+, 0, -, 0, -, 0, +`` times the sign of ``distance_m``.
+    """
+
+    distance_m: float
+    duration_s: float
+    phases_s: tuple
+    jerk: float
+
+
+_JERK_SIGNS = np.array([1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 1.0])
+
+
+def scurve_move(distance_m, v_max, a_max, j_max) -> Move:
+    """The time-optimal rest-to-rest double-S move over a distance.
+
+    Biagiotti & Melchiorri (2008), sec. 3.4 with ``v0 = v1 = 0``: first assume ``v_max``
+    is reached (``Tj = a_max/j_max, Ta = Tj + v_max/a_max`` if ``v_max j_max >= a_max^2``,
+    else ``Tj = sqrt(v_max/j_max), Ta = 2 Tj``; ``Tv = h/v_max - Ta``); if ``Tv < 0``,
+    ``v_max`` is not reached: ``Tv = 0``, ``Tj = a_max/j_max`` and
+    ``Ta = (a_max^2/j_max + sqrt(a_max^4/j_max^2 + 4 h a_max)) / (2 a_max)``; if then
+    ``Ta < 2 Tj``, ``a_max`` is not reached either: ``Tj = (h / (2 j_max))^(1/3)``,
+    ``Ta = 2 Tj``.
+
+    Parameters
+    ----------
+    distance_m : float
+        Signed distance, m; 0 gives a move of duration 0; a negative one the same phases
+        with the signs flipped.
+    v_max, a_max, j_max : float
+        Limits on the speed (m/s), acceleration (m/s^2) and jerk (m/s^3), > 0.
+
+    Returns
+    -------
+    Move
+        The move's phases and jerk.
+
+    Raises
+    ------
+    RailError
+        One line: a non-finite distance or a limit not finite and > 0.
+    """
+    h_signed = _finite(distance_m, "distance_m")
+    v = _positive(v_max, "v_max")
+    a = _positive(a_max, "a_max")
+    j = _positive(j_max, "j_max")
+    h = abs(h_signed)
+    if h == 0.0:
+        return Move(distance_m=h_signed, duration_s=0.0, phases_s=(0.0,) * 7, jerk=j)
+    if v * j >= a * a:
+        tj, ta = a / j, a / j + v / a
+    else:
+        tj = float(np.sqrt(v / j))
+        ta = 2.0 * tj
+    tv = h / v - ta
+    if tv < 0.0:
+        tv = 0.0
+        tj = a / j
+        ta = (a * a / j + np.sqrt((a * a / j) ** 2 + 4.0 * h * a)) / (2.0 * a)
+        if ta < 2.0 * tj:
+            tj = float(np.cbrt(h / (2.0 * j)))
+            ta = 2.0 * tj
+    const = max(0.0, ta - 2.0 * tj)
+    phases = (tj, const, tj, tv, tj, const, tj)
+    phases = tuple(float(x) for x in phases)
+    return Move(distance_m=h_signed, duration_s=float(sum(phases)), phases_s=phases, jerk=j)
+
+
+def _dwells(dwell_s, n: int) -> np.ndarray:
+    if np.ndim(dwell_s) == 0:
+        d = np.full(n, _finite(dwell_s, "dwell_s"))
+    else:
+        d = _vector(dwell_s, "dwell_s")
+        if d.size != n:
+            raise RailError(f"must be a number or one per station ({n}), got {d.size}", key="dwell_s")
+    neg = np.flatnonzero(d < 0.0)
+    if neg.size:
+        key = "dwell_s" if np.ndim(dwell_s) == 0 else f"dwell_s[{neg[0] + 1}]"
+        raise RailError(f"must be >= 0, got {d[neg[0]]!r}", key=key)
+    return d
+
+
+def _phase_table(stations_m, dwell_s, v_max, a_max, j_max):
+    """The profile's constant-jerk phases: start time (s), and s (m), speed (m/s),
+    acceleration (m/s^2) at the start, jerk (m/s^3); the last phase is the final rest.
+    Also the schedule (arrival, departure) per station, shape (m, 2), s."""
+    st = _vector(stations_m, "stations_m")
+    dwell = _dwells(dwell_s, st.size)
+    moves = [scurve_move(st[i + 1] - st[i], v_max, a_max, j_max) for i in range(st.size - 1)]
+    start, s0, v0, a0, jerk = [], [], [], [], []
+    schedule = np.empty((st.size, 2))
+    time = 0.0
+    for i in range(st.size):
+        schedule[i, 0] = time
+        start.append(time), s0.append(st[i]), v0.append(0.0), a0.append(0.0), jerk.append(0.0)
+        time += dwell[i]
+        schedule[i, 1] = time
+        if i + 1 == st.size:
+            break
+        m = moves[i]
+        sign = np.sign(m.distance_m)
+        s, v, a = float(st[i]), 0.0, 0.0
+        for dt, jsign in zip(m.phases_s, _JERK_SIGNS):
+            if dt == 0.0:
+                continue
+            jj = sign * jsign * m.jerk + 0.0  # no -0.0 on the coasting phases
+            start.append(time), s0.append(s), v0.append(v), a0.append(a), jerk.append(jj)
+            s += dt * (v + dt * (0.5 * a + dt * jj / 6.0))
+            v += dt * (a + 0.5 * dt * jj)
+            a += dt * jj
+            time += dt
+    table = tuple(np.array(x, dtype=float) for x in (start, s0, v0, a0, jerk))
+    return table, schedule
+
+
+def carriage_profile(stations_m, dwell_s, v_max, a_max, j_max, t):
+    """The carriage's arc length along the rail and its derivatives at times ``t``.
+
+    The carriage rests at ``stations_m[0]`` for ``dwell[0]``, moves to ``stations_m[1]``
+    (a :func:`scurve_move`), rests there for ``dwell[1]``, and so on; after its last dwell
+    it rests at the last station for ever. Each phase is evaluated exactly (a cubic in time)
+    from its start state; during a dwell ``s`` is the station exactly.
+
+    Parameters
+    ----------
+    stations_m : array_like, shape (m,)
+        Arc lengths of the stations in visiting order, m (any order, repeats allowed; check
+        them against the rail with :func:`check_stations`).
+    dwell_s : float or array_like, shape (m,)
+        Rest at each station, s, >= 0: one figure for every station or one per station.
+    v_max, a_max, j_max : float
+        The carriage's limits on speed (m/s), acceleration (m/s^2), jerk (m/s^3), > 0.
+    t : array_like, shape (n,)
+        Times from the profile's start, s, finite, >= 0 (any order).
+
+    Returns
+    -------
+    s, s_dot, s_ddot, s_dddot : ndarray, shape (n,)
+        Arc length (m), speed (m/s), acceleration (m/s^2) and jerk (m/s^3) along the rail.
+        At a phase switch the phase that starts there is used (the jerk jumps there).
+
+    Raises
+    ------
+    RailError
+        One line: non-finite values, a limit not > 0, a negative dwell, a wrong count of
+        dwells, or times before 0.
+    """
+    (start, s0, v0, a0, jerk), _ = _phase_table(stations_m, dwell_s, v_max, a_max, j_max)
+    t = _vector(t, "t")
+    early = np.flatnonzero(t < 0.0)
+    if early.size:
+        raise RailError(f"times before 0: {_listed(t, early)}", key="t")
+    k = np.searchsorted(start, t, side="right") - 1
+    tau = t - start[k]
+    j = jerk[k]
+    s = s0[k] + tau * (v0[k] + tau * (0.5 * a0[k] + tau * j / 6.0))
+    v = v0[k] + tau * (a0[k] + 0.5 * tau * j)
+    a = a0[k] + tau * j
+    return s, v, a, j.copy()
+
+
+def profile_schedule(stations_m, dwell_s, v_max, a_max, j_max) -> np.ndarray:
+    """When the carriage arrives at and leaves each station.
+
+    Parameters
+    ----------
+    stations_m, dwell_s, v_max, a_max, j_max
+        As for :func:`carriage_profile`.
+
+    Returns
+    -------
+    ndarray, shape (m, 2)
+        Row ``i``: ``[arrival, departure]`` at station ``i``, s. The dwell at station ``i``
+        starts at ``[i, 0]``; the move to station ``i + 1`` starts at ``[i, 1]`` and ends at
+        ``[i + 1, 0]``. ``[0, 0]`` is 0; after ``[m - 1, 1]`` the carriage rests for ever.
+    """
+    _, schedule = _phase_table(stations_m, dwell_s, v_max, a_max, j_max)
+    return schedule
