@@ -85,13 +85,13 @@ def _vector(values, name: str) -> np.ndarray:
     a = np.atleast_1d(a)
     bad = np.flatnonzero(~np.isfinite(a))
     if bad.size:
-        raise RailError(f"must be finite, got {a[bad[0]]!r}", key=f"{name}[{bad[0] + 1}]")
+        raise RailError(f"must be finite, got {float(a[bad[0]])!r}", key=f"{name}[{bad[0] + 1}]")
     return a
 
 
 def _listed(values: np.ndarray, idx: np.ndarray, limit: int = 3) -> str:
     """``[i]=v`` for the first few offending entries (counted from 1), and how many more."""
-    items = ", ".join(f"[{i + 1}]={values[i]!r}" for i in idx[:limit])
+    items = ", ".join(f"[{i + 1}]={float(values[i])!r}" for i in idx[:limit])
     more = f" and {idx.size - limit} more" if idx.size > limit else ""
     return items + more
 
@@ -273,7 +273,7 @@ def _checked_rail_input(points_S, corner_radius_m) -> tuple[np.ndarray, float]:
     bad = np.argwhere(~np.isfinite(p))
     if bad.size:
         i, j = bad[0]
-        raise RailError(f"must be finite, got {p[i, j]!r}", key=f"points_S[{i + 1}]")
+        raise RailError(f"must be finite, got {float(p[i, j])!r}", key=f"points_S[{i + 1}]")
     radius = _finite(corner_radius_m, "corner_radius_m")
     if radius < 0.0:
         raise RailError(f"must be >= 0, got {radius!r}", key="corner_radius_m")
@@ -527,7 +527,7 @@ def _dwells(dwell_s, n: int) -> np.ndarray:
     neg = np.flatnonzero(d < 0.0)
     if neg.size:
         key = "dwell_s" if np.ndim(dwell_s) == 0 else f"dwell_s[{neg[0] + 1}]"
-        raise RailError(f"must be >= 0, got {d[neg[0]]!r}", key=key)
+        raise RailError(f"must be >= 0, got {float(d[neg[0]])!r}", key=key)
     return d
 
 
