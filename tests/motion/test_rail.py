@@ -229,13 +229,18 @@ def test_collinear_points_and_a_straight_rail():
 def test_the_largest_radius_that_fits_is_named_and_fits():
     """Two right-angle turns 4 m apart: the tangent lengths R tan 45 deg add up to 2R, so
     R = 2 m is the largest that fits; 2.1 m is refused naming the corner and 2 m, and
-    2 m itself gives a rail with no straight piece between the arcs (length 10+4+10-8+2pi)."""
+    2 m itself gives a rail with no straight piece between the arcs (length 10+4+10-8+2pi).
+    A radius quoted in the message (rounded down to 6 digits) fits (a 60 deg turn here)."""
     pts = [[0, 0, 0], [10, 0, 0], [10, 4, 0], [20, 4, 0]]
-    with pytest.raises(RailError, match=r"corner at point 2 .*largest radius that fits is 2 m") as e:
+    with pytest.raises(RailError, match=r"corner at point 2 .*largest radius that fits is 2.0 m") as e:
         check_rail(pts, 2.1)
     assert "\n" not in str(e.value)
     rail = check_rail(pts, 2.0)
     assert rail.length_m == pytest.approx(24.0 - 8.0 + 2 * np.pi, rel=1e-15)
+    pts = [[0, 0, 0], [10, 0, 0], [15, 5 * np.sqrt(3), 0]]  # fits R tan 30 deg <= 10
+    with pytest.raises(RailError, match=r"largest radius that fits is 17.3205 m") as e:
+        check_rail(pts, 20.0)
+    assert check_rail(pts, 17.3205).least_radius_m == 17.3205
 
 
 @pytest.mark.parametrize(
@@ -249,8 +254,10 @@ def test_the_largest_radius_that_fits_is_named_and_fits():
         ([[0, 0, 0], [1, 0, 0], [1, 1, 0]], 0.0, r"corner_radius_m: must be > 0: the rail has a corner at point 2"),
         ([[0, 0, 0], [1, 0, 0]], -1.0, r"corner_radius_m: must be >= 0"),
         ([[0, 0, 0], [1, 0, 0]], np.inf, r"corner_radius_m: must be finite"),
-        ([[0, 0, 0], [1, 0, 0], [1, 0, 5]], 0.5, r"tangent turns vertical"),
-        ([[0, 0, 0], [10, 0, 0], [10, 10, 0]], 10.5, r"largest radius that fits is 10 m"),
+        ([[0, 0, 0], [1, 0, 0], [1, 0, 5]], 0.5, r"tangent turns vertical near s = 0.5 m"),
+        # an arc from (1, 0, 1) to (-1, 0, 1): vertical at its middle only
+        ([[0, 0, 0], [10, 0, 10], [0, 0, 20]], 1.0, r"tangent turns vertical near s = 13.1421 m"),
+        ([[0, 0, 0], [10, 0, 0], [10, 10, 0]], 10.5, r"largest radius that fits is 10.0 m"),
     ],
 )
 def test_bad_rails_are_refused_in_one_line(points, radius, pattern):
@@ -451,6 +458,8 @@ def test_the_profile_does_not_depend_on_the_order_of_times():
         (dict(dwell_s=[1.0, 2.0]), r"dwell_s: must be a number or one per station \(3\), got 2"),
         (dict(dwell_s=[1.0, -2.0, 0.0]), r"dwell_s\[2\]: must be >= 0"),
         (dict(t=[0.0, -0.1]), r"t: times before 0: \[2\]=-0.1"),
+        (dict(stations_m=[]), r"stations_m: needs at least 1 station"),
+        (dict(stations_m=[[0.0, 1.0]]), r"stations_m: must be one-dimensional"),
     ],
 )
 def test_bad_profiles_are_refused_in_one_line(args, pattern):

@@ -332,7 +332,7 @@ def _build_pieces(p: np.ndarray, radius: float):
             f"the corner at point {corner + 1} cannot be rounded with radius {radius!r} m: the arcs' "
             f"tangent lengths R tan(theta/2) at points {i + 1} and {i + 2} add up to "
             f"{radius * need[i]:.6g} m, more than the segment's {seg[i]:.6g} m; "
-            f"the largest radius that fits is {float(fits.min()):.6g} m",
+            f"the largest radius that fits is {_round_down(float(fits.min()))!r} m",
             key="corner_radius_m",
         )
     tangent = radius * tan_half
@@ -372,6 +372,12 @@ def _build_pieces(p: np.ndarray, radius: float):
     for x in pieces:
         x.flags.writeable = False
     return pieces, float(s), corners
+
+
+def _round_down(x: float, digits: int = 6) -> float:
+    """``x > 0`` rounded down to ``digits`` significant digits (a radius quoted that fits)."""
+    scale = 10.0 ** (digits - 1 - int(np.floor(np.log10(x))))
+    return float(np.floor(x * scale * (1.0 + 1e-15)) / scale)
 
 
 def _piece_length(k: int, s0: np.ndarray, total: float) -> float:
@@ -536,6 +542,8 @@ def _phase_table(stations_m, dwell_s, v_max, a_max, j_max):
     acceleration (m/s^2) at the start, jerk (m/s^3); the last phase is the final rest.
     Also the schedule (arrival, departure) per station, shape (m, 2), s."""
     st = _vector(stations_m, "stations_m")
+    if st.size == 0:
+        raise RailError("needs at least 1 station, got none", key="stations_m")
     dwell = _dwells(dwell_s, st.size)
     moves = [scurve_move(st[i + 1] - st[i], v_max, a_max, j_max) for i in range(st.size - 1)]
     start, s0, v0, a0, jerk = [], [], [], [], []
