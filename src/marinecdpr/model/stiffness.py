@@ -390,7 +390,7 @@ class PlanStiffness:
 
 def _ship_of(plan, scenario: "Scenario") -> ShipMotion:
     if getattr(plan, "base_model", "moving") == "fixed":
-        return fixed_ship_motion(scenario, plan.t.size)
+        return fixed_ship_motion(scenario, plan.t)
     return frame_ship_motion(scenario, plan.t)
 
 

@@ -12,6 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.carriage import carriage_motion, carried_motion
 from marinecdpr.motion.ship import (
     ShipMotion, frame_axes, frame_origin_in_axes, in_frame_axes, ship_motion, still_ship,
 )
@@ -30,23 +31,37 @@ def seen_by_frame(ship: ShipMotion, scenario) -> ShipMotion:
 
 
 def frame_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
-    """The scenario's base motion at times ``t`` as its robot's models take it (:func:`seen_by_frame`)."""
-    return seen_by_frame(evaluate_base_motion(scenario.base_motion, t), scenario)
+    """The scenario's base motion at times ``t`` as its robot's models take it: seen in the
+    frame's axes (:func:`seen_by_frame`), or, for a frame carried on a rail
+    (``[ship.carriage]``), the motion of C itself, the ship's composed with the carriage's
+    (:func:`~marinecdpr.motion.carriage.carried_motion`; C's origin then at
+    :func:`frame_origin_of`'s zero)."""
+    ship = evaluate_base_motion(scenario.base_motion, t)
+    if scenario.ship.carriage is None:
+        return seen_by_frame(ship, scenario)
+    return carried_motion(ship, *carriage_motion(scenario.ship, t))
 
 
 def frame_origin_of(scenario) -> np.ndarray:
     """C's origin where the models take it, shape (3,), m: in S, or in S' (S's origin, C's
-    axes) where the frame is turned on the ship (:func:`~marinecdpr.motion.ship.frame_origin_in_axes`)."""
+    axes) where the frame is turned on the ship (:func:`~marinecdpr.motion.ship.frame_origin_in_axes`);
+    zero for a frame on a carriage, whose own motion the models take."""
     ship = scenario.ship
+    if ship.carriage is not None:  # the models take C's own motion (frame_ship_motion)
+        return np.zeros(3)
     if not ship.turned:
         return np.asarray(ship.frame_origin_m, dtype=float)
     return frame_origin_in_axes(ship.frame_origin_m, ship.frame_orientation_deg)
 
 
-def fixed_ship_motion(scenario, n_steps: int) -> ShipMotion:
-    """The fixed-base model's ship (at rest, S on O) as the scenario's robot sees it: turned
-    by the frame's orientation, so that gravity keeps its direction in C."""
-    return seen_by_frame(still_ship(n_steps), scenario)
+def fixed_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
+    """The fixed-base model's ship (at rest, S on O) at times ``t`` as the scenario's robot sees
+    it: turned by the frame's orientation, so that gravity keeps its direction in C; a frame on
+    a carriage still runs along its rail."""
+    t = np.asarray(t, dtype=float)
+    if scenario.ship.carriage is None:
+        return seen_by_frame(still_ship(t.size), scenario)
+    return carried_motion(still_ship(t.size), *carriage_motion(scenario.ship, t))
 
 
 def evaluate_base_motion(

@@ -16,7 +16,8 @@ import numpy as np
 
 from marinecdpr.geometry.rotations import euler_from_matrix, euler_kinematics
 
-__all__ = ["ShipMotion", "ship_motion", "still_ship", "frame_axes", "frame_origin_in_axes", "in_frame_axes"]
+__all__ = ["ShipMotion", "ship_motion", "still_ship", "frame_axes", "frame_origin_in_axes", "in_frame_axes",
+           "body_motion"]
 
 
 @dataclass(frozen=True)
@@ -128,11 +129,33 @@ def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
     R_SC = np.asarray(R_SC, dtype=float)
     if np.array_equal(R_SC, np.eye(3)):
         return ship
-    angles = euler_from_matrix(ship.R_SO @ R_SC)
+    return body_motion(ship.eta[:, :3], ship.eta_dot[:, :3], ship.eta_ddot[:, :3], ship.R_SO @ R_SC,
+                       ship.omega_SO_S @ R_SC, ship.alpha_SO_S @ R_SC)  # rows: (R_SC^T w)^T
+
+
+def body_motion(x_O: np.ndarray, v_O: np.ndarray, a_O: np.ndarray, R_BO: np.ndarray, omega_B: np.ndarray,
+                alpha_B: np.ndarray) -> ShipMotion:
+    """A rigid body's motion as a :class:`ShipMotion` (the body in the ship's place), from its
+    origin's motion and its rotation, angular velocity and acceleration.
+
+    eta carries the Euler angles of R_BO (roll and yaw unwrapped over time) and their exact
+    rates and accelerations (from omega_b = E(angles) rates and alpha_b = E rates' + (dE/dt)
+    rates), so that :func:`ship_motion` of eta gives back R_BO, omega and alpha (a prescribed
+    body such as MuJoCo's ship is driven by eta).
+
+    Parameters
+    ----------
+    x_O, v_O, a_O : ndarray, shape (n_steps, 3)
+        The body's origin in O, its velocity and acceleration, m, m/s, m/s^2.
+    R_BO : ndarray, shape (n_steps, 3, 3)
+        R_B^O: the body's axes in O.
+    omega_B, alpha_B : ndarray, shape (n_steps, 3)
+        Its angular velocity (rad/s) and acceleration (rad/s^2) relative to O, in the body's axes.
+    """
+    angles = euler_from_matrix(R_BO)
     angles[:, [0, 2]] = np.unwrap(angles[:, [0, 2]], axis=0)  # roll and yaw continuous over time
     phi, theta = angles[:, 0], angles[:, 1]
-    w = ship.omega_SO_S @ R_SC  # rows: (R_SC^T w)^T
-    a = ship.alpha_SO_S @ R_SC
+    w, a = omega_B, alpha_B
     c1, s1, c2, s2 = np.cos(phi), np.sin(phi), np.cos(theta), np.sin(theta)
     E = np.zeros((phi.size, 3, 3))  # omega_b = E (phi', theta', psi')
     E[:, 0, 0], E[:, 0, 2] = 1.0, -s2
@@ -141,7 +164,7 @@ def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
     rates = np.linalg.solve(E, w[:, :, None])[:, :, 0]
     bias = euler_kinematics(angles, rates, np.zeros_like(rates)).alpha_b  # (dE/dt) rates
     accels = np.linalg.solve(E, (a - bias)[:, :, None])[:, :, 0]
-    eta = np.concatenate([ship.eta[:, :3], angles], axis=1)
-    eta_dot = np.concatenate([ship.eta_dot[:, :3], rates], axis=1)
-    eta_ddot = np.concatenate([ship.eta_ddot[:, :3], accels], axis=1)
+    eta = np.concatenate([x_O, angles], axis=1)
+    eta_dot = np.concatenate([v_O, rates], axis=1)
+    eta_ddot = np.concatenate([a_O, accels], axis=1)
     return ship_motion(eta, eta_dot, eta_ddot)

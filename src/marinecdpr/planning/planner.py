@@ -395,7 +395,7 @@ def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
     robot = scenario.robot
     platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
     if base_model == "fixed":
-        ship = fixed_ship_motion(scenario, t.size)
+        ship = fixed_ship_motion(scenario, t)
     elif ship is None:
         ship = frame_ship_motion(scenario, t)
     twist = platform.twist

@@ -65,7 +65,8 @@ def hull_box(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, str] | None:
 def plausibility_warnings(scenario: Scenario) -> list[str]:
     """One-line warnings where a value is implausible for the robot's and the ship's own sizes.
 
-    * The frame's origin in S (``ship.frame_origin_m``) outside the box the hull fills
+    * The frame's origin in S (``ship.frame_origin_m``, or the first of a carriage's rail
+      points, ``ship.carriage.rail_m``) outside the box the hull fills
       (:func:`hull_box`) by more than :data:`HULL_MARGIN_SHARE` of the hull's length or the
       frame's size, whichever is more: the robot is not on that ship (a position in mm, or in
       another ship's axes).
@@ -90,15 +91,20 @@ def plausibility_warnings(scenario: Scenario) -> list[str]:
     box = hull_box(scenario)
     if box is not None:
         lo, hi, what = box
-        origin = np.asarray(scenario.ship.frame_origin_m, dtype=float)
+        carriage = scenario.ship.carriage
+        places = ([("ship.frame_origin_m", scenario.ship.frame_origin_m)] if carriage is None else
+                  [(f"ship.carriage.rail_m[{i}]", p) for i, p in enumerate(carriage.rail_m, start=1)])
         frame = float(np.ptp(robot.frame_anchors, axis=0).max())
         margin = max(HULL_MARGIN_SHARE * float(hi[0] - lo[0]), frame)
-        outside = np.maximum(lo - origin, origin - hi).max()
-        if outside > margin:
-            out.append(f"ship.frame_origin_m = [{', '.join(f'{v:g}' for v in origin)}] m lies {outside:.4g} m outside "
-                       f"the hull of {what} (S's origin amidships on the waterline; the hull spans x "
-                       f"{lo[0]:g} to {hi[0]:g} m, y {lo[1]:.4g} to {hi[1]:.4g} m, z {lo[2]:g} to {hi[2]:.4g} m): "
-                       f"the frame's origin in S is in metres, where the robot stands on this hull")
+        for key, place in places:
+            origin = np.asarray(place, dtype=float)
+            outside = np.maximum(lo - origin, origin - hi).max()
+            if outside > margin:
+                out.append(f"{key} = [{', '.join(f'{v:g}' for v in origin)}] m lies {outside:.4g} m outside "
+                           f"the hull of {what} (S's origin amidships on the waterline; the hull spans x "
+                           f"{lo[0]:g} to {hi[0]:g} m, y {lo[1]:.4g} to {hi[1]:.4g} m, z {lo[2]:g} to {hi[2]:.4g} m): "
+                           f"the frame's origin in S is in metres, where the robot stands on this hull")
+                break
     reach = float(np.linalg.norm(robot.platform_anchors, axis=1).max())
     moments = np.linalg.eigvalsh(0.5 * (robot.inertia + robot.inertia.T))
     k = float(np.sqrt(max(float(moments.max()), 0.0) / robot.mass_kg))

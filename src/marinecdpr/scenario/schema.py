@@ -15,6 +15,7 @@ from pydantic import (
     model_validator,
 )
 
+from marinecdpr.scenario.carriage import Carriage
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
 from marinecdpr.scenario.fields import (
     MOVE_MIN_S, POSITION_MAX_M, TIME_MAX_S, Force, HullBeam, HullDraught, HullLength, Moment, Orientation, Phase,
@@ -31,7 +32,18 @@ class Ship(_Model):
     """Origin of the robot frame C in the ship frame S, m."""
     frame_orientation_deg: Orientation = (0.0, 0.0, 0.0)
     """C's axes in S: roll, pitch and yaw as the ship's own angles (R_SC = Rz Ry Rx), deg
-    (a frame leaning with a flared side, turned with the hull's curve; default S's axes)."""
+    (a frame leaning with a flared side, turned with the hull's curve; default S's axes). With a
+    carriage, C's axes at the rail's start: they turn with the rail's heading from there."""
+    carriage: Carriage | None = None
+    """A rail that carries the frame along the ship (:mod:`marinecdpr.scenario.carriage`); none:
+    the frame stands at ``frame_origin_m``."""
+
+    @model_validator(mode="after")
+    def _check_carriage(self) -> "Ship":
+        if self.carriage is not None and any(v != 0.0 for v in self.frame_origin_m):
+            raise _KeyedError("frame_origin_m", "the carriage carries C's origin along ship.carriage.rail_m: "
+                                                "leave frame_origin_m out (or at [0, 0, 0])")
+        return self
 
     @property
     def turned(self) -> bool:

@@ -1,0 +1,155 @@
+"""A frame carried along the ship: C's motion in O, the ship's composed with the carriage's.
+
+Without a carriage C stands still on S (``ship.frame_origin_m``, ``frame_orientation_deg``)
+and the models take the ship's motion and C's constant place on it. With one, C's place and
+axes on S change with time, and the models take C's own motion in O instead (a
+:class:`~marinecdpr.motion.ship.ShipMotion` of the body C, whose origin is C's: the frame
+then stands at its own origin, ``frame_origin_S = 0``). For C at r_SC(t) on S with axes
+R_SC(t), moving relative to S with v = dr/dt, a = d2r/dt2 (in S) and angular velocity and
+acceleration omega_CS, alpha_CS (relative to S, in C), and the ship's omega, alpha (in S):
+
+    x_OC   = x_OS + R_OS r
+    v_OC   = v_OS + R_OS (omega x r + v)
+    a_OC   = a_OS + R_OS (alpha x r + omega x (omega x r) + 2 omega x v + a)
+             (the transport, centripetal and Coriolis terms of the ship's rotation)
+    R_OC   = R_OS R_SC
+    omega_C = R_SC^T omega + omega_CS
+    alpha_C = R_SC^T alpha + (R_SC^T omega) x omega_CS + alpha_CS
+
+On a rail (:mod:`marinecdpr.motion.rail`) at arc length s(t), r = rail(s), v = t s', a =
+(dt/ds) s'^2 + t s''; C's axes turn about S's z with the rail's heading psi(s) (its lean
+kept): R_SC = Rz(psi(s) - psi(0)) R_SC0, so omega_CS = R_SC^T z psi' s' and alpha_CS =
+R_SC^T z (psi'' s'^2 + psi' s'').
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from marinecdpr.motion.ship import ShipMotion, body_motion
+
+if TYPE_CHECKING:
+    from marinecdpr.motion.rail import Rail
+
+__all__ = ["carried_motion", "on_rail", "rail_of", "carriage_motion"]
+
+
+def _rz(angle: np.ndarray) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    R = np.zeros(angle.shape + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
+    return R
+
+
+def on_rail(points, s_dot: np.ndarray, s_ddot: np.ndarray, R_SC0: np.ndarray, heading0: float
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """C's motion relative to S, carried along a rail with its axes turned by the rail's heading.
+
+    Parameters
+    ----------
+    points : RailPoints
+        The rail at the carriage's arc lengths s(t) (:meth:`~marinecdpr.motion.rail.Rail.at`),
+        n_steps of them: r (m), t, dt (1/m), heading (rad) and its derivatives along s.
+    s_dot, s_ddot : ndarray, shape (n_steps,)
+        The carriage's speed (m/s) and acceleration (m/s^2) along the rail.
+    R_SC0 : ndarray, shape (3, 3)
+        C's axes in S at the rail's start (``ship.frame_orientation_deg``: the frame's lean).
+    heading0 : float
+        The rail's heading at its start, rad: C's axes are R_SC0 there.
+
+    Returns
+    -------
+    r_S, v_S, a_S : ndarray, shape (n_steps, 3)
+        C's origin on S, its velocity and acceleration relative to S, in S: m, m/s, m/s^2.
+    R_SC : ndarray, shape (n_steps, 3, 3)
+    omega_CS_C, alpha_CS_C : ndarray, shape (n_steps, 3)
+        C's angular velocity (rad/s) and acceleration (rad/s^2) relative to S, in C.
+    """
+    s_dot = np.asarray(s_dot, dtype=float)
+    s_ddot = np.asarray(s_ddot, dtype=float)
+    v = points.t * s_dot[:, None]
+    a = points.dt * (s_dot * s_dot)[:, None] + points.t * s_ddot[:, None]
+    R_SC = _rz(points.heading - heading0) @ R_SC0
+    z_C = R_SC[:, 2, :]  # rows: R_SC^T z, S's z in C
+    omega = z_C * (points.dheading * s_dot)[:, None]
+    alpha = z_C * (points.ddheading * s_dot * s_dot + points.dheading * s_ddot)[:, None]
+    return points.r, v, a, R_SC, omega, alpha
+
+
+def carried_motion(ship: ShipMotion, r_S: np.ndarray, v_S: np.ndarray, a_S: np.ndarray, R_SC: np.ndarray,
+                   omega_CS_C: np.ndarray, alpha_CS_C: np.ndarray) -> ShipMotion:
+    """C's motion in O: the ship's motion composed with C's motion on the ship (the module's equations).
+
+    Parameters
+    ----------
+    ship : ShipMotion
+        S's motion in O, n_steps samples.
+    r_S, v_S, a_S : ndarray, shape (n_steps, 3)
+        C's origin on S and its velocity and acceleration relative to S, in S (m, m/s, m/s^2).
+    R_SC : ndarray, shape (n_steps, 3, 3)
+        C's axes in S.
+    omega_CS_C, alpha_CS_C : ndarray, shape (n_steps, 3)
+        C's angular velocity and acceleration relative to S, in C (rad/s, rad/s^2).
+
+    Returns
+    -------
+    ShipMotion
+        The motion of the body C (origin C's, axes C's) as the models take a ship's: its eta
+        is C's origin in O and the Euler angles of R_OC, with their exact derivatives.
+    """
+    R_OS = ship.R_SO  # R_S^O
+    w, al = ship.omega_SO_S, ship.alpha_SO_S
+    x = ship.eta[:, :3] + np.einsum("nij,nj->ni", R_OS, r_S)
+    w_r = np.cross(w, r_S)
+    v = ship.eta_dot[:, :3] + np.einsum("nij,nj->ni", R_OS, w_r + v_S)
+    rel = np.cross(al, r_S) + np.cross(w, w_r) + 2.0 * np.cross(w, v_S) + a_S
+    a = ship.eta_ddot[:, :3] + np.einsum("nij,nj->ni", R_OS, rel)
+    R_OC = R_OS @ R_SC
+    w_C = np.einsum("nji,nj->ni", R_SC, w)  # R_SC^T omega
+    omega_C = w_C + omega_CS_C
+    alpha_C = np.einsum("nji,nj->ni", R_SC, al) + np.cross(w_C, omega_CS_C) + alpha_CS_C
+    return body_motion(x, v, a, R_OC, omega_C, alpha_C)
+
+
+def rail_of(ship) -> "Rail":
+    """The rail of a scenario's ``[ship.carriage]``, checked (:func:`~marinecdpr.motion.rail.check_rail`);
+    a rail that cannot be built raises the ScenarioError naming the key."""
+    from marinecdpr.errors import ScenarioError
+    from marinecdpr.motion.rail import RailError, check_rail, check_stations
+
+    c = ship.carriage
+    try:
+        rail = check_rail(np.asarray(c.rail_m, dtype=float), c.corner_radius_m)
+    except RailError as e:
+        raise ScenarioError(str(e), key="ship.carriage.rail_m") from None
+    try:
+        check_stations(rail, np.asarray(c.stations_m, dtype=float))
+    except RailError as e:
+        raise ScenarioError(str(e), key="ship.carriage.stations_m") from None
+    return rail
+
+
+def carriage_motion(ship, t: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """C's motion relative to S at times ``t`` for a scenario's ``[ship]`` with a carriage
+    (:func:`on_rail`'s returns): the carriage's jerk-limited moves between its stations
+    (:func:`~marinecdpr.motion.rail.carriage_profile`) on its rail.
+
+    Parameters
+    ----------
+    ship : marinecdpr.scenario.schema.Ship
+        With ``carriage`` set.
+    t : ndarray, shape (n_steps,)
+        Times, s (from 0).
+    """
+    from marinecdpr.motion.rail import carriage_profile
+    from marinecdpr.motion.ship import frame_axes
+
+    c = ship.carriage
+    rail = rail_of(ship)
+    s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
+                                           c.accel_max_m_s2, c.jerk_max_m_s3, np.asarray(t, dtype=float))
+    heading0 = float(rail.at(np.zeros(1)).heading[0])
+    return on_rail(rail.at(s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg), heading0)

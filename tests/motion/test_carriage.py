@@ -1,0 +1,114 @@
+"""A frame carried on the ship (issue 39, item 1): C's motion in O, the ship's composed with
+the carriage's, against finite differences of the composed pose."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from marinecdpr.geometry.rotations import euler_kinematics
+from marinecdpr.motion.carriage import carried_motion
+from marinecdpr.motion.ship import ship_motion
+
+# the ship: every DOF a sinusoid (amplitude, period s, phase rad); angles in rad
+SHIP = [(0.8, 9.0, 0.3), (0.5, 11.0, 1.1), (1.2, 8.0, 2.0), (0.15, 10.0, 0.4), (0.06, 7.0, 2.5), (0.05, 13.0, 0.9)]
+
+
+def _ship_eta(t, k=0):
+    """The ship's eta at times t, or its k-th derivative, shape (n, 6)."""
+    out = np.zeros((t.size, 6))
+    for dof, (amp, period, phase) in enumerate(SHIP):
+        w = 2 * np.pi / period
+        arg = w * t + phase
+        out[:, dof] = amp * w ** k * [np.sin, np.cos, lambda x: -np.sin(x), lambda x: -np.cos(x)][k % 4](arg)
+    return out
+
+
+def _carriage(t, k=0):
+    """C on S: its origin along a curved, rising path, and its yaw turning, with k-th derivatives
+    (k = 0, 1, 2) as (r, psi)."""
+    r = np.stack([[3.0 * t + 0.4 * np.sin(0.9 * t), 2.0 * np.cos(0.5 * t) + 5.0, 0.3 * np.sin(0.7 * t) - 2.0],
+                  [3.0 + 0.36 * np.cos(0.9 * t), -1.0 * np.sin(0.5 * t), 0.21 * np.cos(0.7 * t)],
+                  [-0.324 * np.sin(0.9 * t), -0.5 * np.cos(0.5 * t), -0.147 * np.sin(0.7 * t)]][k], axis=1)
+    psi = [0.3 * np.sin(0.6 * t) + 0.1 * t, 0.18 * np.cos(0.6 * t) + 0.1, -0.108 * np.sin(0.6 * t)][k]
+    return r, psi
+
+
+R0 = euler_kinematics(np.radians([8.0, -12.0, 20.0])).R  # the frame's lean at the start
+
+
+def _rz(psi):
+    c, s = np.cos(psi), np.sin(psi)
+    R = np.zeros(psi.shape + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
+    return R
+
+
+def _pose(t):
+    """C's pose in O by composing the poses directly: x_OC, R_OC."""
+    ship = ship_motion(_ship_eta(t), _ship_eta(t, 1), _ship_eta(t, 2))
+    r, psi = _carriage(t)
+    R_SC = _rz(psi) @ R0
+    return ship.eta[:, :3] + np.einsum("nij,nj->ni", ship.R_SO, r), ship.R_SO @ R_SC
+
+
+# sixth-order central differences: error ~ h^6 f^(7), round-off ~ eps / h (measured: 2-4e-12
+# relative for each derivative below)
+FD = {1: (np.array([-1, 9, -45, 0, 45, -9, 1]) / 60.0, 1)}
+
+
+def _fd(f, t, h, order):
+    w, p = FD[order]
+    return sum(wk * f(t + (k - 3) * h) for k, wk in enumerate(w) if wk) / h ** p
+
+
+def _composed(t):
+    ship = ship_motion(_ship_eta(t), _ship_eta(t, 1), _ship_eta(t, 2))
+    (r, psi), (v, dpsi), (a, ddpsi) = _carriage(t), _carriage(t, 1), _carriage(t, 2)
+    R_SC = _rz(psi) @ R0
+    z_C = R_SC[:, 2, :]
+    return carried_motion(ship, r, v, a, R_SC, z_C * dpsi[:, None], z_C * ddpsi[:, None])
+
+
+def test_the_composed_motion_is_the_derivative_of_the_composed_pose():
+    t = np.linspace(0.0, 30.0, 41)
+    m = _composed(t)
+    x, R = _pose(t)
+    # the pose itself (ship_motion rebuilds R_OC from eta's Euler angles)
+    assert np.max(np.abs(m.eta[:, :3] - x)) <= 1e-15 * np.max(np.abs(x))
+    assert np.max(np.abs(m.R_SO - R)) < 2e-15
+    h = 1e-3
+    v_fd = _fd(lambda s: _pose(s)[0], t, h, 1)
+    a_fd = _fd(lambda s: _composed(s).eta_dot[:, :3], t, h, 1)  # of the velocity just checked
+    assert np.max(np.abs(m.eta_dot[:, :3] - v_fd)) <= 2e-11 * np.max(np.abs(v_fd))
+    assert np.max(np.abs(m.eta_ddot[:, :3] - a_fd)) <= 2e-11 * np.max(np.abs(a_fd))
+    # angular velocity in C: R^T dR/dt = [omega x]
+    dR = _fd(lambda s: _pose(s)[1], t, h, 1)
+    W = np.einsum("nji,njk->nik", R, dR)
+    w_fd = np.stack([W[:, 2, 1], W[:, 0, 2], W[:, 1, 0]], axis=1)
+    assert np.max(np.abs(W + W.transpose(0, 2, 1))) < 1e-9  # skew: a rotation's rate
+    assert np.max(np.abs(m.omega_SO_S - w_fd)) <= 2e-11 * np.max(np.abs(w_fd))
+    # angular acceleration in C: d/dt (R omega_C) = R alpha_C
+    Rw = lambda s: np.einsum("nij,nj->ni", _pose(s)[1], _composed(s).omega_SO_S)  # noqa: E731
+    alpha_fd = np.einsum("nji,nj->ni", R, _fd(Rw, t, h, 1))
+    assert np.max(np.abs(m.alpha_SO_S - alpha_fd)) <= 2e-11 * np.max(np.abs(alpha_fd))
+
+
+def test_a_carriage_at_rest_on_a_still_ship_is_a_frame_standing_there():
+    """A carriage that does not move gives C's place composed with the ship's, and a still ship
+    with a moving carriage gives the carriage's own motion."""
+    t = np.linspace(0.0, 5.0, 7)
+    z = np.zeros((t.size, 3))
+    r = np.tile([4.0, -2.0, 1.5], (t.size, 1))
+    ship = ship_motion(_ship_eta(t), _ship_eta(t, 1), _ship_eta(t, 2))
+    m = carried_motion(ship, r, z, z, np.broadcast_to(R0, (t.size, 3, 3)), z, z)
+    # a point fixed on the ship: its acceleration is a_S + alpha x r + omega x (omega x r), in O
+    w, al = ship.omega_SO_S, ship.alpha_SO_S
+    a_rigid = ship.eta_ddot[:, :3] + np.einsum("nij,nj->ni", ship.R_SO, np.cross(al, r) + np.cross(w, np.cross(w, r)))
+    assert np.allclose(m.eta_ddot[:, :3], a_rigid, rtol=0, atol=1e-13)
+    assert np.allclose(m.omega_SO_S, w @ R0, rtol=0, atol=1e-15)
+    still = ship_motion(np.zeros((t.size, 6)), np.zeros((t.size, 6)), np.zeros((t.size, 6)))
+    (rc, psi), (vc, dpsi), (ac, ddpsi) = _carriage(t), _carriage(t, 1), _carriage(t, 2)
+    R_SC = _rz(psi) @ R0
+    m = carried_motion(still, rc, vc, ac, R_SC, R_SC[:, 2, :] * dpsi[:, None], R_SC[:, 2, :] * ddpsi[:, None])
+    assert np.array_equal(m.eta_ddot[:, :3], ac)
+    assert np.allclose(m.eta[:, 5] - m.eta[0, 5], psi - psi[0], rtol=0, atol=1e-12)  # yaw turns with the rail
