@@ -382,8 +382,8 @@ def _random_boxes(rng, n):
         far = rng.random() < 0.3
         centre = rng.uniform(-1.0, 2.0, 3) + (rng.uniform(-30.0, 30.0, 3) if far else 0.0)
         size = rng.uniform(0.001, 0.3, 3) * 10.0 ** rng.uniform(-1.0, 0.5)
-        found.append(BoxObstacle(type="box", center_m=tuple(centre), size_m=tuple(size),
-                                 orientation_deg=tuple(rng.uniform(-180.0, 180.0, 3) if rng.random() < 0.6 else (0, 0, 0))))
+        turn = rng.uniform(-180.0, 180.0, 3) if rng.random() < 0.6 else np.zeros(3)
+        found.append(BoxObstacle(type="box", center_m=tuple(centre), size_m=tuple(size), orientation_deg=tuple(turn)))
         if k % 97 == 5:
             found.append(PlaneObstacle(type="plane", point_m=tuple(rng.uniform(-3.0, -1.0, 3)),
                                        normal=tuple(np.array([0.0, 0.6, 0.8]))))
