@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["segment_distance", "point_segment_distance", "segment_plane_distance", "segment_box_distance",
-           "cable_pairs", "PlatformBody", "platform_body", "cable_platform_distance", "interference_angle",
-           "SHARED_POINT_M"]
+           "segment_box_bounds", "cable_pairs", "PlatformBody", "platform_body", "cable_platform_distance",
+           "interference_angle", "SHARED_POINT_M", "BOUND_SLACK"]
 
 SHARED_POINT_M = 1e-9
 """Two cables' anchors closer than this share a point (the scenario's anchor tolerance)."""
@@ -111,7 +111,7 @@ _BOX_EDGES = np.array([(a, b) for a in range(8) for b in range(a + 1, 8)
 
 
 def segment_box_distance(p0: np.ndarray, p1: np.ndarray, centre: np.ndarray, R_BC: np.ndarray,
-                         half_size: np.ndarray) -> np.ndarray:
+                         half_size: np.ndarray, where: np.ndarray | None = None) -> np.ndarray:
     """Least distance of segments p0-p1 to a box, shape (...), m (0 where a segment enters it).
 
     A segment that meets the box (the slab test) is at 0. Otherwise the closest point of
@@ -130,9 +130,14 @@ def segment_box_distance(p0: np.ndarray, p1: np.ndarray, centre: np.ndarray, R_B
         The box's axes in C (columns), so a point's box coordinates are ``R_BC.T @ (x - centre)``.
     half_size : ndarray, shape (3,)
         Half the box's size along its axes, m.
+    where : ndarray of bool, shape (...), optional
+        Measure only these segments: the result is then their distances, shape (n_true,),
+        in C order, each the same number, bit for bit, as the whole call's.
     """
     a = (np.asarray(p0, dtype=float) - centre) @ R_BC  # box coordinates
     b = (np.asarray(p1, dtype=float) - centre) @ R_BC
+    if where is not None:  # after the turn, on all as above; the rest is element by element
+        a, b = a[where], b[where]
     h = np.asarray(half_size, dtype=float)
 
     def point_box(x: np.ndarray) -> np.ndarray:
@@ -155,6 +160,73 @@ def segment_box_distance(p0: np.ndarray, p1: np.ndarray, centre: np.ndarray, R_B
             lo = np.where(moving, np.maximum(lo, np.minimum(t1, t2)), np.where(still_in, lo, np.inf))
             hi = np.where(moving, np.minimum(hi, np.maximum(t1, t2)), hi)
     return np.where(lo <= hi, 0.0, d)
+
+
+BOUND_SLACK = 1e-9
+"""The relative allowance :func:`segment_box_bounds` keeps for rounding, against the
+coordinates' size (far above the few units in the last place the distances are computed to)."""
+
+
+def segment_box_bounds(p0: np.ndarray, p1: np.ndarray, centre: np.ndarray, R_BC: np.ndarray,
+                       half_size: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cheap bounds of :func:`segment_box_distance`: ``lower <= distance <= upper``, for
+    the values that function computes (rounding included), without its 12 edges.
+
+    The distance ``f(x)`` of a point to a segment is convex and 1-Lipschitz; at the box's
+    centre ``c``, off the segment, its gradient is the unit vector ``g`` from the nearest
+    point of the segment to ``c``. So over the box ``c + y`` (``y`` within the half sizes
+    ``h_i`` along its axes ``a_i``) ``f(c + y) >= f(c) + g . y >= f(c) - sum_i h_i |g . a_i|``
+    (the lower bound, never below the bounding sphere's ``f(c) - |h|``), and the box's
+    corner towards the segment, ``c - sum_i h_i sign(g . a_i) a_i``, is a point of the box:
+    its distance to the segment is the upper bound. Both are tight to the box's size
+    squared over the distance. Each is moved out by ``BOUND_SLACK`` times the coordinates'
+    size (and the gradient's rounding where the centre is near the segment), so they hold
+    for the rounded values too.
+
+    Parameters
+    ----------
+    p0, p1 : ndarray, shape (..., 3)
+        The segments' ends in C, m.
+    centre : ndarray, shape (..., 3)
+        The boxes' centres in C, m.
+    R_BC : ndarray, shape (..., 3, 3)
+        The boxes' axes in C (columns), as :func:`segment_box_distance`'s.
+    half_size : ndarray, shape (..., 3)
+        Half the boxes' sizes along their axes, m. All broadcast against each other.
+
+    Returns
+    -------
+    lower, upper : ndarray, shape (...)
+        m.
+    """
+    p0, p1, c = (np.asarray(a, dtype=float) for a in (p0, p1, centre))
+    R, h = np.asarray(R_BC, dtype=float), np.asarray(half_size, dtype=float)
+    d = p1 - p0
+    dd = _dot(d, d)
+    dd_ = np.where(dd > 0.0, dd, 1.0)[..., None]
+
+    def from_segment(x: np.ndarray) -> np.ndarray:  # x - its nearest point on the segment
+        w = x - p0
+        t = np.clip(_dot(w, d)[..., None] / dd_, 0.0, 1.0)
+        return w - t * d
+
+    v = from_segment(c)
+    dist = np.sqrt(_dot(v, v))
+    axes = [R[..., :, i] for i in range(3)]
+    along = [_dot(v, a) for a in axes]  # v along the box's axes: dist * (g . a_i)
+    radius = np.sqrt(_dot(h, h))
+    size = (np.maximum(np.abs(p0).max(axis=-1), np.abs(p1).max(axis=-1)) + np.abs(c).max(axis=-1) + radius)
+    slack = BOUND_SLACK * size
+    sphere = dist - radius - 4.0 * slack
+    far = dist > 1e-6 * size  # the gradient is sound (else the sphere alone)
+    dist_ = np.where(far, dist, 1.0)
+    reach = sum(np.abs(along[i]) * h[..., i] for i in range(3))  # dist * the box's extent along g
+    tangent = dist - reach / dist_ - slack * (4.0 + 4.0 * radius / dist_)
+    lower = np.where(far, np.maximum(tangent, sphere), sphere)
+    corner = c - sum((np.sign(along[i]) * h[..., i])[..., None] * axes[i] for i in range(3))
+    u = from_segment(corner)
+    upper = np.sqrt(_dot(u, u)) + 4.0 * slack
+    return lower, upper
 
 
 def cable_pairs(frame_anchors: np.ndarray, platform_anchors: np.ndarray) -> np.ndarray:

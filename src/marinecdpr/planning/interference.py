@@ -13,13 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from marinecdpr.geometry.interference import (
-    cable_pairs, cable_platform_distance, platform_body, segment_box_distance, segment_distance,
-    segment_plane_distance,
+    BOUND_SLACK, cable_pairs, cable_platform_distance, platform_body, point_segment_distance, segment_box_bounds,
+    segment_box_distance, segment_distance, segment_plane_distance,
 )
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.scenario.robot import Robot
 
-__all__ = ["Clearances", "clearances", "pose_clearances", "describe_clearances", "obstacle_labels"]
+__all__ = ["Clearances", "clearances", "pose_clearances", "describe_clearances", "obstacle_labels",
+           "obstacle_distances"]
 
 
 @dataclass(frozen=True)
@@ -35,7 +36,10 @@ class Clearances:
     cable_platform : ndarray, shape (n_steps, n_cables)
         Each cable's least distance to the platform's body (0 where it runs into it), m.
     cable_obstacle : ndarray, shape (n_steps, n_cables, n_obstacles)
-        Each cable's least distance to each obstacle, m (a plane's signed: negative behind it).
+        Each cable's least distance to each obstacle, m (a plane's signed: negative behind it),
+        where it can matter: a box's is ``inf`` where it is neither closer than the clearance
+        nor possibly the cable's nearest thing (:func:`obstacle_distances`; it is farther).
+        So :attr:`per_cable` and every distance below the clearance are exact.
     """
 
     pairs: np.ndarray
@@ -53,16 +57,117 @@ class Clearances:
         return d
 
 
-def _obstacle_distances(obstacles, starts_C: np.ndarray, ends_C: np.ndarray) -> np.ndarray:
-    out = np.empty(starts_C.shape[:2] + (len(obstacles),))
+_BOUND_PAIRS = 1 << 16
+"""How many (segment, box) bounds :func:`obstacle_distances` holds at once."""
+_GROUP_BOXES = 32
+"""The most boxes in a group :func:`obstacle_distances` first bounds as one."""
+
+
+_SIGNS = np.array([[i, j, k] for i in (-1.0, 1.0) for j in (-1.0, 1.0) for k in (-1.0, 1.0)])
+
+
+def _groups(centres: np.ndarray, limit: int = _GROUP_BOXES) -> list[np.ndarray]:
+    """The boxes (indices) in groups of at most ``limit`` near each other: halved at the
+    median along the centres' widest spread until small enough."""
+    todo, done = [np.arange(centres.shape[0])], []
+    while todo:
+        idx = todo.pop()
+        if idx.size <= limit:
+            done.append(idx)
+            continue
+        axis = int(np.argmax(np.ptp(centres[idx], axis=0)))
+        order = idx[np.argsort(centres[idx, axis], kind="stable")]
+        todo += [order[: idx.size // 2], order[idx.size // 2:]]
+    return done
+
+
+def obstacle_distances(obstacles, starts_C: np.ndarray, ends_C: np.ndarray, clearance_m: float | None = None,
+                       nearest: np.ndarray | None = None) -> np.ndarray:
+    """Each cable's least distance to each obstacle where it can matter: shape (n_steps,
+    n_cables, n_obstacles), m (a plane's signed: negative behind it).
+
+    A plane's distance is measured everywhere. A box's
+    (:func:`~marinecdpr.geometry.interference.segment_box_distance`) is measured where it
+    could be closer than ``clearance_m``, or be the cable's nearest thing: the nearest of
+    the obstacles, and of ``nearest`` (the cable's least distance to everything else). The
+    boxes are bounded first in groups (a sphere around each group), then one by one
+    (:func:`~marinecdpr.geometry.interference.segment_box_bounds`); where a box's lower
+    bound is at least the clearance and above an upper bound of the cable's least distance
+    to anything, it is not measured and its entry is ``inf``. So every distance below the
+    clearance, and each cable's least distance to anything (that over the obstacles and
+    ``nearest``), are the exhaustive measure's, bit for bit.
+
+    Parameters
+    ----------
+    obstacles : sequence of PlaneObstacle or BoxObstacle
+        In C.
+    starts_C, ends_C : ndarray, shape (n_steps, n_cables, 3)
+        The cables' free spans, in C, m.
+    clearance_m : float, optional
+        Distances below it are all measured (None: only those that can be the least).
+    nearest : ndarray, shape (n_steps, n_cables), optional
+        Each cable's least distance to the other things measured (cables, the platform), m;
+        default none.
+    """
+    n, m = starts_C.shape[:2]
+    out = np.empty((n, m, len(obstacles)))
+    least = np.full((n, m), np.inf) if nearest is None else np.array(nearest, dtype=float)
+    boxes = []
     for k, ob in enumerate(obstacles):
         if ob.type == "plane":
             out[..., k] = segment_plane_distance(starts_C, ends_C, np.asarray(ob.point_m, dtype=float),
                                                  np.asarray(ob.normal, dtype=float))
+            least = np.minimum(least, out[..., k])
         else:  # a box
-            R_BC = matrix_from_euler(np.radians(np.asarray(ob.orientation_deg, dtype=float)))
-            out[..., k] = segment_box_distance(starts_C, ends_C, np.asarray(ob.center_m, dtype=float), R_BC,
-                                               0.5 * np.asarray(ob.size_m, dtype=float))
+            boxes.append((k, np.asarray(ob.center_m, dtype=float),
+                          matrix_from_euler(np.radians(np.asarray(ob.orientation_deg, dtype=float))),
+                          0.5 * np.asarray(ob.size_m, dtype=float)))
+    if not boxes or n * m == 0:
+        return out
+    cols = np.array([b[0] for b in boxes])
+    centres, R_BC, half = (np.stack([b[i] for b in boxes]) for i in (1, 2, 3))
+    floor = -np.inf if clearance_m is None else float(clearance_m)
+    out[..., cols] = np.inf
+    flat = out.reshape(n * m, len(obstacles))  # a view
+    p0, p1 = np.reshape(starts_C, (-1, 3)), np.reshape(ends_C, (-1, 3))
+    least = least.reshape(-1)
+    size = np.maximum(np.abs(p0).max(axis=1), np.abs(p1).max(axis=1))
+    # 1. each group of boxes within a sphere: the groups nothing of which can matter
+    groups = _groups(centres)
+    spheres = []
+    for idx in groups:
+        corners = centres[idx, None, :] + np.einsum("bij,bkj->bki", R_BC[idx], _SIGNS * half[idx, None, :])
+        lo, hi = corners.reshape(-1, 3).min(axis=0), corners.reshape(-1, 3).max(axis=0)
+        spheres.append((0.5 * (lo + hi), float(np.linalg.norm(0.5 * (hi - lo))) * (1.0 + BOUND_SLACK)))
+    g_lower = np.empty((n * m, len(groups)))
+    for g, (c, r) in enumerate(spheres):
+        dist = point_segment_distance(c, p0, p1)
+        slack = BOUND_SLACK * (size + np.abs(c).max() + r)
+        g_lower[:, g] = dist - r - slack
+        least = np.minimum(least, dist + r + slack)  # every box of the group lies within
+    # 2. the boxes of the groups left, one by one
+    bounded = []
+    for g, idx in enumerate(groups):
+        e = np.flatnonzero(~((g_lower[:, g] > least) & (g_lower[:, g] >= floor)))  # NaN is kept
+        lower = np.empty((e.size, idx.size))
+        step = max(1, _BOUND_PAIRS // idx.size)
+        for s in range(0, e.size, step):
+            ee = e[s:s + step]
+            lower[s:s + step], upper = segment_box_bounds(p0[ee, None, :], p1[ee, None, :], centres[idx], R_BC[idx],
+                                                          half[idx])
+            least[ee] = np.minimum(least[ee], upper.min(axis=1))
+        bounded.append((e, lower))
+    # 3. measured where the lower bound leaves it possible
+    for idx, (e, lower) in zip(groups, bounded):
+        for j, b in enumerate(idx):
+            ee = e[~((lower[:, j] > least[e]) & (lower[:, j] >= floor))]  # NaN is measured
+            if ee.size == 0:
+                continue
+            at = np.unique(ee // m)  # whole steps: the box's turn as on all of them
+            where = np.zeros((at.size, m), dtype=bool)
+            where[np.searchsorted(at, ee // m), ee % m] = True
+            _, centre, R, h = boxes[b]
+            flat[ee, cols[b]] = segment_box_distance(starts_C[at], ends_C[at], centre, R, h, where=where)
     return out
 
 
@@ -85,9 +190,11 @@ def clearances(robot: Robot, obstacles, x_PC: np.ndarray, R_PC: np.ndarray, star
     pairs = cable_pairs(robot.frame_anchors, robot.platform_anchors)
     cc = segment_distance(starts_C[:, pairs[:, 0]], ends_C[:, pairs[:, 0]],
                           starts_C[:, pairs[:, 1]], ends_C[:, pairs[:, 1]])[0]
+    cc = cc.reshape(x_PC.shape[0], pairs.shape[0])
     cp = cable_platform_distance(platform_body(robot.platform_anchors), x_PC, R_PC, starts_C, ends_C)
-    return Clearances(pairs=pairs, cable_cable=cc.reshape(x_PC.shape[0], pairs.shape[0]), cable_platform=cp,
-                      cable_obstacle=_obstacle_distances(obstacles, starts_C, ends_C))
+    nearest = Clearances(pairs, cc, cp, np.empty(cp.shape + (0,))).per_cable  # all but the obstacles
+    return Clearances(pairs=pairs, cable_cable=cc, cable_platform=cp,
+                      cable_obstacle=obstacle_distances(obstacles, starts_C, ends_C, robot.clearance_m, nearest))
 
 
 def pose_clearances(robot: Robot, obstacles, x_PC: np.ndarray, R_PC: np.ndarray) -> Clearances:
