@@ -22,6 +22,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.rail import scurve_move
 
 __all__ = ["CoveragePath", "coverage_path"]
 
@@ -866,30 +867,10 @@ def _merge_collinear(points: np.ndarray, kind: np.ndarray, tol: float) -> tuple[
 
 
 def _scurve(length: float, v_max: float, a_max: float, j_max: float) -> tuple[np.ndarray, np.ndarray]:
-    """A rest-to-rest 7-phase S-curve over ``length``: the phases' durations (s) and jerks (m/s^3).
-
-    Jerk +J, 0, -J (reach the peak speed), 0 (cruise), -J, 0, +J (stop). The peak speed is
-    v_max if the distance allows, else the largest that stops within ``length``.
-    """
-    v_sat = a_max * a_max / j_max  # speed gained by ramping the acceleration to a_max and back
-
-    def accel_and_stop(vp):  # distance to reach vp from rest and stop again
-        return vp * (vp / a_max + a_max / j_max) if vp >= v_sat else 2.0 * vp * np.sqrt(vp / j_max)
-
-    if accel_and_stop(v_max) <= length:
-        vp = v_max
-    else:
-        vp = (0.5 * length * np.sqrt(j_max)) ** (2.0 / 3.0)  # a_max not reached
-        if vp > v_sat:
-            vp = 0.5 * a_max * (np.sqrt((a_max / j_max) ** 2 + 4.0 * length / a_max) - a_max / j_max)
-    if vp >= v_sat:
-        tj, ta = a_max / j_max, vp / a_max - a_max / j_max
-    else:
-        tj, ta = float(np.sqrt(vp / j_max)), 0.0
-    tc = max(0.0, length / vp - (2.0 * tj + ta))
-    durations = np.array([tj, ta, tj, tc, tj, ta, tj])
-    jerks = np.array([1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 1.0]) * j_max
-    return durations, jerks
+    """A rest-to-rest 7-phase S-curve over ``length`` (:func:`~marinecdpr.motion.rail.scurve_move`):
+    the phases' durations (s) and jerks (m/s^3)."""
+    move = scurve_move(length, v_max, a_max, j_max)
+    return np.array(move.phases_s), np.array([1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 1.0]) * j_max
 
 
 def _time_law(lengths: np.ndarray, v_max: float, a_max: float, j_max: float):

@@ -469,15 +469,17 @@ _JERK_SIGNS = np.array([1.0, 0.0, -1.0, 0.0, -1.0, 0.0, 1.0])
 
 
 def scurve_move(distance_m, v_max, a_max, j_max) -> Move:
-    """The time-optimal rest-to-rest double-S move over a distance.
+    """The time-optimal rest-to-rest double-S move over a distance (Biagiotti & Melchiorri
+    (2008), sec. 3.4 with ``v0 = v1 = 0``): jerk +J, 0, -J to the peak speed, a cruise, and
+    -J, 0, +J to rest.
 
-    Biagiotti & Melchiorri (2008), sec. 3.4 with ``v0 = v1 = 0``: first assume ``v_max``
-    is reached (``Tj = a_max/j_max, Ta = Tj + v_max/a_max`` if ``v_max j_max >= a_max^2``,
-    else ``Tj = sqrt(v_max/j_max), Ta = 2 Tj``; ``Tv = h/v_max - Ta``); if ``Tv < 0``,
-    ``v_max`` is not reached: ``Tv = 0``, ``Tj = a_max/j_max`` and
-    ``Ta = (a_max^2/j_max + sqrt(a_max^4/j_max^2 + 4 h a_max)) / (2 a_max)``; if then
-    ``Ta < 2 Tj``, ``a_max`` is not reached either: ``Tj = (h / (2 j_max))^(1/3)``,
-    ``Ta = 2 Tj``.
+    The peak speed is ``v_max`` where the distance allows (to reach a speed vp from rest and
+    stop again takes ``vp (vp / a_max + a_max / j_max)`` where vp reaches ``a_max^2 / j_max``,
+    the speed gained by ramping the acceleration to ``a_max`` and back, else
+    ``2 vp sqrt(vp / j_max)``); otherwise the largest that stops within the distance:
+    ``(h sqrt(j_max) / 2)^(2/3)`` without reaching ``a_max``, else the root of the first
+    form. The one implementation of the move: the cleaning path's time law
+    (:mod:`marinecdpr.motion.coverage`) takes it too.
 
     Parameters
     ----------
@@ -498,29 +500,30 @@ def scurve_move(distance_m, v_max, a_max, j_max) -> Move:
         One line: a non-finite distance or a limit not finite and > 0.
     """
     h_signed = _finite(distance_m, "distance_m")
-    v = _positive(v_max, "v_max")
-    a = _positive(a_max, "a_max")
-    j = _positive(j_max, "j_max")
-    h = abs(h_signed)
-    if h == 0.0:
-        return Move(distance_m=h_signed, duration_s=0.0, phases_s=(0.0,) * 7, jerk=j)
-    if v * j >= a * a:
-        tj, ta = a / j, a / j + v / a
+    v_max = _positive(v_max, "v_max")
+    a_max = _positive(a_max, "a_max")
+    j_max = _positive(j_max, "j_max")
+    length = abs(h_signed)
+    if length == 0.0:
+        return Move(distance_m=h_signed, duration_s=0.0, phases_s=(0.0,) * 7, jerk=j_max)
+    v_sat = a_max * a_max / j_max  # speed gained by ramping the acceleration to a_max and back
+
+    def accel_and_stop(vp):  # distance to reach vp from rest and stop again
+        return vp * (vp / a_max + a_max / j_max) if vp >= v_sat else 2.0 * vp * np.sqrt(vp / j_max)
+
+    if accel_and_stop(v_max) <= length:
+        vp = v_max
     else:
-        tj = float(np.sqrt(v / j))
-        ta = 2.0 * tj
-    tv = h / v - ta
-    if tv < 0.0:
-        tv = 0.0
-        tj = a / j
-        ta = (a * a / j + np.sqrt((a * a / j) ** 2 + 4.0 * h * a)) / (2.0 * a)
-        if ta < 2.0 * tj:
-            tj = float(np.cbrt(h / (2.0 * j)))
-            ta = 2.0 * tj
-    const = max(0.0, ta - 2.0 * tj)
-    phases = (tj, const, tj, tv, tj, const, tj)
-    phases = tuple(float(x) for x in phases)
-    return Move(distance_m=h_signed, duration_s=float(sum(phases)), phases_s=phases, jerk=j)
+        vp = (0.5 * length * np.sqrt(j_max)) ** (2.0 / 3.0)  # a_max not reached
+        if vp > v_sat:
+            vp = 0.5 * a_max * (np.sqrt((a_max / j_max) ** 2 + 4.0 * length / a_max) - a_max / j_max)
+    if vp >= v_sat:
+        tj, ta = a_max / j_max, vp / a_max - a_max / j_max
+    else:
+        tj, ta = float(np.sqrt(vp / j_max)), 0.0
+    tc = max(0.0, length / vp - (2.0 * tj + ta))
+    phases = tuple(float(x) for x in (tj, ta, tj, tc, tj, ta, tj))
+    return Move(distance_m=h_signed, duration_s=float(sum(phases)), phases_s=phases, jerk=j_max)
 
 
 def _dwells(dwell_s, n: int) -> np.ndarray:
