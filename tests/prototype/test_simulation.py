@@ -249,3 +249,21 @@ def test_a_flat_plate_s_inertia_compiles_and_flies_on_both_plants():
     assert _compilable_inertia(paper) is paper
     runs = {plant: simulate(sc, run="open_loop", plant=plant) for plant in ("mujoco", "own")}
     assert np.abs(runs["mujoco"].pose - runs["own"].pose).max() < 1e-4
+
+
+def test_both_plants_agree_over_a_rail_move_in_a_seaway():
+    """A frame carried along a curved rail (issue 39) while the ship moves in a sea state:
+    the closed loop on MuJoCo and on the own plant. Measured: 2.1e-8 m, 3.1e-8 deg (the issue
+    asks 1e-4 m); MuJoCo's heavy ship body, driven along C's motion, follows it within 1.0e-6
+    (with a yaw locked to the rail's tangent, whose rate steps at the joins, it lagged 7 mm and
+    the plants parted by 1.04e-4 m)."""
+    sc = marinecdpr.load_scenario("paper_sea")
+    sc = sc.with_changes(ship={"carriage": {
+        "rail_m": [[-0.78, 0.0, 2.2], [0.0, 0.0, 2.2], [1.0, 1.0, 2.2]], "corner_radius_m": 0.5,
+        "speed_max_m_s": 0.6, "accel_max_m_s2": 0.8, "jerk_max_m_s3": 4.0, "stations_m": [0.0, 1.3], "dwell_s": 0.2}})
+    a = simulate(sc, run="closed_loop", plant="mujoco", n_steps=3000)
+    b = simulate(sc, run="closed_loop", plant="own", n_steps=3000)
+    d = a.pose - b.pose
+    assert np.abs(d[:, :3]).max() <= 1e-7
+    assert np.degrees(np.abs(d[:, 3:]).max()) <= 1e-6
+    assert a.ship_tracking_error < 3e-6

@@ -7,7 +7,7 @@ q is eta with its angles in that order), the carriage a prismatic joint on the s
 fixed to the carriage with its lean, and the platform three prismatic joints along C's axes
 and a spherical joint. Its recursive Newton-Euler pass gives the spatial force the platform's
 joint transmits: the wrench the cables must give. The package's side is the whole chain a
-plan takes: the rail (``motion.rail``), C's motion on it (``motion.carriage.on_rail``),
+plan takes: the rail (``motion.rail``), C's motion on it (``motion.carriage.on_rail``, ``frame_yaw``),
 composed with the ship's (``carried_motion``), and the wrench (``model.dynamics.wrench_terms``)
 with C's origin at zero.
 """
@@ -19,7 +19,7 @@ import pinocchio as pin
 
 from marinecdpr.geometry.rotations import euler_kinematics
 from marinecdpr.model.dynamics import wrench_terms
-from marinecdpr.motion.carriage import carried_motion, on_rail
+from marinecdpr.motion.carriage import carried_motion, frame_yaw, on_rail
 from marinecdpr.motion.rail import check_rail
 from marinecdpr.motion.ship import ship_motion
 
@@ -61,7 +61,7 @@ def test_the_required_wrench_with_a_carriage_is_pinocchio_s_over_random_states()
     rail = check_rail(RAIL, 0.0)
     s = rng.uniform(0.0, rail.length_m, n)
     s_dot, s_ddot = rng.uniform(-1.0, 1.0, n), rng.uniform(-0.8, 0.8, n)
-    C = carried_motion(ship, *on_rail(rail.at(s), s_dot, s_ddot, LEAN, float(rail.at(np.zeros(1)).heading[0])))
+    C = carried_motion(ship, *on_rail(rail.at(s), frame_yaw(rail, s), s_dot, s_ddot, LEAN))
     x_PC = rng.uniform(-1, 1, (n, 3)) + [1.0, 0.5, 1.0]
     R_PC = euler_kinematics(rng.uniform(-0.5, 0.5, (n, 3))).R
     twist = rng.uniform(-1, 1, (n, 6)) * [0.5, 0.5, 0.5, 0.8, 0.8, 0.8]

@@ -322,3 +322,13 @@ def test_a_design_that_works_in_no_sea_state_says_why(tmp_path):
     assert medium.sea_share == 0.6
     assert medium.sea_reason.startswith("1 of 2 sea states fail (normal force in 1); the mildest: Hs 5 m, Tp 10 s, "
                                         "heading 90 deg"), medium.sea_reason
+
+
+def test_the_screen_refuses_a_frame_carried_on_a_rail():
+    """A carried frame's place changes with time; the screen linearises about one place, so it
+    says so instead of judging the frame at S's origin (issue 39)."""
+    sc = marinecdpr.load_scenario("paper_clean")
+    carried = sc.with_changes(ship={"carriage": {"rail_m": [[-0.78, 0.0, 2.2], [20.0, 0.0, 2.2]], "speed_max_m_s": 0.3,
+                                                 "accel_max_m_s2": 0.3, "jerk_max_m_s3": 1.0, "stations_m": [0.0]}})
+    with pytest.raises(ScenarioError, match=r"^ship.carriage: the fast screen judges a frame standing at one place"):
+        S.screen_model(carried)

@@ -17,9 +17,13 @@ acceleration omega_CS, alpha_CS (relative to S, in C), and the ship's omega, alp
     alpha_C = R_SC^T alpha + (R_SC^T omega) x omega_CS + alpha_CS
 
 On a rail (:mod:`marinecdpr.motion.rail`) at arc length s(t), r = rail(s), v = t s', a =
-(dt/ds) s'^2 + t s''; C's axes turn about S's z with the rail's heading psi(s) (its lean
-kept): R_SC = Rz(psi(s) - psi(0)) R_SC0, so omega_CS = R_SC^T z psi' s' and alpha_CS =
-R_SC^T z (psi'' s'^2 + psi' s'').
+(dt/ds) s'^2 + t s''; C's axes turn about S's z by the frame's yaw psi(s) (its lean kept):
+R_SC = Rz(psi(s)) R_SC0, so omega_CS = R_SC^T z psi' s' and alpha_CS = R_SC^T z (psi''
+s'^2 + psi' s''). The yaw (:func:`frame_yaw`) is the rail's heading on its straight pieces
+and turns through each bend by a quintic law in s, so that C's angular velocity and
+acceleration stay continuous: a yaw locked to the tangent of a line-and-arc rail would step
+the angular velocity by s' / R at each join (an impulse of angular acceleration, which no
+drive gives).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from marinecdpr.motion.ship import ShipMotion, body_motion
 if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
-__all__ = ["carried_motion", "on_rail", "rail_of", "carriage_motion"]
+__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion"]
 
 
 def _rz(angle: np.ndarray) -> np.ndarray:
@@ -43,21 +47,55 @@ def _rz(angle: np.ndarray) -> np.ndarray:
     return R
 
 
-def on_rail(points, s_dot: np.ndarray, s_ddot: np.ndarray, R_SC0: np.ndarray, heading0: float
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """C's motion relative to S, carried along a rail with its axes turned by the rail's heading.
+def frame_yaw(rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The frame's yaw on the ship relative to its yaw at the rail's start, and its first two
+    derivatives along the rail, at arc lengths ``s``.
+
+    On the straight pieces it is the rail's heading (from the start's); through each bend,
+    from the arc's start a to its end b, it turns by the bend's change of heading d along the
+    quintic S(x) = 10 x^3 - 15 x^4 + 6 x^5, x = (s - a) / (b - a), whose first and second
+    derivatives vanish at both ends: the yaw is twice continuously differentiable in s.
+
+    Parameters
+    ----------
+    rail : Rail
+    s : ndarray, shape (n,)
+        Arc lengths, m.
+
+    Returns
+    -------
+    yaw, dyaw, ddyaw : ndarray, shape (n,)
+        rad, rad/m, rad/m^2.
+    """
+    s = np.asarray(s, dtype=float)
+    a, b, psi_a, psi_b = rail.bends
+    yaw, dyaw, ddyaw = np.zeros(s.size), np.zeros(s.size), np.zeros(s.size)
+    for a_k, b_k, d_k in zip(a, b, psi_b - psi_a):  # one pass per bend, over every sample
+        w = b_k - a_k
+        x = np.clip((s - a_k) / w, 0.0, 1.0)
+        x2 = x * x
+        yaw += d_k * x2 * x * (10.0 + x * (6.0 * x - 15.0))
+        dyaw += d_k / w * 30.0 * x2 * (1.0 + x * (x - 2.0))
+        ddyaw += d_k / (w * w) * 60.0 * x * (1.0 + x * (2.0 * x - 3.0))
+    return yaw, dyaw, ddyaw
+
+
+def on_rail(points, yaw: tuple[np.ndarray, np.ndarray, np.ndarray], s_dot: np.ndarray, s_ddot: np.ndarray,
+            R_SC0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """C's motion relative to S, carried along a rail with its axes turned by its yaw.
 
     Parameters
     ----------
     points : RailPoints
         The rail at the carriage's arc lengths s(t) (:meth:`~marinecdpr.motion.rail.Rail.at`),
-        n_steps of them: r (m), t, dt (1/m), heading (rad) and its derivatives along s.
+        n_steps of them: r (m), t and dt (1/m) along s.
+    yaw : tuple of ndarray, each shape (n_steps,)
+        The frame's yaw on S from its start (:func:`frame_yaw`) and its first two derivatives
+        along s: rad, rad/m, rad/m^2.
     s_dot, s_ddot : ndarray, shape (n_steps,)
         The carriage's speed (m/s) and acceleration (m/s^2) along the rail.
     R_SC0 : ndarray, shape (3, 3)
         C's axes in S at the rail's start (``ship.frame_orientation_deg``: the frame's lean).
-    heading0 : float
-        The rail's heading at its start, rad: C's axes are R_SC0 there.
 
     Returns
     -------
@@ -69,12 +107,13 @@ def on_rail(points, s_dot: np.ndarray, s_ddot: np.ndarray, R_SC0: np.ndarray, he
     """
     s_dot = np.asarray(s_dot, dtype=float)
     s_ddot = np.asarray(s_ddot, dtype=float)
+    psi, dpsi, ddpsi = yaw
     v = points.t * s_dot[:, None]
     a = points.dt * (s_dot * s_dot)[:, None] + points.t * s_ddot[:, None]
-    R_SC = _rz(points.heading - heading0) @ R_SC0
+    R_SC = _rz(psi) @ R_SC0
     z_C = R_SC[:, 2, :]  # rows: R_SC^T z, S's z in C
-    omega = z_C * (points.dheading * s_dot)[:, None]
-    alpha = z_C * (points.ddheading * s_dot * s_dot + points.dheading * s_ddot)[:, None]
+    omega = z_C * (dpsi * s_dot)[:, None]
+    alpha = z_C * (ddpsi * s_dot * s_dot + dpsi * s_ddot)[:, None]
     return points.r, v, a, R_SC, omega, alpha
 
 
@@ -151,5 +190,4 @@ def carriage_motion(ship, t: np.ndarray
     rail = rail_of(ship)
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
                                            c.accel_max_m_s2, c.jerk_max_m_s3, np.asarray(t, dtype=float))
-    heading0 = float(rail.at(np.zeros(1)).heading[0])
-    return on_rail(rail.at(s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg), heading0)
+    return on_rail(rail.at(s), frame_yaw(rail, s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))

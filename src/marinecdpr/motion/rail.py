@@ -178,6 +178,16 @@ class Rail:
         corner (a non-collinear inner point), ``inf`` for a straight rail."""
         return self.corner_radius_m if self._corners else float("inf")
 
+    @property
+    def bends(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The arcs along the rail: where each starts and ends (arc lengths, m) and the
+        tangent's heading there (rad, unwrapped as :meth:`at` gives it); each shape (n_arcs,)."""
+        s0, _, _, _, kappa, psi0 = self._pieces
+        ends = np.append(s0[1:], self._length)
+        psi_end = np.append(psi0[1:], psi0[-1])
+        arc = kappa > 0.0
+        return s0[arc], ends[arc], psi0[arc], psi_end[arc]
+
     def at(self, s) -> RailPoints:
         """The rail's geometry at arc lengths ``s``.
 

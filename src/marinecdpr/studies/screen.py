@@ -318,7 +318,13 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
     ScenarioError
         The path takes the platform out of the frame (as the planner says it). A pose where
         the cables lose rank is not an error: no tensions hold it, and the screen says so.
+        A frame carried on a rail (``[ship.carriage]``): the screen judges a frame standing at
+        one place; it is refused, with the time domain named.
     """
+    if scenario.ship.carriage is not None:
+        raise ScenarioError("the fast screen judges a frame standing at one place (ship.frame_origin_m); a frame "
+                            "carried on a rail is judged in the time domain (clean --seas, operability)",
+                            key="ship.carriage")
     from marinecdpr.geometry.kinematics import cable_kinematics
     from marinecdpr.model.brush import cleaning_loads
     from marinecdpr.model.tension import wrench_faces
