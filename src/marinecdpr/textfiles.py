@@ -131,12 +131,16 @@ def read_lines(path: str | PathLike, fail: Callable[[str], NoReturn], what: str,
 
 
 def read_csv_records(path: str | PathLike, fail: Callable[[str], NoReturn], what: str, word: str = "line", *,
-                     one_per_line: bool = False) -> list[list[str]]:
+                     one_per_line: bool = False, comments: bool = False) -> list[list[str]]:
     """The CSV records of a small UTF-8 text file read by :func:`read_lines` (its guards),
     ``[]`` for a blank line. Refused through ``fail``: a line the csv module cannot parse
     (``"<word> N: not readable as CSV (...)"``) and, with ``one_per_line``, a quoted field
-    spanning lines (so that record k is line k)."""
+    spanning lines (so that record k is line k). With ``comments``, a line whose first
+    non-blank character is ``#`` is a comment: read as a blank line (``[]``, so that the
+    lines keep their numbers), whatever it holds."""
     lines = read_lines(path, fail, what, word)
+    if comments:
+        lines = ["" if line.lstrip().startswith("#") else line for line in lines]
     reader = csv.reader(lines)
     try:
         records = list(reader)

@@ -482,3 +482,158 @@ def test_min_margin_on_the_circle_is_the_largest_margin_the_sea_state_allows():
     assert h > 15.0  # not 0, not 5
     assert cell(h - 0.5).operable
     assert not cell(h + 0.5).operable
+
+
+# --- the North Atlantic diagram (IACS Rec. 34), diagrams in Tz, comment lines (issue 39, item 5) ----
+
+import csv as _csv
+from decimal import Decimal, ROUND_HALF_UP
+
+from marinecdpr.studies.operability import BUILTIN_SCATTERS, scatter_path, tz_conversion_gamma
+
+NA_HS = [0.5 + i for i in range(17)]
+NA_TZ = [1.5 + j for j in range(18)]
+# the published totals of IACS Rec. 34's North Atlantic table (occurrences per 100 000): the
+# row (Hs) and column (Tz) sums printed with it, independent of its cells
+NA_ROW_TOTALS = [3050, 22575, 23810, 19128, 13289, 8328, 4806, 2586, 1309, 626, 285, 124, 51, 21, 8, 3, 1]
+NA_COL_TOTALS = [0, 0, 1, 165, 2091, 9280, 19922, 24879, 20870, 12898, 6245, 2479, 837, 247, 66, 16, 3, 1]
+PM_TZ_OVER_TP = 0.6673 + 0.05037 - 0.006230 + 0.0003341  # DNV-RP-C205's fit at gamma = 1: 0.7117741
+J33_TZ_OVER_TP = 0.6673 + 0.05037 * 3.3 - 0.006230 * 10.89 + 0.0003341 * 35.937  # gamma = 3.3: 0.7776828517
+
+
+def _na_cells_tenths():
+    """The file's cells as the published occurrences in tenths (exact integers), read as text
+    (not through the reader): {(Hs, Tz): tenths}."""
+    text = scatter_path("north_atlantic").read_text(encoding="utf-8")
+    rows = [r for r in _csv.reader(line for line in text.splitlines() if not line.startswith("#")) if r]
+    assert rows[0] == ["hs_m", "tz_s", "probability"]
+    cells = {}
+    for hs, tz, p in rows[1:]:
+        tenths = Decimal(p) * 1_000_000  # probability x 100 000 occurrences x 10
+        assert tenths == tenths.to_integral_value(), p  # one decimal of an occurrence, as published
+        cells[(float(hs), float(tz))] = int(tenths)
+    return cells
+
+
+def test_north_atlantic_cells_total_the_published_table():
+    """Every cell is the published one moved five decimal places: the cells total exactly
+    100 000.0 occurrences, and each row's and column's sum rounds (half up) to the total
+    printed with the table (the cells are rounded to 0.1, the totals to 1)."""
+    cells = _na_cells_tenths()
+    assert len(cells) == 197
+    assert sum(cells.values()) == 1_000_000
+    half_up = lambda tenths: int((Decimal(tenths) / 10).quantize(Decimal(1), rounding=ROUND_HALF_UP))
+    rows = [sum(v for (h, _), v in cells.items() if h == hs) for hs in NA_HS]
+    cols = [sum(v for (_, t), v in cells.items() if t == tz) for tz in NA_TZ]
+    assert [half_up(r) for r in rows] == NA_ROW_TOTALS
+    assert [half_up(c) for c in cols] == NA_COL_TOTALS
+    assert max(abs(r - 10 * n) for r, n in zip(rows + cols, NA_ROW_TOTALS + NA_COL_TOTALS)) == 5  # 1308.5, 20.5
+
+
+def test_north_atlantic_mean_hs_from_the_published_marginal():
+    """The diagram the reader gives has the mean Hs of the published marginal: by hand from
+    the printed row totals (they sum to 100 000), sum (2i + 1) N_i / 2 = 681 382 / 2 =
+    340 691 over 100 000, 3.40691 m; from the cells, 3.406739 m. They differ by the totals'
+    rounding to one occurrence (17 rows, up to 0.5 each, weighted by Hs up to 16.5 m)."""
+    d = read_scatter_csv(scatter_path("north_atlantic"))
+    np.testing.assert_array_equal(d.hs, NA_HS)
+    assert d.probability.sum() == pytest.approx(1.0, abs=1e-15)
+    mean = float(d.hs @ d.probability.sum(axis=1))
+    assert sum(NA_ROW_TOTALS) == 100_000
+    published = sum(h * n for h, n in zip(NA_HS, NA_ROW_TOTALS)) / 100_000
+    assert published == pytest.approx(3.40691, abs=1e-12)
+    assert mean == pytest.approx(published, abs=2e-4)  # measured 1.71e-4
+    assert mean == pytest.approx(3.406739, abs=1e-12)  # the cells' own: 340 673.9 / 100 000
+
+
+def test_tz_becomes_tp_by_the_dnv_fit_hand_worked(tmp_path):
+    """Tz/Tp = 0.6673 + 0.05037 g - 0.006230 g^2 + 0.0003341 g^3: 0.7117741 at g = 1 (Tp =
+    1.40494 Tz: DNV-RP-C205's Pierson-Moskowitz Tp = 1.4049 Tz) and 0.7776828517 at g = 3.3.
+    Comment lines, before the header and among the rows, are skipped."""
+    path = _scatter(tmp_path, '# a "quoted", commented line, with commas\nhs_m,tz_s,probability\n1,7,0.5\n'
+                              "  # another\n2,9,0.5\n")
+    pm = read_scatter_csv(path)
+    np.testing.assert_allclose(pm.tp, [7.0 / 0.7117741, 9.0 / 0.7117741], rtol=1e-15)
+    assert PM_TZ_OVER_TP == pytest.approx(0.7117741, abs=1e-15)
+    assert pm.tp[0] / 7.0 == pytest.approx(1.4049, abs=5e-5)
+    j = read_scatter_csv(path, gamma=3.3)
+    np.testing.assert_allclose(j.tp, [7.0 / 0.7776828517, 9.0 / 0.7776828517], rtol=1e-15)
+    assert J33_TZ_OVER_TP == pytest.approx(0.7776828517, abs=1e-15)
+    np.testing.assert_array_equal(j.hs, [1.0, 2.0])
+    np.testing.assert_allclose(j.probability, [[0.5, 0.0], [0.0, 0.5]])
+    # a Tp file with comments reads as the same file without them
+    plain_path = _scatter(tmp_path, "hs_m,tp_s,probability\n1,6,0.4\n2,8,0.6\n", "plain.csv")
+    commented = _scatter(tmp_path, "# IACS\nhs_m,tp_s,probability\n# cells\n1,6,0.4\n\n2,8,0.6\n# end\n", "c.csv")
+    a, b = read_scatter_csv(plain_path), read_scatter_csv(commented)
+    for x, y in ((a.hs, b.hs), (a.tp, b.tp), (a.probability, b.probability)):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_the_north_atlantic_periods_become_tp_at_the_templates_gamma(paper):
+    """The package's North Atlantic diagram in Tp: Tz 3.5 to 18.5 s over the fit's ratio."""
+    tz = np.array(NA_TZ[2:])  # Tz 1.5 and 2.5 s hold no observation
+    np.testing.assert_allclose(read_scatter_csv(scatter_path("north_atlantic")).tp, tz / PM_TZ_OVER_TP, rtol=1e-15)
+    np.testing.assert_allclose(read_scatter_csv(scatter_path("north_atlantic"), gamma=3.3).tp, tz / J33_TZ_OVER_TP,
+                               rtol=1e-15)
+    sea = sea_robot()  # paper_sea: JONSWAP without gamma (DNV's from Tp / sqrt(Hs))
+    assert sea.base_motion.spectrum == "jonswap" and sea.base_motion.gamma is None
+    assert tz_conversion_gamma(sea) == 1.0
+    assert tz_conversion_gamma(sea.with_changes(base_motion=sea.base_motion.model_copy(update={"gamma": 3.3}))) == 3.3
+    pm = sea.with_changes(base_motion=sea.base_motion.model_copy(update={"spectrum": "pierson_moskowitz",
+                                                                        "gamma": 3.3}))
+    assert tz_conversion_gamma(pm) == 1.0
+    assert tz_conversion_gamma(paper) == 1.0  # a still ship: no sea to match
+
+
+@pytest.mark.parametrize("rows, gamma, message", [
+    ("1,25,1\n", 1.0, "row 3: hs_m and tz_s must be positive and physical: tz_s = 25 (column 2) gives Tp = 35.12 s "
+                      "at gamma = 1 (Tp = 1.4049 Tz), outside 1 s <= Tp <= 30 s"),
+    ("1,0.5,1\n", 1.0, "row 3: hs_m and tz_s must be positive and physical: tz_s = 0.5 (column 2) gives Tp = "
+                       "0.7025 s at gamma = 1"),
+    ("1,nan,1\n", 1.0, "tz_s = nan (column 2) gives Tp = nan s"),
+    ("1,24,1\n", 3.3, "tz_s = 24 (column 2) gives Tp = 30.86 s at gamma = 3.3 (Tp = 1.2859 Tz)"),
+    ("1,8,1\n", 8.0, "tz_s becomes Tp only at a JONSWAP gamma within 1 to 7: gamma = 8 is outside DNV-RP-C205's "
+                     "Tz/Tp fit (1 <= gamma <= 7)"),
+    ("1,8,0.5\n1,8,0.5\n", 1.0, "row 4: Hs 1 m, Tz 8 s appears twice"),
+])
+def test_a_tz_file_that_gives_no_physical_tp_is_refused(tmp_path, rows, gamma, message):
+    path = _scatter(tmp_path, "# a diagram in Tz\nhs_m,tz_s,probability\n" + rows)
+    with pytest.raises(ScenarioError, match=re.escape(f"{path}: ") + ".*" + re.escape(message)):
+        read_scatter_csv(path, gamma=gamma)
+
+
+def test_a_tz_file_out_of_range_is_one_line_exit_2(tmp_path):
+    path = _scatter(tmp_path, "hs_m,tz_s,probability\n0.5,6,0.5\n1,25,0.5\n")
+    res = runner.invoke(app, ["operability", "--scatter", str(path), "--serial", *FAST, "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2
+    assert res.stderr.strip().count("\n") == 0
+    assert str(path) in res.stderr and "tz_s = 25 (column 2) gives Tp = 35.12 s" in res.stderr
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+def test_north_atlantic_is_a_name_every_command_knows(tmp_path):
+    """``north_atlantic`` names the package's file wherever a diagram is asked for: the
+    operability and clean commands' --scatter, a design study's [sea] scatter."""
+    from marinecdpr.commands.operability import OperabilitySpec
+    from marinecdpr.studies.design import load_design, study_cells, study_scatter
+
+    assert set(BUILTIN_SCATTERS) == {"illustrative", "north_atlantic"}
+    assert scatter_path("north_atlantic").is_file() and scatter_path(None) == scatter_path("illustrative")
+    assert scatter_path("mine.csv", tmp_path) == tmp_path / "mine.csv"
+    assert OperabilitySpec(scatter="north_atlantic").scatter == Path("north_atlantic")
+    src = resources.files("marinecdpr") / "data" / "designs"
+    for f in src.iterdir():
+        if f.name.startswith("ship_side"):
+            (tmp_path / f.name).write_bytes(f.read_bytes())
+    study = tmp_path / "ship_side.toml"
+    study.write_text(study.read_text().replace('scatter = "illustrative"', 'scatter = "north_atlantic"'))
+    spec, template = load_design(study)
+    assert spec.sea.scatter == "north_atlantic"
+    d = study_scatter(spec, tmp_path, template)
+    np.testing.assert_allclose(d.tp, np.array(NA_TZ[2:]) / PM_TZ_OVER_TP, rtol=1e-15)
+    assert len(study_cells(spec, tmp_path, template)) == 197 * len(spec.sea.headings_deg)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(study.read_text().replace('scatter = "north_atlantic"', 'scatter = "north_pacific"'))
+    with pytest.raises(ScenarioError, match=r"sea\.scatter.*no such file: .*north_pacific \(the package's diagrams: "
+                                            r"illustrative, north_atlantic\)"):
+        load_design(bad)

@@ -44,7 +44,8 @@ def clean(
     seas: bool = typer.Option(CleanSpec.default("seas"), "--seas", help="Fly the job in every sea state of a scatter "
                               "diagram (the scenario's sea_state with each Hs, Tp and heading) and say where it works."),
     scatter: Optional[Path] = typer.Option(CleanSpec.default("scatter"), help="With --seas: the scatter diagram CSV "
-                                           "(hs_m,tp_s,probability); default: the package's illustrative one."),
+                                           "(hs_m,tp_s,probability or hs_m,tz_s,probability), or a package "
+                                           "diagram's name: illustrative (the default), north_atlantic."),
     headings: str = typer.Option(",".join(f"{h:g}" for h in CleanSpec.default("headings")),
                                  help="With --seas: wave headings, deg, comma-separated."),
     coverage_target: float = typer.Option(CleanSpec.default("coverage_target"), help="With --seas: % of the reachable "

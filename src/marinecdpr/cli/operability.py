@@ -23,8 +23,10 @@ _default = OperabilitySpec.default
 
 def operability(
     scenario: str = typer.Argument("paper_sea", help="A scenario with a sea_state base motion."),
-    scatter: Optional[Path] = typer.Option(_default("scatter"), help="Scatter diagram CSV (hs_m,tp_s,probability); "
-                                                                     "default: the package's illustrative one."),
+    scatter: Optional[Path] = typer.Option(_default("scatter"), help="Scatter diagram CSV (hs_m,tp_s,probability "
+                                                                     "or hs_m,tz_s,probability), or a package "
+                                                                     "diagram's name: illustrative (the default), "
+                                                                     "north_atlantic."),
     headings: str = typer.Option(",".join(f"{h:g}" for h in _default("headings")),
                                  help="Wave headings, deg, comma-separated."),
     margin: float = typer.Option(_default("margin"), help="Tension margin to the limits a workable sea keeps, N."),

@@ -57,8 +57,9 @@ class CleanSpec(ExecutorOptions):
     seas : bool
         Fly the job in every sea state of a scatter diagram and say where it works.
     scatter : Path, optional
-        With ``seas`` (and implying it): the scatter diagram CSV (``hs_m,tp_s,probability``);
-        default the package's illustrative one.
+        With ``seas`` (and implying it): the scatter diagram CSV (``hs_m,tp_s,probability``
+        or ``hs_m,tz_s,probability``), or a package diagram's name (``illustrative``, the
+        default; ``north_atlantic``).
     headings : tuple of float
         With ``seas``: wave headings, deg (``"180,150"`` is taken too).
     coverage_target : float
@@ -233,14 +234,13 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
 
         runs = (2 if spec.guarantee else 1) + (len(job_variants(sc)) - 1 if spec.compare else 0)
         return CleanEstimate(scenario=sc.name, size=size, flown=sc, runs=runs, asked=asked, lasts=lasts)
-    from importlib import resources
 
     from marinecdpr.motion.trajectory import cleaning_path
-    from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST, check_sea_state, read_scatter_csv
+    from marinecdpr.studies.operability import (CLOSED_LOOP_STEP_COST, check_sea_state, read_scatter_csv, scatter_path,
+                                                tz_conversion_gamma)
 
     path_end = sc.trajectory.start_time_s + cleaning_path(sc.cleaning).duration_s
-    diagram = read_scatter_csv(spec.scatter or Path(str(resources.files("marinecdpr") / "data" /
-                                                        "scatter_illustrative.csv")))
+    diagram = read_scatter_csv(scatter_path(spec.scatter), gamma=tz_conversion_gamma(sc))
     check_sea_state(sc)
     cells = int((diagram.probability > 0).sum()) * len(spec.headings)
     # every sea state flies the job closed loop

@@ -160,7 +160,7 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
         headings(design.sea.headings_deg)
     except ValueError as exc:
         raise ScenarioError(str(exc), source=str(path), key="sea.headings_deg") from None
-    cells = study_cells(design, path.parent)
+    cells = study_cells(design, path.parent, template)
     finalists = design.finalists if spec.verify else 0
     # about: each finalist's every sea state flown closed loop over the template's duration
     steps = finalists * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST
@@ -174,7 +174,7 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
             raise SpecError("resume", True, "needs the journal of the run it goes on with")
         resumed = len(read_journal(journal, study_key(design, template, cells)))
     return DesignEstimate(path=path, study=design, template=template, cells=cells,
-                          scatter=study_scatter(design, path.parent), candidates=design.population * design.generations,
+                          scatter=study_scatter(design, path.parent, template), candidates=design.population * design.generations,
                           finalists=finalists, search_executor=search_executor, verify_executor=verify_executor,
                           journal=journal, resumed=resumed)
 

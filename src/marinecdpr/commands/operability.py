@@ -31,7 +31,9 @@ class OperabilitySpec(ExecutorOptions):
     Attributes
     ----------
     scatter : Path, optional
-        Scatter diagram CSV (``hs_m,tp_s,probability``; default: the package's illustrative one).
+        Scatter diagram CSV (``hs_m,tp_s,probability`` or ``hs_m,tz_s,probability``), or a
+        package diagram's name (``illustrative``, the default; ``north_atlantic``:
+        :data:`~marinecdpr.studies.operability.BUILTIN_SCATTERS`).
     headings : tuple of float
         Wave headings, deg, equally likely (``"180,150"`` is taken too).
     margin : float
@@ -142,11 +144,11 @@ def estimate(spec: OperabilitySpec, scenario: Scenario) -> OperabilityEstimate:
     """
     from marinecdpr.planning.budget import check_run_size
     from marinecdpr.planning.planner import check_trajectory
-    from marinecdpr.studies.operability import (Cell, cell_scenario, illustrative_scatter_path, read_scatter_csv,
-                                                study_steps)
+    from marinecdpr.studies.operability import (Cell, cell_scenario, read_scatter_csv, scatter_path, study_steps,
+                                                tz_conversion_gamma)
     from marinecdpr.studies.workspace import singular_poses
 
-    diagram = read_scatter_csv(spec.scatter or illustrative_scatter_path())
+    diagram = read_scatter_csv(scatter_path(spec.scatter), gamma=tz_conversion_gamma(scenario))
     occurs = diagram.probability > 0
     n_cells = int(occurs.sum()) * len(spec.headings)
     tp_min = float(diagram.tp[occurs.any(axis=0)].min())  # the highest sea with the shortest period

@@ -30,6 +30,8 @@ import numpy as np
 
 __all__ = [
     "dnv_gamma",
+    "dnv_tz_over_tp",
+    "TZ_FIT_GAMMA",
     "jonswap",
     "pierson_moskowitz",
     "spread_directions",
@@ -53,6 +55,39 @@ def dnv_gamma(hs: float, tp: float) -> float:
     if r >= 5.0:
         return 1.0
     return math.exp(5.75 - 1.15 * r)
+
+
+TZ_FIT_GAMMA = (1.0, 7.0)
+"""The range of gamma over which DNV-RP-C205's Tz/Tp fit (:func:`dnv_tz_over_tp`) holds."""
+
+
+def dnv_tz_over_tp(gamma: float) -> float:
+    """The zero-up-crossing period over the peak period of a JONSWAP spectrum, DNV-RP-C205's
+    fit (its JONSWAP section): Tz / Tp = 0.6673 + 0.05037 gamma - 0.006230 gamma^2 +
+    0.0003341 gamma^3.
+
+    At gamma = 1 (Pierson-Moskowitz) it is 0.7118, the Tp = 1.4049 Tz that DNV-RP-C205 gives
+    for that spectrum; at gamma = 3.3, 0.7777.
+
+    Parameters
+    ----------
+    gamma : float
+        Peak enhancement factor, within :data:`TZ_FIT_GAMMA` (the fit's range, 1 to 7).
+
+    Returns
+    -------
+    float
+        Tz / Tp, dimensionless.
+
+    Raises
+    ------
+    ValueError
+        gamma outside 1 to 7, or not finite.
+    """
+    lo, hi = TZ_FIT_GAMMA
+    if not lo <= gamma <= hi:  # False for NaN too
+        raise ValueError(f"gamma = {gamma:g} is outside DNV-RP-C205's Tz/Tp fit ({lo:g} <= gamma <= {hi:g})")
+    return 0.6673 + 0.05037 * gamma - 0.006230 * gamma**2 + 0.0003341 * gamma**3
 
 
 def pierson_moskowitz(omega: np.ndarray, hs: float, tp: float) -> np.ndarray:

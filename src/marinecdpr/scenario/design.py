@@ -137,7 +137,8 @@ class Sea(_Model):
     """``[sea]``: where the ship waits."""
 
     scatter: StrictStr = "illustrative"
-    """A scatter diagram CSV (hs_m, tp_s, probability), or "illustrative" (the package's)."""
+    """A scatter diagram CSV (hs_m, tp_s, probability or hs_m, tz_s, probability), or a package
+    diagram's name: "illustrative", "north_atlantic" (IACS Rec. 34's North Atlantic table)."""
     headings_deg: list[_ranged(-360.0, 360.0, "deg", "a wave heading")] = Field(default=[180.0, 150.0, 90.0],
                                                                               min_length=1, max_length=36)
 

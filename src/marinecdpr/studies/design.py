@@ -130,6 +130,7 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
 
     from marinecdpr.scenario.loading import scenario_text, builtin_scenarios, load_scenario
     from marinecdpr.scenario.messages import scenario_error
+    from marinecdpr.studies.operability import BUILTIN_SCATTERS
     from marinecdpr.studies.surface import surface_patches
 
     path = Path(path)
@@ -169,10 +170,11 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
         surface_patches(template)
     except ScenarioError as exc:
         raise ScenarioError(f"the template {name!r}: {exc}", source=src, key="scenario") from None
-    if spec.sea.scatter != "illustrative" and not (path.parent / spec.sea.scatter).is_file():
-        raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter}", source=src, key="sea.scatter")
+    if spec.sea.scatter not in BUILTIN_SCATTERS and not (path.parent / spec.sea.scatter).is_file():
+        raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter} (the package's diagrams: "
+                            f"{', '.join(BUILTIN_SCATTERS)})", source=src, key="sea.scatter")
     try:  # read now: a bad diagram is one line before any work
-        study_scatter(spec, path.parent)
+        study_scatter(spec, path.parent, template)
     except ScenarioError as exc:
         raise ScenarioError(str(exc), source=src, key="sea.scatter") from None
     return spec, template
@@ -203,22 +205,23 @@ def with_options(spec: DesignSpec, **options) -> DesignSpec:
         raise ScenarioError(f"--{key} {changes.get(key, '')}: {message[:1].lower()}{message[1:]}") from None
 
 
-def study_scatter(spec: DesignSpec, folder: Path | None = None):
-    """The study's scatter diagram (:class:`~marinecdpr.studies.operability.ScatterDiagram`)."""
-    from importlib import resources
+def study_scatter(spec: DesignSpec, folder: Path | None = None, template: Scenario | None = None):
+    """The study's scatter diagram (:class:`~marinecdpr.studies.operability.ScatterDiagram`):
+    a package diagram by its name, else the file relative to ``folder``. A diagram in Tz
+    becomes Tp at the template's spectrum
+    (:func:`~marinecdpr.studies.operability.tz_conversion_gamma`; Pierson-Moskowitz without
+    a template)."""
+    from marinecdpr.studies.operability import read_scatter_csv, scatter_path, tz_conversion_gamma
 
-    from marinecdpr.studies.operability import read_scatter_csv
-
-    path = (resources.files("marinecdpr") / "data" / "scatter_illustrative.csv" if spec.sea.scatter == "illustrative"
-            else Path(folder or ".") / spec.sea.scatter)
-    return read_scatter_csv(str(path))
+    gamma = 1.0 if template is None else tz_conversion_gamma(template)
+    return read_scatter_csv(scatter_path(spec.sea.scatter, Path(folder or ".")), gamma=gamma)
 
 
-def study_cells(spec: DesignSpec, folder: Path | None = None) -> list:
+def study_cells(spec: DesignSpec, folder: Path | None = None, template: Scenario | None = None) -> list:
     """The sea states of the study: its scatter diagram at each heading (equally likely)."""
     from marinecdpr.studies.operability import scatter_cells
 
-    return scatter_cells(study_scatter(spec, folder), tuple(float(h) for h in spec.sea.headings_deg))
+    return scatter_cells(study_scatter(spec, folder, template), tuple(float(h) for h in spec.sea.headings_deg))
 
 
 @dataclass(frozen=True)

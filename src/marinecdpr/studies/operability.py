@@ -29,7 +29,8 @@ from marinecdpr.scenario.schema import Scenario, SeaStateMotion
 from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
-__all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "Cell", "CellResult", "Operability",
+__all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
+           "tz_conversion_gamma", "Cell", "CellResult", "Operability",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -63,16 +64,46 @@ class ScatterDiagram:
     probability: np.ndarray
 
 
+BUILTIN_SCATTERS = {"illustrative": "scatter_illustrative.csv", "north_atlantic": "scatter_north_atlantic.csv"}
+"""The package's scatter diagrams by name (``data/<file>``): ``illustrative`` (a North-Sea-like
+diagram, the sea-state studies' default) and ``north_atlantic`` (IACS Rec. 34's North
+Atlantic table, Hs against Tz, as published; its source is named in the file)."""
+
+
 def illustrative_scatter_path() -> Path:
     """The package's illustrative scatter diagram (``data/scatter_illustrative.csv``): the
     sea-state studies' default."""
+    return scatter_path("illustrative")
+
+
+def scatter_path(name_or_path: str | Path | None, folder: str | Path | None = None) -> Path:
+    """A scatter diagram's file: the package's by its name (:data:`BUILTIN_SCATTERS`), the
+    illustrative one for None, else the path itself (relative to ``folder`` where given)."""
     from importlib import resources
 
-    return Path(str(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv"))
+    if name_or_path is None:
+        name_or_path = "illustrative"
+    if str(name_or_path) in BUILTIN_SCATTERS:
+        return Path(str(resources.files("marinecdpr") / "data" / BUILTIN_SCATTERS[str(name_or_path)]))
+    return Path(folder) / name_or_path if folder is not None else Path(name_or_path)
 
 
-def read_scatter_csv(path: str | Path) -> ScatterDiagram:
-    """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability``, one row per cell.
+def tz_conversion_gamma(template: Scenario) -> float:
+    """The JONSWAP peak enhancement at which a scatter diagram in Tz (``tz_s``) becomes Tp for
+    this template's sea: its ``gamma`` where given; 1 (Pierson-Moskowitz) for a
+    ``pierson_moskowitz`` spectrum and for a JONSWAP one without ``gamma``. In the last
+    case the sea is synthesised with DNV-RP-C205's gamma from Tp / sqrt(Hs), which is also 1
+    wherever Tp / sqrt(Hs) >= 5 (at Tp = 1.4049 Tz: Tz >= 3.56 sqrt(Hs)); in steeper cells
+    the record's own Tz is up to 13 % (gamma = 5) above the diagram's."""
+    sea = template.base_motion
+    if isinstance(sea, SeaStateMotion) and sea.spectrum == "jonswap" and sea.gamma is not None:
+        return float(sea.gamma)
+    return 1.0
+
+
+def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
+    """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability`` (or
+    ``hs_m,tz_s,probability``), one row per cell; lines starting with ``#`` are comments.
 
     Read through :func:`marinecdpr.textfiles.read_lines` (a regular UTF-8 text file of at
     most 256 MiB, no field over 100 characters). Probabilities must be finite,
@@ -81,26 +112,51 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
     0 < Hs <= 30 m and Tp in 1 s <= Tp <= 30 s. A UTF-8 byte-order mark and CRLF line
     ends (what spreadsheets write) are accepted.
 
+    A diagram in zero-up-crossing periods (``tz_s``, as published tables are) is turned
+    into peak periods at the JONSWAP peak enhancement ``gamma``:
+    Tp = Tz / (Tz/Tp)(gamma), DNV-RP-C205's fit
+    (:func:`~marinecdpr.motion.seastate.dnv_tz_over_tp`; gamma = 1: Tp = 1.4049 Tz); the
+    Tp so found must lie in 1 s <= Tp <= 30 s.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file.
+    gamma : float
+        With a ``tz_s`` file: the peak enhancement of the seas it is used in, 1 to 7
+        (:func:`tz_conversion_gamma` gives a template's). Unused with ``tp_s``.
+
     Raises
     ------
     ScenarioError
         One line naming the file, the row (and column) and the problem; a sum near 100
         or 1000 is named as percent or per mille.
     """
+    from marinecdpr.motion.seastate import dnv_tz_over_tp
+
     path = Path(path)
     src = str(path)
-    what = "a scatter diagram CSV file (hs_m,tp_s,probability)"
+    what = "a scatter diagram CSV file (hs_m,tp_s,probability or hs_m,tz_s,probability)"
 
     def fail(message: str) -> NoReturn:
         raise ScenarioError(message, source=src)
 
-    rows = read_csv_records(path, fail, what, word="row")
+    rows = read_csv_records(path, fail, what, word="row", comments=True)
     if (long := long_field(rows)) is not None:
         fail(f"row {long[0] + 1}, field {long[1] + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
-    if not rows or [h.strip() for h in rows[0]] != ["hs_m", "tp_s", "probability"]:
-        raise ScenarioError("the header must be hs_m,tp_s,probability", source=src, key="row 1")
+    head = next((i for i, row in enumerate(rows) if row and "".join(row).strip()), None)
+    header = [h.strip() for h in rows[head]] if head is not None else []
+    if header not in (["hs_m", "tp_s", "probability"], ["hs_m", "tz_s", "probability"]):
+        raise ScenarioError("the header must be hs_m,tp_s,probability or hs_m,tz_s,probability", source=src,
+                            key=f"row {1 if head is None else head + 1}")
+    in_tz = header[1] == "tz_s"
+    if in_tz:
+        try:
+            ratio = dnv_tz_over_tp(gamma)
+        except ValueError as exc:
+            raise ScenarioError(f"tz_s becomes Tp only at a JONSWAP gamma within 1 to 7: {exc}", source=src) from None
     cells: dict[tuple[float, float], float] = {}
-    for i, row in enumerate(rows[1:], start=2):
+    for i, row in enumerate(rows[head + 1:], start=head + 2):
         if not row or not "".join(row).strip():
             continue
         if len(row) != 3:
@@ -111,9 +167,16 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
             raise ScenarioError(f"not numbers: {','.join(row)}", source=src, key=f"row {i}") from None
         (hs_lo, hs_hi), (tp_lo, tp_hi) = HS_RANGE_M, TP_RANGE_S
         if not hs_lo < hs <= hs_hi:   # False for NaN too
-            raise ScenarioError(f"hs_m and tp_s must be positive and physical: hs_m = {row[0].strip()} "
+            raise ScenarioError(f"hs_m and {header[1]} must be positive and physical: hs_m = {row[0].strip()} "
                                 f"(column 1) is outside {hs_lo:g} < Hs <= {hs_hi:g} m", source=src, key=f"row {i}")
-        if not tp_lo <= tp <= tp_hi:
+        if in_tz:
+            tz, tp = tp, tp / ratio   # NaN stays NaN and is refused below
+            if not tp_lo <= tp <= tp_hi:
+                raise ScenarioError(f"hs_m and tz_s must be positive and physical: tz_s = {row[1].strip()} "
+                                    f"(column 2) gives Tp = {tp:.4g} s at gamma = {gamma:g} (Tp = "
+                                    f"{1.0 / ratio:.5g} Tz), outside {tp_lo:g} s <= Tp <= {tp_hi:g} s", source=src,
+                                    key=f"row {i}")
+        elif not tp_lo <= tp <= tp_hi:
             raise ScenarioError(f"hs_m and tp_s must be positive and physical: tp_s = {row[1].strip()} "
                                 f"(column 2) is outside {tp_lo:g} s <= Tp <= {tp_hi:g} s", source=src,
                                 key=f"row {i}")
@@ -124,7 +187,8 @@ def read_scatter_csv(path: str | Path) -> ScatterDiagram:
             raise ScenarioError(f"probability = {row[2].strip()} (column 3) is not a probability (at most 1)",
                                 source=src, key=f"row {i}")
         if (hs, tp) in cells:
-            raise ScenarioError(f"Hs {hs:g} m, Tp {tp:g} s appears twice", source=src, key=f"row {i}")
+            period = f"Tz {tz:g} s" if in_tz else f"Tp {tp:g} s"
+            raise ScenarioError(f"Hs {hs:g} m, {period} appears twice", source=src, key=f"row {i}")
         cells[(hs, tp)] = p
     total = math.fsum(cells.values())
     if not cells or total <= 0:
