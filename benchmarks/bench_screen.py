@@ -21,6 +21,13 @@ sea state (it says "works" where at most ``exceedance`` of its records would fai
 domain one record of it: a "fails" where the records fail more often than that is the screen
 right about the sea state and the one record lucky, and no screen of the sea state agrees there.
 
+``--sea-records N`` judges every pair's sea state, not one record of it: each pair is planned over
+N records (the time domain's own first) and judged as the time domain judges the plan; the
+sea state fails where its failing records are more than the screen's ``exceedance`` allows at
+95 % confidence (a one-sided binomial test: k failing of N with P(K >= k | exceedance) < 5 %),
+and works otherwise. The screen's verdicts are compared with that, beside the one-record table;
+the counts go in ``--td-cache`` too (as the plant "records-N").
+
 ``--td-cache FILE`` keeps the time domain's verdicts (JSON lines, one per pair) and reads
 them back on the next run, so that the screen can be compared again without flying the
 closed loops again (the pairs missing from the file are flown and added).
@@ -29,6 +36,7 @@ closed loops again (the pairs missing from the file are flown and added).
 from __future__ import annotations
 
 import argparse
+import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from importlib import resources
@@ -127,6 +135,8 @@ def main() -> None:
     parser.add_argument("--plant", default="mujoco", choices=("mujoco", "own"))
     parser.add_argument("--td-cache", default=None, help="JSON-lines file of the time domain's verdicts")
     parser.add_argument("--records", type=int, default=0, help="plan each disagreeing pair over this many records")
+    parser.add_argument("--sea-records", type=int, default=0,
+                        help="judge every pair's sea state over this many planned records")
     args = parser.parse_args()
     import marinecdpr
     from marinecdpr.studies.cleaning import evaluate_cleaning_cell
@@ -199,6 +209,8 @@ def main() -> None:
           f"{kinds['infeasible, works']}")
     if args.records:
         _by_records(args, names, cells, verdicts, results)
+    if args.sea_records:
+        _by_sea_state(args, names, cells, verdicts, results)
     td_share = {name: np.mean([results[k * len(cells) + j][0] for j in range(len(cells))])
                 for k, name in enumerate(names)}
     for name in names:
@@ -236,6 +248,57 @@ def _by_records(args, names, cells, verdicts, results) -> None:
           f"the sea state, the one record lucky), {none} with none of {args.records} failing; a screen that knew "
           f"each sea state's chance would agree with the one record on at most {agree + len(pairs) - right} of {n} "
           f"({100 * (agree + len(pairs) - right) / n:.1f} %)")
+
+
+def _by_sea_state(args, names, cells, verdicts, results) -> None:
+    """Every pair's sea state judged over ``args.sea_records`` planned records, against the screen."""
+    import json
+
+    from scipy.stats import binom
+
+    n_rec = args.sea_records
+    plant = f"records-{n_rec}"
+    cached = {}
+    if args.td_cache and os.path.isfile(args.td_cache):
+        with open(args.td_cache, encoding="utf-8") as fh:
+            for line in fh:
+                r = json.loads(line)
+                if r["plant"] == plant:
+                    cached[r["key"]] = (r["tensions"], r["band"])
+    jobs = [(name, cell, n_rec) for name in names for cell in cells if _key(name, cell) not in cached]
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        for job, res in zip(jobs, pool.map(_records, jobs)):
+            cached[_key(job[0], job[1])] = res
+            if args.td_cache:
+                with open(args.td_cache, "a", encoding="utf-8") as fh:
+                    fh.write(json.dumps({"key": _key(job[0], job[1]), "plant": plant, "tensions": int(res[0]),
+                                         "band": int(res[1])}) + "\n")
+    print(f"\nevery pair's sea state over {n_rec} planned records ({len(jobs)} pairs planned in "
+          f"{time.perf_counter() - t0:.0f} s, {len(names) * len(cells) - len(jobs)} from the cache):")
+    kinds = {"agree": 0, "feasible, fails": 0, "infeasible, works": 0}
+    strict = {"agree": 0, "feasible, fails": 0, "infeasible, works": 0}
+    for k, name in enumerate(names):
+        v = verdicts[name]
+        # fails: more failing records than the exceedance allows at 95 % (one-sided binomial)
+        k_crit = next(k_ for k_ in range(n_rec + 1) if binom.sf(k_ - 1, n_rec, v.exceedance) < 0.05)
+        for j, cell in enumerate(cells):
+            t_f, b_f = cached[_key(name, cell)]
+            failing = t_f + b_f
+            s_ok = bool(v.works[j])
+            for table, ok in ((kinds, failing < k_crit), (strict, failing == 0)):
+                table["agree" if s_ok == ok else ("feasible, fails" if s_ok else "infeasible, works")] += 1
+            if s_ok != (failing < k_crit):
+                print(f"  {name:<28} {cell.hs:4.1f} {cell.tp:4.0f}  screen {'works' if s_ok else 'fails':<6} "
+                      f"chance {v.chance[j]:6.3f}  {failing} of {n_rec} records fail ({t_f} tensions, {b_f} band); "
+                      f"the one closed-loop record {'works' if results[k * len(cells) + j][0] else 'fails'}")
+    n = len(names) * len(cells)
+    print(f"against the sea state (fails from {k_crit} failing records of {n_rec}): agreement {kinds['agree']} of {n} "
+          f"({100 * kinds['agree'] / n:.1f} %); 'works' where the sea state fails: {kinds['feasible, fails']}; "
+          f"'fails' where it works: {kinds['infeasible, works']}")
+    print(f"against the strict rule (fails if any of {n_rec} fails): agreement {strict['agree']} of {n} "
+          f"({100 * strict['agree'] / n:.1f} %); 'works' where a record fails: {strict['feasible, fails']}; "
+          f"'fails' where none fails: {strict['infeasible, works']}")
 
 
 if __name__ == "__main__":

@@ -258,3 +258,26 @@ def test_a_planar_robot_s_flat_axis_keeps_a_readable_depth_at_one_scale(name):
     for k, a in enumerate("xyz"):
         lo, hi = view[f"{a}axis"]["range"]
         assert lo <= pts[:, k].min() and pts[:, k].max() <= hi
+
+
+def test_a_frame_carried_on_a_rail_is_drawn_where_the_carriage_holds_it():
+    """A frame on a straight rail along S's x (issue 39): at the first instant it stands at the
+    rail's start, at the last (after the move, dwelling) 2 m further along x, every edge moved
+    by exactly that; the cables still run from its anchors at the plan's lengths; the rail and
+    the moving frame are drawn."""
+    sc = marinecdpr.load_scenario("paper").with_changes(
+        ship={"carriage": {"rail_m": [[-0.78, 0.0, 2.2], [20.0, 0.0, 2.2]], "speed_max_m_s": 1.0,
+                           "accel_max_m_s2": 1.0, "jerk_max_m_s3": 5.0, "stations_m": [0.0, 2.0], "dwell_s": 1.0}},
+        time={"step_s": 0.001, "duration_s": 8.0})
+    plan = marinecdpr.plan(sc)
+    scene = scene_geometry(sc, plan)
+    first, last = scene.frame_moves[0], scene.frame_moves[-1]
+    assert np.abs(first - scene.frame_edges).max() == 0.0
+    assert np.abs(scene.frame_origin - [-0.78, 0.0, 2.2]).max() < 1e-15
+    assert np.abs(last - first - [2.0, 0.0, 0.0]).max() < 1e-14
+    lengths = np.linalg.norm(scene.cables[:, :, 1] - scene.cables[:, :, 0], axis=-1)
+    at = np.rint(scene.times / sc.time.step_s).astype(int)
+    assert np.abs(lengths - plan.lengths[at]).max() < 1e-12
+    assert scene.rail[0] == pytest.approx([-0.78, 0.0, 2.2]) and scene.rail[-1] == pytest.approx([20.0, 0.0, 2.2])
+    page = scene_html(scene, title="rail", include_js=False)
+    assert "rail (C&#x27;s origin)" in page or "rail (C's origin)" in page

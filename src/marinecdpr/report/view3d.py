@@ -5,7 +5,8 @@
 :func:`view_section` is the report's section around it.
 
 What is drawn, all in S (m; C's origin is ``ship.frame_origin_m``, its axes turned by
-``ship.frame_orientation_deg``):
+``ship.frame_orientation_deg``; a frame carried on a rail, ``[ship.carriage]``, is drawn at
+its place at each instant, with the rail):
 
 - the hull: a box of the ship's main dimensions (``base_motion.rao``'s ``length_m``,
   ``beam_m``, ``draught_m`` where a sea state's RAO source gives all three), else an
@@ -91,6 +92,12 @@ class Scene:
         The planned path of P's origin, at most :data:`PATH_POINTS_MAX` points.
     panel : ndarray, shape (k + 1, 3), optional
         A cleaning job's panel outline, closed (first point repeated); None without.
+    frame_moves : ndarray, shape (n_instants, n_frame_edges, 2, 3), optional
+        A frame carried on a rail (``[ship.carriage]``): its edges at each instant (then
+        ``frame_anchors`` and ``frame_edges`` are its place at the first); None for a frame
+        that stands still.
+    rail : ndarray, shape (n_rail, 3), optional
+        The rail C's origin runs along, sampled; None without a carriage.
     """
 
     hull_vertices: np.ndarray
@@ -104,6 +111,8 @@ class Scene:
     cables: np.ndarray
     path: np.ndarray
     panel: np.ndarray | None
+    frame_moves: np.ndarray | None = None
+    rail: np.ndarray | None = None
 
 
 def hull_box(base_motion) -> tuple[np.ndarray, np.ndarray, str]:
@@ -184,6 +193,8 @@ def scene_geometry(scenario: Scenario, plan: Plan | None = None, *, instants: in
         Most points of the path.
     """
     n_steps = plan.n_steps if plan is not None else scenario.time.n_steps
+    if scenario.ship.carriage is not None:
+        return _carried_scene(scenario, plan, n_steps, instants, path_points)
     robot = scenario.robot
     origin = np.asarray(scenario.ship.frame_origin_m, dtype=float)
     R_SC = frame_axes(scenario.ship.frame_orientation_deg) if scenario.ship.turned else None
@@ -212,6 +223,58 @@ def scene_geometry(scenario: Scenario, plan: Plan | None = None, *, instants: in
     return Scene(hull_vertices=vertices, hull_faces=faces, hull_label=label, frame_origin=origin,
                  frame_anchors=c_S, frame_edges=frame_edges, times=at * scenario.time.step_s,
                  platform_edges=platform, cables=cables, path=path, panel=panel)
+
+
+RAIL_POINTS = 400
+"""Points the rail is drawn with."""
+
+
+def _carried_scene(scenario: Scenario, plan: Plan | None, n_steps: int, instants: int, path_points: int) -> Scene:
+    """:func:`scene_geometry` for a frame carried on a rail: C's place and axes on S at each
+    instant drawn (``motion.carriage.carriage_motion``), the frame moving with the slider."""
+    from marinecdpr.motion.carriage import carriage_motion, rail_of
+
+    robot = scenario.robot
+    h = scenario.time.step_s
+
+    def place(steps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # C's origin (k, 3) and axes (k, 3, 3) in S
+        r, _, _, R_SC, _, _ = carriage_motion(scenario.ship, steps * h)
+        return r, R_SC
+
+    def in_S(p_C: np.ndarray, r: np.ndarray, R_SC: np.ndarray) -> np.ndarray:  # p_C (k, ..., 3), one pose per k
+        extra = p_C.ndim - 2
+        R = R_SC.reshape(R_SC.shape[:1] + (1,) * extra + (3, 3))
+        return np.einsum("...ij,...j->...i", R, p_C) + r.reshape(r.shape[:1] + (1,) * extra + (3,))
+
+    at = sample_steps(n_steps, max(int(instants), 1))
+    r, R_SC = place(at)
+    k = at.size
+    c_S = in_S(np.broadcast_to(robot.frame_anchors, (k,) + robot.frame_anchors.shape), r, R_SC)  # (k, n, 3)
+    pose = _poses(scenario, plan, at)
+    R = matrix_from_euler(pose[:, 3:])
+    x_C = pose[:, :3]
+    p_S = in_S(x_C[:, None, :] + np.einsum("kij,nj->kni", R, robot.platform_anchors), r, R_SC)
+    cables = np.stack([c_S, p_S], axis=2)
+    edges_P = platform_body(robot.platform_anchors).edges_P
+    platform = in_S(x_C[:, None, None, :] + np.einsum("kij,eaj->keai", R, edges_P), r, R_SC)
+    edges_C = box_edges(robot.frame_anchors)
+    frame_moves = in_S(np.broadcast_to(edges_C, (k,) + edges_C.shape), r, R_SC)
+    steps = sample_steps(n_steps, max(int(path_points), 2))
+    r_p, R_p = place(steps)
+    path = in_S(_poses(scenario, plan, steps)[:, :3], r_p, R_p)
+    panel = None
+    if scenario.cleaning is not None:
+        xz = np.asarray(scenario.cleaning.panel_m, dtype=float)
+        ring = np.vstack([xz, xz[:1]])
+        y = float(getattr(scenario.trajectory, "plane_y_m", 0.0))
+        ring_C = np.column_stack([ring[:, 0], np.full(ring.shape[0], y), ring[:, 1]])
+        panel = in_S(ring_C[None], r[:1], R_SC[:1])[0]
+    rail = rail_of(scenario.ship)
+    vertices, faces, label = hull_box(scenario.base_motion)
+    return Scene(hull_vertices=vertices, hull_faces=faces, hull_label=label, frame_origin=r[0],
+                 frame_anchors=c_S[0], frame_edges=frame_moves[0], times=at * h, platform_edges=platform,
+                 cables=cables, path=path, panel=panel, frame_moves=frame_moves,
+                 rail=rail.at(np.linspace(0.0, rail.length_m, RAIL_POINTS)).r)
 
 
 def _segments(edges: np.ndarray) -> tuple[list, list, list]:
@@ -272,9 +335,13 @@ def scene_html(scene: Scene, *, title: str, include_js: bool, div_id: str = "vie
         go.Scatter3d(x=scene.frame_anchors[:, 0], y=scene.frame_anchors[:, 1], z=scene.frame_anchors[:, 2],
                      mode="markers", name="frame anchors", marker={"size": 4, "color": "#2ca02c"}),
     ]
-    xs, ys, zs = _segments(scene.frame_edges)
-    traces.append(go.Scatter3d(x=xs, y=ys, z=zs, mode="lines", name="frame (box of the anchors)",
-                               line={"color": "#2ca02c", "width": 3}, hoverinfo="skip"))
+    if scene.frame_moves is None:
+        xs, ys, zs = _segments(scene.frame_edges)
+        traces.append(go.Scatter3d(x=xs, y=ys, z=zs, mode="lines", name="frame (box of the anchors)",
+                                   line={"color": "#2ca02c", "width": 3}, hoverinfo="skip"))
+    if scene.rail is not None:
+        traces.append(go.Scatter3d(x=scene.rail[:, 0], y=scene.rail[:, 1], z=scene.rail[:, 2], mode="lines",
+                                   name="rail (C's origin)", line={"color": "#8c564b", "width": 4}))
     traces.append(go.Scatter3d(x=scene.path[:, 0], y=scene.path[:, 1], z=scene.path[:, 2], mode="lines",
                                name="planned path of P", line={"color": "#ff7f0e", "width": 3}))
     if scene.panel is not None:
@@ -285,19 +352,26 @@ def scene_html(scene: Scene, *, title: str, include_js: bool, div_id: str = "vie
     def instant(k: int) -> list:
         px, py, pz = _segments(scene.platform_edges[k])
         cx, cy, cz = _segments(scene.cables[k])
-        return [go.Scatter3d(x=px, y=py, z=pz, mode="lines", name="platform (outline of its anchors)",
-                             line={"color": PLATFORM_COLOUR, "width": 6}, hoverinfo="skip"),
-                go.Scatter3d(x=cx, y=cy, z=cz, mode="lines", name="cables",
-                             line={"color": CABLE_COLOUR, "width": 3}, hoverinfo="skip")]
+        out = [go.Scatter3d(x=px, y=py, z=pz, mode="lines", name="platform (outline of its anchors)",
+                            line={"color": PLATFORM_COLOUR, "width": 6}, hoverinfo="skip"),
+               go.Scatter3d(x=cx, y=cy, z=cz, mode="lines", name="cables",
+                            line={"color": CABLE_COLOUR, "width": 3}, hoverinfo="skip")]
+        if scene.frame_moves is not None:  # a carried frame moves with the slider
+            fx, fy, fz = _segments(scene.frame_moves[k])
+            out.append(go.Scatter3d(x=fx, y=fy, z=fz, mode="lines", name="frame (box of the anchors)",
+                                    line={"color": "#2ca02c", "width": 3}, hoverinfo="skip"))
+        return out
 
     traces += instant(0)
     robot_points = np.concatenate([scene.frame_anchors, scene.path, scene.cables.reshape(-1, 3),
                                    scene.platform_edges.reshape(-1, 3)]
-                                  + ([scene.panel] if scene.panel is not None else []))
+                                  + ([scene.panel] if scene.panel is not None else [])
+                                  + ([scene.frame_moves.reshape(-1, 3)] if scene.frame_moves is not None else []))
     robot_view = _ranges(robot_points, 0.1)
     ship_view = _ranges(np.concatenate([robot_points, scene.hull_vertices]), 0.05)
     names = [f"t = {t:.4g} s" for t in scene.times]
-    frames = [go.Frame(name=names[k], data=instant(k), traces=[moving, moving + 1]) for k in range(len(names))]
+    moved = list(range(moving, moving + (2 if scene.frame_moves is None else 3)))
+    frames = [go.Frame(name=names[k], data=instant(k), traces=moved) for k in range(len(names))]
     slider = {"active": 0, "currentvalue": {"prefix": "platform and cables at "}, "pad": {"t": 10},
               "steps": [{"label": f"{t:.3g} s", "method": "animate",
                          "args": [[name], {"mode": "immediate", "frame": {"duration": 0, "redraw": True},
