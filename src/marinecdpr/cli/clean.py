@@ -36,8 +36,9 @@ def clean(
                                    "second."),
     hull_area: Optional[float] = typer.Option(CleanSpec.default("hull_area"), "--hull-area", help="Estimate a hull of "
                                               "this many m2 (e.g. one side: length x draught), panel after panel."),
-    move_time: float = typer.Option(CleanSpec.default("move_time"), "--move-time",
-                                    help="Seconds to move the frame to its next place."),
+    move_time: Optional[float] = typer.Option(CleanSpec.default("move_time"), "--move-time",
+                                              help="Seconds to move the frame to its next place (default 600; "
+                                              "not with a crane or rail [cleaning.surface.relocation])."),
     surface: bool = typer.Option(CleanSpec.default("surface"), "--surface", help="Clean the scenario's "
                                  "[cleaning.surface] band of the hull: the frame's placements on the curved surface, "
                                  "and their hours."),
@@ -127,14 +128,19 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
 
         u = result.surface
         frame = np.ptp(result.scenario.robot.frame_anchors, axis=0)  # the frame's extent along C's x and z, m
+        all_robots = " by all robots" if u.moves is not None and u.moves.robots > 1 else ""
         console.print(plain(f"surface: {u.surface}: {len(u.placements)} placements of the {frame[0]:.3g} x "
                             f"{frame[2]:.3g} m frame, each cleaning its {u.frame_panel_m[0]:g} x "
                             f"{u.frame_panel_m[1]:g} m panel, {u.area_m2:.4g} m2: "
-                            f"{u.hours:.4g} h ({u.cleaning_hours:.4g} h cleaning, moves of {spec.move_time:g} s; "
+                            f"{u.hours:.4g} h ({u.cleaning_hours:.4g} h cleaning{all_robots}, {u.moves_said()}; "
                             f"{u.area_rate_m2_h:.3g} m2/h)"
                             + (f"; {len(u.uncleanable)} patches ({u.uncleanable_area_m2:.3g} m2) curved "
                                "beyond the stand-off tolerance" if u.uncleanable else "")),
                       highlight=False, soft_wrap=True)
+        if u.moves is not None and u.relocation_cost["total"] > 0:
+            c = u.relocation_cost
+            console.print(plain(f"relocation cost: {c['total']:.6g} (crane hire {c['crane_hire']:.6g}, rail "
+                                f"{c['rail']:.6g}, carriages {c['carriages']:.6g})"), highlight=False, soft_wrap=True)
     f = result.job.figures
     close = f.interference
     if close is not None and close["first"] is not None:

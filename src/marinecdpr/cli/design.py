@@ -104,7 +104,10 @@ def design(
             f"{x['platform_height_m']:.3g} m ({e.mass_kg:.3g} kg), cables {x.get('pattern', 'uncrossed')}, tool "
             f"{x['tool_width_m']:.3g} m at "
             f"{x['speed_m_s']:.3g} m/s, winches {x['winch']} ({e.power_kW:g} kW in all, T_max {e.tension_max_N:.4g} N), "
-            f"rope {x['rope']}: {e.placements} placements, {e.surface_hours:.4g} h on the surface, works in "
+            f"rope {x['rope']}"
+            + (f", moved by {x['relocation']}, {x['robots']} robot{'s' if x['robots'] != 1 else ''} "
+               f"(the moves cost {e.relocation_cost:.6g})" if "relocation" in x else "")
+            + f": {e.placements} placements, {e.surface_hours:.4g} h on the surface, works in "
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
             f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),
             highlight=False, soft_wrap=True)

@@ -29,10 +29,12 @@ if TYPE_CHECKING:  # the spec is read when the command line starts: the work's m
     from marinecdpr.studies.operability import ScatterDiagram
     from marinecdpr.studies.surface import SurfaceJob
 
-__all__ = ["CleanSpec", "CleanEstimate", "CleanResult", "CleanSeasResult", "estimate", "tile", "run", "PLANTS"]
+__all__ = ["MOVE_TIME_S", "CleanSpec", "CleanEstimate", "CleanResult", "CleanSeasResult", "estimate", "tile", "run", "PLANTS"]
 
 PLANTS = ("mujoco", "own")
 """The plants a job flies on."""
+MOVE_TIME_S = 600.0
+"""A move of the frame to its next place where ``move_time`` is not given, s."""
 
 
 class CleanSpec(ExecutorOptions):
@@ -49,8 +51,11 @@ class CleanSpec(ExecutorOptions):
         and check it with a second.
     hull_area : float, optional
         Estimate a hull of this many m2 panel after panel (at most 1e6 m2).
-    move_time : float
-        Seconds to move the frame to its next place, s (0 to 1e6).
+    move_time : float, optional
+        Seconds to move the frame to its next place, s (0 to 1e6; default
+        :data:`MOVE_TIME_S`, 600 s): every move's, where the scenario's
+        ``[cleaning.surface.relocation]`` is absent or its mode "fixed"; refused with a crane or
+        rail relocation, whose moves are timed by its model.
     surface : bool
         Clean the scenario's ``[cleaning.surface]`` band: the frame's placements on the
         curved surface, and their hours.
@@ -78,7 +83,7 @@ class CleanSpec(ExecutorOptions):
     duration: float | None = None
     guarantee: bool = False
     hull_area: float | None = None
-    move_time: float = 600.0
+    move_time: float | None = None
     surface: bool = False
     seas: bool = False
     scatter: Path | None = None
@@ -123,16 +128,17 @@ class CleanSpec(ExecutorOptions):
             from marinecdpr.studies.surface import check_move_time
 
             try:  # a move longer than the cap makes hours that mean nothing (1e308 s: not finite)
-                check_move_time(self.move_time)
+                check_move_time(self.move_time_s)
             except ScenarioError as exc:
                 raise SpecError("move_time", self.move_time, exc.detail.split(", got")[0]) from None
         if self.hull_area is not None:
             from marinecdpr.studies.cleaning import check_hull_estimate
 
             try:  # before the job: an estimate that would mean nothing is one line
-                check_hull_estimate(self.hull_area, self.move_time)
+                check_hull_estimate(self.hull_area, self.move_time_s)
             except ValueError as exc:
-                raise SpecError("hull_area", f"{self.hull_area:g} / --move-time {self.move_time:g}", str(exc)) from None
+                raise SpecError("hull_area", f"{self.hull_area:g} / --move-time {self.move_time_s:g}",
+                                str(exc)) from None
         seas = "--seas" if self.seas else f"--scatter {self.scatter}"
         if self.surface and self.hull_area is not None:
             raise SpecError("surface", f"with --hull-area {self.hull_area:g}",
@@ -143,6 +149,21 @@ class CleanSpec(ExecutorOptions):
             raise SpecError("guarantee", f"with {seas}",
                             "cannot go together: it sets the lanes from one sea state's run")
         return self
+
+    @property
+    def move_time_s(self) -> float:
+        """``move_time`` where given, else :data:`MOVE_TIME_S`, s."""
+        return MOVE_TIME_S if self.move_time is None else float(self.move_time)
+
+    def check_relocation(self, scenario: Scenario) -> None:
+        """``move_time`` given where the scenario's ``[cleaning.surface.relocation]`` times
+        the moves by a crane or a rail: SpecError (one line saying which options go together)."""
+        cleaning = scenario.cleaning
+        relocation = None if cleaning is None or cleaning.surface is None else cleaning.surface.relocation
+        if self.surface and self.move_time is not None and relocation is not None and relocation.mode != "fixed":
+            raise SpecError("move_time", self.move_time,
+                            f"goes with no [cleaning.surface.relocation] or its mode = \"fixed\"; the scenario's "
+                            f"mode = \"{relocation.mode}\" times each move by its own figures: leave --move-time out")
 
     @property
     def over_seas(self) -> bool:
@@ -213,12 +234,14 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
         scenario without a sea state for ``seas``, or runs the machine cannot hold or finish
         (:func:`~marinecdpr.planning.budget.check_run_size`).
     SpecError
-        With ``seas``: the executor cannot be made (a ``scheduler`` that does not answer; Dask
+        ``move_time`` with a crane or rail relocation (:meth:`CleanSpec.check_relocation`);
+        with ``seas``: the executor cannot be made (a ``scheduler`` that does not answer; Dask
         not installed for ``workers``).
     """
     from marinecdpr.errors import ScenarioError
     from marinecdpr.planning.budget import check_run_size
 
+    spec.check_relocation(scenario)
     sc = scenario
     if sc.cleaning is None or sc.trajectory.type != "coverage":
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
@@ -269,7 +292,8 @@ def tile(spec: CleanSpec, scenario: Scenario, *, progress: Callable[[float], Non
     """
     from marinecdpr.studies.surface import surface_job
 
-    return surface_job(scenario, move_time_s=spec.move_time, progress=progress)
+    spec.check_relocation(scenario)
+    return surface_job(scenario, move_time_s=spec.move_time_s, progress=progress)
 
 
 @dataclass(frozen=True)
@@ -432,7 +456,7 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
     hull = None
     if spec.hull_area is not None:
         try:
-            hull = ship_side(job.figures, hull_area_m2=spec.hull_area, move_time_s=spec.move_time)
+            hull = ship_side(job.figures, hull_area_m2=spec.hull_area, move_time_s=spec.move_time_s)
         except ValueError as exc:
             raise SpecError("hull_area", spec.hull_area, str(exc)) from None
     return CleanResult(spec=spec, scenario=sc, job=job, comparison=comparison, hull=hull,
@@ -446,5 +470,5 @@ def _over_seas(spec: CleanSpec, est: CleanEstimate, *, progress, executor: Execu
     executor = executor or est.executor or spec.executor(est.steps)
     cs = cleaning_seas(est.flown, est.diagram, headings_deg=spec.headings, coverage_target_pct=spec.coverage_target,
                        in_band_target_pct=spec.in_band_target, plant=spec.plant, hull_area_m2=spec.hull_area,
-                       move_time_s=spec.move_time, executor=executor, progress=progress)
+                       move_time_s=spec.move_time_s, executor=executor, progress=progress)
     return CleanSeasResult(spec=spec, scenario=est.flown, seas=cs, executor=executor)

@@ -343,7 +343,10 @@ def write_surface(sj, folder: Path) -> list[Path]:
     plane, the patch's extent in the plane, its area and cleaning time; the patches too curved
     for the tolerance last, with ``cleanable`` 0 and no cleaning time, 0 s) and ``surface.png``
     (the side, x along the ship and z up, each placement coloured by its minutes, and by its
-    stand-off deviation).
+    stand-off deviation). With ``[cleaning.surface.relocation]`` each row also says which robot
+    visits it (``robot``, from 1), its place in that robot's visits (``visit``, from 1), the
+    move into it (``move_in_s``, 0 at a robot's first) and whether a crane made it
+    (``by_crane``); the patches too curved have 0 there.
 
     Parameters
     ----------
@@ -357,6 +360,14 @@ def write_surface(sj, folder: Path) -> list[Path]:
                 cleanable]
 
     rows = [row(p, t, 1.0) for p, t in zip(sj.placements, sj.job_s)] + [row(p, 0.0, 0.0) for p in sj.uncleanable]
+    if sj.moves is not None:  # with [cleaning.surface.relocation]: who visits each placement, when, and how
+        m, n = sj.moves, len(sj.placements)
+        extra = np.zeros((len(rows), 4))
+        first = np.concatenate([[0], np.flatnonzero(np.diff(m.robot)) + 1])
+        visit = np.arange(n) - first[np.searchsorted(first, np.arange(n), side="right") - 1]
+        extra[m.order] = np.column_stack([m.robot + 1, visit + 1, m.move_in_s, m.kind == "crane"])
+        names = names[:-1] + ["robot", "visit", "move_in_s", "by_crane", "cleanable"]
+        rows = [r[:-1] + list(e) + r[-1:] for r, e in zip(rows, extra)]
     csv = _write_csv(names, np.array(rows, dtype=float).reshape(-1, len(names)), folder / "placements.csv",
                      int_last=True)
     plt = _pyplot()
@@ -381,6 +392,6 @@ def write_surface(sj, folder: Path) -> list[Path]:
         fig.colorbar(coll, ax=ax, label=label, shrink=0.9)
     axes[1].set_xlabel("x in S (m, from amidships)")
     fig.suptitle(_plain(f"{len(sj.placements)} placements of the frame, each cleaning its {sj.frame_panel_m[0]:g} x "
-                        f"{sj.frame_panel_m[1]:g} m panel: {sj.hours:.4g} h (moves of {sj.move_time_s:g} s); "
+                        f"{sj.frame_panel_m[1]:g} m panel: {sj.hours:.4g} h ({sj.moves_said()}); "
                         f"{sj.surface}"), fontsize=9)
     return [csv, _save(fig, folder / "surface.png")]

@@ -25,24 +25,36 @@ CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "patt
                       "expected_hours", "power_kW", "cost"]
                      + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
 """candidates.csv's and pareto.csv's columns."""
+RELOCATION_COLUMNS = ["relocation", "robots", "relocation_cost", "rail_moves", "crane_moves"]
+"""The columns a study that sets the frame's moves or the robots (``[relocation]``, or
+``relocation``/``robots`` among its variables) adds after ``cost``."""
 
 
-def _row(i: int, gen: int, e) -> list:
+def _columns(relocates: bool) -> list[str]:
+    if not relocates:
+        return CANDIDATE_COLUMNS
+    at = CANDIDATE_COLUMNS.index("cost") + 1
+    return CANDIDATE_COLUMNS[:at] + RELOCATION_COLUMNS + CANDIDATE_COLUMNS[at:]
+
+
+def _row(i: int, gen: int, e, relocates: bool = False) -> list:
     def num(v):
         return "" if v is None or not np.isfinite(v) else f"{v:.10g}"
 
+    moved = ([e.x.get("relocation", ""), e.x.get("robots", ""), num(e.relocation_cost), e.rail_moves, e.crane_moves]
+             if relocates else [])
     return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), e.x["winch"], e.x["rope"], e.x.get("pattern", "uncrossed"),
              num(e.mass_kg), num(e.tension_max_N), e.placements, *(num(v) for v in e.frame_turn_deg),
              num(e.surface_hours), num(e.sea_share),
-             num(e.expected_hours), num(e.power_kW), num(e.cost)]
+             num(e.expected_hours), num(e.power_kW), num(e.cost)] + moved
             + [num(e.margins.get(k, float("nan"))) for k in CONSTRAINTS] + [int(e.feasible), e.reason])
 
 
-def _write_rows(path: Path, rows: list[list]) -> Path:
+def _write_rows(path: Path, rows: list[list], relocates: bool = False) -> Path:
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(CANDIDATE_COLUMNS)
+            w.writerow(_columns(relocates))
             w.writerows(rows)
     return path
 
@@ -58,6 +70,8 @@ def objective_label(spec) -> str:
     if spec.objective == "power":
         return "installed winch power (kW)"
     unit = spec.cost_unit or "the catalogue's units"
+    if spec.relocates:
+        return f"cost of each robot's 4 winches and 4 ropes, and of the moves ({unit})"
     return f"cost of 4 winches and 4 ropes ({unit})"
 
 
@@ -68,11 +82,13 @@ def _finite(v):
 def _short(e, objective: str) -> dict:
     keys = ("placements", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N",
             "mass_kg", "frame_turn_deg", "sea_reason")
+    moved = ({"relocation": {"cost": e.relocation_cost, "rail_moves": e.rail_moves, "crane_moves": e.crane_moves}}
+             if "relocation" in e.x or e.relocation_cost or e.rail_moves or e.crane_moves else {})
     return {"variables": dict(e.x), **{k: getattr(e, k) for k in keys}, "feasible": e.feasible,
             "objective": e.objective(objective),
             "hours": {k: _finite(v) for k, v in e.hours_breakdown().items()},
             "binding": [{"constraint": k, "margin": _finite(float(e.margins[k])), "slack": v}
-                        for k, v in e.binding()]}
+                        for k, v in e.binding()]} | moved
 
 
 def design_summary(study, verification=None) -> dict:
@@ -248,9 +264,11 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     folder = Path(folder)
     spec = study.spec
     ev = study.evaluations
-    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e) for i, (e, g) in
-                                                    enumerate(zip(ev, study.generation))])]
-    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i]) for i in study.front]))
+    moves = spec.relocates
+    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e, moves) for i, (e, g) in
+                                                    enumerate(zip(ev, study.generation))], moves)]
+    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i], moves)
+                                                     for i in study.front], moves))
     paths.append(_save(pareto_figure(study), folder / "pareto.png"))
     paths.append(_save(convergence_figure(study), folder / "convergence.png"))
     designs = folder / "designs"

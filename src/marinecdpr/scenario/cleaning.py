@@ -21,6 +21,7 @@ from marinecdpr.scenario.fields import (
     POSITION_MAX_M, UNIT_TOLERANCE, HullBeam, HullDraught, HullLength, Orientation, Position, TimeOfDay, _KeyedError,
     _Model, _num, _ranged, _resolve_file, normalised_unit,
 )
+from marinecdpr.scenario.relocation import Relocation
 
 __all__ = ["Cleaning", "CoverageTrajectory", "Surface", "StandOffTolerance", "STAND_OFF_MIN_M"]
 
@@ -71,6 +72,10 @@ class Surface(_Model):
     """The band's [lower, upper] heights above the waterline, m."""
     stand_off_tolerance_m: StandOffTolerance
     """The most the surface may depart from the frame's plane over one placement, m."""
+    relocation: Relocation | None = None
+    """How the frame moves between placements (crane, rail) and how many robots share the
+    band (:class:`~marinecdpr.scenario.relocation.Relocation`); none: every move takes the
+    command's ``--move-time``, one robot."""
 
     @field_validator("mesh")
     @classmethod

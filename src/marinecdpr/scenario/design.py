@@ -18,6 +18,7 @@ from pydantic import AfterValidator, Field, StrictInt, StrictStr, model_validato
 
 from marinecdpr.scenario.cleaning import StandOffTolerance
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
+from marinecdpr.scenario.relocation import ROBOTS_MAX, Relocation
 
 __all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS", "POPULATION", "GENERATIONS",
            "SEED_MAX", "STUDY_NAME", "safe_stem",
@@ -86,6 +87,12 @@ class Variables(_Model):
     """Rope names from ``[[ropes]]`` to choose from (default: every one)."""
     pattern: list[Literal["uncrossed", "crossed"]] | None = Field(default=None, min_length=1)
     """The cable patterns to choose from (:data:`PATTERNS`; default: uncrossed, the paper's)."""
+    relocation: list[Literal["fixed", "crane", "rail"]] | None = Field(default=None, min_length=1)
+    """How the frame moves between placements, modes to choose from (each with its figures in
+    ``[relocation]``; default: ``[relocation]``'s mode)."""
+    robots: list[Annotated[StrictInt, Field(ge=1, le=ROBOTS_MAX)]] | None = Field(default=None, min_length=1)
+    """How many robots work the side at once, counts to choose from (default:
+    ``[relocation]``'s ``robots``, else 1)."""
 
 
 class Winch(_Model):
@@ -190,6 +197,10 @@ class DesignSpec(_Model):
     sea: Sea = Sea()
     platform_mass: PlatformMass
     limits: Limits = Limits()
+    relocation: Relocation | None = None
+    """How the frame moves between placements and how many robots share the side
+    (:class:`~marinecdpr.scenario.relocation.Relocation`, ``[cleaning.surface.relocation]``'s
+    fields): the candidates' (default: the template's, else every move ``move_time_s``)."""
     variables: Variables
     winches: list[Winch] = Field(min_length=1)
     ropes: list[Rope] = Field(min_length=1)
@@ -212,13 +223,38 @@ class DesignSpec(_Model):
                 if name not in known:
                     raise _KeyedError(f"variables.{key}[{i + 1}]", f"{name!r} is not in the catalogue "
                                                                   f"({', '.join(known)})")
+        for key in ("relocation", "robots"):
+            chosen = getattr(self.variables, key) or []
+            for i, value in enumerate(chosen):
+                if value in chosen[:i]:
+                    raise _KeyedError(f"variables.{key}[{i + 1}]", f"{value!r} is listed twice")
+        for i, mode in enumerate(self.variables.relocation or []):
+            if mode != "fixed" and getattr(self.relocation, mode, None) is None:
+                raise _KeyedError(f"variables.relocation[{i + 1}]", f"{mode!r} needs its figures in "
+                                                                   f"[relocation.{mode}]")
+            if mode == "crane" or (mode == "rail" and self.relocation.crane is not None):
+                if self.relocation.frame_mass_kg is None:
+                    raise _KeyedError(f"variables.relocation[{i + 1}]", "a crane lifts the frame: give "
+                                                                       "[relocation] frame_mass_kg")
         return self
 
+    @property
+    def relocates(self) -> bool:
+        """Does the study set the frame's moves or the robots (``[relocation]``, or
+        ``relocation`` or ``robots`` among the variables)? Its candidates then carry both."""
+        return (self.relocation is not None or self.variables.relocation is not None
+                or self.variables.robots is not None)
+
     def choices(self, key: str) -> list:
-        """The catalogue entries a variable ``key`` ("winch" or "rope") chooses from, or the
-        cable patterns ("pattern")."""
+        """The catalogue entries a variable ``key`` ("winch" or "rope") chooses from, the
+        cable patterns ("pattern"), the relocation modes ("relocation") or the robots' counts
+        ("robots")."""
         if key == "pattern":
             return list(self.variables.pattern or ["uncrossed"])
+        if key == "relocation":
+            return list(self.variables.relocation or [self.relocation.mode if self.relocation else "fixed"])
+        if key == "robots":
+            return list(self.variables.robots or [self.relocation.robots if self.relocation else 1])
         catalogue = self.winches if key == "winch" else self.ropes
         chosen = getattr(self.variables, key)
         return [e for e in catalogue if chosen is None or e.name in chosen]

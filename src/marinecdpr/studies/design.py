@@ -48,7 +48,7 @@ from marinecdpr.studies.executor import Executor
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
-           "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE"]
+           "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -271,6 +271,12 @@ class Evaluation:
     slack : dict
         Each margin of ``margins`` as a share of what it is taken from (:data:`CAPACITIES`):
         1 unused, 0 binding, negative short.
+    relocation_cost : float
+        With a relocation (``[relocation]``, or the template's): what the moves cost
+        (crane hire, rail, carriages), included in ``cost``
+        (:func:`~marinecdpr.studies.relocation.relocation_cost`).
+    rail_moves, crane_moves : int
+        With a relocation: the moves made along the rail and by crane.
     """
 
     x: dict
@@ -293,6 +299,9 @@ class Evaluation:
     turn_hours: float = float("nan")
     move_hours: float = float("nan")
     slack: dict = field(default_factory=dict)
+    relocation_cost: float = 0.0
+    rail_moves: int = 0
+    crane_moves: int = 0
 
     def objective(self, kind: str) -> float:
         """The second objective: installed power (kW) or cost."""
@@ -373,7 +382,8 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     rope's breaking load over its safety factor and the winch's torque over its drum's radius;
     the panel the frame's inner rectangle inset by the platform's half size and
     ``limits.edge_m``; the tool's width, speed and overlap; the time the panel's coverage
-    path takes.
+    path takes; where the study sets them (:func:`relocation_of`), the frame's moves and the
+    robots (``cleaning.surface.relocation``).
 
     Raises
     ------
@@ -402,6 +412,9 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
                     overlap_m=x["overlap_share"] * x["tool_width_m"], speed_m_s=x["speed_m_s"])
     if spec.limits.stand_off_tolerance_m is not None:
         cleaning["surface"] = dict(cleaning["surface"], stand_off_tolerance_m=spec.limits.stand_off_tolerance_m)
+    relocation = relocation_of(spec, x)
+    if relocation is not None:
+        cleaning["surface"] = dict(cleaning["surface"], relocation=relocation)
     duration = _path_time(Cleaning.model_validate(cleaning))
     data = template.model_dump(exclude_none=True)
     # a record no shorter than the job, a whole number of steps long and that number a fast
@@ -570,6 +583,9 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     span, sag = span_sag(rope.weight_N_m, W, H, spec.limits.tension_min_N)
     power_kW = 4.0 * winch.power_W / 1000.0
     cost = 4.0 * (winch.cost + rope.cost_per_m * span)
+    robots = _robots(template, x)
+    if robots != 1:  # each robot its own four winches and ropes
+        power_kW, cost = robots * power_kW, robots * cost
     nan = float("nan")
     try:
         sc = candidate_scenario(spec, template, x)
@@ -602,8 +618,10 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                 "clearance_m": margins["clearance_m"] + rope.diameter_m + spec.limits.clearance_m}
     short = [k for k, v in margins.items() if not v >= 0.0]
     expected = job.hours / share if share > 0 else float("inf")
+    moved = _relocation_figures(job)
+    cost = cost + moved["relocation_cost"] if moved else cost
     return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
-                      placements=len(job.placements), surface_hours=job.hours, sea_share=share,
+                      placements=len(job.placements), surface_hours=job.hours, sea_share=share, **moved,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
                       mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
                       frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
@@ -611,10 +629,42 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
 
 
 def _breakdown(job) -> dict:
-    """A surface job's hours in parts (:meth:`Evaluation.hours_breakdown`)."""
+    """A surface job's hours in parts (:meth:`Evaluation.hours_breakdown`): with robots, the
+    slowest robot's."""
+    if job.moves is not None:
+        clean, turns, moves = job.parts_s()
+        return {"cleaning_hours": clean / 3600.0, "turn_hours": turns / 3600.0, "move_hours": moves / 3600.0}
     turns = float(job.turn_s.sum()) / 3600.0
     return {"cleaning_hours": float(job.job_s.sum()) / 3600.0 - turns, "turn_hours": turns,
             "move_hours": max(len(job.placements) - 1, 0) * job.move_time_s / 3600.0}
+
+
+def _relocation_figures(job) -> dict:
+    """A surface job's relocation in :class:`Evaluation`'s fields (none without
+    ``[cleaning.surface.relocation]``)."""
+    if job.moves is None:
+        return {}
+    return {"relocation_cost": job.relocation_cost["total"], "rail_moves": job.moves.count("rail"),
+            "crane_moves": job.moves.count("crane")}
+
+
+def relocation_of(spec: DesignSpec, x: dict) -> dict | None:
+    """The candidate's ``cleaning.surface.relocation``: the study's ``[relocation]`` with the
+    candidate's ``relocation`` (mode) and ``robots``; None where the study sets neither (the
+    template's own, if any, stays)."""
+    if not spec.relocates:
+        return None
+    base = spec.relocation.model_dump(exclude_none=True) if spec.relocation is not None else {}
+    return base | {"mode": x.get("relocation", spec.choices("relocation")[0]),
+                   "robots": int(x.get("robots", spec.choices("robots")[0]))}
+
+
+def _robots(template: Scenario, x: dict) -> int:
+    """How many robots the candidate puts on the side: its ``robots``, else the template's."""
+    if "robots" in x:
+        return int(x["robots"])
+    relocation = template.cleaning.surface.relocation
+    return relocation.robots if relocation is not None else 1
 
 
 def _slack(margins: dict, capacity: dict) -> dict:
@@ -691,7 +741,8 @@ def template_x(spec: DesignSpec, template: Scenario) -> dict:
             "platform_width_m": float(np.ptp(p[:, 0])), "platform_height_m": float(np.ptp(p[:, 2])),
             "tool_width_m": float(cl.brush_diameter_m), "speed_m_s": float(cl.speed_m_s),
             "overlap_share": float(cl.overlap_m / cl.brush_diameter_m),
-            "winch": TEMPLATE_OWN, "rope": TEMPLATE_OWN, "pattern": TEMPLATE_OWN}
+            "winch": TEMPLATE_OWN, "rope": TEMPLATE_OWN, "pattern": TEMPLATE_OWN} | (
+        {"relocation": spec.choices("relocation")[0], "robots": spec.choices("robots")[0]} if spec.relocates else {})
 
 
 def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
@@ -699,6 +750,9 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
     from marinecdpr.studies.surface import surface_job
 
     x = template_x(spec, template)
+    relocation = relocation_of(spec, x)
+    if relocation is not None:  # judged with the study's moves and robots, as a candidate is
+        template = template.with_updates("cleaning.surface", relocation=relocation)
     job = surface_job(template, move_time_s=spec.move_time_s, digits=2)
     run = template.with_changes(time=dict(template.time.model_dump(), duration_s=_path_time(template.cleaning)))
     share, _, worst, turned, why = screen_surface(run, cells, *frame_placements(template, x["frame_width_m"],
@@ -711,7 +765,7 @@ def baseline(spec: DesignSpec, template: Scenario, cells: list) -> Evaluation:
                       margins={"sea_share": share - spec.targets.sea_share}, frame_origin_m=[float(v) for v in worst],
                       frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
                       sea_reason=why, **_breakdown(job), slack=_slack({"sea_share": share - spec.targets.sea_share},
-                                                      {"sea_share": share}))
+                                                      {"sea_share": share}), **_relocation_figures(job))
 
 
 def _path_time(cleaning: Cleaning) -> float:
@@ -742,8 +796,13 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
             return f"sha256:{digest.hexdigest()}"
         return value
 
-    text = json.dumps([spec.model_dump(mode="json"), by_content(template.model_dump(mode="json")),
-                       [c.__dict__ for c in cells]], sort_keys=True, default=repr)
+    study, scenario = spec.model_dump(mode="json"), template.model_dump(mode="json")
+    # the relocation's keys where unset, as before they were known: an older journal still resumes
+    for node, key in ((study, "relocation"), (study["variables"], "relocation"), (study["variables"], "robots"),
+                      (((scenario.get("cleaning") or {}).get("surface") or {}), "relocation")):
+        if key in node and node[key] is None:
+            del node[key]
+    text = json.dumps([study, by_content(scenario), [c.__dict__ for c in cells]], sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -789,9 +848,11 @@ def _from_json(d) -> Evaluation:
     if not isinstance(x, dict) or set(CONTINUOUS) - set(x):
         raise ValueError("x: expected the candidate's variables")
     out = {"x": {k: (_number(f"x.{k}", v) if k in CONTINUOUS else v) for k, v in x.items()}}
-    for k in ("winch", "rope", "pattern"):
+    for k in ("winch", "rope", "pattern", "relocation"):
         if k in x and not isinstance(x[k], str):
             raise ValueError(f"x.{k}: expected a name, got {x[k]!r:.40}")
+    if "robots" in x and (isinstance(x["robots"], bool) or not isinstance(x["robots"], int) or x["robots"] < 1):
+        raise ValueError(f"x.robots: expected a count, got {x['robots']!r:.40}")
     if not isinstance(d["feasible"], bool):
         raise ValueError(f"feasible: expected true or false, got {d['feasible']!r:.40}")
     if not isinstance(d["reason"], str):
@@ -804,9 +865,14 @@ def _from_json(d) -> Evaluation:
     out["sea_reason"] = d.get("sea_reason", "")
     for k in ("surface_hours", "sea_share", "expected_hours", "power_kW", "cost", "tension_max_N", "mass_kg"):
         out[k] = _number(k, d[k])
-    for k in ("cleaning_hours", "turn_hours", "move_hours"):
+    for k in ("cleaning_hours", "turn_hours", "move_hours", "relocation_cost"):
         if k in d:
             out[k] = _number(k, d[k])
+    for k in ("rail_moves", "crane_moves"):
+        if k in d:
+            if isinstance(d[k], bool) or not isinstance(d[k], int) or d[k] < 0:
+                raise ValueError(f"{k}: expected a count, got {d[k]!r:.40}")
+            out[k] = d[k]
     for k in ("margins", "slack"):
         if k in d:
             if not isinstance(d[k], dict):
@@ -925,6 +991,9 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     free = {k: Real(bounds=b) for k, b in bounds.items() if b[0] < b[1]}
     choices = {k: [e.name for e in spec.choices(k)] for k in ("winch", "rope")}
     choices["pattern"] = spec.choices("pattern")
+    if spec.relocates:
+        choices["relocation"] = spec.choices("relocation")
+        choices["robots"] = spec.choices("robots")
     for k, names in choices.items():
         if len(names) > 1:
             free[k] = Choice(options=names)
@@ -936,7 +1005,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     def full(xd: dict) -> dict:
         x = {k: (float(xd[k]) if k in xd else bounds[k][0]) for k in CONTINUOUS}
         for k, names in choices.items():
-            x[k] = str(xd[k]) if k in xd else names[0]
+            x[k] = (int if k == "robots" else str)(xd[k]) if k in xd else names[0]
         return x
 
     def judged(x: dict, e: Evaluation) -> None:

@@ -6,8 +6,10 @@ Each placement is a patch of the surface that fits the frame's panel (the boundi
 tolerance of its plane (:func:`~marinecdpr.geometry.surface.tile_surface`). Its cleaning
 time is the coverage path's over a panel of the patch's size in its plane, with the
 scenario's brush, lanes and speeds (:func:`~marinecdpr.motion.trajectory.cleaning_path`);
-moving the frame to the next placement takes ``move_time_s``. The hours are the sum over
-the placements, not an area division.
+moving the frame to the next placement takes ``move_time_s``, or, with
+``[cleaning.surface.relocation]``, a crane's or a rail's move each
+(:mod:`marinecdpr.studies.relocation`), with one or more robots on the band. The hours are
+the sum over the placements (the slowest robot's), not an area division.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.geometry.surface import MIN_PATCH_M, tile_surface
 from marinecdpr.scenario.cleaning import Cleaning, Surface
+from marinecdpr.scenario.relocation import Relocation
 from marinecdpr.scenario.schema import Scenario
+from marinecdpr.studies.relocation import Moves, plan_moves, relocation_cost
 
 __all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side", "surface_patches",
            "MAX_SURFACE_PATCHES", "MOVE_TIME_MAX_S", "check_move_time", "turn_time"]
@@ -104,6 +108,15 @@ class SurfaceJob:
         The part of each placement's ``job_s`` the brush spends off its lanes and boundary
         pass: stepping between lanes and moving between cells (the path's other
         segments), s.
+    relocation : Relocation, optional
+        ``[cleaning.surface.relocation]`` where given (None: every move ``move_time_s``,
+        one robot, the visits in the tiling's order).
+    moves : Moves, optional
+        With ``relocation``: the visits, each robot's, and the move into each
+        (:func:`~marinecdpr.studies.relocation.plan_moves`); ``move_time_s`` is then their
+        mean.
+    band_length_m : float
+        The band's length along the ship (its stations' span), m: a rail's length.
     """
 
     placements: list
@@ -113,11 +126,62 @@ class SurfaceJob:
     frame_panel_m: tuple[float, float]
     surface: str
     turn_s: np.ndarray | None = None
+    relocation: Relocation | None = None
+    moves: Moves | None = None
+    band_length_m: float = 0.0
 
     @property
     def seconds(self) -> float:
-        """All placements' cleaning and the moves between them, s."""
-        return float(self.job_s.sum()) + max(len(self.placements) - 1, 0) * self.move_time_s
+        """All placements' cleaning and the moves between them (with robots, the slowest
+        robot's), s."""
+        if self.moves is None:
+            return float(self.job_s.sum()) + max(len(self.placements) - 1, 0) * self.move_time_s
+        return float(self.robot_seconds.max(initial=0.0))
+
+    @property
+    def robot_seconds(self) -> np.ndarray:
+        """Each robot's cleaning and moves, s, shape (robots,)."""
+        if self.moves is None:
+            return np.array([self.seconds])
+        return self.moves.robot_seconds(self.job_s)
+
+    @property
+    def move_s(self) -> np.ndarray:
+        """Each move's time in the order made (robot after robot), s, shape (n_moves,)."""
+        if self.moves is None:
+            return np.full(max(len(self.placements) - 1, 0), float(self.move_time_s))
+        return self.moves.move_in_s[self.moves.kind != ""]
+
+    def parts_s(self) -> tuple[float, float, float]:
+        """The slowest robot's cleaning (the lanes and the boundary pass), turns between
+        lanes and moves, s: they sum to :attr:`seconds` (one robot: the whole job's)."""
+        turn = np.zeros_like(self.job_s) if self.turn_s is None else self.turn_s
+        if self.moves is None:
+            t = float(turn.sum())
+            return float(self.job_s.sum()) - t, t, max(len(self.placements) - 1, 0) * self.move_time_s
+        m = self.moves
+        slow = m.robot == int(np.argmax(self.robot_seconds))
+        clean, t = float(self.job_s[m.order[slow]].sum()), float(turn[m.order[slow]].sum())
+        return clean - t, t, float(m.move_in_s[slow].sum())
+
+    def moves_said(self) -> str:
+        """The moves in words: ``moves of 600 s``; with ``relocation`` how many by each kind,
+        their hours, and the robots."""
+        if self.moves is None or (self.relocation.mode == "fixed" and self.moves.robots == 1):
+            return f"moves of {self.move_time_s:g} s"
+        m = self.moves
+        kinds = [f"{m.count(k)} by {k} ({m.seconds(k) / 3600.0:.4g} h)" if k != "fixed" else
+                 f"{m.count(k)} of {self.move_time_s:g} s" for k in ("rail", "crane", "fixed") if m.count(k)]
+        robots = f"; {m.robots} robots, each on its own stretch, the slowest's hours" if m.robots > 1 else ""
+        return f"moves: {', '.join(kinds) or 'none'}{robots}"
+
+    @property
+    def relocation_cost(self) -> dict:
+        """The moves' cost (:func:`~marinecdpr.studies.relocation.relocation_cost`): crane hire,
+        rail, carriages and total, in the user's cost unit (all 0 without ``relocation``)."""
+        if self.moves is None:
+            return {"crane_hire": 0.0, "rail": 0.0, "carriages": 0.0, "total": 0.0}
+        return relocation_cost(self.relocation, self.moves, self.hours, self.band_length_m)
 
     @property
     def hours(self) -> float:
@@ -152,7 +216,21 @@ class SurfaceJob:
                 "area_m2": self.area_m2, "cleaning_hours": self.cleaning_hours,
                 "move_time_s": self.move_time_s, "hours": self.hours,
                 "area_rate_m2_h": self.area_rate_m2_h,
-                "largest_stand_off_deviation_m": float(max(dev)) if dev else 0.0}
+                "largest_stand_off_deviation_m": float(max(dev)) if dev else 0.0} | self._relocation_summary()
+
+    def _relocation_summary(self) -> dict:
+        """With ``relocation``: ``relocation`` (its mode, robots, the moves and their hours by
+        kind, each robot's hours, the costs)."""
+        if self.moves is None:
+            return {}
+        m = self.moves
+        kinds = ("fixed", "crane", "rail")
+        return {"relocation": {
+            "mode": self.relocation.mode, "robots": m.robots,
+            "moves": {k: m.count(k) for k in kinds},
+            "move_hours": {k: m.seconds(k) / 3600.0 for k in kinds},
+            "robot_hours": [float(v) / 3600.0 for v in self.robot_seconds],
+            "cost": self.relocation_cost}}
 
 
 def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int = 3) -> float:
@@ -231,7 +309,8 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
     scenario : Scenario
         With ``[cleaning]`` and its ``surface``.
     move_time_s : float
-        Moving the frame from one placement to the next, s.
+        Moving the frame from one placement to the next, s (without
+        ``[cleaning.surface.relocation]``, or with its mode "fixed").
     panel_m : tuple of float, optional
         The frame's panel (along x, along z), m; default the scenario's (:func:`frame_panel`).
     digits : int
@@ -250,7 +329,9 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
         The scenario has no ``[cleaning.surface]``, or its surface cannot be read there; a
         move time outside [0, :data:`MOVE_TIME_MAX_S`]; a band of more than
         ``max_patches`` patches; no patch of it flat enough for the tool's
-        stand-off tolerance (no placement: no hours to give); hours that are not finite.
+        stand-off tolerance (no placement: no hours to give); hours that are not finite;
+        a frame heavier than the relocation's crane lifts; a rail move the rail cannot make
+        without a crane (:func:`~marinecdpr.studies.relocation.plan_moves`).
     """
     cleaning = scenario.cleaning
     if cleaning is None or cleaning.surface is None:
@@ -258,6 +339,11 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
                             key="cleaning.surface")
     surface = cleaning.surface
     move_time_s = check_move_time(move_time_s)
+    if surface.relocation is not None:
+        try:  # before the tiling: a frame the crane cannot lift is one line at once
+            surface.relocation.check_lift(scenario.robot.mass_kg)
+        except ValueError as exc:
+            raise ScenarioError(str(exc), key="cleaning.surface.relocation.crane.capacity_kg") from None
     f = _band_function(surface)
     _, label = surface_function(surface)
     width, height = panel_m or frame_panel(cleaning)
@@ -281,8 +367,15 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
                             key="cleaning.surface.stations_m")
     if not (np.isfinite(job).all() and np.isfinite(job.sum() + len(placements) * move_time_s)):
         raise ScenarioError("the placements' hours are not finite", key="cleaning.surface")
+    relocation, moves = surface.relocation, None
+    if relocation is not None:
+        moves = plan_moves(placements, job, relocation, move_time_s)
+        if relocation.mode != "fixed":
+            moved = moves.move_in_s[moves.kind != ""]
+            move_time_s = float(moved.mean()) if moved.size else 0.0
     return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, turn_s=times[:, 1],
-                      move_time_s=float(move_time_s),
+                      move_time_s=float(move_time_s), relocation=relocation, moves=moves,
+                      band_length_m=float(surface.stations_m[1] - surface.stations_m[0]),
                       frame_panel_m=(width, height), surface=f"{label}, {surface.side} side, stations "
                       f"{surface.stations_m[0]:g} to {surface.stations_m[1]:g} m, heights {surface.heights_m[0]:g} "
                       f"to {surface.heights_m[1]:g} m")
