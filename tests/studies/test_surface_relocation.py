@@ -133,12 +133,12 @@ def test_robots_split_the_placements_into_stretches_of_near_equal_time():
     # of the band's length and a carriage each
     crane = Relocation(mode="crane", robots=2, frame_mass_kg=1.0, crane=CRANE)
     mc = plan_moves(_grid(), job, crane, 600.0)
-    assert relocation_cost(crane, mc, 2.0, 4.0) == {"crane_hire": 2 * 150.0 * 2.0, "rail": 0.0, "carriages": 0.0,
+    assert relocation_cost(crane, mc, 2.0, 4.0).as_dict() == {"crane_hire": 2 * 150.0 * 2.0, "rail": 0.0, "carriages": 0.0,
                                                     "total": 600.0}
     rail = Relocation(mode="rail", robots=2, rail=RAIL)
     flat = [_placement(2 * k, 2 * k + 2, 0, 1) for k in range(4)]
     mr = plan_moves(flat, job, rail, 600.0)
-    assert mr.count("crane") == 0 and relocation_cost(rail, mr, 2.0, 8.0) == {
+    assert mr.count("crane") == 0 and relocation_cost(rail, mr, 2.0, 8.0).as_dict() == {
         "crane_hire": 0.0, "rail": 8.0 * 500.0, "carriages": 2 * 20000.0, "total": 44000.0}
 
 

@@ -137,10 +137,10 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
                             + (f"; {len(u.uncleanable)} patches ({u.uncleanable_area_m2:.3g} m2) curved "
                                "beyond the stand-off tolerance" if u.uncleanable else "")),
                       highlight=False, soft_wrap=True)
-        if u.moves is not None and u.relocation_cost["total"] > 0:
+        if u.moves is not None and u.relocation_cost.total > 0:
             c = u.relocation_cost
-            console.print(plain(f"relocation cost: {c['total']:.6g} (crane hire {c['crane_hire']:.6g}, rail "
-                                f"{c['rail']:.6g}, carriages {c['carriages']:.6g})"), highlight=False, soft_wrap=True)
+            console.print(plain(f"relocation cost: {c.total:.6g} (crane hire {c.crane_hire:.6g}, rail "
+                                f"{c.rail:.6g}, carriages {c.carriages:.6g})"), highlight=False, soft_wrap=True)
     f = result.job.figures
     close = f.interference
     if close is not None and close["first"] is not None:

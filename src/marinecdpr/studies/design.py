@@ -644,7 +644,7 @@ def _relocation_figures(job) -> dict:
     ``[cleaning.surface.relocation]``)."""
     if job.moves is None:
         return {}
-    return {"relocation_cost": job.relocation_cost["total"], "rail_moves": job.moves.count("rail"),
+    return {"relocation_cost": job.relocation_cost.total, "rail_moves": job.moves.count("rail"),
             "crane_moves": job.moves.count("crane")}
 
 

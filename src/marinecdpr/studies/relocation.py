@@ -35,7 +35,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.relocation import Crane, Rail, Relocation
 
 __all__ = ["Moves", "crane_move_s", "rail_move_s", "plan_yaw", "turn_radius_m", "visit_order", "stretches",
-           "plan_moves", "relocation_cost"]
+           "plan_moves", "relocation_cost", "RelocationCost", "NO_COST"]
 
 _ROUND_M = 1e-6
 """Placements whose heights (rows) or stations (columns) agree to this, m, share a row or column."""
@@ -252,7 +252,28 @@ def plan_moves(placements, job_s: np.ndarray, relocation: Relocation, move_time_
                  kind=cat(kind, "<U5"), robots=robots)
 
 
-def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_length_m: float) -> dict:
+@dataclass(frozen=True)
+class RelocationCost:
+    """What the moves cost, in the user's cost unit (:func:`relocation_cost`)."""
+
+    crane_hire: float
+    rail: float
+    carriages: float
+
+    @property
+    def total(self) -> float:
+        return self.crane_hire + self.rail + self.carriages
+
+    def as_dict(self) -> dict:
+        """For summary.json: ``crane_hire``, ``rail``, ``carriages`` and their ``total``."""
+        return {"crane_hire": self.crane_hire, "rail": self.rail, "carriages": self.carriages, "total": self.total}
+
+
+NO_COST = RelocationCost(0.0, 0.0, 0.0)
+"""The cost of moves without a relocation model."""
+
+
+def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_length_m: float) -> RelocationCost:
     """What the moves cost (the module's rules), in the user's cost unit.
 
     Parameters
@@ -264,8 +285,8 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
 
     Returns
     -------
-    dict
-        ``crane_hire``, ``rail``, ``carriages`` and their ``total``.
+    RelocationCost
+        Crane hire, rail, carriages and their total.
     """
     robots = relocation.robots
     crane = relocation.crane is not None and moves.count("crane") > 0
@@ -273,5 +294,4 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
     on_rail = relocation.mode == "rail"
     rail = relocation.rail.cost_per_m * band_length_m if on_rail else 0.0
     carriages = robots * relocation.rail.carriage_cost if on_rail else 0.0
-    return {"crane_hire": float(hire), "rail": float(rail), "carriages": float(carriages),
-            "total": float(hire + rail + carriages)}
+    return RelocationCost(float(hire), float(rail), float(carriages))

@@ -25,7 +25,7 @@ from marinecdpr.geometry.surface import MIN_PATCH_M, tile_surface
 from marinecdpr.scenario.cleaning import Cleaning, Surface
 from marinecdpr.scenario.relocation import Relocation
 from marinecdpr.scenario.schema import Scenario
-from marinecdpr.studies.relocation import Moves, plan_moves, relocation_cost
+from marinecdpr.studies.relocation import NO_COST, Moves, RelocationCost, plan_moves, relocation_cost
 
 __all__ = ["SurfaceJob", "surface_function", "frame_panel", "surface_job", "wigley_side", "surface_patches",
            "MAX_SURFACE_PATCHES", "MOVE_TIME_MAX_S", "check_move_time", "turn_time"]
@@ -176,11 +176,11 @@ class SurfaceJob:
         return f"moves: {', '.join(kinds) or 'none'}{robots}"
 
     @property
-    def relocation_cost(self) -> dict:
+    def relocation_cost(self) -> RelocationCost:
         """The moves' cost (:func:`~marinecdpr.studies.relocation.relocation_cost`): crane hire,
         rail, carriages and total, in the user's cost unit (all 0 without ``relocation``)."""
         if self.moves is None:
-            return {"crane_hire": 0.0, "rail": 0.0, "carriages": 0.0, "total": 0.0}
+            return NO_COST
         return relocation_cost(self.relocation, self.moves, self.hours, self.band_length_m)
 
     @property
@@ -230,7 +230,7 @@ class SurfaceJob:
             "moves": {k: m.count(k) for k in kinds},
             "move_hours": {k: m.seconds(k) / 3600.0 for k in kinds},
             "robot_hours": [float(v) / 3600.0 for v in self.robot_seconds],
-            "cost": self.relocation_cost}}
+            "cost": self.relocation_cost.as_dict()}}
 
 
 def _panel_time(cleaning: Cleaning, u: float, v: float, cache: dict, digits: int = 3) -> float:
