@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import copy
+import tempfile
+import time
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -11,6 +13,41 @@ import pytest
 
 import marinecdpr
 from marinecdpr.scenario.loading import scenario_from_dict
+
+
+def pytest_sessionstart(session):
+    """On a cold compile cache, with several xdist workers, the first worker compiles the paper
+    robot's planner, controller and both plants' loops before any test starts
+    (``prototype.warmup.warm_up``, which compiles them in three processes at once) while the
+    other workers wait; then every worker loads them from numba's cache. Without this the
+    workers' first tests compiled the same kernels at once, each its own copy: a quarter of the
+    suite's compile time on a cold cache was spent twice (numba's compile events, 2026-12-06).
+    A warm cache skips it."""
+    workerinput = getattr(session.config, "workerinput", None)
+    if workerinput is None or int(workerinput.get("workercount", 1)) < 2:
+        return
+    from marinecdpr.prototype.simulation import kernels_cached
+
+    if kernels_cached("mujoco") and kernels_cached("own"):
+        return
+    done = Path(tempfile.gettempdir()) / f"marinecdpr-warm-{workerinput['testrunuid']}"
+    if workerinput["workerid"] == "gw0":
+        from marinecdpr.prototype.warmup import warm_up
+
+        try:
+            warm_up([marinecdpr.load_scenario("paper")], plants=("mujoco", "own"))
+        finally:
+            done.touch()
+        return
+    deadline = time.monotonic() + 900.0
+    while not done.exists() and time.monotonic() < deadline:
+        time.sleep(0.25)
+
+
+def pytest_sessionfinish(session):
+    workerinput = getattr(session.config, "workerinput", None)
+    if workerinput is not None and workerinput["workerid"] == "gw0":
+        (Path(tempfile.gettempdir()) / f"marinecdpr-warm-{workerinput['testrunuid']}").unlink(missing_ok=True)
 
 
 def paper_dict() -> dict:
