@@ -37,8 +37,8 @@ def clean(
     hull_area: Optional[float] = typer.Option(CleanSpec.default("hull_area"), "--hull-area", help="Estimate a hull of "
                                               "this many m2 (e.g. one side: length x draught), panel after panel."),
     move_time: Optional[float] = typer.Option(CleanSpec.default("move_time"), "--move-time",
-                                              help="Seconds to move the frame to its next place (default 600; "
-                                              "not with a crane or rail [cleaning.surface.relocation])."),
+                                              help="Seconds to move the frame to its next place (default 600; a "
+                                              "crane or rail relocation in [cleaning.surface] times its own moves)."),
     surface: bool = typer.Option(CleanSpec.default("surface"), "--surface", help="Clean the scenario's "
                                  "[cleaning.surface] band of the hull: the frame's placements on the curved surface, "
                                  "and their hours."),

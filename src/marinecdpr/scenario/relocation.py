@@ -23,7 +23,7 @@ from pydantic import Field, StrictInt, model_validator
 
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 
-__all__ = ["Relocation", "Crane", "Rail", "MODES", "ROBOTS_MAX"]
+__all__ = ["Relocation", "Crane", "RailMoves", "MODES", "ROBOTS_MAX"]
 
 MODES = ("fixed", "crane", "rail")
 """How the frame is moved between placements."""
@@ -52,7 +52,7 @@ class Crane(_Model):
     """The crane's hire (with its driver) per hour of the job, in the user's cost unit."""
 
 
-class Rail(_Model):
+class RailMoves(_Model):
     """``[cleaning.surface.relocation.rail]``: a carriage on a rail along the ship; a move
     along the rail is the double-S move of ``speed_m_s``, ``accel_m_s2`` and ``jerk_m_s3``
     (:func:`~marinecdpr.motion.rail.scurve_move`) and a settle."""
@@ -82,7 +82,7 @@ class Relocation(_Model):
     """The frame's own mass with its winches, kg (a crane lifts it with the platform); needed
     with a crane."""
     crane: Crane | None = None
-    rail: Rail | None = None
+    rail: RailMoves | None = None
 
     @model_validator(mode="after")
     def _check(self) -> "Relocation":

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.scenario.relocation import Crane, Rail, Relocation
+from marinecdpr.scenario.relocation import Crane, RailMoves, Relocation
 
 __all__ = ["Moves", "crane_move_s", "rail_move_s", "plan_yaw", "turn_radius_m", "visit_order", "stretches",
            "plan_moves", "relocation_cost", "RelocationCost", "NO_COST"]
@@ -48,7 +48,7 @@ def crane_move_s(distance_m, crane: Crane) -> np.ndarray:
     return crane.rig_s + 2.0 * crane.lift_m / crane.hoist_m_s + d / crane.travel_m_s + crane.retension_s
 
 
-def rail_move_s(distance_m, rail: Rail) -> np.ndarray:
+def rail_move_s(distance_m, rail: RailMoves) -> np.ndarray:
     """The carriage's move over ``distance_m`` (any shape, m) along the rail: the double-S
     move's duration (:func:`~marinecdpr.motion.rail.scurve_move`, each distinct distance
     once) and the settle, s (the same shape)."""
