@@ -3,6 +3,8 @@ load the cables hold, worked by hand."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -54,3 +56,26 @@ def test_a_frame_on_a_rail_takes_its_origin_from_the_rail_only():
         _carried(STRAIGHT, frame_origin_m=[1.0, 0.0, 0.0])
     with pytest.raises(ScenarioError, match=r"ship.carriage.dwell_s: one time for every station: 2 stations, got 3"):
         _carried(dict(STRAIGHT, dwell_s=[1.0, 2.0, 3.0]))
+
+
+def test_a_rail_that_cannot_be_built_is_one_line_from_check(tmp_path):
+    """A corner whose arc does not fit, a station beyond the rail's end, a U-turn: `check`
+    refuses each in one line naming the scenario's key (exit 2), as `plan` does."""
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from conftest import one_line_exit_2
+    from marinecdpr.cli.app import app
+    from marinecdpr.planning.planner import check_trajectory
+
+    cases = {"ship.carriage.corner_radius_m": dict(STRAIGHT, rail_m=[[0.0, 0.0, 2.2], [5.0, 0.0, 2.2], [5.0, 5.0, 2.2],
+                                                                      [0.0, 5.0, 2.2]], corner_radius_m=3.0),
+             "ship.carriage.stations_m": dict(STRAIGHT, stations_m=[0.0, 150.0]),
+             "ship.carriage.rail_m[2]": dict(STRAIGHT, rail_m=[[0.0, 0.0, 2.2], [5.0, 0.0, 2.2], [1.0, 0.0, 2.2]])}
+    for key, carriage in cases.items():
+        sc = _carried(carriage)
+        with pytest.raises(ScenarioError, match="^" + re.escape(key) + ": "):
+            check_trajectory(sc)
+        path = tmp_path / "rail.toml"
+        path.write_bytes(tomli_w.dumps(sc.model_dump(exclude_none=True)).encode())
+        one_line_exit_2(CliRunner().invoke(app, ["check", str(path)]), key)

@@ -159,14 +159,16 @@ def rail_of(ship) -> "Rail":
     from marinecdpr.motion.rail import RailError, check_rail, check_stations
 
     c = ship.carriage
+
+    def where(e: RailError) -> str:  # the rail's own key as the scenario's
+        key = (e.key or "rail_m").replace("points_S", "rail_m")
+        return f"ship.carriage.{key}"
+
     try:
         rail = check_rail(np.asarray(c.rail_m, dtype=float), c.corner_radius_m)
-    except RailError as e:
-        raise ScenarioError(str(e), key="ship.carriage.rail_m") from None
-    try:
         check_stations(rail, np.asarray(c.stations_m, dtype=float))
     except RailError as e:
-        raise ScenarioError(str(e), key="ship.carriage.stations_m") from None
+        raise ScenarioError(e.detail, key=where(e)) from None
     return rail
 
 

@@ -24,6 +24,7 @@ from marinecdpr.model.tension import (
     distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
 from marinecdpr.motion.basemotion import evaluate_base_motion, fixed_ship_motion, frame_origin_of, frame_ship_motion
+from marinecdpr.motion.carriage import rail_of
 from marinecdpr.motion.ship import ShipMotion
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_disturbance, evaluate_trajectory
 from marinecdpr.scenario.robot import Robot, scaled_copy
@@ -536,6 +537,8 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
     n, step = scenario.time.n_steps, scenario.time.step_s
     # reads and checks any file the ship's motion comes from, over the whole duration
     evaluate_base_motion(scenario.base_motion, np.array([0.0, (n - 1) * step]))
+    if scenario.ship.carriage is not None:  # the rail can be built and holds the stations
+        rail_of(scenario.ship)
     n_singular, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
