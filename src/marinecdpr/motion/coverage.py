@@ -22,6 +22,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.checks import check_finite, check_positive
 from marinecdpr.motion.rail import scurve_move
 
 __all__ = ["CoveragePath", "coverage_path"]
@@ -267,8 +268,8 @@ def coverage_path(
     building it costs O(N^2 E) for N lane ends and corner points and E edges. A free
     region in separate parts raises ScenarioError.
     """
-    width = _positive(width_m, "width_m")
-    overlap = _finite(overlap_m, "overlap_m")
+    width = check_positive(width_m, "width_m")
+    overlap = check_finite(overlap_m, "overlap_m")
     if overlap < 0.0:
         raise ScenarioError(f"must be >= 0, got {overlap!r}", key="overlap_m")
     if overlap >= width:
@@ -276,9 +277,9 @@ def coverage_path(
             f"must be less than width_m = {width!r}, got {overlap!r} (the lane spacing width - overlap must be > 0)",
             key="overlap_m",
         )
-    speed = _positive(speed_m_s, "speed_m_s")
-    accel = _positive(accel_m_s2, "accel_m_s2")
-    jerk = _positive(jerk_m_s3, "jerk_m_s3")
+    speed = check_positive(speed_m_s, "speed_m_s")
+    accel = check_positive(accel_m_s2, "accel_m_s2")
+    jerk = check_positive(jerk_m_s3, "jerk_m_s3")
     if not isinstance(start, str) or start not in _STARTS:
         raise ScenarioError(f"must be one of {', '.join(_STARTS)}, got {start!r}", key="start")
     outer = _polygon(panel, "panel")
@@ -292,7 +293,7 @@ def coverage_path(
     if direction_deg is None:
         theta = _automatic_direction(outer, width, nominal, tol)
     else:
-        theta = _finite(direction_deg, "direction_deg") % 180.0
+        theta = check_finite(direction_deg, "direction_deg") % 180.0
     c, s = _cos_sin(theta)
     to_lane = np.array([[c, -s], [s, c]])  # (x, z) @ to_lane = (u, v): u along the lanes
     loops = [outer @ to_lane] + [h @ to_lane for h in inner]
@@ -480,23 +481,6 @@ def _with_boundary_pass(cells, corner: np.ndarray, ring: np.ndarray, along: np.n
 
 
 # --- inputs -------------------------------------------------------------------------------
-
-
-def _finite(value, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ScenarioError(f"must be a number, got {value!r}", key=name) from None
-    if not np.isfinite(v):
-        raise ScenarioError(f"must be finite, got {v!r}", key=name)
-    return v
-
-
-def _positive(value, name: str) -> float:
-    v = _finite(value, name)
-    if v <= 0.0:
-        raise ScenarioError(f"must be > 0, got {v!r}", key=name)
-    return v
 
 
 def _polygon(points, name: str) -> np.ndarray:

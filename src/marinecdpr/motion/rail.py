@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.checks import check_finite, check_positive
 
 __all__ = [
     "RailError",
@@ -58,20 +59,11 @@ class RailError(ScenarioError):
 
 
 def _finite(value, name: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise RailError(f"must be a number, got {value!r}", key=name) from None
-    if not np.isfinite(v):
-        raise RailError(f"must be finite, got {v!r}", key=name)
-    return v
+    return check_finite(value, name, error=RailError)
 
 
 def _positive(value, name: str) -> float:
-    v = _finite(value, name)
-    if v <= 0.0:
-        raise RailError(f"must be > 0, got {v!r}", key=name)
-    return v
+    return check_positive(value, name, error=RailError)
 
 
 def _vector(values, name: str) -> np.ndarray:
@@ -94,6 +86,15 @@ def _listed(values: np.ndarray, idx: np.ndarray, limit: int = 3) -> str:
     items = ", ".join(f"[{i + 1}]={float(values[i])!r}" for i in idx[:limit])
     more = f" and {idx.size - limit} more" if idx.size > limit else ""
     return items + more
+
+
+def _on_rail(values: np.ndarray, length: float, what: str, key: str) -> np.ndarray:
+    """``values`` (arc lengths, m) clipped to [0, length], those within _S_TOL_M outside it
+    taken as its ends; any further out refused in one line naming them."""
+    out = np.flatnonzero((values < -_S_TOL_M) | (values > length + _S_TOL_M))
+    if out.size:
+        raise RailError(f"{what} outside the rail's [0, {length:.6g}] m: {_listed(values, out)}", key=key)
+    return np.clip(values, 0.0, length)
 
 
 # --- the rail ---------------------------------------------------------------------------------
@@ -205,14 +206,7 @@ class Rail:
             piece starting there is used (``dt``, ``ddt`` and the heading's derivatives
             jump there).
         """
-        s = _vector(s, "s")
-        length = self._length
-        out = np.flatnonzero((s < -_S_TOL_M) | (s > length + _S_TOL_M))
-        if out.size:
-            raise RailError(
-                f"arc lengths outside the rail's [0, {length!r}] m: {_listed(s, out)}", key="s"
-            )
-        s = np.clip(s, 0.0, length)
+        s = _on_rail(_vector(s, "s"), self._length, "arc lengths", "s")
         s0, a0, u, nrm, kappa, psi0 = self._pieces
         k = np.clip(np.searchsorted(s0, s, side="right") - 1, 0, s0.size - 1)
         sigma = (s - s0[k])[:, None]
@@ -437,14 +431,7 @@ def check_stations(rail: Rail, stations_m) -> np.ndarray:
     RailError
         One line naming the stations outside the rail (counted from 1) and its length.
     """
-    st = _vector(stations_m, "stations_m")
-    length = rail.length_m
-    out = np.flatnonzero((st < -_S_TOL_M) | (st > length + _S_TOL_M))
-    if out.size:
-        raise RailError(
-            f"stations outside the rail's [0, {length!r}] m: {_listed(st, out)}", key="stations_m"
-        )
-    return np.clip(st, 0.0, length)
+    return _on_rail(_vector(stations_m, "stations_m"), rail.length_m, "stations", "stations_m")
 
 
 # --- the carriage's motion --------------------------------------------------------------------
