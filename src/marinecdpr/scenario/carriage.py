@@ -2,8 +2,9 @@
 
 The frame C hangs from a carriage that runs along a rail fixed to the ship (a deck edge, a
 sheer line): C's origin travels on the rail (``rail_m``, its points in S; each inner corner
-rounded by a circular arc of ``corner_radius_m``), its axes turn about S's z with the rail's
-heading, keeping the lean ``ship.frame_orientation_deg`` gives them at the rail's start. The
+rounded by a circular arc of ``corner_radius_m``), its axes turn about S's z as the rail turns
+(through each bend smoothly: :func:`marinecdpr.motion.carriage.frame_yaw`), keeping the lean
+``ship.frame_orientation_deg`` gives them at the rail's start. The
 carriage rests at each of ``stations_m`` (arc lengths along the rail) for ``dwell_s`` and
 moves between them jerk-limited (``speed_max_m_s``, ``accel_max_m_s2``, ``jerk_max_m_s3``).
 The rail's geometry (do its corners' arcs fit?) and the stations' places on it are checked
