@@ -79,3 +79,34 @@ def test_a_rail_that_cannot_be_built_is_one_line_from_check(tmp_path):
         path = tmp_path / "rail.toml"
         path.write_bytes(tomli_w.dumps(sc.model_dump(exclude_none=True)).encode())
         one_line_exit_2(CliRunner().invoke(app, ["check", str(path)]), key)
+
+
+def test_the_drive_accelerates_the_carriage_and_the_platform_the_cables_hold():
+    """Still ship, a level rail along x, the platform held: the drive's force along the rail
+    is (m_c + m_p) a, the carriage's acceleration a worked by the double-S law; on a rail rising
+    at an angle b with the carriage at rest, (m_c + m_p) g sin b (the cables hand the platform's
+    weight to the frame)."""
+    from marinecdpr.motion.rail import carriage_profile
+    from marinecdpr.planning.carriage import drive_force
+
+    m_c = 40.0
+    sc = _carried(dict(STRAIGHT, mass_kg=m_c, drive_force_max_N=20.0))
+    p = marinecdpr.plan(sc)
+    d = drive_force(p, sc)
+    _, _, a, _ = carriage_profile(np.array([0.0, 1.5]), 0.5, 0.5, 0.4, 2.0, p.t)
+    m_p = sc.robot.mass_kg
+    assert np.max(np.abs(d.force_N - (m_c + m_p) * a)) < 1e-12  # measured 7.1e-14 N
+    assert d.peak_N == pytest.approx(45.0 * 0.4, rel=1e-12) and d.within  # 18 N of its 20 N
+    assert not drive_force(p, _carried(dict(STRAIGHT, mass_kg=m_c, drive_force_max_N=15.0))).within
+    b = np.radians(5.0)
+    rising = dict(STRAIGHT, rail_m=[[-0.78, 0.0, 2.2], [-0.78 + 50.0 * np.cos(b), 0.0, 2.2 + 50.0 * np.sin(b)]],
+                  stations_m=[0.0], mass_kg=m_c)
+    sc = _carried(rising)
+    d = drive_force(marinecdpr.plan(sc), sc)
+    g = sc.environment.gravity_m_s2
+    assert np.max(np.abs(d.force_N - (m_c + m_p) * g * np.sin(b))) < 1e-12  # measured 7.1e-15 N
+
+
+def test_a_drive_limit_needs_the_carriage_s_mass():
+    with pytest.raises(ScenarioError, match=r"ship.carriage.mass_kg: missing: the drive's force"):
+        _carried(dict(STRAIGHT, drive_force_max_N=100.0))

@@ -44,10 +44,18 @@ class Carriage(_Model):
     order it visits them (it starts at the first)."""
     dwell_s: Dwell | list[Dwell] = 0.0
     """The time at each station, s: one for every station, or a list (one each)."""
+    mass_kg: _ranged(0.0, 1e6, "kg", "a carriage with its frame and winches, not a ship") | None = None
+    """The carriage with the frame and its winches, kg: what its drive accelerates besides
+    the cables' pull (:func:`marinecdpr.planning.carriage.drive_force`)."""
+    drive_force_max_N: _ranged(0.0, 1e8, "N", "a carriage's drive, not a ship's", above=True) | None = None
+    """The most force the carriage's drive gives along the rail, N."""
 
     @model_validator(mode="after")
     def _check_dwell(self) -> "Carriage":
         if isinstance(self.dwell_s, list) and len(self.dwell_s) != len(self.stations_m):
             raise _KeyedError("dwell_s", f"one time for every station: {len(self.stations_m)} stations, "
                                          f"got {len(self.dwell_s)} times (or give one number for all)")
+        if self.drive_force_max_N is not None and self.mass_kg is None:
+            raise _KeyedError("mass_kg", "missing: the drive's force is checked against what it accelerates: give "
+                                         "the carriage's mass with the frame and its winches, kg")
         return self
