@@ -110,3 +110,30 @@ def test_the_drive_accelerates_the_carriage_and_the_platform_the_cables_hold():
 def test_a_drive_limit_needs_the_carriage_s_mass():
     with pytest.raises(ScenarioError, match=r"ship.carriage.mass_kg: missing: the drive's force"):
         _carried(dict(STRAIGHT, drive_force_max_N=100.0))
+
+
+def test_plan_gives_the_carriage_drive_s_peak_and_fails_beyond_its_limit(tmp_path):
+    """The plan command, made in chunks, finds the whole plan's peak drive force (the same
+    number as drive_force on the whole plan); beyond the drive's limit it says so in one line
+    and exits 3, as an infeasible plan does; --allow-infeasible exits 0."""
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+    from marinecdpr.commands import plan as command
+    from marinecdpr.planning.carriage import drive_force
+
+    sc = _carried(dict(STRAIGHT, mass_kg=40.0, drive_force_max_N=15.0))
+    whole = drive_force(marinecdpr.plan(sc), sc)
+    result = command.run(command.PlanSpec(), sc, tmp_path / "py")
+    assert result.summary()["carriage_drive"] == {"peak_N": whole.peak_N, "at_s": whole.peak_at_s, "limit_N": 15.0}
+    assert result.failed and result.drive_verdict().startswith("the carriage's drive must give 18 N along the rail")
+    path = tmp_path / "rail.toml"
+    path.write_bytes(tomli_w.dumps(sc.model_dump(exclude_none=True)).encode())
+    res = CliRunner().invoke(app, ["plan", str(path), "--out", str(tmp_path / "cli")])
+    assert res.exit_code == 3, res.output
+    lines = [line for line in res.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("carriage drive: ") and "more than its 15 N" in lines[0]
+    assert "carriage drive along the rail (N)" in res.stdout
+    ok = CliRunner().invoke(app, ["plan", str(path), "--out", str(tmp_path / "ok"), "--allow-infeasible"])
+    assert ok.exit_code == 0, ok.output

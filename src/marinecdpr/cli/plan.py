@@ -60,9 +60,14 @@ def plan(
     if sc.robot.clearance_m is not None:
         table.add_row(f"steps closer than {sc.robot.clearance_m:g} m (interference)",
                       f"{p.n_interfering} of {p.n_steps}")
+    if result.drive is not None:
+        d = result.drive
+        table.add_row("carriage drive along the rail (N)", f"{d.peak_N:.4g} at {d.at_s:.4g} s"
+                      + ("" if d.limit_N is None else f" (of {d.limit_N:.4g})"))
     table.add_row("written", f"{csv_path}\n{fig_path}")
     console.print(table)
-    for label, text in (("infeasible:", result.infeasibility()), ("interference:", result.interference())):
+    for label, text in (("infeasible:", result.infeasibility()), ("interference:", result.interference()),
+                        ("carriage drive:", result.drive_verdict())):
         if text is not None:
             err_console.print(styled(label, "bold yellow", f"{plain(sc.name)}: {plain(text)}"), highlight=False,
                               soft_wrap=True)

@@ -91,10 +91,17 @@ class PlanResult:
     scenario: Scenario
     plan: Any
     paths: tuple[Path, ...]
+    drive: Any = None
 
     def infeasibility(self) -> str | None:
         """Where the cables cannot hold the platform first: one line, or None."""
         return self.plan.infeasibility()
+
+    def drive_verdict(self) -> str | None:
+        """Where a carriage's drive cannot give the force along its rail: one line, or None
+        (``drive``, the :class:`~marinecdpr.planning.carriage.DrivePeak` of a scenario whose
+        carriage has a mass)."""
+        return None if self.drive is None else self.drive.verdict()
 
     def interference(self) -> str | None:
         """Where a cable first comes closer than ``robot.clearance_m`` to something: one line, or None."""
@@ -102,18 +109,24 @@ class PlanResult:
 
     @property
     def failed(self) -> bool:
-        """Infeasible or interfering somewhere, and the spec does not allow it (the command exits 3)."""
-        return (self.infeasibility() is not None or self.interference() is not None) and not self.spec.allow_infeasible
+        """Infeasible, interfering or beyond the carriage's drive somewhere, and the spec does not allow it
+        (the command exits 3)."""
+        return ((self.infeasibility() is not None or self.interference() is not None
+                 or self.drive_verdict() is not None) and not self.spec.allow_infeasible)
 
     def summary(self) -> dict:
         """The plan's figures as the command's table gives them: ``steps``, ``feasible``,
         ``singular``, ``interfering`` (steps), ``pinv_range`` and ``tension_range`` (N; NaN
         where no tension is finite), ``method``, ``base_model``, ``planning_s`` (s)."""
         p = self.plan
-        return {"steps": p.n_steps, "feasible": p.n_feasible, "singular": p.n_singular,
-                "interfering": p.n_interfering, "pinv_range": tuple(p.pinv_range),
-                "tension_range": tuple(p.tension_range), "method": p.method, "base_model": p.base_model,
-                "planning_s": p.planning_s}
+        out = {"steps": p.n_steps, "feasible": p.n_feasible, "singular": p.n_singular,
+               "interfering": p.n_interfering, "pinv_range": tuple(p.pinv_range),
+               "tension_range": tuple(p.tension_range), "method": p.method, "base_model": p.base_model,
+               "planning_s": p.planning_s}
+        if self.drive is not None:
+            out["carriage_drive"] = {"peak_N": self.drive.peak_N, "at_s": self.drive.at_s,
+                                     "limit_N": self.drive.limit_N}
+        return out
 
     def write(self, folder: str | Path) -> list[Path]:
         """The files :func:`run` wrote, copied into ``folder`` (each atomically; the plan is
@@ -162,9 +175,26 @@ def run(spec: PlanSpec, scenario: Scenario, folder: str | Path, *, estimated: Es
                                chunk_steps=planner.DEFAULT_CHUNK_STEPS)
     if progress is not None:
         pieces = _counted(pieces, scenario.time.n_steps, progress)
+    drives: list = []
+    carriage = scenario.ship.carriage
+    if carriage is not None and carriage.mass_kg is not None and not scenario.robot.has_pulleys:
+        pieces = _driven(pieces, scenario, drives)
     paths = (folder / FILES[0], folder / FILES[1])
     summary = write_plan_stream(pieces, scenario, *paths)
-    return PlanResult(spec=spec, scenario=scenario, plan=summary, paths=paths)
+    from marinecdpr.planning.carriage import DrivePeak
+
+    return PlanResult(spec=spec, scenario=scenario, plan=summary, paths=paths,
+                      drive=DrivePeak.of(drives) if drives else None)
+
+
+def _driven(pieces, scenario, drives: list):
+    """The pieces, each one's carriage drive force (:func:`~marinecdpr.planning.carriage.drive_force`)
+    kept in ``drives``."""
+    from marinecdpr.planning.carriage import drive_force
+
+    for piece in pieces:
+        drives.append(drive_force(piece, scenario))
+        yield piece
 
 
 def _counted(pieces, total: int, progress: Callable[[int, int], None]):

@@ -27,7 +27,7 @@ from marinecdpr.motion.basemotion import fixed_ship_motion, frame_ship_motion
 from marinecdpr.motion.carriage import carriage_motion, rail_of
 from marinecdpr.motion.rail import carriage_profile
 
-__all__ = ["DriveForce", "drive_force", "rail_tangent_C"]
+__all__ = ["DriveForce", "DrivePeak", "drive_force", "rail_tangent_C"]
 
 
 @dataclass(frozen=True)
@@ -62,6 +62,39 @@ class DriveForce:
     def within(self) -> bool:
         """The drive gives it at every step (True without a limit)."""
         return self.limit_N is None or self.peak_N <= self.limit_N
+
+
+@dataclass(frozen=True)
+class DrivePeak:
+    """The drive's largest force over a plan made in chunks (:meth:`DriveForce.peak_N` of each).
+
+    Attributes
+    ----------
+    peak_N : float
+        The largest force either way, N. at_s : float, when, s. limit_N : float or None.
+    """
+
+    peak_N: float
+    at_s: float
+    limit_N: float | None
+
+    @property
+    def within(self) -> bool:
+        return self.limit_N is None or self.peak_N <= self.limit_N
+
+    def verdict(self) -> str | None:
+        """One line where the drive cannot give the force, or None."""
+        if self.within:
+            return None
+        return (f"the carriage's drive must give {self.peak_N:.4g} N along the rail at t = {self.at_s:.6g} s, more than "
+                f"its {self.limit_N:.4g} N (ship.carriage.drive_force_max_N): a stronger drive, gentler moves "
+                f"(accel_max_m_s2) or a lighter carriage")
+
+    @staticmethod
+    def of(forces) -> "DrivePeak":
+        """The peak over :class:`DriveForce` pieces (at least one)."""
+        best = max(forces, key=lambda d: d.peak_N)
+        return DrivePeak(peak_N=best.peak_N, at_s=best.peak_at_s, limit_N=best.limit_N)
 
 
 def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
