@@ -54,7 +54,7 @@ def _still_scenario(tmp_path: Path) -> Path:
 
 
 SCENARIOS = ["paper", "paper_elastic", "paper_sea", "paper_clean", "paper_as_built", "examples/spatial_cube8.toml", "recorded",
-             "still"]
+             "still", "examples/paper_rail.toml"]
 
 
 def _source(name: str, tmp_path: Path) -> str:
