@@ -173,3 +173,17 @@ def test_a_frame_heavier_than_the_crane_makes_the_candidate_infeasible(study):
     e = evaluate(heavy, template, _x(spec, relocation="crane", robots=1), cells)
     assert not e.feasible and "heavier than the crane's capacity_kg (1000 kg)" in e.reason
     assert np.isinf(e.expected_hours)
+
+
+def test_a_template_that_carries_its_frame_on_a_rail_is_refused_in_one_line(tmp_path):
+    """The study places the frame itself on the surface; a template with [ship.carriage] is
+    refused as the study loads, the rail relocation named (issue 39)."""
+    path = _folder(tmp_path)
+    template = path.parent / "template.toml"
+    text = template.read_text()
+    start, end = text.index("[ship]"), text.index("[base_motion]")
+    carriage = ('[ship]\n\n[ship.carriage]\nrail_m = [[-5.0, 16.0, 0.0], [5.0, 16.0, 0.0]]\nspeed_max_m_s = 0.3\n'
+                'accel_max_m_s2 = 0.3\njerk_max_m_s3 = 1.0\nstations_m = [0.0]\n\n')
+    template.write_text(text[:start] + carriage + text[end:])
+    with pytest.raises(ScenarioError, match=r"carries its frame on a rail \(\[ship.carriage\]\).*mode = \"rail\""):
+        load_design(path)

@@ -166,6 +166,10 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
     if template.robot.dofs != "planar":
         raise ScenarioError(f"the template {name!r} is a spatial robot: the study designs planar four-cable robots",
                             source=src, key="scenario")
+    if template.ship.carriage is not None:
+        raise ScenarioError(f"the template {name!r} carries its frame on a rail ([ship.carriage]): the study places "
+                            "the frame itself on the surface; leave the carriage out and give [relocation] "
+                            "mode = \"rail\" for moves along a rail", source=src, key="scenario")
     try:  # the template's own robot is judged too (the baseline): its band must be one a run may tile
         surface_patches(template)
     except ScenarioError as exc:
