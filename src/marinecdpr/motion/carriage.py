@@ -37,7 +37,7 @@ from marinecdpr.motion.ship import ShipMotion, body_motion
 if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
-__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion"]
+__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C"]
 
 
 def _rz(angle: np.ndarray) -> np.ndarray:
@@ -185,6 +185,18 @@ def carriage_motion(ship, t: np.ndarray
     t : ndarray, shape (n_steps,)
         Times, s (from 0).
     """
+    return _on_its_rail(ship, t)[1]
+
+
+def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
+    """The rail's unit tangent at the carriage's place at times ``t``, in C: shape (n_steps, 3)
+    (``ship`` and ``t`` as :func:`carriage_motion`'s)."""
+    points, (_, _, _, R_SC, _, _) = _on_its_rail(ship, t)
+    return np.einsum("nji,nj->ni", R_SC, points.t)  # R_SC^T t_S
+
+
+def _on_its_rail(ship, t: np.ndarray):
+    """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there."""
     from marinecdpr.motion.rail import carriage_profile
     from marinecdpr.motion.ship import frame_axes
 
@@ -192,4 +204,5 @@ def carriage_motion(ship, t: np.ndarray
     rail = rail_of(ship)
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
                                            c.accel_max_m_s2, c.jerk_max_m_s3, np.asarray(t, dtype=float))
-    return on_rail(rail.at(s), frame_yaw(rail, s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))
+    points = rail.at(s)
+    return points, on_rail(points, frame_yaw(rail, s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))

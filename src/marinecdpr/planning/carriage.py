@@ -24,10 +24,9 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.motion.basemotion import fixed_ship_motion, frame_ship_motion
-from marinecdpr.motion.carriage import carriage_motion, rail_of
-from marinecdpr.motion.rail import carriage_profile
+from marinecdpr.motion.carriage import rail_tangent_C
 
-__all__ = ["DriveForce", "DrivePeak", "drive_force", "rail_tangent_C"]
+__all__ = ["DriveForce", "DrivePeak", "drive_force"]
 
 
 @dataclass(frozen=True)
@@ -95,24 +94,6 @@ class DrivePeak:
         """The peak over :class:`DriveForce` pieces (at least one)."""
         best = max(forces, key=lambda d: d.peak_N)
         return DrivePeak(peak_N=best.peak_N, at_s=best.peak_at_s, limit_N=best.limit_N)
-
-
-def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
-    """The rail's unit tangent at the carriage's place, in C, at times ``t``: shape (n, 3).
-
-    Parameters
-    ----------
-    ship : marinecdpr.scenario.schema.Ship
-        With ``carriage`` set.
-    t : ndarray, shape (n,)
-        s.
-    """
-    c = ship.carriage
-    rail = rail_of(ship)
-    s = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s, c.accel_max_m_s2,
-                         c.jerk_max_m_s3, np.asarray(t, dtype=float))[0]
-    R_SC = carriage_motion(ship, t)[3]
-    return np.einsum("nji,nj->ni", R_SC, rail.at(s).t)  # R_SC^T t_S
 
 
 def drive_force(plan, scenario) -> DriveForce:
