@@ -4,12 +4,15 @@ judged by the toolkit's models, NSGA-II's search and its Pareto front, the outpu
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 pytest.importorskip("pymoo")
@@ -318,6 +321,78 @@ def test_the_finalist_is_flown_in_every_sea_state(small, small_path):
     assert v.screen_works_td_fails == 0
     assert v.td_share >= v.screen_share
     assert v.td_expected_hours == pytest.approx(e.surface_hours / v.td_share, rel=1e-14)
+
+
+def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypatch):
+    """With ``[sea] verify = "boundary"`` the finalist flies only the seas about the height where
+    its job first fails in each column (one Tp, one heading): on a column of six heights whose
+    every sea flown ("all") works up to a height and fails above it, the boundary's flights
+    give the same verdicts, share, agreement and reasons, from fewer flights (each sea's
+    record is its own whichever asks: the second run takes the first's flights)."""
+    from marinecdpr.studies import cleaning
+    from marinecdpr.studies.design import study_scatter, verify
+
+    path = _study(tmp_path, SMALL.replace("generations = 3", "generations = 1").replace("finalists = 2", "finalists = 1")
+                  .replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("frame_height_m = 3.0",
+                                                                                  "frame_height_m = 2.0"))
+    heights = (2.0, 4.0, 6.0, 8.0, 10.0, 12.0)
+    (tmp_path / "seas.csv").write_text("hs_m,tp_s,probability\n" + "".join(f"{hs},10.0,{p}\n" for hs, p in zip(
+        heights, (0.3, 0.3, 0.2, 0.1, 0.05, 0.05))))
+    spec, template = load_design(path)
+    spec = spec.model_copy(update={"plant": "own"})
+    study = search(spec, template, study_cells(spec, tmp_path))
+    scatter = study_scatter(spec, tmp_path)
+    flights, fly = {}, cleaning.evaluate_cleaning_cell
+
+    def once(sc, cell, **kw):
+        key = (cell.hs, cell.tp, cell.heading_deg)
+        if key not in flights:
+            flights[key] = fly(sc, cell, **kw)
+        return flights[key]
+
+    monkeypatch.setattr(cleaning, "evaluate_cleaning_cell", once)
+    (every,) = verify(study, template, scatter)
+    bound = spec.model_copy(update={"sea": spec.sea.model_copy(update={"verify": "boundary"})})
+    (edge,) = verify(dataclasses.replace(study, spec=bound), template, scatter)
+    assert every.flown == len(flights) == 6 and edge.flown < 6
+    works = [not any(r.startswith(f"Hs {hs:g} m,") for r in every.reasons) for hs in heights]
+    assert works == sorted(works, reverse=True) and works[0] and not works[-1]  # the assumption, held
+    assert (edge.td_share, edge.agree, edge.screen_works_td_fails, edge.screen_fails_td_works) == (
+        every.td_share, every.agree, every.screen_works_td_fails, every.screen_fails_td_works)
+    assert set(edge.reasons) <= set(every.reasons) and edge.td_expected_hours == every.td_expected_hours
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(0, 17), min_size=1, max_size=12), st.data())
+def test_the_boundary_search_finds_every_monotone_column_s_verdicts(bounds, data):
+    """Columns of 1-17 heights, each working below its own boundary and failing from it, with
+    any screen verdicts: the search returns every verdict and flies at most 2 + ceil(log2 n)
+    seas of a column of n, each once."""
+    from marinecdpr.studies.design import fly_boundary
+    from marinecdpr.studies.operability import Cell
+
+    cells, first_fail = [], {}
+    for k, b in enumerate(bounds):
+        n = data.draw(st.integers(max(b, 1), 17))
+        first_fail[k] = min(b, n)
+        cells += [Cell(len(cells) + j, 0.5 + j, 5.0 + k, 180.0, 1.0) for j in range(n)]
+    order = data.draw(st.permutations(range(len(cells))))
+    cells = [cells[i] for i in order]
+    truth = np.array([c.hs - 0.5 < first_fail[int(c.tp - 5.0)] for c in cells])
+    screen = np.array(data.draw(st.lists(st.booleans(), min_size=len(cells), max_size=len(cells))))
+    asked = []
+
+    class Session:
+        def map(self, evaluate, template, items, kwargs, progress=None):
+            asked.extend(c.index for c in items)
+            return [type("R", (), {"operable": c.hs - 0.5 < first_fail[int(c.tp - 5.0)]})() for c in items]
+
+    works, flown = fly_boundary(Session(), None, cells, screen, {})
+    assert works.tolist() == truth.tolist()
+    assert len(asked) == len(set(asked)) == len(flown)
+    for k in range(len(bounds)):
+        n = sum(1 for c in cells if int(c.tp - 5.0) == k)
+        assert sum(1 for c in cells if c.index in asked and int(c.tp - 5.0) == k) <= 2 + int(np.ceil(np.log2(n)))
 
 
 def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):

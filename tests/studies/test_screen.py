@@ -332,3 +332,41 @@ def test_the_screen_refuses_a_frame_carried_on_a_rail():
                                                  "accel_max_m_s2": 0.3, "jerk_max_m_s3": 1.0, "stations_m": [0.0]}})
     with pytest.raises(ScenarioError, match=r"^ship.carriage: the fast screen judges a frame standing at one place"):
         S.screen_model(carried)
+
+
+@pytest.mark.parametrize("spectrum", ["pierson_moskowitz", "jonswap"])
+def test_a_column_of_heights_costs_one_sum_and_gives_each_cell_s_own(paper_clean, spectrum):
+    """The covariances of a scatter diagram's cells, summed once per spectrum shape and heading
+    and scaled by Hs^2, equal each cell's own sum over the record's components (the obvious
+    per-cell loop, written out here) to rounding; with DNV's gamma from Tp / sqrt(Hs) the
+    cells of one Tp have shapes of their own (Hs 1 and 2 m at Tp 8 s: gamma 1 and 1.49)."""
+    from marinecdpr.motion.seastate import dnv_gamma, jonswap, pierson_moskowitz
+
+    sc = paper_clean.with_updates("base_motion", spectrum=spectrum)
+    cells = [Cell(i, hs, tp, head, 0.1) for i, (hs, tp, head) in enumerate(
+        [(1.0, 8.0, 180.0), (2.0, 8.0, 180.0), (3.5, 8.0, 180.0), (2.0, 8.0, 90.0), (2.0, 11.0, 180.0)])]
+    m = S.screen_model(sc, grid=(2, 1))
+    rao = S._rao_of(sc)
+    C0, C2 = S._response_moments(m, rao, cells, sc)
+    sea = sc.base_motion
+    d_omega = 2.0 * np.pi / max(sea.record_s, m.duration_s)
+    omega = np.arange(1, int(6.0 * 2.0 * np.pi / 8.0 / d_omega) + 1) * d_omega
+    for i, c in enumerate(cells):
+        wp = 2.0 * np.pi / c.tp
+        Sw = (jonswap(omega, c.hs, c.tp, sea.gamma) if spectrum == "jonswap"
+              else pierson_moskowitz(omega, c.hs, c.tp))
+        Sw = np.where((omega <= 6.0 * wp) & (Sw > 1e-12 * Sw.max()), Sw, 0.0)
+        X = rao.at(omega, c.heading_deg)
+        Q = np.concatenate([X, 1j * omega * X, -(omega**2) * X])
+        for p in range(m.D.shape[0]):
+            H = m.D[p] @ Q
+            c0 = (H * Sw * d_omega) @ H.conj().T
+            c2 = (H * Sw * d_omega * omega**2) @ H.conj().T
+            np.testing.assert_allclose(C0[i, p], c0.real, rtol=1e-12, atol=1e-12 * np.abs(c0).max())
+            np.testing.assert_allclose(C2[i, p], c2.real, rtol=1e-12, atol=1e-12 * np.abs(c2).max())
+    scaled = np.allclose(C0[2], (3.5 / 2.0) ** 2 * C0[1], rtol=1e-12)
+    if spectrum == "jonswap":  # paper_clean's sea takes DNV's gamma
+        assert sea.gamma is None and dnv_gamma(2.0, 8.0) == 1.0
+        assert dnv_gamma(3.5, 8.0) == pytest.approx(2.30, abs=0.01) and not scaled
+    else:
+        assert scaled

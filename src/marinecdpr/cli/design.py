@@ -128,7 +128,9 @@ def design(
             f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}, its rope's stretch, motor winches): works in {100 * v.td_share:.1f} % of the "
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
             f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
-            f"passed {v.screen_works_td_fails} the time domain failed"), highlight=False, soft_wrap=True)
+            f"passed {v.screen_works_td_fails} the time domain failed"
+            + (f" ({v.flown} flown about each column's boundary, the rest taken from it)" if v.flown < len(cells)
+               else "")), highlight=False, soft_wrap=True)
     console.print(plain(f"baseline (the template's robot): {b.placements} placements, {b.surface_hours:.4g} h on the "
                          f"surface, works in {100 * b.sea_share:.1f} % of the seas: {b.expected_hours:.4g} expected h"),
                   highlight=False, soft_wrap=True)

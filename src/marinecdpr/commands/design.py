@@ -144,7 +144,7 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
     """
     from marinecdpr.commands.base import SpecError, headings
     from marinecdpr.errors import ScenarioError
-    from marinecdpr.studies.design import (load_design, read_journal, study_cells, study_key, study_path,
+    from marinecdpr.studies.design import (load_design, read_journal, sea_columns, study_cells, study_key, study_path,
                                            study_scatter, with_options)
     from marinecdpr.studies.executor import Executor
     from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
@@ -162,8 +162,10 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
         raise ScenarioError(str(exc), source=str(path), key="sea.headings_deg") from None
     cells = study_cells(design, path.parent, template)
     finalists = design.finalists if spec.verify else 0
-    # about: each finalist's every sea state flown closed loop over the template's duration
-    steps = finalists * len(cells) * template.time.n_steps * CLOSED_LOOP_STEP_COST
+    # about: each finalist's every sea state flown closed loop over the template's duration (or,
+    # about each column's boundary, some four of its seas)
+    flights = len(cells) if design.sea.verify == "all" else min(len(cells), 4 * len(sea_columns(cells)))
+    steps = finalists * flights * template.time.n_steps * CLOSED_LOOP_STEP_COST
     verify_executor = spec.executor(steps) if finalists else Executor.serial()
     asked = not spec.serial and (spec.workers is not None or bool(spec.scheduler))
     search_executor = spec.executor() if asked else Executor.serial()

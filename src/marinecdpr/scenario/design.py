@@ -148,6 +148,12 @@ class Sea(_Model):
     diagram's name: "illustrative", "north_atlantic" (IACS Rec. 34's North Atlantic table)."""
     headings_deg: list[_ranged(-360.0, 360.0, "deg", "a wave heading")] = Field(default=[180.0, 150.0, 90.0],
                                                                               min_length=1, max_length=36)
+    verify: Literal["all", "boundary"] = "all"
+    """Which sea states the finalists fly in the time domain: "all", or "boundary": in each
+    column of the diagram (one period, one heading) only those about the height where the job
+    first fails, found by bisection from the screen's verdicts; the column's lower seas are
+    taken to work and its higher ones to fail (the sea's response grows with Hs at one Tp
+    and heading). For diagrams of hundreds of sea states."""
 
 
 class PlatformMass(_Model):

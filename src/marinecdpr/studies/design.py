@@ -1115,6 +1115,86 @@ class Verification:
     reasons: list
     plant: str = ""
     screen_reasons: list = field(default_factory=list)
+    flown: int = 0
+    """How many sea states were flown (all of them, or with ``[sea] verify = "boundary"``
+    those about each column's boundary; the rest taken as the column's boundary says)."""
+
+
+def sea_columns(cells: list) -> list[list[int]]:
+    """The scatter diagram's columns: the indices of the cells of one peak period and one
+    heading, each column by growing Hs; columns in the order of their first cell."""
+    columns: dict[tuple[float, float], list[int]] = {}
+    for i, c in enumerate(cells):
+        columns.setdefault((c.tp, c.heading_deg), []).append(i)
+    return [sorted(col, key=lambda i: cells[i].hs) for col in columns.values()]
+
+
+def column_boundary(verdicts: dict[int, bool], n: int) -> tuple[int, int]:
+    """Where a column's job first fails, from the verdicts of the places flown so far
+    (``verdicts``: place in the column by growing Hs -> works): ``(lo, hi)``, ``hi`` the
+    lowest place flown that fails (``n`` if none), ``lo`` the highest flown below it that
+    works (-1 if none). The column is settled when ``hi == lo + 1``.
+
+    >>> column_boundary({3: True, 4: False, 9: True}, 12)
+    (3, 4)
+    """
+    hi = min((j for j, ok in verdicts.items() if not ok), default=n)
+    lo = max((j for j, ok in verdicts.items() if ok and j < hi), default=-1)
+    return lo, hi
+
+
+def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndarray, kwargs: dict,
+                 progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, dict]:
+    """The time domain's verdict in every sea state, flying only those about each column's
+    boundary (:func:`sea_columns`): first the highest of the column's lowest seas the screen
+    passes and the next above it, then by bisection (all columns' next seas at once on the
+    ``session``) until each column is settled (:func:`column_boundary`). A column's seas below
+    its first failure are taken to work and those above it to fail; the seas flown keep their
+    own verdicts.
+
+    Parameters
+    ----------
+    session : Session
+        An :class:`~marinecdpr.studies.executor.Executor`'s session.
+    screen_works : ndarray of bool, shape (n_cells,)
+    kwargs : dict
+        :func:`~marinecdpr.studies.cleaning.evaluate_cleaning_cell`'s options.
+    progress : callable(n_flown), optional
+
+    Returns
+    -------
+    works : ndarray of bool, shape (n_cells,)
+    flown : dict
+        Cell index -> its :class:`~marinecdpr.studies.cleaning.CleaningCellResult`.
+    """
+    from marinecdpr.studies.cleaning import evaluate_cleaning_cell
+
+    columns = sea_columns(cells)
+    verdicts: list[dict[int, bool]] = [{} for _ in columns]
+    flown: dict[int, object] = {}
+    probes = []
+    for k, col in enumerate(columns):
+        ok = screen_works[col]
+        s = int(np.argmin(ok)) - 1 if not ok.all() else len(col) - 1  # the screen's last of the lowest
+        probes += [(k, j) for j in (s, s + 1) if 0 <= j < len(col)]
+    while probes:
+        before = len(flown)
+        results = session.map(evaluate_cleaning_cell, template, [cells[columns[k][j]] for k, j in probes], kwargs,
+                              progress=None if progress is None else (lambda d, _t: progress(before + d)))
+        for (k, j), r in zip(probes, results):
+            verdicts[k][j] = bool(r.operable)
+            flown[columns[k][j]] = r
+        probes = []
+        for k, col in enumerate(columns):
+            lo, hi = column_boundary(verdicts[k], len(col))
+            if hi > lo + 1:
+                probes.append((k, (lo + hi) // 2))
+    works = np.zeros(len(cells), dtype=bool)
+    for k, col in enumerate(columns):
+        lo, hi = column_boundary(verdicts[k], len(col))
+        for j, i in enumerate(col):
+            works[i] = verdicts[k][j] if j in verdicts[k] else j < hi
+    return works, flown
 
 
 def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executor | None = None,
@@ -1135,7 +1215,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     progress : callable(done, total), optional
         Sea states flown over all finalists.
     """
-    from marinecdpr.studies.cleaning import cleaning_seas
+    from marinecdpr.studies.cleaning import COVERAGE_TARGET_PCT, IN_BAND_TARGET_PCT, cleaning_seas
     from marinecdpr.studies.operability import scatter_cells
     from marinecdpr.studies.screen import screen_cells
 
@@ -1145,18 +1225,42 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     plant = plant or spec.plant or template.simulation.plant
     chosen = study.front[:spec.finalists]
     total = len(chosen) * len(cells)
+    boundary = spec.sea.verify == "boundary"
+    weight = np.array([c.probability / len(heads) for c in cells])
+    if boundary:  # about two seas per column and finalist first; more as the bisections ask
+        total = 2 * len(chosen) * len(sea_columns(cells))
+    executor = executor or Executor.serial()
     out = []
+    done_before = 0
     for rank, i in enumerate(chosen, start=1):
         e = study.evaluations[i]
         sc = as_built(spec, template, e, plant)
         flown = sc.simulation.plant  # the own plant for sagging cables
-        done = (rank - 1) * len(cells)
-        cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor,
-                           progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
-        td = np.array([r.operable for r in cs.sea.results], dtype=bool)
         screened = screen_cells(sc, cells)  # at the placement flown
         works = screened.works
-        share = cs.sea.operability
+        if boundary:
+            kwargs = dict(coverage_target_pct=COVERAGE_TARGET_PCT, in_band_target_pct=IN_BAND_TARGET_PCT,
+                          plant=flown, hull_area_m2=None, move_time_s=600.0)
+
+            def seen(n, before=done_before, left=len(chosen) - rank):
+                nonlocal total
+                total = max(total, before + n + 2 * left * len(sea_columns(cells)))
+                progress(before + n, total)
+
+            with executor.session() as session:
+                td, results = fly_boundary(session, sc, cells, works, kwargs, None if progress is None else seen)
+            done_before += len(results)
+            share = float(weight[td].sum())
+            failed = [results[j] for j in sorted(results) if not results[j].operable]
+            n_flown = len(results)
+        else:
+            done = (rank - 1) * len(cells)
+            cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor,
+                               progress=None if progress is None else (lambda d, _t, done=done: progress(done + d, total)))
+            td = np.array([r.operable for r in cs.sea.results], dtype=bool)
+            share = cs.sea.operability
+            failed = [r for r in cs.sea.results if not r.operable]
+            n_flown = len(cells)
         out.append(Verification(
             index=i, rank=rank, surface_hours=e.surface_hours, screen_share=screened.share, td_share=share,
             screen_expected_hours=e.expected_hours,
@@ -1164,6 +1268,6 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
-                     for r in cs.sea.results if not r.operable], plant=flown,
-            screen_reasons=[why for why in screened.reasons if why]))
+                     for r in failed], plant=flown,
+            screen_reasons=[why for why in screened.reasons if why], flown=n_flown))
     return out

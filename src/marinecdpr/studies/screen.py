@@ -430,8 +430,13 @@ def _rao_of(scenario: Scenario):
 def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) -> tuple[np.ndarray, np.ndarray]:
     """The covariances C0 and C2 (n_cells, n_poses, 6, 6) of the wrench's response and of its
     rate in each cell's sea (their diagonals are m0 and m2), on the time domain's record
-    frequencies and directions (step 3): C0 = sum_k sum_d a_kd^2 Re(H H^*) / 2."""
-    from marinecdpr.motion.seastate import jonswap, pierson_moskowitz, spread_directions
+    frequencies and directions (step 3): C0 = sum_k sum_d a_kd^2 Re(H H^*) / 2.
+
+    A spectrum of a given shape (its Tp and, for JONSWAP, its gamma) scales with Hs^2, and
+    so do both covariances: each shape and heading is summed once, for Hs = 1 m, and every
+    cell of it is that sum times its Hs^2 (a scatter diagram's column of heights costs one
+    sum; the same covariances to rounding, 1e-15 relative)."""
+    from marinecdpr.motion.seastate import dnv_gamma, jonswap, pierson_moskowitz, spread_directions
 
     sea = template.base_motion
     record_s = max(sea.record_s, model.duration_s)
@@ -444,22 +449,31 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) 
     C0 = np.zeros((len(cells), n_p, 6, 6))
     C2 = np.zeros_like(C0)
     transfer: dict[float, np.ndarray] = {}
+    unit: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
     for i, cell in enumerate(cells):
-        wp = 2.0 * np.pi / cell.tp
-        S = (jonswap(omega, cell.hs, cell.tp, sea.gamma) if sea.spectrum == "jonswap"
-             else pierson_moskowitz(omega, cell.hs, cell.tp))
-        S = np.where((omega <= 6.0 * wp) & (S > 1e-12 * S.max()), S, 0.0)  # sea_record's components
-        for r, wd in zip(rel, weight):
-            beta = float(np.mod(cell.heading_deg + np.degrees(r), 360.0))
-            if beta not in transfer:
-                X = rao.at(omega, beta)  # (6, n_omega)
-                Q = np.concatenate([X, 1j * omega * X, -(omega**2) * X])  # (18, n_omega)
-                transfer[beta] = np.einsum("pjq,qk->pjk", model.D, Q)  # (n_p, 6, n_omega)
-            H = transfer[beta]
-            a2 = S * d_omega * wd  # a_kd^2 / 2
-            Ha = H * a2
-            C0[i] += np.einsum("pjk,plk->pjl", Ha, H.conj()).real
-            C2[i] += np.einsum("pjk,plk->pjl", Ha * omega**2, H.conj()).real
+        jon = sea.spectrum == "jonswap"
+        gamma = (sea.gamma if sea.gamma is not None else dnv_gamma(cell.hs, cell.tp)) if jon else None
+        key = (cell.tp, gamma, cell.heading_deg)
+        if key not in unit:
+            wp = 2.0 * np.pi / cell.tp
+            S = jonswap(omega, 1.0, cell.tp, gamma) if jon else pierson_moskowitz(omega, 1.0, cell.tp)
+            S = np.where((omega <= 6.0 * wp) & (S > 1e-12 * S.max()), S, 0.0)  # sea_record's components
+            c0 = np.zeros((n_p, 6, 6))
+            c2 = np.zeros_like(c0)
+            for r, wd in zip(rel, weight):
+                beta = float(np.mod(cell.heading_deg + np.degrees(r), 360.0))
+                if beta not in transfer:
+                    X = rao.at(omega, beta)  # (6, n_omega)
+                    Q = np.concatenate([X, 1j * omega * X, -(omega**2) * X])  # (18, n_omega)
+                    transfer[beta] = np.einsum("pjq,qk->pjk", model.D, Q)  # (n_p, 6, n_omega)
+                H = transfer[beta]
+                Ha = H * (S * d_omega * wd)  # a_kd^2 / 2 at Hs = 1 m
+                c0 += np.einsum("pjk,plk->pjl", Ha, H.conj()).real
+                c2 += np.einsum("pjk,plk->pjl", Ha * omega**2, H.conj()).real
+            unit[key] = (c0, c2)
+        c0, c2 = unit[key]
+        C0[i] = cell.hs**2 * c0
+        C2[i] = cell.hs**2 * c2
     return C0, C2
 
 
