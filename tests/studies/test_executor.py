@@ -116,6 +116,21 @@ def test_serial_and_a_local_cluster_give_the_same_results_to_the_bit():
         on_dask = session.map(evaluate_cell, template, CELLS, KW, progress=lambda d, n: seen.append((d, n)),
                               each=lambda k, r: each.setdefault(k, r))
         again = session.map(evaluate_cell, template, CELLS[::-1], KW)   # the same cluster, another order
+        # a piece the cluster forgets (cancelled: a worker or the client's link lost on a loaded
+        # machine) is sent again, with the shared template sent anew: the same results
+        submit, cancelled = session.client.submit, []
+
+        def forgetful(*args, **kwargs):
+            fut = submit(*args, **kwargs)
+            if not cancelled:
+                cancelled.append(fut)
+                session.client.cancel([fut])
+            return fut
+
+        session.client.submit = forgetful
+        resent = session.map(evaluate_cell, template, CELLS, KW)
+        del session.client.submit
+    assert len(cancelled) == 1 and repr(resent) == repr(serial)
     assert [r.cell for r in on_dask] == CELLS                          # in the items' order
     assert [(r.operable, r.fraction_feasible, r.min_margin_N, r.successes) for r in on_dask] == \
         [(r.operable, r.fraction_feasible, r.min_margin_N, r.successes) for r in serial]

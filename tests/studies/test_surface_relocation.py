@@ -299,3 +299,44 @@ def test_move_time_with_a_rail_is_refused_and_without_it_the_rail_times_the_move
     rows = np.genfromtxt(tmp_path / "o" / "placements.csv", delimiter=",", names=True, comments="#")
     assert rows["move_in_s"].sum() == pytest.approx(job.move_s.sum(), rel=1e-9)
     assert int(rows["by_crane"].sum()) == job.moves.count("crane")
+
+
+def test_a_rail_move_carries_the_frame_from_where_it_stands():
+    """rail_move_scenario: C starts where the frame stood, turned as it stood, and ends the move
+    ``distance`` along the frame's x axis laid level in S, its axes unchanged (a straight
+    rail), at rest after the double-S move's time; the platform held, the tool off the hull.
+    The planned wrench on a still ship, with the carriage at its peak acceleration a along
+    the rail: the platform's weight and m a, to 1e-9 N (the hand-worked case)."""
+    import marinecdpr
+    from marinecdpr.motion.carriage import carriage_motion
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.motion.ship import frame_axes
+    from marinecdpr.scenario.relocation import RailMoves
+    from marinecdpr.studies.relocation import rail_move_scenario
+
+    sc = load_scenario("paper_clean").with_updates("ship", frame_origin_m=[10.0, -16.0, 3.0],
+                                                   frame_orientation_deg=[-12.0, 2.0, 8.0])
+    sc = sc.with_changes(base_motion={"type": "still"})
+    rail = RailMoves(speed_m_s=0.3, accel_m_s2=0.3, jerk_m_s3=1.0, settle_s=30.0)
+    move = rail_move_scenario(sc, rail, 2.0, hold_C=[0.95, 0.0, 0.7], mass_kg=300.0)
+    assert move.cleaning is None and list(move.ship.frame_origin_m) == [0.0, 0.0, 0.0]
+    T = scurve_move(2.0, 0.3, 0.3, 1.0).duration_s
+    assert move.time.duration_s == pytest.approx(2.0 + T + 5.0, rel=1e-15)
+    R = frame_axes([-12.0, 2.0, 8.0])
+    level = np.array([R[0, 0], R[1, 0], 0.0]) / np.hypot(R[0, 0], R[1, 0])
+    r_S, v_S, a_S, R_SC, _, _ = carriage_motion(move.ship, np.array([0.0, 1.0, 2.0 + T, move.time.duration_s]))
+    np.testing.assert_allclose(r_S[0], [10.0, -16.0, 3.0], atol=1e-12)
+    np.testing.assert_allclose(r_S[2:], [np.array([10.0, -16.0, 3.0]) + 2.0 * level] * 2, atol=1e-12)
+    np.testing.assert_allclose(R_SC, [R] * 4, atol=1e-12)
+    assert np.abs(v_S[[0, 2, 3]]).max() < 1e-12
+    # the hand-worked wrench while the carriage accelerates at its peak (still ship)
+    p = marinecdpr.plan(move)
+    t_peak = p.t[np.argmax(np.linalg.norm(carriage_motion(move.ship, p.t)[2], axis=1))]
+    k = int(np.flatnonzero(p.t == t_peak)[0])
+    a = carriage_motion(move.ship, p.t[k:k + 1])[2][0]
+    assert np.linalg.norm(a) == pytest.approx(0.3, rel=1e-6)
+    m, g = move.robot.mass_kg, move.environment.gravity_m_s2
+    f_C = R.T @ (m * a + m * np.array([0.0, 0.0, g]))  # the cables' and guide's force on P, in C
+    np.testing.assert_allclose(p.wrench[k, :3], f_C, atol=1e-9)
+    with pytest.raises(ValueError, match="positive"):
+        rail_move_scenario(sc, rail, 0.0, hold_C=[0.95, 0.0, 0.7])

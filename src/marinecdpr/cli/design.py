@@ -131,6 +131,10 @@ def design(
             f"passed {v.screen_works_td_fails} the time domain failed"
             + (f" ({v.flown} flown about each column's boundary, the rest taken from it)" if v.flown < len(cells)
                else "")), highlight=False, soft_wrap=True)
+        if v.rail_move is not None:
+            from marinecdpr.report.design import rail_move_text
+
+            console.print(plain(rail_move_text(v)), highlight=False, soft_wrap=True)
     console.print(plain(f"baseline (the template's robot): {b.placements} placements, {b.surface_hours:.4g} h on the "
                          f"surface, works in {100 * b.sea_share:.1f} % of the seas: {b.expected_hours:.4g} expected h"),
                   highlight=False, soft_wrap=True)

@@ -3,6 +3,8 @@ figure, the search's convergence, the finalists as ready-to-run scenarios, and t
 
 from __future__ import annotations
 
+import dataclasses
+
 import csv
 from dataclasses import dataclass
 from pathlib import Path
@@ -91,6 +93,17 @@ def _short(e, objective: str) -> dict:
                         for k, v in e.binding()]} | moved
 
 
+def rail_move_text(v) -> str:
+    """A rail finalist's move in the time domain, as a sentence."""
+    m = v.rail_move
+    said = (f"Finalist {v.rank}'s frame carried {m.distance_m:.3g} m along its rail ({m.move_s:.3g} s) in "
+            f"Hs {m.hs:g} m, Tp {m.tp:.3g} s, heading {m.heading_deg:g} deg, the platform held: ")
+    if not m.works:
+        return said + f"fails: {m.reason}."
+    return said + (f"the cables between {m.tension_min_N:.4g} and {m.tension_max_N:.4g} N, the platform within "
+                   f"{1000 * m.excursion_m:.3g} mm of its place, the drive's force up to {m.drive_force_N:.3g} N.")
+
+
 def design_summary(study, verification=None) -> dict:
     """``summary.json``: the study, its best designs by expected hours (the front), each with
     its hours in parts (``hours``: cleaning, turns, moves, weather) and its binding
@@ -111,7 +124,7 @@ def design_summary(study, verification=None) -> dict:
         "screen": "expected hours = placements' cleaning and moves / the share of sea states the fast screen "
                   "passes (studies.screen: frequency-domain extremes, conservative)",
         "verified": bool(verification),
-        "finalists": [dict(v.__dict__) for v in verification or []],
+        "finalists": [dataclasses.asdict(v) for v in verification or []],
     }
 
 
@@ -434,7 +447,7 @@ def _report_html(study, verification, figures: dict, path: Path) -> Path:
         flown = (f"The finalists were also flown as built (their rope's weight and stretch, their winches' "
                  f"dynamics and limits) through the cleaning job {where}, closed loop on the prototype "
                  f"({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)}): the time "
-                 "domain's columns.")
+                 "domain's columns." + "".join(" " + rail_move_text(v) for v in verification if v.rail_move))
     else:
         flown = ("The finalists were not flown in the time domain (--no-verify, or no finalist): every figure is "
                  "the screen's.")

@@ -1118,6 +1118,84 @@ class Verification:
     flown: int = 0
     """How many sea states were flown (all of them, or with ``[sea] verify = "boundary"``
     those about each column's boundary; the rest taken as the column's boundary says)."""
+    rail_move: "RailMoveCheck | None" = None
+    """A finalist on a rail: its frame carried along the rail in the time domain
+    (:func:`fly_rail_move`); None for other moves, or where no sea state works."""
+
+
+@dataclass(frozen=True)
+class RailMoveCheck:
+    """A rail finalist's frame carried one frame's width along its rail, the platform held and
+    the tool off the hull, closed loop on the prototype as built, in the highest sea the time
+    domain passed (its record's seed the cleaning job's there).
+
+    Attributes
+    ----------
+    hs, tp, heading_deg : float
+        The sea state, m, s, deg.
+    distance_m, move_s : float
+        The move along the rail, m, and its double-S time at the rail's limits, s.
+    tension_min_N, tension_max_N : float
+        The cables' least and largest tension over the run, N (nan where it did not fly).
+    excursion_m : float
+        The platform's largest distance from where it is held, m.
+    drive_force_N : float
+        The carriage drive's largest force along the rail (the plan's), N.
+    works : bool
+    reason : str
+        Why not, or "".
+    """
+
+    hs: float
+    tp: float
+    heading_deg: float
+    distance_m: float
+    move_s: float
+    tension_min_N: float
+    tension_max_N: float
+    excursion_m: float
+    drive_force_N: float
+    works: bool
+    reason: str = ""
+
+
+def fly_rail_move(spec: DesignSpec, sc: Scenario, e: "Evaluation", cell) -> RailMoveCheck:
+    """Fly a rail finalist's move (:class:`RailMoveCheck`): ``sc`` its scenario as built
+    (:func:`as_built`), ``cell`` the sea state."""
+    from marinecdpr.errors import InfeasibleError, SimulationDivergedError
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.planning.carriage import drive_force
+    from marinecdpr.planning.planner import plan
+    from marinecdpr.prototype.simulation import simulate
+    from marinecdpr.studies.operability import cell_scenario
+    from marinecdpr.studies.prototype_runs import bypassed_text, controller_verdict
+    from marinecdpr.studies.relocation import rail_move_scenario
+
+    rail = spec.relocation.rail
+    distance = float(e.x["frame_width_m"])
+    panel = np.asarray(sc.cleaning.panel_m, dtype=float)
+    hold = [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]
+    move = rail_move_scenario(sc, rail, distance, hold_C=hold, mass_kg=spec.relocation.frame_mass_kg)
+    move = cell_scenario(move, cell, move.time.duration_s, move.time.step_s)
+    nan = float("nan")
+    fig = dict(hs=cell.hs, tp=cell.tp, heading_deg=cell.heading_deg, distance_m=distance,
+               move_s=float(scurve_move(distance, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s))
+    try:
+        p = plan(move)
+        res = simulate(move, run="closed_loop", reference=p)
+    except InfeasibleError:
+        return RailMoveCheck(**fig, tension_min_N=nan, tension_max_N=nan, excursion_m=nan, drive_force_N=nan,
+                             works=False, reason="no tensions within the limits at some step of the move's plan")
+    except SimulationDivergedError:
+        return RailMoveCheck(**fig, tension_min_N=nan, tension_max_N=nan, excursion_m=nan, drive_force_N=nan,
+                             works=False, reason="the closed loop diverged")
+    verdict = controller_verdict(res, move)
+    held = verdict.get("controller_verdict") != "bypassed"
+    return RailMoveCheck(**fig, tension_min_N=float(res.tensions.min()), tension_max_N=float(res.tensions.max()),
+                         excursion_m=float(np.linalg.norm(res.pose[:, :3] - np.asarray(hold), axis=1).max()),
+                         drive_force_N=drive_force(p, move).peak_N, works=held,
+                         reason="" if held else bypassed_text(res.controller_fallbacks, res.t.size,
+                                                              move.simulation.max_bypassed_share))
 
 
 def sea_columns(cells: list) -> list[list[int]]:
@@ -1261,6 +1339,11 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             share = cs.sea.operability
             failed = [r for r in cs.sea.results if not r.operable]
             n_flown = len(cells)
+        rail_move = None
+        if e.x.get("relocation") == "rail" and td.any():  # the highest sea flown that works
+            hardest = max((j for j in (range(len(cells)) if not boundary else results) if td[j]),
+                          key=lambda j: (cells[j].hs, -j))
+            rail_move = fly_rail_move(spec, sc, e, cells[hardest])
         out.append(Verification(
             index=i, rank=rank, surface_hours=e.surface_hours, screen_share=screened.share, td_share=share,
             screen_expected_hours=e.expected_hours,
@@ -1269,5 +1352,5 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
                      for r in failed], plant=flown,
-            screen_reasons=[why for why in screened.reasons if why], flown=n_flown))
+            screen_reasons=[why for why in screened.reasons if why], flown=n_flown, rail_move=rail_move))
     return out

@@ -61,6 +61,10 @@ SCHEDULER_TIMEOUT_S = 5.0
 # loses far longer (2.16 M steps: 3.2 s vs 7.9 s; 10.4 M: 15.1 s vs 17.9 s; 13.5 M: 9.5 s
 # vs 14.3 s) and wins again from ~20 M steps (24 M: 16.4 s vs 13.9 s). Auto therefore
 # starts Dask at 20 M steps (~15 s serially), where it is faster busy or not.
+FORGOTTEN_RETRIES = 2
+"""How many times a session sends again the pieces of work a Dask cluster cancelled (forgot:
+a worker lost, or the client's link to the scheduler timed out on a loaded machine)."""
+
 AUTO_DASK_MIN_STEPS = 20_000_000
 """:meth:`Executor.auto` runs serially below this many time steps of work in all (a
 sea-state study's cells x steps per cell, :func:`~marinecdpr.studies.operability.study_steps`),
@@ -368,18 +372,35 @@ class Session:
                 if progress is not None:
                     progress(k + 1, total)
             return results
+        from concurrent.futures import CancelledError
+
         from dask.distributed import as_completed
 
-        shared = self._share(template)
-        futures = {self.client.submit(evaluate, shared, item, pure=False, **kwargs): k for k, item in enumerate(items)}
-        for done, fut in enumerate(as_completed(futures), start=1):
-            k = futures[fut]
-            results[k] = fut.result()
-            if each is not None:
-                each(k, results[k])
-            if progress is not None:
-                progress(done, total)
-        return results
+        todo, done = list(range(total)), 0
+        for attempt in range(1, FORGOTTEN_RETRIES + 2):
+            shared = self._share(template)
+            futures = {self.client.submit(evaluate, shared, items[k], pure=False, **kwargs): k for k in todo}
+            lost = []
+            for fut in as_completed(futures):
+                k = futures[fut]
+                try:
+                    results[k] = fut.result()
+                except CancelledError:  # the cluster forgot it (a worker or the client's link lost under load)
+                    lost.append(k)
+                    continue
+                done += 1
+                if each is not None:
+                    each(k, results[k])
+                if progress is not None:
+                    progress(done, total)
+            if not lost:
+                return results
+            todo = sorted(lost)
+            self._shared.clear()  # what was scattered may be gone with them: sent anew
+        raise ExecutorError("workers", len(self.client.scheduler_info().get("workers", {})),
+                            f"the Dask cluster dropped {len(todo)} of {total} pieces of work {FORGOTTEN_RETRIES + 1} "
+                            "times (cancelled: a worker lost, or the client's link to the scheduler): fewer workers, "
+                            "or a less loaded machine")
 
 
 @contextmanager

@@ -35,7 +35,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.relocation import Crane, RailMoves, Relocation
 
 __all__ = ["Moves", "crane_move_s", "rail_move_s", "plan_yaw", "turn_radius_m", "visit_order", "stretches",
-           "plan_moves", "relocation_cost", "RelocationCost", "NO_COST"]
+           "plan_moves", "relocation_cost", "RelocationCost", "NO_COST", "rail_move_scenario"]
 
 _ROUND_M = 1e-6
 """Placements whose heights (rows) or stations (columns) agree to this, m, share a row or column."""
@@ -295,3 +295,65 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
     rail = relocation.rail.cost_per_m * band_length_m if on_rail else 0.0
     carriages = robots * relocation.rail.carriage_cost if on_rail else 0.0
     return RelocationCost(float(hire), float(rail), float(carriages))
+
+
+def rail_move_scenario(scenario, rail: RailMoves, distance_m: float, *, hold_C, mass_kg: float | None = None,
+                       dwell_s: float = 2.0, tail_s: float = 5.0):
+    """The scenario's frame carried ``distance_m`` along a straight rail from where it stands,
+    the platform held still at ``hold_C`` and the tool off the hull: a rail move between two
+    placements of one row, for the time domain (the carriage's accelerations a load the
+    cables hold in the ship's motion).
+
+    The rail runs from the frame's origin along its x axis laid level in S (a rail along the
+    sheer); the frame keeps its orientation (a straight rail turns it by nothing). The
+    carriage rests ``dwell_s``, moves at the rail's limits (:func:`rail_move_s`'s double-S
+    move) and rests; the run lasts ``dwell_s`` + the move + ``tail_s``.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A frame set down on the ship (``ship.frame_origin_m``, ``frame_orientation_deg``).
+    rail : RailMoves
+        The carriage's limits.
+    distance_m : float
+        How far along the rail, m, > 0.
+    hold_C : array_like, shape (3,)
+        Where the platform is held in C, m.
+    mass_kg : float, optional
+        The carriage with the frame and its winches (its drive's force is then known).
+
+    Returns
+    -------
+    Scenario
+    """
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.motion.ship import frame_axes
+    from marinecdpr.scenario.schema import validated_scenario
+
+    if not np.isfinite(distance_m) or distance_m <= 0.0:
+        raise ValueError(f"a rail move's distance must be positive and finite, got {distance_m!r}")
+    ship = scenario.ship
+    if ship.carriage is not None:
+        raise ScenarioError("the frame is carried on a rail already", key="ship.carriage", source=scenario.name)
+    origin = np.asarray(ship.frame_origin_m, dtype=float)
+    x_S = frame_axes(ship.frame_orientation_deg)[:, 0]
+    level = np.array([x_S[0], x_S[1], 0.0])
+    if np.linalg.norm(level) < 1e-6:
+        raise ScenarioError("the frame's x axis stands vertical: no level rail along it", key="ship.frame_orientation_deg",
+                            source=scenario.name)
+    level /= np.linalg.norm(level)
+    move = scurve_move(float(distance_m), rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3)
+    duration = dwell_s + float(move.duration_s) + tail_s
+    hold = [float(v) for v in hold_C]
+    data = scenario.model_dump(exclude_none=True)
+    data.pop("cleaning", None)
+    carriage = {"rail_m": [origin.tolist(), (origin + (distance_m + 1e-3) * level).tolist()],
+                "speed_max_m_s": rail.speed_m_s, "accel_max_m_s2": rail.accel_m_s2, "jerk_max_m_s3": rail.jerk_m_s3,
+                "stations_m": [0.0, float(distance_m)], "dwell_s": [float(dwell_s), float(tail_s)]}
+    if mass_kg is not None:
+        carriage["mass_kg"] = float(mass_kg)
+    data["ship"] = dict(data["ship"], frame_origin_m=[0.0, 0.0, 0.0], carriage=carriage)
+    data["trajectory"] = {"type": "line", "start_position_m": hold, "end_position_m": hold, "duration_s": 1.0}
+    data["time"] = dict(data["time"], duration_s=duration)
+    data["description"] = f"{scenario.name}: the frame carried {distance_m:.4g} m along a rail, the platform held"
+    return validated_scenario(data)
