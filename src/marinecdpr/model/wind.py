@@ -32,11 +32,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from marinecdpr.model.dynamics import absolute_motion
-from marinecdpr.motion.ship import ShipMotion
-from marinecdpr.motion.wind import wind_direction_O, wind_speed_at
+from functools import lru_cache
 
-__all__ = ["platform_drag", "cable_drag", "wind_loads"]
+from marinecdpr.model.dynamics import absolute_motion
+from marinecdpr.motion.basemotion import frame_origin_of
+from marinecdpr.motion.ship import ShipMotion
+from marinecdpr.motion.wind import GustSeries, gust_series, wind_direction_O, wind_speed_at
+from marinecdpr.scenario.wind import AIR_DENSITY_KG_M3
+
+__all__ = ["platform_drag", "cable_drag", "wind_loads", "scenario_gust", "scenario_wind_loads"]
 
 
 def platform_drag(u_rel_O: np.ndarray, R_SO: np.ndarray, R_PC: np.ndarray, *, rho: float, shape_coefficient: float,
@@ -164,3 +168,55 @@ def wind_loads(wind, x_PC: np.ndarray, twist: np.ndarray, R_PC: np.ndarray, ship
                                                           diameter=wind.cable_diameter_m))
     half = 0.5 * F_C
     return f_C + half.sum(axis=1), m_C + np.cross(r, half).sum(axis=1)
+
+
+@lru_cache(maxsize=8)
+def _gust(u0: float, z: float, record_s: float, f_max: float, seed: int) -> GustSeries:
+    series = gust_series(u0, z, record_s, f_max, seed)
+    series.u.flags.writeable = False  # shared by every caller
+    return series
+
+
+def scenario_gust(wind) -> GustSeries | None:
+    """The ``[wind]`` section's gust series (:func:`~marinecdpr.motion.wind.gust_series`, the same
+    for every caller: made once per section's figures), None with ``gust = "none"``."""
+    if wind.gust == "none":
+        return None
+    return _gust(float(wind.speed_m_s), float(wind.gust_height_m), float(wind.record_s),
+                 float(wind.frequency_max_hz), int(wind.seed))
+
+
+def scenario_wind_loads(scenario, x_PC: np.ndarray, twist: np.ndarray, R_PC: np.ndarray, ship: ShipMotion,
+                        t: np.ndarray, *, gust: str = "plan") -> tuple[np.ndarray, np.ndarray]:
+    """The scenario's wind on the platform along a motion (:func:`wind_loads` with its robot's
+    straight cables from their frame anchors), in C.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With a ``[wind]`` section.
+    x_PC, twist, R_PC, ship
+        As :func:`wind_loads`.
+    t : ndarray, shape (n_steps,)
+        Times, s (the gust's).
+    gust : {"plan", "series"}
+        "plan": what ``wind.plan_gust`` names (the mean, the series, or the mean times a gust
+        factor); "series": the mean plus the gust series (what the plants meet).
+
+    Returns
+    -------
+    f_C, m_C : ndarray, shape (n_steps, 3)
+        N and N m about the centre of mass, in C.
+    """
+    wind = scenario.wind
+    choice = "series" if gust == "series" else wind.plan_gust
+    factor, u_g = 1.0, 0.0
+    if choice == "series":
+        series = scenario_gust(wind)
+        u_g = 0.0 if series is None else series.at(t)
+    elif choice != "mean":
+        factor = float(choice)
+    robot = scenario.robot
+    return wind_loads(wind, x_PC, twist, R_PC, ship, frame_origin_S=frame_origin_of(scenario),
+                      frame_anchors=robot.frame_anchors, platform_anchors=robot.platform_anchors,
+                      gust=u_g, gust_factor=factor, rho=AIR_DENSITY_KG_M3)
