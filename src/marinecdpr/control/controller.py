@@ -38,6 +38,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import disturbance_in_C
 from marinecdpr.model.tension_solver import METHOD_CODES
+from marinecdpr.model.wind import scenario_wind_loads
 from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
@@ -45,7 +46,7 @@ from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "plans", "stand_in_plans",
-           "planned_brush_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
+           "planned_brush_loads", "planned_wind_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
            "step_from_arrays", "step_entry_point"]
 
 
@@ -170,26 +171,51 @@ def predictor(scenario: Scenario):
                           **predictor_options(mru))
 
 
+def _half_step_path(scenario: Scenario, ref: Plan, ff: Plan, n: int):
+    """The planned path on the half-step grid: pose and twist (2 n + 1, 6) (row 2k: t_k, from
+    the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n: t_n, the trajectory's)."""
+    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
+    pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
+    pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
+    twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
+    return pose, twist
+
+
 def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int) -> BrushLoads | None:
     """The cleaning brush's loads along the planned path at the preload, on the half-step
     grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
     t_n), as :class:`BrushLoads`; None without ``[cleaning]``."""
     if scenario.cleaning is None:
         return None
-    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
-    pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
-    pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
-    twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
+    pose, twist = _half_step_path(scenario, ref, ff, n)
     R_PC = matrix_from_euler(pose[:, 3:])
     f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
     return BrushLoads(f=f_b, m=m_b, R_PC=R_PC)
 
 
-def known_loads(scenario: Scenario, ship_h, brush_h: BrushLoads | None) -> Loads:
+def planned_wind_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int, ship_h, *,
+                       gust: str = "plan") -> BrushLoads | None:
+    """The wind's loads (``[wind]``; :func:`~marinecdpr.model.wind.scenario_wind_loads`) along
+    the planned path on the half-step grid (as :func:`planned_brush_loads`), with the ship's
+    motion ``ship_h`` on that grid: ``gust = "plan"`` the wind the plan holds (the controller's
+    model), ``"series"`` the mean plus the gust series (what the plants meet: the drag at the
+    planned pose and velocity, which the platform follows within its tracking error). None
+    without ``[wind]``."""
+    if scenario.wind is None:
+        return None
+    pose, twist = _half_step_path(scenario, ref, ff, n)
+    R_PC = matrix_from_euler(pose[:, 3:])
+    t_h = np.arange(2 * n + 1) * (0.5 * scenario.time.step_s)
+    f_w, m_w = scenario_wind_loads(scenario, pose[:, :3], twist, R_PC, ship_h, t_h, gust=gust)
+    return BrushLoads(f=f_w, m=m_w, R_PC=R_PC)
+
+
+def known_loads(scenario: Scenario, ship_h, brush_h: BrushLoads | None, wind_h: BrushLoads | None = None) -> Loads:
     """The disturbance on the half-step grid (2 n + 1 rows), as :class:`~marinecdpr.control.
     records.Loads`: in C, or in P (then ``in_P``), with the brush's
     planned loads ``brush_h`` (:func:`planned_brush_loads`) if any: the controller's load
-    model (the prototype's plant replaces the brush's by those at the actual velocity).
+    model (the prototype's plant replaces the brush's by those at the actual velocity), and
+    the wind's ``wind_h`` (:func:`planned_wind_loads`) if any.
 
     Loads given in O turn into C with the ship's motion; loads given in P stay in P, and the
     plant and the controller turn them with the platform's actual (measured) orientation.
@@ -200,11 +226,12 @@ def known_loads(scenario: Scenario, ship_h, brush_h: BrushLoads | None) -> Loads
     in_P = dist.frame == "P"
     if not in_P:
         f, m = disturbance_in_C(f, m, dist.frame, ship_h.R_SO, None)
-    if brush_h is not None:
-        f_b, m_b = brush_h.f, brush_h.m
-        if in_P:  # into P with the planned orientation
-            f_b, m_b = (np.einsum("nji,nj->ni", brush_h.R_PC, x) for x in (f_b, m_b))
-        f, m = f + f_b, m + m_b
+    for extra in (brush_h, wind_h):
+        if extra is not None:
+            f_b, m_b = extra.f, extra.m
+            if in_P:  # into P with the planned orientation
+                f_b, m_b = (np.einsum("nji,nj->ni", extra.R_PC, x) for x in (f_b, m_b))
+            f, m = f + f_b, m + m_b
     return Loads(f=np.ascontiguousarray(f, dtype=float), m=np.ascontiguousarray(m, dtype=float), in_P=in_P)
 
 
@@ -230,7 +257,8 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
 def controller_records(scenario: Scenario, p: Plans, n: int, *, closed: bool) -> ControllerParts:
     """The controller's records for flying the plans ``p`` (:func:`plans`) over n steps, with
     the known loads at t_k (the brush's planned ones included): :func:`controller_parts`."""
-    loads_h = known_loads(scenario, p.ship_h, planned_brush_loads(scenario, p.ref, p.ff, n))
+    loads_h = known_loads(scenario, p.ship_h, planned_brush_loads(scenario, p.ref, p.ff, n),
+                          planned_wind_loads(scenario, p.ref, p.ff, n, p.ship_h))
     return controller_parts(scenario, p.ff, step_loads(loads_h, n), closed=closed)
 
 

@@ -10,5 +10,6 @@
 - :mod:`.dynamics`  the array functions over time series (``wrench_terms``,
   ``forward_dynamics``, ...), each a call of a compiled loop;
 - :mod:`.tension`   tension distribution over time series (eqs. 17-20 and Pott's forms);
-- :mod:`.brush`     a cleaning brush's loads on the platform (friction, reaction moment, jet).
+- :mod:`.brush`     a cleaning brush's loads on the platform (friction, reaction moment, jet);
+- :mod:`.wind`      the wind's drag on the platform and its cables (``[wind]``).
 """

@@ -8,5 +8,6 @@
   Capytaine files, the box hull;
 - :mod:`.recorded`    measured ship motion from CSV files, smoothed and differentiated;
 - :mod:`.trajectory`  the platform's trajectory and the disturbance on it;
-- :mod:`.coverage`    boustrophedon coverage paths over a panel, jerk-limited (the cleaning job).
+- :mod:`.coverage`    boustrophedon coverage paths over a panel, jerk-limited (the cleaning job);
+- :mod:`.wind`        the wind's mean profile over height, Frøya's gust spectrum and its series.
 """

@@ -20,6 +20,7 @@ from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.geometry.kinematics import cable_kinematics
 from marinecdpr.model.brush import cleaning_loads
 from marinecdpr.model.dynamics import WrenchTerms, disturbance_in_C, uncontrolled, wrench_terms
+from marinecdpr.model.wind import scenario_wind_loads
 from marinecdpr.model.tension import (
     distribute_tensions, full_rank, largest_headroom, pseudo_inverse_tensions,
 )
@@ -365,9 +366,10 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
 
 def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray,
                     R_PC: np.ndarray, ship: ShipMotion, t: np.ndarray, F_n) -> WrenchTerms:
-    """The wrench the platform needs (eqs. 9-16), with the scenario's disturbance f_r, m_r
-    and, with ``[cleaning]``, the brush's loads pressed on with ``F_n`` (N; the planner takes
-    the pusher's preload).
+    """The wrench the platform needs (eqs. 9-16), with the scenario's disturbance f_r, m_r,
+    with ``[cleaning]`` the brush's loads pressed on with ``F_n`` (N; the planner takes the
+    pusher's preload), and with ``[wind]`` the wind's drag on the platform and its cables'
+    shares at the wind ``wind.plan_gust`` names (:func:`~marinecdpr.model.wind.scenario_wind_loads`).
 
     Parameters
     ----------
@@ -385,6 +387,9 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
     if scenario.cleaning is not None:
         f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
         f_C, m_C = f_C + f_b, m_C + m_b
+    if scenario.wind is not None:
+        f_w, m_w = scenario_wind_loads(scenario, x_PC, twist, R_PC, ship, t)
+        f_C, m_C = f_C + f_w, m_C + m_w
     robot = scenario.robot
     return wrench_terms(x_PC, twist, twist_dot, R_PC, ship, frame_origin_S=frame_origin_of(scenario),
                         mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,

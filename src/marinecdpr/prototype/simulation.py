@@ -33,7 +33,7 @@ import numpy as np
 
 from marinecdpr.compiled_cache import bound
 from marinecdpr.control.controller import (
-    controller_parts, known_loads, planned_brush_loads, plans, stand_in_plans, step_loads,
+    controller_parts, known_loads, planned_brush_loads, planned_wind_loads, plans, stand_in_plans, step_loads,
 )
 from marinecdpr.control.records import Loads
 from marinecdpr.motion.basemotion import frame_ship_motion
@@ -197,14 +197,17 @@ class Prototype(builder.Assembly):
     system and each part by its record's class name) with what it was built from: the ship's
     motion on the half-step grid ``ship_h``, the plans ``ref`` (at t_k) and ``ff`` (at
     mid-step), and the known loads: on the half-step grid ``loads_h`` (f, m (2 n + 1, 3) in C,
-    or in P if ``in_P``) that the own plant applies, and at t_k ``known`` (the controller's
-    model of them, which MuJoCo's ship drive applies)."""
+    or in P if ``in_P``) that the own plant applies; at t_k ``known`` (the controller's model
+    of them: the same, but with ``[wind]`` the wind the plan holds where the plants meet the
+    gust series); and ``held``, what MuJoCo's ship drive holds over each step (the loads at
+    t_k; with ``[wind]``, the wind's at mid-step)."""
 
     ship_h: Any
     ref: Plan
     ff: Plan
     loads_h: Loads
     known: Loads
+    held: Loads
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
@@ -226,14 +229,28 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     ref, ff = p.ref, p.ff
     brush_h = planned_brush_loads(scenario, ref, ff, n) if brush else None
     loads_h = known_loads(scenario, ship_h, brush_h)
-    loads = step_loads(loads_h, n)
+    loads = held = step_loads(loads_h, n)
+    if scenario.wind is not None:  # the plants meet the gust series, the controller knows the plan's wind
+        loads = step_loads(known_loads(scenario, ship_h, brush_h, planned_wind_loads(scenario, ref, ff, n, ship_h)), n)
+        calm_h, loads_h = loads_h, known_loads(scenario, ship_h, brush_h,
+                                               planned_wind_loads(scenario, ref, ff, n, ship_h, gust="series"))
+        held = _held_with_wind(calm_h, loads_h, n)
     ctl = controller_parts(scenario, ff, loads, closed=run == "closed_loop")
     x0, R0, _, _ = _initial_state(scenario, ref)
     ctx = builder.context(scenario, run, n, plan=ref, ff=ff, ship_h=ship_h, brush_h=brush_h, loads=loads, ctl=ctl,
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
     return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
-                     known=loads)
+                     known=loads, held=held)
+
+
+def _held_with_wind(calm_h: Loads, loads_h: Loads, n: int) -> Loads:
+    """The loads MuJoCo holds over each step with a wind: the calm loads at t_k (as without
+    wind) plus the wind's at mid-step, t_k + h/2 (the midpoint rule: a gust that changes within
+    the step held at its start would lag the own plant's RK4 by h/2)."""
+    f = calm_h.f[0:2 * n:2] + (loads_h.f[1:2 * n:2] - calm_h.f[1:2 * n:2])
+    m = calm_h.m[0:2 * n:2] + (loads_h.m[1:2 * n:2] - calm_h.m[1:2 * n:2])
+    return Loads(f=np.ascontiguousarray(f), m=np.ascontiguousarray(m), in_P=loads_h.in_P)
 
 
 def _initial_state(scenario: Scenario, ref: Plan):
@@ -352,7 +369,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, asm.known, n)
+    drive = _ship_drive(ship_h, asm.held, n)
     system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None

@@ -3,6 +3,7 @@
 - :mod:`.fields`    field types with ranges and units, shared constants;
 - :mod:`.robot`     cables, anchors, mass and limits; refusal of degenerate geometry;
 - :mod:`.cleaning`  the cleaning job's panel, brush and contact; the coverage trajectory;
+- :mod:`.wind`      the wind: its speed, profile, gust and the drag's coefficients;
 - :mod:`.schema`    ship, base motion, trajectory, disturbance, time, planning, simulation;
   the :class:`Scenario` itself;
 - :mod:`.scale`     warnings for robots far outside cable-robot scale;

@@ -24,6 +24,7 @@ from marinecdpr.scenario.fields import (
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.obstacles import MAX_OBSTACLES, Obstacle
 from marinecdpr.scenario.robot import Robot
+from marinecdpr.scenario.wind import Wind
 # ---------------------------------------------------------------------- ship, sea
 class Ship(_Model):
     """Where the robot stands on the ship."""
@@ -519,6 +520,8 @@ class Scenario(_Model):
     cleaning: Cleaning | None = None
     obstacles: list[Obstacle] = Field(default=[], max_length=MAX_OBSTACLES)
     """What the cables must keep ``robot.clearance_m`` from, fixed to the frame, in C."""
+    wind: Wind | None = None
+    """The wind on the platform and the cables (:mod:`marinecdpr.scenario.wind`); none: no wind."""
 
     @model_validator(mode="after")
     def _check_obstacles(self) -> "Scenario":
