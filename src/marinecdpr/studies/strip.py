@@ -58,9 +58,9 @@ from marinecdpr.scenario.schema import Scenario
 __all__ = ["RailStrip", "StripCoverage", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
-MAX_STRIP_CELLS = 20_000_000
-"""The most cells of the strip's raster on the hull (the cell grows past width / 40 to hold it)."""
-STRIP_CELLS_PER_BRUSH = 40
+MAX_STRIP_CELLS = 10_000_000
+"""The most cells of the strip's raster on the hull (the cell grows past width / 100 to hold it)."""
+STRIP_CELLS_PER_BRUSH = 100
 """The strip's raster has at least this many cells across the brush's width, where it fits."""
 _FD_M = 1e-4
 """The step of the surface's slopes by central differences, m."""
@@ -178,9 +178,9 @@ class StripCoverage:
     ----------
     x, z : ndarray, shape (nx,), (nz,)
         The raster's cell centres: stations and heights of S, m (the surface's parameters).
-    passes : ndarray of int32, shape (nz, nx)
+    passes : ndarray of int16, shape (nz, nx)
         The stations that cleaned each cell; -1 outside the strip (a crane stretch).
-    weight_m2 : ndarray, shape (nz, nx)
+    weight_m2 : ndarray of float32, shape (nz, nx)
         Each cell's area on the hull, m^2.
     station_pct : ndarray, shape (n_stations,)
         Each station's cleaned share of its own panel's footprint on the strip, %.
@@ -197,16 +197,16 @@ class StripCoverage:
     @property
     def area_m2(self) -> float:
         """The strip's area on the hull, m^2."""
-        return float(self.weight_m2[self.passes >= 0].sum())
+        return float(self.weight_m2[self.passes >= 0].sum(dtype=np.float64))
 
     @property
     def cleaned_area_m2(self) -> float:
-        return float(self.weight_m2[self.passes >= 1].sum())
+        return float(self.weight_m2[self.passes >= 1].sum(dtype=np.float64))
 
     @property
     def overlap_area_m2(self) -> float:
         """Cleaned from two or more stations, m^2."""
-        return float(self.weight_m2[self.passes >= 2].sum())
+        return float(self.weight_m2[self.passes >= 2].sum(dtype=np.float64))
 
     @property
     def coverage_pct(self) -> float:
@@ -254,12 +254,16 @@ def strip_coverage(f: Callable, sign: float, x_range, z_range, r_S: np.ndarray, 
     x = x0 + (np.arange(nx) + 0.5) * (x1 - x0) / nx
     z = z0 + (np.arange(nz) + 0.5) * (z1 - z0) / nz
     hx, hz = (x1 - x0) / nx, (z1 - z0) / nz
-    X, Z = np.meshgrid(x, z)
-    fx = (f(X + _FD_M, Z) - f(X - _FD_M, Z)) / (2.0 * _FD_M)
-    fz = (f(X, Z + _FD_M) - f(X, Z - _FD_M)) / (2.0 * _FD_M)
-    weight = hx * hz * np.sqrt(1.0 + fx * fx + fz * fz)
-    Y = sign * f(X, Z)
-    passes = np.zeros((nz, nx), dtype=np.int32)
+
+    def cells(i0: int, i1: int):  # columns i0:i1: the hull's points (nz, i1 - i0, 3) and their areas
+        X, Z = np.meshgrid(x[i0:i1], z)
+        fx = (f(X + _FD_M, Z) - f(X - _FD_M, Z)) / (2.0 * _FD_M)
+        fz = (f(X, Z + _FD_M) - f(X, Z - _FD_M)) / (2.0 * _FD_M)
+        return np.stack([X, sign * f(X, Z), Z], axis=-1), (hx * hz * np.sqrt(1.0 + fx * fx + fz * fz))
+
+    chunk = max(1, 2_000_000 // nz)
+    weight = np.concatenate([cells(i, min(i + chunk, nx))[1] for i in range(0, nx, chunk)], axis=1).astype(np.float32)
+    passes = np.zeros((nz, nx), dtype=np.int16)
     out = np.zeros(nx, dtype=bool)
     for a, b in excluded:
         out |= (x >= a) & (x < b)
@@ -271,11 +275,11 @@ def strip_coverage(f: Callable, sign: float, x_range, z_range, r_S: np.ndarray, 
         corners = np.array([[cov.x[0], cov.z[0]], [cov.x[-1], cov.z[0]], [cov.x[-1], cov.z[-1]], [cov.x[0], cov.z[-1]]])
         xs = r[0] + R[0, 0] * corners[:, 0] + R[0, 2] * corners[:, 1]
         reach = 2.0 * cov.resolution_m + 0.5 * width_m + abs(R[0, 1]) * 1.0
-        i0, i1 = np.searchsorted(x, xs.min() - reach), np.searchsorted(x, xs.max() + reach)
+        i0, i1 = int(np.searchsorted(x, xs.min() - reach)), int(np.searchsorted(x, xs.max() + reach))
         if i1 <= i0:
             continue
-        q = np.stack([X[:, i0:i1], Y[:, i0:i1], Z[:, i0:i1]], axis=-1) - r
-        c = q @ R  # R^T (q - r): the hull's points in the station's C
+        q, w = cells(i0, i1)
+        c = (q - r) @ R  # R^T (q - r): the hull's points in the station's C
         ix = np.floor((c[..., 0] - (cov.x[0] - 0.5 * cov.resolution_m)) / cov.resolution_m).astype(np.int64)
         iz = np.floor((c[..., 2] - (cov.z[0] - 0.5 * cov.resolution_m)) / cov.resolution_m).astype(np.int64)
         inside = (ix >= 0) & (ix < cov.x.size) & (iz >= 0) & (iz < cov.z.size)
@@ -285,7 +289,6 @@ def strip_coverage(f: Callable, sign: float, x_range, z_range, r_S: np.ndarray, 
         mine = (got >= 0) & (block >= 0)
         cleaned = (got >= 1) & (block >= 0)
         block[cleaned] += 1
-        w = weight[:, i0:i1]
         station_pct[k] = 100.0 * w[cleaned].sum() / w[mine].sum() if mine.any() else 0.0
     return StripCoverage(x=x, z=z, passes=passes, weight_m2=weight, station_pct=station_pct,
                          resolution_m=float(max(hx, hz)))
@@ -425,7 +428,8 @@ def _check_scenario(scenario: Scenario):
                             "the rail", key="cleaning.surface.relocation.robots")
 
 
-def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None = None) -> RailStrip:
+def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None = None,
+               resolution_m: float | None = None) -> RailStrip:
     """The strip of ``[cleaning.surface]`` cleaned from the stations of ``[ship.carriage]``'s
     rail (the module's rules), over the scenario's horizon (``time.duration_s``: each
     station's plan and coverage are of that part of the panel's path; its hours the whole
@@ -435,6 +439,10 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     ----------
     progress : callable(share), optional
         The share of the stations planned, 0 to 1.
+    resolution_m : float, optional
+        The cell of the coverage's raster on the hull, m (default :func:`strip_coverage`'s).
+        Its worst error is where the cleaned region's edge runs along the raster (the band's
+        own edges: x or z constant): h / 2 a metre of such an edge.
 
     Raises
     ------
@@ -592,7 +600,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         st["crane_moves"] = int(by_crane[mine].sum())
         st["hours"] = st["cleaning_hours"] + float(move_in[mine].sum()) / 3600.0
     cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), r_S, R_SC, maps, width_m=cleaning.brush_diameter_m,
-                         excluded=gaps)
+                         excluded=gaps, resolution_m=resolution_m)
     horizon = scenario.time.duration_s - scenario.trajectory.start_time_s
     return RailStrip(s_m=s, origin_S=r_S, axes_S=R_SC, clean_s=float(path.duration_s), stand_off_m=stand_off,
                      force_N=force, in_band_pct=in_band, coverage=cov, crane=crane, crane_s=np.array(crane_s, float),
