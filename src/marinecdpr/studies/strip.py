@@ -322,8 +322,9 @@ class RailStrip:
     crane_s : ndarray, shape (m,)
         Their cleaning times, s.
     stretches : list of dict
-        Each crane stretch: ``x_m`` (its stations), ``why``, ``placements``, ``hours``
-        (its cleaning and the crane's moves into and within it).
+        Each crane stretch: ``x_m`` (its stations), ``why``, ``placements``,
+        ``cleaning_hours``, ``crane_moves`` and ``hours`` (its cleaning and the crane's moves
+        into it, within it and back onto the rail).
     visits : ndarray of int, shape (n + m,)
         The order of the visits: k >= 0 the rail station k, -1 - j the crane placement j.
     move_in_s : ndarray, shape (n + m,)
@@ -594,9 +595,11 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                 by_crane.append(True)
             where.append(here)
     visits, move_in, by_crane = np.array(visits, dtype=int), np.array(move_in), np.array(by_crane, dtype=bool)
-    for st, (a, b) in zip(stretches, gaps):  # each crane stretch's moves: into it and within it
+    for st, (a, b) in zip(stretches, gaps):  # each crane stretch's moves: into it, within it and back to the rail
         j = np.flatnonzero(visits < 0)
         mine = [v for v in j if a <= crane[-1 - visits[v]].x_range[0] < b]
+        if mine and max(mine) + 1 < visits.size and visits[max(mine) + 1] >= 0:
+            mine.append(max(mine) + 1)
         st["crane_moves"] = int(by_crane[mine].sum())
         st["hours"] = st["cleaning_hours"] + float(move_in[mine].sum()) / 3600.0
     cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), r_S, R_SC, maps, width_m=cleaning.brush_diameter_m,
