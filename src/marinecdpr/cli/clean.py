@@ -185,9 +185,9 @@ def _print_strip(st) -> None:
                             f"{st.force_N[:, 0].min():.4g} to {st.force_N[:, 1].max():.4g} N"
                             + (f"; {int(st.beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
-    for s in st.stretches:
-        console.print(plain(f"by crane: stations {s['x_m'][0]:.4g} to {s['x_m'][1]:.4g} m ({s['why']}): "
-                            f"{s['placements']} placements, {s['crane_moves']} crane moves, {s['hours']:.4g} h"),
+    for part in st.stretches:
+        console.print(plain(f"by crane: stations {part.x_m[0]:.4g} to {part.x_m[1]:.4g} m ({part.why}): "
+                            f"{part.placements} placements, {part.crane_moves} crane moves, {part.hours:.4g} h"),
                       highlight=False, soft_wrap=True)
 
 

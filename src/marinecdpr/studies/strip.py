@@ -55,7 +55,7 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["RailStrip", "StripCoverage", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
 MAX_STRIP_CELLS = 10_000_000
@@ -295,6 +295,37 @@ def strip_coverage(f: Callable, sign: float, x_range, z_range, r_S: np.ndarray, 
 
 
 @dataclass(frozen=True)
+class CraneStretch:
+    """A stretch of the band along the ship cleaned from crane placements.
+
+    Attributes
+    ----------
+    x_m : tuple of float
+        Its stations in S, m.
+    why : str
+        Aft or forward of the rail's reach, or across a bend it does not follow.
+    placements : int
+    cleaning_hours : float
+    crane_moves : int
+        The crane's moves into it, within it and back onto the rail.
+    hours : float
+        Its cleaning and those moves, h.
+    """
+
+    x_m: tuple
+    why: str
+    placements: int
+    cleaning_hours: float
+    crane_moves: int
+    hours: float
+
+    def as_dict(self) -> dict:
+        """For summary.json."""
+        return {"x_m": [float(v) for v in self.x_m], "why": self.why, "placements": self.placements,
+                "cleaning_hours": self.cleaning_hours, "crane_moves": self.crane_moves, "hours": self.hours}
+
+
+@dataclass(frozen=True)
 class RailStrip:
     """A strip of the hull cleaned from a rail's stations and, where the rail does not reach,
     from crane placements; visits in order along the ship.
@@ -321,10 +352,8 @@ class RailStrip:
         The crane stretches' placements, in the order visited.
     crane_s : ndarray, shape (m,)
         Their cleaning times, s.
-    stretches : list of dict
-        Each crane stretch: ``x_m`` (its stations), ``why``, ``placements``,
-        ``cleaning_hours``, ``crane_moves`` and ``hours`` (its cleaning and the crane's moves
-        into it, within it and back onto the rail).
+    stretches : list of CraneStretch
+        The band's stretches cleaned by crane, along the ship.
     visits : ndarray of int, shape (n + m,)
         The order of the visits: k >= 0 the rail station k, -1 - j the crane placement j.
     move_in_s : ndarray, shape (n + m,)
@@ -404,7 +433,7 @@ class RailStrip:
                 if self.s_m.size else [],
                 "stations_beyond_tolerance": int(self.beyond_tolerance.sum()),
                 "bends_not_followed_m": [list(map(float, b)) for b in self.sharp],
-                "crane_stretches": self.stretches, "crane_placements": len(self.crane),
+                "crane_stretches": [c.as_dict() for c in self.stretches], "crane_placements": len(self.crane),
                 "moves": {"rail": int((~self.by_crane[1:]).sum()), "crane": int(self.by_crane.sum())},
                 "hours": self.hours, "hours_by_part": self.parts_h(),
                 "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else [])}
@@ -568,8 +597,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         times = [_panel_times(cleaning, *p.extent_m, cache, 3)[0] for p in placed]
         crane_s += times
         pieces.append((a, "crane", np.arange(first, len(crane))))
-        stretches.append({"x_m": [float(a), float(b)], "why": _why(a, b, X0, X1), "placements": len(placed),
-                          "cleaning_hours": float(sum(times)) / 3600.0})
+        stretches.append((float(sum(times)) / 3600.0, len(placed)))
     pieces.sort(key=lambda piece: piece[0])
     if r_S.shape[0] > 1 and r_S[-1, 0] < r_S[0, 0]:  # a rail laid from the bow aft: the visits that way
         pieces.reverse()
@@ -595,13 +623,16 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                 by_crane.append(True)
             where.append(here)
     visits, move_in, by_crane = np.array(visits, dtype=int), np.array(move_in), np.array(by_crane, dtype=bool)
-    for st, (a, b) in zip(stretches, gaps):  # each crane stretch's moves: into it, within it and back to the rail
+    done = []
+    for (hours, count), (a, b) in zip(stretches, gaps):  # each stretch's moves: in, within, back to the rail
         j = np.flatnonzero(visits < 0)
         mine = [v for v in j if a <= crane[-1 - visits[v]].x_range[0] < b]
         if mine and max(mine) + 1 < visits.size and visits[max(mine) + 1] >= 0:
             mine.append(max(mine) + 1)
-        st["crane_moves"] = int(by_crane[mine].sum())
-        st["hours"] = st["cleaning_hours"] + float(move_in[mine].sum()) / 3600.0
+        done.append(CraneStretch(x_m=(float(a), float(b)), why=_why(a, b, X0, X1), placements=count,
+                                 cleaning_hours=hours, crane_moves=int(by_crane[mine].sum()),
+                                 hours=hours + float(move_in[mine].sum()) / 3600.0))
+    stretches = done
     cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), r_S, R_SC, maps, width_m=cleaning.brush_diameter_m,
                          excluded=gaps, resolution_m=resolution_m)
     horizon = scenario.time.duration_s - scenario.trajectory.start_time_s
