@@ -175,6 +175,22 @@ def test_bends_sharper_than_the_least_radius_by_crane(example):
     assert sum(parts.values()) == pytest.approx(st.hours, rel=1e-12)
 
 
+def test_the_starboard_mirror_cleans_the_same_strip_in_the_same_hours(example):
+    """The example mirrored to the starboard side (the rail's y negated, the frame's lean and
+    yaw mirrored, the hull normal C's -y): the same stand-offs, coverage on the hull and hours
+    (the crane placements, tiled as |y|, carried to the side cleaned)."""
+    port = example.with_updates("time", duration_s=5.0)
+    starboard = port.with_updates("ship.carriage", rail_m=[[p[0], -p[1], p[2]] for p in port.ship.carriage.rail_m])
+    starboard = starboard.with_updates("ship", frame_orientation_deg=[5.1, 0.0, -1.8])
+    starboard = starboard.with_updates("cleaning", hull_normal=[0.0, -1.0, 0.0])
+    starboard = starboard.with_updates("cleaning.surface", side="starboard")
+    a, b = rail_strip(port), rail_strip(starboard)
+    np.testing.assert_allclose(b.stand_off_m, a.stand_off_m, atol=1e-12)
+    assert b.coverage.coverage_pct == pytest.approx(a.coverage.coverage_pct, abs=1e-9) and a.coverage.coverage_pct > 0
+    np.testing.assert_allclose(b.move_in_s, a.move_in_s, rtol=1e-12)
+    assert b.seconds == pytest.approx(a.seconds, rel=1e-12)
+
+
 @pytest.mark.parametrize("change, key, words", [
     (lambda sc: sc.with_updates("ship", carriage=None, frame_origin_m=[0.0, 0.0, 0.0]), "ship.carriage",
      "missing: clean --rail steps the frame"),

@@ -408,7 +408,7 @@ def write_strip(strip, folder: Path) -> list[Path]:
     (:class:`~marinecdpr.studies.strip.RailStrip`), in the order made: its place in the
     visits (from 1), the rail station's arc length (empty for a crane placement), the frame's
     pose in S (C's origin, m; roll, pitch, yaw, deg; a crane placement's plane centre and
-    axes), its cleaning, the move into it and their hours, the share of its panel's footprint
+    axes, mirrored to a starboard side), its cleaning, the move into it and their hours, the share of its panel's footprint
     on the hull it cleaned, the hull's stand-off from the frame's plane under the brush, the
     normal force on the hull, the share of the steps in band (empty for crane placements:
     they are tiled as ``clean --surface`` tiles them), whether the stand-off passes the
@@ -427,7 +427,8 @@ def write_strip(strip, folder: Path) -> list[Path]:
         else:
             p, t = strip.crane[-1 - v], strip.crane_s[-1 - v]
             pose = np.degrees(euler_from_matrix(np.asarray(p.axes_S, dtype=float)))
-            rows.append([i + 1, nan, *p.centre_S, *pose, t, move, (t + move) / 3600.0, nan, *p.offset_range_m,
+            mirror = np.array([1.0, strip.side_sign, 1.0])  # a starboard side's placements are tiled as |y|
+            rows.append([i + 1, nan, *(np.asarray(p.centre_S) * mirror), *(pose * mirror), t, move, (t + move) / 3600.0, nan, *p.offset_range_m,
                          nan, nan, nan, float(p.deviation_m > strip.tolerance_m), float(crane)])
     values = np.array(rows, dtype=float).reshape(-1, len(STRIP_COLUMNS))
     return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,

@@ -349,7 +349,8 @@ class RailStrip:
     coverage : StripCoverage
         On the hull.
     crane : list of Placement
-        The crane stretches' placements, in the order visited.
+        The crane stretches' placements, in the order visited (as ``clean --surface`` tiles
+        them: a starboard side's with y as |y|, :func:`~marinecdpr.studies.surface.surface_function`).
     crane_s : ndarray, shape (m,)
         Their cleaning times, s.
     stretches : list of CraneStretch
@@ -364,6 +365,8 @@ class RailStrip:
     band_m : tuple
         The band's (stations, heights), m.
     tolerance_m : float
+    side_sign : float
+        1 port, -1 starboard (the crane placements' y and the side's).
     partial : bool
         The flown horizon ends before the panel's path: each station's coverage is that part's.
     """
@@ -385,6 +388,7 @@ class RailStrip:
     surface: str
     band_m: tuple
     tolerance_m: float
+    side_sign: float = 1.0
     partial: bool = False
     sharp: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
@@ -610,7 +614,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                 here = r_S[i] + R_SC[i][:, 0] * centre_C[0] + R_SC[i][:, 2] * centre_C[1]
                 visits.append(int(i))
             else:
-                here = np.asarray(crane[i].centre_S, dtype=float)
+                here = np.asarray(crane[i].centre_S, dtype=float) * np.array([1.0, sign, 1.0])  # the side's
                 visits.append(-1 - int(i))
             if not where:
                 move_in.append(0.0), by_crane.append(False)
@@ -640,7 +644,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                      force_N=force, in_band_pct=in_band, coverage=cov, crane=crane, crane_s=np.array(crane_s, float),
                      stretches=stretches, visits=visits, move_in_s=move_in, by_crane=by_crane,
                      surface=f"{label}, {surface.side} side, stations {X0:g} to {X1:g} m, heights {Z0:g} to {Z1:g} m",
-                     band_m=((float(X0), float(X1)), (float(Z0), float(Z1))), tolerance_m=tol,
+                     band_m=((float(X0), float(X1)), (float(Z0), float(Z1))), tolerance_m=tol, side_sign=sign,
                      partial=bool(horizon < path.duration_s * (1.0 - 1e-9)), sharp=sharp)
 
 
