@@ -104,31 +104,24 @@ def clean(
 
 
 def _tiled(scenario: str, spec: CleanSpec, est):
-    """``--surface``: the frame's placements, before the job (a missing surface, or one that
-    cannot be tiled, is one line), with its own progress once the band's checks pass."""
+    """``--surface``: the frame's placements (with ``--rail``, the rail's stations), before the
+    job (a missing surface, or one that cannot be tiled, is one line), with its own progress
+    once the band's checks pass."""
     from marinecdpr.commands import clean as command
 
+    what = "rail stations" if spec.rail else "surface tiling"
     try:
         with ExitStack() as stack:
             update = []  # the progress starts with the tiling itself, after the band's checks
 
             def tiled(share: float) -> None:
                 if not update:
-                    update.append(stack.enter_context(task_progress("surface tiling", 100, "%")))
+                    update.append(stack.enter_context(task_progress(what, 100, "%")))
                 update[0](round(100 * share))
 
-            what = "rail stations" if spec.rail else "surface tiling"
-            return command.tile(spec, est.flown, progress=tiled) if not spec.rail else _stations(spec, est, what)
+            return command.tile(spec, est.flown, progress=tiled)
     except ScenarioError as exc:
         fail_scenario(exc, scenario)
-
-
-def _stations(spec: CleanSpec, est, what: str):
-    """``--rail``: the strip's stations planned, with their own progress."""
-    from marinecdpr.commands import clean as command
-
-    with task_progress(what, 100, "%") as update:
-        return command.tile(spec, est.flown, progress=lambda share: update(round(100 * share)))
 
 
 def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: float) -> None:
