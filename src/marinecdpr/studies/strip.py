@@ -482,8 +482,8 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     ------
     ScenarioError
         One line naming the key: no surface or carriage; a hull normal off C's y; more than one
-        robot; a rail that leaves the band (a station's origin beyond its stations_m, or its
-        panel beyond its heights_m) or the mesh; a rail that stands off the hull beyond the
+        robot; a rail that leaves the band (a station's panel wholly beyond its stations_m or
+        its heights_m) or the mesh; a rail that stands off the hull beyond the
         tool's stand-off tolerance at every station; a crane stretch without a crane, or a frame
         the crane cannot lift; a crane stretch that cannot be tiled.
     """
@@ -515,7 +515,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     settle = relocation.rail.settle_s if relocation is not None and relocation.rail is not None else 0.0
     s, stretch, sharp = rail_stations(rail, width, min_radius)
     r_S, R_SC = station_poses(ship, rail, s)
-    # the rail on the band: each station's origin within its stations, its panel within its heights
+    # the rail on the band: each station's panel reaching its stations and its heights
     corners_S = r_S[:, None, :] + np.einsum("nij,kj->nki", R_SC[:, :, [0, 2]], panel)
     x_lo, x_hi = corners_S[..., 0].min(axis=1), corners_S[..., 0].max(axis=1)
     off = np.flatnonzero((x_hi <= X0) | (x_lo >= X1))
@@ -537,6 +537,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     lo, hi = cleaning.band_N
     path = cleaning_path(cleaning)
     maps, stand_off, force, in_band = [], np.zeros((s.size, 2)), np.zeros((s.size, 2)), np.zeros(s.size)
+    touches = np.zeros(s.size, dtype=bool)  # the hull within the tolerance somewhere under the brush
     for k in range(s.size):
         pose = np.degrees(euler_from_matrix(R_SC[k]))
         sc = flown.with_updates("ship", frame_origin_m=r_S[k].tolist(), frame_orientation_deg=pose.tolist())
@@ -552,12 +553,13 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         F_hull = F * (N @ n_S)
         contact = (np.abs(t) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
         stand_off[k] = t.min(), t.max()
+        touches[k] = bool((np.abs(t) <= tol).any())
         force[k] = F_hull.min(), F_hull.max()
         in_band[k] = 100.0 * contact.mean()
         maps.append(coverage_map(panel, holes, b, contact, width_m=cleaning.brush_diameter_m))
         if progress is not None:
             progress((k + 1) / s.size)
-    if not (np.abs(stand_off) <= tol).any(axis=1).any():
+    if not touches.any():
         k = int(np.argmin(np.abs(stand_off).min(axis=1)))
         raise ScenarioError(f"the rail does not follow the hull: at every station the hull stands off the frame's "
                             f"plane under the brush by more than stand_off_tolerance_m ({tol:g} m); at best "
