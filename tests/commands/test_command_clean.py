@@ -10,6 +10,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -232,3 +233,47 @@ def test_the_page_runs_as_written(tmp_path, monkeypatch):
     assert [p.name for p in ns["files"]] == ["clean.csv", "coverage.png", "cleaning.png", "summary.json",
                                              "report.html"]
     assert ns["said"] == ("--surface", "with --hull-area 2200")
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_the_rail_strip_from_python_is_what_the_command_writes(tmp_path):
+    """``--surface --rail`` on examples/rail_strip.toml: the command's strip is the study's
+    (:func:`~marinecdpr.studies.strip.rail_strip` over the flown horizon), its stations.csv
+    one row per visit whose hours add up to the summary's, the same files as the command
+    line writes."""
+    from marinecdpr.studies.strip import rail_strip
+
+    sc = marinecdpr.load_scenario(str(EXAMPLES / "rail_strip.toml"))
+    spec = CleanSpec(duration=0.2, plant="own", surface=True, rail=True, compare=False)
+    est = command.estimate(spec, sc)
+    placed = command.tile(spec, est.flown)
+    result = command.run(spec, sc, estimated=est, placed=placed)
+    assert result.surface is None and result.strip is placed
+    s = result.summary()["strip"]
+    assert s == rail_strip(est.flown).summary()
+    assert s["rail_stations"] == 9 and s["crane_placements"] == 4 and s["partial"]
+    names = [p.name for p in result.write(tmp_path / "py")]
+    assert names[-1] == "stations.csv"
+    rows = np.genfromtxt(tmp_path / "py" / "stations.csv", delimiter=",", names=True)
+    assert rows.size == 13 and rows["hours"].sum() == pytest.approx(s["hours"], rel=1e-9)
+    assert int(rows["by_crane"].sum()) == s["moves"]["crane"] == 4
+    res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--duration", "0.2", "--plant", "own",
+                              "--surface", "--rail", "--no-compare", "--out", str(tmp_path / "cli")],
+                        terminal_width=4000)
+    assert res.exit_code == 0, res.output
+    assert "by crane: stations -12 to -10 m (aft of the rail's reach): 4 placements, 4 crane moves" in res.output
+    _same_files(tmp_path / "py", tmp_path / "cli", ["stations.csv", "clean.csv", "summary.json"])
+
+
+def test_rail_without_a_carriage_is_one_line_exit_2(tmp_path):
+    res = runner.invoke(app, ["clean", "paper_clean", "--surface", "--rail", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and "ship.carriage: missing: clean --rail steps the frame along" in lines[0]
+    assert not (tmp_path / "o").exists()
+    res = runner.invoke(app, ["clean", "paper_clean", "--rail", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2 and res.stderr.strip().splitlines() == [
+        "error: --rail without --surface: --rail cleans the [cleaning.surface] band from the carriage's rail: "
+        "give --surface too"], res.stderr

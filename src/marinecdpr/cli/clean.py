@@ -42,6 +42,9 @@ def clean(
     surface: bool = typer.Option(CleanSpec.default("surface"), "--surface", help="Clean the scenario's "
                                  "[cleaning.surface] band of the hull: the frame's placements on the curved surface, "
                                  "and their hours."),
+    rail: bool = typer.Option(CleanSpec.default("rail"), "--rail", help="With --surface: clean the band as a strip "
+                              "from the stations of the scenario's [ship.carriage] rail, one panel along at a time "
+                              "(crane placements where the rail does not reach)."),
     seas: bool = typer.Option(CleanSpec.default("seas"), "--seas", help="Fly the job in every sea state of a scatter "
                               "diagram (the scenario's sea_state with each Hs, Tp and heading) and say where it works."),
     scatter: Optional[Path] = typer.Option(CleanSpec.default("scatter"), help="With --seas: the scatter diagram CSV "
@@ -69,7 +72,7 @@ def clean(
     from marinecdpr.commands import clean as command
 
     spec = spec_of(CleanSpec, plant=plant, duration=duration, guarantee=guarantee, hull_area=hull_area,
-                   move_time=move_time, surface=surface, seas=seas, scatter=scatter, headings=headings,
+                   move_time=move_time, surface=surface, rail=rail, seas=seas, scatter=scatter, headings=headings,
                    coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
                    scheduler=scheduler, compare=compare)
     sc = load(scenario, None, None)
@@ -101,17 +104,19 @@ def clean(
 
 
 def _tiled(scenario: str, spec: CleanSpec, est):
-    """``--surface``: the frame's placements, before the job (a missing surface, or one that
-    cannot be tiled, is one line), with its own progress once the band's checks pass."""
+    """``--surface``: the frame's placements (with ``--rail``, the rail's stations), before the
+    job (a missing surface, or one that cannot be tiled, is one line), with its own progress
+    once the band's checks pass."""
     from marinecdpr.commands import clean as command
 
+    what = "rail stations" if spec.rail else "surface tiling"
     try:
         with ExitStack() as stack:
             update = []  # the progress starts with the tiling itself, after the band's checks
 
             def tiled(share: float) -> None:
                 if not update:
-                    update.append(stack.enter_context(task_progress("surface tiling", 100, "%")))
+                    update.append(stack.enter_context(task_progress(what, 100, "%")))
                 update[0](round(100 * share))
 
             return command.tile(spec, est.flown, progress=tiled)
@@ -141,6 +146,8 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
             c = u.relocation_cost
             console.print(plain(f"relocation cost: {c.total:.6g} (crane hire {c.crane_hire:.6g}, rail "
                                 f"{c.rail:.6g}, carriages {c.carriages:.6g})"), highlight=False, soft_wrap=True)
+    if result.strip is not None:
+        _print_strip(result.strip)
     f = result.job.figures
     close = f.interference
     if close is not None and close["first"] is not None:
@@ -153,6 +160,28 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
                       highlight=False, soft_wrap=True)
     console.print(f"written to {plain(str(out))}/: {', '.join(p.name for p in paths)} ({elapsed:.1f} s)",
                   highlight=False, soft_wrap=True)
+
+
+def _print_strip(st) -> None:
+    """``--rail``: the strip's coverage on the hull, its hours, its stations and its crane stretches."""
+    c, parts = st.coverage, st.parts_h()
+    partial = " (a PARTIAL job: each station's coverage is the flown part's)" if st.partial else ""
+    console.print(plain(f"strip: {st.surface}: {st.s_m.size} rail stations and {len(st.crane)} crane placements, "
+                        f"{c.coverage_pct:.2f} % of the strip's {c.area_m2:.4g} m2 on the hull cleaned{partial} "
+                        f"({c.overlap_pct:.3g} % of it twice or more), {st.hours:.4g} h ({parts['cleaning_rail']:.4g} "
+                        f"h cleaning from the rail, {parts['moves_rail']:.4g} h carriage moves, "
+                        f"{parts['cleaning_crane'] + parts['moves_crane']:.4g} h by crane)"), highlight=False,
+                  soft_wrap=True)
+    if st.s_m.size:
+        console.print(plain(f"stations: stand-off {1e3 * st.stand_off_m[:, 0].min():.3g} to "
+                            f"{1e3 * st.stand_off_m[:, 1].max():.3g} mm, normal force on the hull "
+                            f"{st.force_N[:, 0].min():.4g} to {st.force_N[:, 1].max():.4g} N"
+                            + (f"; {int(st.beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
+                               if st.beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
+    for part in st.stretches:
+        console.print(plain(f"by crane: stations {part.x_m[0]:.4g} to {part.x_m[1]:.4g} m ({part.why}): "
+                            f"{part.placements} placements, {part.crane_moves} crane moves, {part.hours:.4g} h"),
+                      highlight=False, soft_wrap=True)
 
 
 def _clean_seas(scenario: str, spec: CleanSpec, sc, est, out: Path) -> None:

@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # the spec is read when the command line starts: the work's m
     from marinecdpr.studies.cleaning import CleaningJob, CleaningSeas
     from marinecdpr.studies.executor import Executor
     from marinecdpr.studies.operability import ScatterDiagram
+    from marinecdpr.studies.strip import RailStrip
     from marinecdpr.studies.surface import SurfaceJob
 
 __all__ = ["MOVE_TIME_S", "CleanSpec", "CleanEstimate", "CleanResult", "CleanSeasResult", "estimate", "tile", "run", "PLANTS"]
@@ -59,6 +60,11 @@ class CleanSpec(ExecutorOptions):
     surface : bool
         Clean the scenario's ``[cleaning.surface]`` band: the frame's placements on the
         curved surface, and their hours.
+    rail : bool
+        With ``surface``: clean the band as a strip from the stations of the scenario's
+        ``[ship.carriage]`` rail, the carriage stepping the frame one panel along at a time
+        (:func:`~marinecdpr.studies.strip.rail_strip`); crane placements where the rail does
+        not reach.
     seas : bool
         Fly the job in every sea state of a scatter diagram and say where it works.
     scatter : Path, optional
@@ -85,6 +91,7 @@ class CleanSpec(ExecutorOptions):
     hull_area: float | None = None
     move_time: float | None = None
     surface: bool = False
+    rail: bool = False
     seas: bool = False
     scatter: Path | None = None
     headings: tuple[float, ...] = (180.0,)
@@ -140,6 +147,12 @@ class CleanSpec(ExecutorOptions):
                 raise SpecError("hull_area", f"{self.hull_area:g} / --move-time {self.move_time_s:g}",
                                 str(exc)) from None
         seas = "--seas" if self.seas else f"--scatter {self.scatter}"
+        if self.rail and not self.surface:
+            raise SpecError("rail", "without --surface", "--rail cleans the [cleaning.surface] band from the "
+                            "carriage's rail: give --surface too")
+        if self.rail and self.move_time is not None:
+            raise SpecError("move_time", self.move_time, "goes without --rail: the carriage and the crane time "
+                            "the moves along the rail")
         if self.surface and self.hull_area is not None:
             raise SpecError("surface", f"with --hull-area {self.hull_area:g}",
                             "choose one (--surface has the hull's real placements)")
@@ -160,7 +173,8 @@ class CleanSpec(ExecutorOptions):
         the moves by a crane or a rail: SpecError (one line saying which options go together)."""
         cleaning = scenario.cleaning
         relocation = None if cleaning is None or cleaning.surface is None else cleaning.surface.relocation
-        if self.surface and self.move_time is not None and relocation is not None and relocation.mode != "fixed":
+        if self.surface and not self.rail and self.move_time is not None and relocation is not None \
+                and relocation.mode != "fixed":
             raise SpecError("move_time", self.move_time,
                             f"goes with no [cleaning.surface.relocation] or its mode = \"fixed\"; the scenario's "
                             f"mode = \"{relocation.mode}\" times each move by its own figures: leave --move-time out")
@@ -243,6 +257,9 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
 
     spec.check_relocation(scenario)
     sc = scenario
+    if spec.rail and sc.ship.carriage is None:
+        raise ScenarioError("missing: clean --rail steps the frame along [ship.carriage]'s rail: give the rail and "
+                            "the carriage's limits", source=sc.name, key="ship.carriage")
     if sc.cleaning is None or sc.trajectory.type != "coverage":
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                             source=sc.name, key="cleaning")
@@ -274,11 +291,14 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
                          steps=steps, executor=spec.executor(steps))
 
 
-def tile(spec: CleanSpec, scenario: Scenario, *, progress: Callable[[float], None] | None = None) -> SurfaceJob:
+def tile(spec: CleanSpec, scenario: Scenario, *, progress: Callable[[float], None] | None = None
+         ) -> SurfaceJob | RailStrip:
     """The frame's placements on the scenario's ``[cleaning.surface]`` and their hours, the
-    moves taking ``spec.move_time`` (:func:`~marinecdpr.studies.surface.surface_job`); a
-    command line tiles before it opens its output, so a surface that cannot be tiled is one
-    line before any job is flown.
+    moves taking ``spec.move_time`` (:func:`~marinecdpr.studies.surface.surface_job`); with
+    ``rail`` the strip cleaned from the carriage's stations
+    (:func:`~marinecdpr.studies.strip.rail_strip`, over ``scenario``'s horizon: give the flown
+    one, :attr:`CleanEstimate.flown`). A command line tiles before it opens its output, so a
+    surface that cannot be tiled is one line before any job is flown.
 
     Parameters
     ----------
@@ -288,11 +308,16 @@ def tile(spec: CleanSpec, scenario: Scenario, *, progress: Callable[[float], Non
     Raises
     ------
     ScenarioError
-        No surface, or one that cannot be tiled.
+        No surface, or one that cannot be tiled; with ``rail`` the rail's refusals
+        (:func:`~marinecdpr.studies.strip.rail_strip`).
     """
     from marinecdpr.studies.surface import surface_job
 
     spec.check_relocation(scenario)
+    if spec.rail:
+        from marinecdpr.studies.strip import rail_strip
+
+        return rail_strip(scenario, progress=progress)
     return surface_job(scenario, move_time_s=spec.move_time_s, progress=progress)
 
 
@@ -315,6 +340,8 @@ class CleanResult:
         With ``hull_area``: the hull's placements and hours (:func:`~marinecdpr.studies.cleaning.ship_side`).
     surface : SurfaceJob, optional
         With ``surface``: the frame's placements on the curved band.
+    strip : RailStrip, optional
+        With ``rail``: the band cleaned from the carriage's stations.
     """
 
     spec: CleanSpec
@@ -323,10 +350,11 @@ class CleanResult:
     comparison: dict | None = None
     hull: dict | None = None
     surface: SurfaceJob | None = None
+    strip: RailStrip | None = None
 
     def summary(self) -> dict:
-        """``summary.json``'s content: the job's figures, then ``comparison``, ``hull`` and
-        ``surface`` where flown."""
+        """``summary.json``'s content: the job's figures, then ``comparison``, ``hull``,
+        ``surface`` and ``strip`` where flown."""
         out = dict(self.job.summary)
         if self.comparison is not None:
             out["comparison"] = self.comparison
@@ -334,6 +362,8 @@ class CleanResult:
             out["hull"] = self.hull
         if self.surface is not None:
             out["surface"] = self.surface.summary()
+        if self.strip is not None:
+            out["strip"] = self.strip.summary()
         return out
 
     def findings(self) -> list[str]:
@@ -360,14 +390,16 @@ class CleanResult:
 
     def write(self, folder: str | Path) -> list[Path]:
         """``clean.csv``, ``coverage.png``, ``cleaning.png``, ``summary.json``, ``report.html``
-        (:func:`~marinecdpr.report.cleaning.write_cleaning`) and with ``surface``
-        ``placements.csv``, ``surface.png`` (:func:`~marinecdpr.report.cleaning.write_surface`)
-        in ``folder``; returns the paths."""
-        from marinecdpr.report.cleaning import write_cleaning, write_surface
+        (:func:`~marinecdpr.report.cleaning.write_cleaning`), with ``surface``
+        ``placements.csv``, ``surface.png`` (:func:`~marinecdpr.report.cleaning.write_surface`),
+        with ``rail`` ``stations.csv`` (:func:`~marinecdpr.report.cleaning.write_strip`) in
+        ``folder``; returns the paths."""
+        from marinecdpr.report.cleaning import write_cleaning, write_strip, write_surface
 
         paths = write_cleaning(self.job, Path(folder), hull=self.hull, comparison=self.comparison,
                                summary=self.summary())
-        return paths + (write_surface(self.surface, Path(folder)) if self.surface is not None else [])
+        paths += write_surface(self.surface, Path(folder)) if self.surface is not None else []
+        return paths + (write_strip(self.strip, Path(folder)) if self.strip is not None else [])
 
 
 @dataclass(frozen=True)
@@ -405,7 +437,7 @@ class CleanSeasResult:
 
 
 def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None = None,
-        progress: Callable[[int, int], None] | None = None, placed: SurfaceJob | None = None,
+        progress: Callable[[int, int], None] | None = None, placed: SurfaceJob | RailStrip | None = None,
         executor: Executor | None = None) -> CleanResult | CleanSeasResult:
     """The cleaning job of the spec (:func:`~marinecdpr.studies.cleaning.cleaning_job`, or
     :func:`~marinecdpr.studies.cleaning.guaranteed_job`), the compared variants, the hull's
@@ -420,7 +452,7 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
         Steps flown over all the job's runs (``estimated.runs`` of ``n_steps`` each; at the
         end ``(done, done)``: a guarantee met at once skips its second run); with ``seas``, sea
         states flown.
-    placed : SurfaceJob, optional
+    placed : SurfaceJob or RailStrip, optional
         With ``surface``: :func:`tile`'s, where the caller has it.
     executor : Executor, optional
         With ``seas``: what runs the sea states (default the estimate's: from ``serial``,
@@ -460,7 +492,8 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
         except ValueError as exc:
             raise SpecError("hull_area", spec.hull_area, str(exc)) from None
     return CleanResult(spec=spec, scenario=sc, job=job, comparison=comparison, hull=hull,
-                       surface=placed if spec.surface else None)
+                       surface=placed if spec.surface and not spec.rail else None,
+                       strip=placed if spec.rail else None)
 
 
 def _over_seas(spec: CleanSpec, est: CleanEstimate, *, progress, executor: Executor | None) -> CleanSeasResult:

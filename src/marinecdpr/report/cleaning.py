@@ -395,3 +395,41 @@ def write_surface(sj, folder: Path) -> list[Path]:
                         f"{sj.frame_panel_m[1]:g} m panel: {sj.hours:.4g} h ({sj.moves_said()}); "
                         f"{sj.surface}"), fontsize=9)
     return [csv, _save(fig, folder / "surface.png")]
+
+
+STRIP_COLUMNS = ("visit", "s_m", "origin_x_m", "origin_y_m", "origin_z_m", "roll_deg", "pitch_deg", "yaw_deg",
+                 "clean_s", "move_in_s", "hours", "coverage_pct", "stand_off_min_m", "stand_off_max_m",
+                 "normal_force_min_N", "normal_force_max_N", "in_band_pct", "beyond_tolerance", "by_crane")
+"""``stations.csv``'s columns (:func:`write_strip`)."""
+
+
+def write_strip(strip, folder: Path) -> list[Path]:
+    """``stations.csv``: one row per visit of a strip cleaned from a rail
+    (:class:`~marinecdpr.studies.strip.RailStrip`), in the order made: its place in the
+    visits (from 1), the rail station's arc length (empty for a crane placement), the frame's
+    pose in S (C's origin, m; roll, pitch, yaw, deg; a crane placement's plane centre and
+    axes, mirrored to a starboard side), its cleaning, the move into it and their hours, the share of its panel's footprint
+    on the hull it cleaned, the hull's stand-off from the frame's plane under the brush, the
+    normal force on the hull, the share of the steps in band (empty for crane placements:
+    they are tiled as ``clean --surface`` tiles them), whether the stand-off passes the
+    tool's tolerance, and whether a crane made the move into it."""
+    from marinecdpr.geometry.rotations import euler_from_matrix
+
+    rows = []
+    beyond = strip.beyond_tolerance
+    nan = float("nan")
+    for i, (v, move, crane) in enumerate(zip(strip.visits, strip.move_in_s, strip.by_crane)):
+        if v >= 0:
+            pose = np.degrees(euler_from_matrix(strip.axes_S[v]))
+            rows.append([i + 1, strip.s_m[v], *strip.origin_S[v], *pose, strip.clean_s, move,
+                         (strip.clean_s + move) / 3600.0, strip.coverage.station_pct[v], *strip.stand_off_m[v],
+                         *strip.force_N[v], strip.in_band_pct[v], float(beyond[v]), float(crane)])
+        else:
+            p, t = strip.crane[-1 - v], strip.crane_s[-1 - v]
+            pose = np.degrees(euler_from_matrix(np.asarray(p.axes_S, dtype=float)))
+            mirror = np.array([1.0, strip.side_sign, 1.0])  # a starboard side's placements are tiled as |y|
+            rows.append([i + 1, nan, *(np.asarray(p.centre_S) * mirror), *(pose * mirror), t, move, (t + move) / 3600.0, nan, *p.offset_range_m,
+                         nan, nan, nan, float(p.deviation_m > strip.tolerance_m), float(crane)])
+    values = np.array(rows, dtype=float).reshape(-1, len(STRIP_COLUMNS))
+    return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,
+                       int_columns=(0, STRIP_COLUMNS.index("beyond_tolerance")))]

@@ -1,0 +1,659 @@
+"""A strip of the hull cleaned from a rail: the frame steps along ``[ship.carriage]``'s rail,
+cleaning its panel at each station (``clean --surface --rail``; issue 39, item 3).
+
+The stations
+    C's origin stops on the rail one panel's width (the ``[cleaning]`` panel's extent along
+    C's x) apart, from the start of each stretch of the rail the carriage can follow to its
+    end (the last step shorter): :func:`rail_stations`. A bend of the rail whose radius
+    (``corner_radius_m``) is below ``[cleaning.surface.relocation.rail] min_radius_m`` is not
+    followed; the frame's pose at station s is the carriage's (:mod:`marinecdpr.motion.carriage`:
+    C's origin at rail(s), its axes turned about S's z by the frame's yaw, the lean
+    ``ship.frame_orientation_deg`` gives at the rail's start): :func:`station_poses`.
+
+At each station
+    The job's plan is made with the frame standing at the station's pose (the ship's motion
+    at that place, the weight along the station's lean): the brush's planned centre in C and
+    its normal force (:func:`~marinecdpr.prototype.parts.brush.normal_force`). Each brush
+    point (x, 0, z) in C is carried to S and along the hull normal (C's y) onto the hull
+    y = +-f(x, z) (:func:`surface_hits`): the hull's offset from the frame's plane there (the
+    pusher's stand-off, within ``stand_off_tolerance_m`` or the brush loses the hull) and
+    the angle between the push and the hull's own normal (the brush presses the hull with
+    F_n cos(beta)). The brush cleans while the offset is within the tolerance and F_n cos(beta)
+    within ``normal_force_N``; its swept discs are rasterised in the panel's plane
+    (:func:`~marinecdpr.studies.coverage.coverage_map`, clipped to the panel).
+
+Coverage on the hull
+    The band of ``[cleaning.surface]`` (stations_m x heights_m) is rastered in the surface's
+    own parameters (x, z) of S, each cell weighted by its true area (h^2 sqrt(1 + f_x^2 +
+    f_z^2)); a cell is cleaned by a station when its point on the hull, taken into the
+    station's C, falls on a cleaned cell of that station's raster: :func:`strip_coverage`.
+    Its share of the strip counts the gaps where neighbouring panels do not meet on a
+    flared or curved side, and the cells cleaned from more than one station.
+
+Crane stretches
+    The band's stretches along the ship that no rail station's panel reaches (beyond the
+    rail's ends, across a bend it cannot follow) are cleaned from crane placements, as
+    ``clean --surface`` tiles them (:func:`~marinecdpr.geometry.surface.tile_surface`), with
+    the crane of ``[cleaning.surface.relocation]``; without one the job is refused naming the
+    stretch. Their area is the placements' patches (not recounted here).
+
+Hours
+    Each rail station's cleaning is the panel's coverage path; the carriage's move to the next
+    station the double-S move of ``[ship.carriage]``'s speed, acceleration and jerk limits
+    over their distance along the rail (:func:`~marinecdpr.motion.rail.scurve_move`) and the
+    relocation's ``rail.settle_s`` (0 without); every move into or out of a crane stretch and
+    between its placements a crane's (:func:`~marinecdpr.studies.relocation.crane_move_s`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from marinecdpr.errors import ScenarioError
+from marinecdpr.scenario.schema import Scenario
+
+__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+           "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
+
+MAX_STRIP_CELLS = 10_000_000
+"""The most cells of the strip's raster on the hull (the cell grows past width / 100 to hold it)."""
+STRIP_CELLS_PER_BRUSH = 100
+"""The strip's raster has at least this many cells across the brush's width, where it fits."""
+_FD_M = 1e-4
+"""The step of the surface's slopes by central differences, m."""
+
+
+def rail_stations(rail, width_m: float, min_radius_m: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where C's origin stops along a rail: ``width_m`` apart from the start of each stretch
+    the carriage can follow, the last at its end.
+
+    Parameters
+    ----------
+    rail : Rail
+    width_m : float
+        The step, m (the frame's panel along C's x).
+    min_radius_m : float
+        The tightest bend the carriage follows, m: the rail's bends of a smaller radius are
+        left out (the stretches either side are followed apart).
+
+    Returns
+    -------
+    s : ndarray, shape (n,)
+        Arc lengths of the stations, m, increasing.
+    stretch : ndarray of int, shape (n,)
+        The followed stretch of each station, from 0.
+    sharp : ndarray, shape (k, 2)
+        The bends left out: their start and end arc lengths, m.
+    """
+    a, b, _, _ = rail.bends
+    sharp = (np.column_stack([a, b]) if rail.least_radius_m < min_radius_m
+             else np.zeros((0, 2)))
+    starts = np.concatenate([[0.0], sharp[:, 1]])
+    ends = np.concatenate([sharp[:, 0], [rail.length_m]])
+    s, stretch = [], []
+    for k, (lo, hi) in enumerate(zip(starts, ends)):
+        steps = max(int(np.ceil((hi - lo) / width_m - 1e-9)), 0)
+        here = lo + width_m * np.arange(steps)
+        here = np.append(here, hi) if steps == 0 or hi - here[-1] > 1e-9 else here
+        s.append(here)
+        stretch.append(np.full(here.size, k))
+    return np.concatenate(s), np.concatenate(stretch), sharp
+
+
+def station_poses(ship, rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The frame's pose on S at stations ``s`` of the carriage's rail, as the carriage
+    carries it (:func:`~marinecdpr.motion.carriage.on_rail` at rest).
+
+    Returns
+    -------
+    r_S : ndarray, shape (n, 3)
+        C's origin in S, m.
+    R_SC : ndarray, shape (n, 3, 3)
+        C's axes in S (columns).
+    """
+    from marinecdpr.motion.carriage import frame_yaw, on_rail
+    from marinecdpr.motion.ship import frame_axes
+
+    s = np.asarray(s, dtype=float)
+    points = rail.at(s)
+    zero = np.zeros(s.size)
+    r, _, _, R, _, _ = on_rail(points, frame_yaw(rail, s), zero, zero, frame_axes(ship.frame_orientation_deg))
+    return r, R
+
+
+def surface_hits(f: Callable, sign: float, p_S: np.ndarray, n_S: np.ndarray, *, iterations: int = 30
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Where lines from points of the frame's plane along its normal meet the hull side
+    y = sign f(x, z).
+
+    Parameters
+    ----------
+    f : callable(X, Z) -> Y
+        The side's distance from the centreline, m.
+    sign : {1, -1}
+        Port (+y) or starboard (-y).
+    p_S : ndarray, shape (..., 3)
+        Points of the frame's plane, in S, m.
+    n_S : ndarray, shape (..., 3)
+        The plane's unit normal (from the hull towards the robot) at each, in S.
+
+    Returns
+    -------
+    t : ndarray, shape (...)
+        The hull's offset from the plane along ``n_S``, m: it meets the line at p + t n
+        (t > 0: the hull stands proud of the plane; NaN where no side is there).
+    normal_S : ndarray, shape (..., 3)
+        The hull's own unit normal out of the hull there, (-f_x, sign, -f_z) normalised.
+    """
+    p, n = np.asarray(p_S, dtype=float), np.broadcast_to(np.asarray(n_S, dtype=float), np.shape(p_S))
+
+    def g(t):
+        q = p + t[..., None] * n
+        return sign * f(q[..., 0], q[..., 2]) - q[..., 1]
+
+    t = np.zeros(p.shape[:-1])
+    for _ in range(iterations):  # Newton's method, the slope by central differences
+        g0 = g(t)
+        slope = (g(t + _FD_M) - g(t - _FD_M)) / (2.0 * _FD_M)
+        step = g0 / np.where(np.abs(slope) > 1e-12, slope, np.nan)
+        t = t - step
+        if not np.any(np.abs(step) > 1e-12):
+            break
+    q = p + t[..., None] * n
+    x, z = q[..., 0], q[..., 2]
+    fx = (f(x + _FD_M, z) - f(x - _FD_M, z)) / (2.0 * _FD_M)
+    fz = (f(x, z + _FD_M) - f(x, z - _FD_M)) / (2.0 * _FD_M)
+    N = np.stack([-fx, np.full_like(fx, float(sign)), -fz], axis=-1)
+    return t, N / np.linalg.norm(N, axis=-1, keepdims=True)
+
+
+@dataclass(frozen=True)
+class StripCoverage:
+    """The cleaned share of a strip of the hull, counted on the hull.
+
+    Attributes
+    ----------
+    x, z : ndarray, shape (nx,), (nz,)
+        The raster's cell centres: stations and heights of S, m (the surface's parameters).
+    passes : ndarray of int16, shape (nz, nx)
+        The stations that cleaned each cell; -1 outside the strip (a crane stretch).
+    weight_m2 : ndarray of float32, shape (nz, nx)
+        Each cell's area on the hull, m^2.
+    station_pct : ndarray, shape (n_stations,)
+        Each station's cleaned share of its own panel's footprint on the strip, %.
+    resolution_m : float
+    """
+
+    x: np.ndarray
+    z: np.ndarray
+    passes: np.ndarray
+    weight_m2: np.ndarray
+    station_pct: np.ndarray
+    resolution_m: float
+
+    @property
+    def area_m2(self) -> float:
+        """The strip's area on the hull, m^2."""
+        return float(self.weight_m2[self.passes >= 0].sum(dtype=np.float64))
+
+    @property
+    def cleaned_area_m2(self) -> float:
+        return float(self.weight_m2[self.passes >= 1].sum(dtype=np.float64))
+
+    @property
+    def overlap_area_m2(self) -> float:
+        """Cleaned from two or more stations, m^2."""
+        return float(self.weight_m2[self.passes >= 2].sum(dtype=np.float64))
+
+    @property
+    def coverage_pct(self) -> float:
+        return 100.0 * self.cleaned_area_m2 / self.area_m2 if self.area_m2 > 0 else 0.0
+
+    @property
+    def overlap_pct(self) -> float:
+        """The area cleaned twice or more over the area cleaned, %."""
+        return 100.0 * self.overlap_area_m2 / self.cleaned_area_m2 if self.cleaned_area_m2 > 0 else 0.0
+
+
+def strip_coverage(f: Callable, sign: float, x_range, z_range, r_S: np.ndarray, R_SC: np.ndarray, maps: list, *,
+                   width_m: float, excluded=(), resolution_m: float | None = None) -> StripCoverage:
+    """The cleaned share of the band ``x_range`` x ``z_range`` of the hull y = sign f(x, z),
+    from the stations' cleaned rasters in their panels' planes.
+
+    Parameters
+    ----------
+    f, sign
+        The side (:func:`surface_hits`).
+    x_range, z_range : tuple of float
+        The strip's stations and heights in S, m.
+    r_S : ndarray, shape (n, 3)
+        Each station's C origin in S, m.
+    R_SC : ndarray, shape (n, 3, 3)
+        Each station's C axes in S.
+    maps : list of CoverageMap
+        Each station's passes in its panel's plane, (x, z) of its C
+        (:func:`~marinecdpr.studies.coverage.coverage_map`).
+    width_m : float
+        The brush's width, m (the raster's cell: width / :data:`STRIP_CELLS_PER_BRUSH`, or
+        coarser to keep :data:`MAX_STRIP_CELLS`).
+    excluded : sequence of (x0, x1)
+        Stretches along the ship not in the strip (cleaned otherwise), m.
+    resolution_m : float, optional
+        The cell, m (default as above).
+
+    Returns
+    -------
+    StripCoverage
+    """
+    (x0, x1), (z0, z1) = (float(v) for v in x_range), (float(v) for v in z_range)
+    h = resolution_m or max(width_m / STRIP_CELLS_PER_BRUSH, float(np.sqrt((x1 - x0) * (z1 - z0) / MAX_STRIP_CELLS)))
+    nx, nz = max(1, int(np.ceil((x1 - x0) / h))), max(1, int(np.ceil((z1 - z0) / h)))
+    x = x0 + (np.arange(nx) + 0.5) * (x1 - x0) / nx
+    z = z0 + (np.arange(nz) + 0.5) * (z1 - z0) / nz
+    hx, hz = (x1 - x0) / nx, (z1 - z0) / nz
+
+    def cells(i0: int, i1: int):  # columns i0:i1: the hull's points (nz, i1 - i0, 3) and their areas
+        X, Z = np.meshgrid(x[i0:i1], z)
+        fx = (f(X + _FD_M, Z) - f(X - _FD_M, Z)) / (2.0 * _FD_M)
+        fz = (f(X, Z + _FD_M) - f(X, Z - _FD_M)) / (2.0 * _FD_M)
+        return np.stack([X, sign * f(X, Z), Z], axis=-1), (hx * hz * np.sqrt(1.0 + fx * fx + fz * fz))
+
+    chunk = max(1, 2_000_000 // nz)
+    weight = np.concatenate([cells(i, min(i + chunk, nx))[1] for i in range(0, nx, chunk)], axis=1).astype(np.float32)
+    passes = np.zeros((nz, nx), dtype=np.int16)
+    out = np.zeros(nx, dtype=bool)
+    for a, b in excluded:
+        out |= (x >= a) & (x < b)
+    passes[:, out] = -1
+    station_pct = np.zeros(len(maps))
+    for k, cov in enumerate(maps):
+        R, r = R_SC[k], r_S[k]
+        # the columns the station's panel can reach: its raster's corners carried to S, and a margin
+        corners = np.array([[cov.x[0], cov.z[0]], [cov.x[-1], cov.z[0]], [cov.x[-1], cov.z[-1]], [cov.x[0], cov.z[-1]]])
+        xs = r[0] + R[0, 0] * corners[:, 0] + R[0, 2] * corners[:, 1]
+        reach = 2.0 * cov.resolution_m + 0.5 * width_m + abs(R[0, 1]) * 1.0
+        i0, i1 = int(np.searchsorted(x, xs.min() - reach)), int(np.searchsorted(x, xs.max() + reach))
+        if i1 <= i0:
+            continue
+        q, w = cells(i0, i1)
+        c = (q - r) @ R  # R^T (q - r): the hull's points in the station's C
+        ix = np.floor((c[..., 0] - (cov.x[0] - 0.5 * cov.resolution_m)) / cov.resolution_m).astype(np.int64)
+        iz = np.floor((c[..., 2] - (cov.z[0] - 0.5 * cov.resolution_m)) / cov.resolution_m).astype(np.int64)
+        inside = (ix >= 0) & (ix < cov.x.size) & (iz >= 0) & (iz < cov.z.size)
+        got = np.full(ix.shape, -1, dtype=np.int32)
+        got[inside] = cov.passes[iz[inside], ix[inside]]
+        block = passes[:, i0:i1]
+        mine = (got >= 0) & (block >= 0)
+        cleaned = (got >= 1) & (block >= 0)
+        block[cleaned] += 1
+        station_pct[k] = 100.0 * w[cleaned].sum() / w[mine].sum() if mine.any() else 0.0
+    return StripCoverage(x=x, z=z, passes=passes, weight_m2=weight, station_pct=station_pct,
+                         resolution_m=float(max(hx, hz)))
+
+
+@dataclass(frozen=True)
+class CraneStretch:
+    """A stretch of the band along the ship cleaned from crane placements.
+
+    Attributes
+    ----------
+    x_m : tuple of float
+        Its stations in S, m.
+    why : str
+        Aft or forward of the rail's reach, or across a bend it does not follow.
+    placements : int
+    cleaning_hours : float
+    crane_moves : int
+        The crane's moves into it, within it and back onto the rail.
+    hours : float
+        Its cleaning and those moves, h.
+    """
+
+    x_m: tuple
+    why: str
+    placements: int
+    cleaning_hours: float
+    crane_moves: int
+    hours: float
+
+    def as_dict(self) -> dict:
+        """For summary.json."""
+        return {"x_m": [float(v) for v in self.x_m], "why": self.why, "placements": self.placements,
+                "cleaning_hours": self.cleaning_hours, "crane_moves": self.crane_moves, "hours": self.hours}
+
+
+@dataclass(frozen=True)
+class RailStrip:
+    """A strip of the hull cleaned from a rail's stations and, where the rail does not reach,
+    from crane placements; visits in order along the ship.
+
+    Attributes
+    ----------
+    s_m : ndarray, shape (n,)
+        The rail stations' arc lengths, m.
+    origin_S : ndarray, shape (n, 3)
+    axes_S : ndarray, shape (n, 3, 3)
+        Each station's frame pose in S (C's origin, m; its axes as columns).
+    clean_s : float
+        One station's cleaning: the panel's coverage path, s.
+    stand_off_m : ndarray, shape (n, 2)
+        The least and largest offset of the hull from the frame's plane under the brush's
+        planned path, m.
+    force_N : ndarray, shape (n, 2)
+        The least and largest normal force on the hull (F_n cos(beta)) along it, N.
+    in_band_pct : ndarray, shape (n,)
+        The share of the steps the brush cleans (in its stand-off and force band), %.
+    coverage : StripCoverage
+        On the hull.
+    crane : list of Placement
+        The crane stretches' placements, in the order visited (as ``clean --surface`` tiles
+        them: a starboard side's with y as |y|, :func:`~marinecdpr.studies.surface.surface_function`).
+    crane_s : ndarray, shape (m,)
+        Their cleaning times, s.
+    stretches : list of CraneStretch
+        The band's stretches cleaned by crane, along the ship.
+    visits : ndarray of int, shape (n + m,)
+        The order of the visits: k >= 0 the rail station k, -1 - j the crane placement j.
+    move_in_s : ndarray, shape (n + m,)
+        The move into each visit, s (0 at the first).
+    by_crane : ndarray of bool, shape (n + m,)
+        Whether a crane made it.
+    surface : str
+    band_m : tuple
+        The band's (stations, heights), m.
+    tolerance_m : float
+    side_sign : float
+        1 port, -1 starboard (the crane placements' y and the side's).
+    partial : bool
+        The flown horizon ends before the panel's path: each station's coverage is that part's.
+    """
+
+    s_m: np.ndarray
+    origin_S: np.ndarray
+    axes_S: np.ndarray
+    clean_s: float
+    stand_off_m: np.ndarray
+    force_N: np.ndarray
+    in_band_pct: np.ndarray
+    coverage: StripCoverage
+    crane: list
+    crane_s: np.ndarray
+    stretches: list
+    visits: np.ndarray
+    move_in_s: np.ndarray
+    by_crane: np.ndarray
+    surface: str
+    band_m: tuple
+    tolerance_m: float
+    side_sign: float = 1.0
+    partial: bool = False
+    sharp: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+
+    @property
+    def beyond_tolerance(self) -> np.ndarray:
+        """The stations where the hull departs from the frame's plane under the brush by more
+        than the tool's stand-off tolerance, shape (n,)."""
+        return np.abs(self.stand_off_m).max(axis=1) > self.tolerance_m
+
+    @property
+    def seconds(self) -> float:
+        """All the cleaning and moves, s."""
+        return self.s_m.size * self.clean_s + float(self.crane_s.sum()) + float(self.move_in_s.sum())
+
+    @property
+    def hours(self) -> float:
+        return self.seconds / 3600.0
+
+    def parts_h(self) -> dict:
+        """The hours by what they are spent on: ``cleaning_rail``, ``cleaning_crane``,
+        ``moves_rail``, ``moves_crane``; they sum to :attr:`hours`."""
+        return {"cleaning_rail": self.s_m.size * self.clean_s / 3600.0,
+                "cleaning_crane": float(self.crane_s.sum()) / 3600.0,
+                "moves_rail": float(self.move_in_s[~self.by_crane].sum()) / 3600.0,
+                "moves_crane": float(self.move_in_s[self.by_crane].sum()) / 3600.0}
+
+    def station_hours(self) -> np.ndarray:
+        """Each rail station's cleaning and the move into it, h, shape (n,)."""
+        out = np.full(self.s_m.size, self.clean_s)
+        rail = self.visits >= 0
+        out[self.visits[rail]] += self.move_in_s[rail]
+        return out / 3600.0
+
+    def summary(self) -> dict:
+        """``summary.json``'s ``strip``."""
+        from marinecdpr.geometry.rotations import euler_from_matrix
+
+        c = self.coverage
+        return {"surface": self.surface, "stations_m": list(self.band_m[0]), "heights_m": list(self.band_m[1]),
+                "rail_stations": int(self.s_m.size), "station_step_s": self.clean_s,
+                "strip_area_m2": c.area_m2, "cleaned_area_m2": c.cleaned_area_m2, "coverage_pct": c.coverage_pct,
+                "overlap_pct": c.overlap_pct, "coverage_resolution_m": c.resolution_m, "partial": bool(self.partial),
+                "stand_off_m": [float(self.stand_off_m[:, 0].min()), float(self.stand_off_m[:, 1].max())]
+                if self.s_m.size else [],
+                "normal_force_N": [float(np.nanmin(self.force_N[:, 0])), float(np.nanmax(self.force_N[:, 1]))]
+                if self.s_m.size else [],
+                "stations_beyond_tolerance": int(self.beyond_tolerance.sum()),
+                "bends_not_followed_m": [list(map(float, b)) for b in self.sharp],
+                "crane_stretches": [c.as_dict() for c in self.stretches], "crane_placements": len(self.crane),
+                "moves": {"rail": int((~self.by_crane[1:]).sum()), "crane": int(self.by_crane.sum())},
+                "hours": self.hours, "hours_by_part": self.parts_h(),
+                "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else [])}
+
+
+def _check_scenario(scenario: Scenario):
+    """The rail strip's inputs: ``[cleaning.surface]``, ``[ship.carriage]``, a hull normal
+    along C's y, one robot. ScenarioError (one line, the key) otherwise."""
+    cleaning = scenario.cleaning
+    if cleaning is None or cleaning.surface is None:
+        raise ScenarioError("missing: clean --surface --rail cleans the [cleaning.surface] band of the hull",
+                            key="cleaning.surface")
+    if scenario.ship.carriage is None:
+        raise ScenarioError("missing: clean --rail steps the frame along [ship.carriage]'s rail: give the rail "
+                            "and the carriage's limits", key="ship.carriage")
+    if abs(abs(cleaning.hull_normal[1]) - 1.0) > 1e-9:
+        raise ScenarioError("must be [0, 1, 0] or [0, -1, 0] with --rail: the panel lies in C's x-z plane and the "
+                            "pusher reaches the hull along C's y", key="cleaning.hull_normal")
+    relocation = cleaning.surface.relocation
+    if relocation is not None and relocation.robots != 1:
+        raise ScenarioError(f"must be 1 with --rail, got {relocation.robots}: one carriage steps one frame along "
+                            "the rail", key="cleaning.surface.relocation.robots")
+
+
+def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None = None,
+               resolution_m: float | None = None) -> RailStrip:
+    """The strip of ``[cleaning.surface]`` cleaned from the stations of ``[ship.carriage]``'s
+    rail (the module's rules), over the scenario's horizon (``time.duration_s``: each
+    station's plan and coverage are of that part of the panel's path; its hours the whole
+    path's).
+
+    Parameters
+    ----------
+    progress : callable(share), optional
+        The share of the stations planned, 0 to 1.
+    resolution_m : float, optional
+        The cell of the coverage's raster on the hull, m (default :func:`strip_coverage`'s).
+        Its worst error is where the cleaned region's edge runs along the raster (the band's
+        own edges: x or z constant): h / 2 a metre of such an edge.
+
+    Raises
+    ------
+    ScenarioError
+        One line naming the key: no surface or carriage; a hull normal off C's y; more than one
+        robot; a rail that leaves the band (a station's panel wholly beyond its stations_m or
+        its heights_m) or the mesh; a rail that stands off the hull beyond the
+        tool's stand-off tolerance at every station; a crane stretch without a crane, or a frame
+        the crane cannot lift; a crane stretch that cannot be tiled.
+    """
+    from marinecdpr.geometry.rotations import euler_from_matrix
+    from marinecdpr.geometry.surface import MIN_PATCH_M, tile_surface
+    from marinecdpr.motion.carriage import rail_of
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.motion.trajectory import cleaning_path
+    from marinecdpr.planning.planner import plan
+    from marinecdpr.prototype.parts.brush import normal_force
+    from marinecdpr.studies.cleaning import brush_positions
+    from marinecdpr.studies.coverage import coverage_map
+    from marinecdpr.studies.relocation import crane_move_s, visit_order
+    from marinecdpr.studies.surface import MAX_SURFACE_PATCHES, _panel_times, frame_panel, surface_function
+
+    _check_scenario(scenario)
+    cleaning, ship = scenario.cleaning, scenario.ship
+    surface, carriage = cleaning.surface, ship.carriage
+    relocation = surface.relocation
+    f, label = surface_function(surface)
+    sign = 1.0 if surface.side == "port" else -1.0
+    (X0, X1), (Z0, Z1) = surface.stations_m, surface.heights_m
+    tol = float(surface.stand_off_tolerance_m)
+    rail = rail_of(ship)
+    panel = np.asarray(cleaning.panel_m, dtype=float)
+    holes = [np.asarray(h, dtype=float) for h in cleaning.holes_m]
+    width, height = frame_panel(cleaning)
+    min_radius = relocation.rail.min_radius_m if relocation is not None and relocation.rail is not None else 0.0
+    settle = relocation.rail.settle_s if relocation is not None and relocation.rail is not None else 0.0
+    s, stretch, sharp = rail_stations(rail, width, min_radius)
+    r_S, R_SC = station_poses(ship, rail, s)
+    # the rail on the band: each station's panel reaching its stations and its heights
+    corners_S = r_S[:, None, :] + np.einsum("nij,kj->nki", R_SC[:, :, [0, 2]], panel)
+    x_lo, x_hi = corners_S[..., 0].min(axis=1), corners_S[..., 0].max(axis=1)
+    off = np.flatnonzero((x_hi <= X0) | (x_lo >= X1))
+    if off.size:
+        k = int(off[0])
+        raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
+                            f"spans stations {x_lo[k]:.4g} to {x_hi[k]:.4g} m in S, outside its stations_m "
+                            f"[{X0:g}, {X1:g}] m", key="ship.carriage.rail_m")
+    z_lo, z_hi = corners_S[..., 2].min(axis=1), corners_S[..., 2].max(axis=1)
+    off = np.flatnonzero((z_hi <= Z0) | (z_lo >= Z1))
+    if off.size:
+        k = int(off[0])
+        raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
+                            f"spans heights {z_lo[k]:.4g} to {z_hi[k]:.4g} m in S, outside its heights_m "
+                            f"[{Z0:g}, {Z1:g}] m", key="ship.carriage.rail_m")
+    # each station: the plan with the frame standing there, the brush on the hull
+    flown = scenario.with_updates("ship", carriage=None)
+    n_y = float(cleaning.hull_normal[1])
+    lo, hi = cleaning.band_N
+    path = cleaning_path(cleaning)
+    maps, stand_off, force, in_band = [], np.zeros((s.size, 2)), np.zeros((s.size, 2)), np.zeros(s.size)
+    touches = np.zeros(s.size, dtype=bool)  # the hull within the tolerance somewhere under the brush
+    for k in range(s.size):
+        pose = np.degrees(euler_from_matrix(R_SC[k]))
+        sc = flown.with_updates("ship", frame_origin_m=r_S[k].tolist(), frame_orientation_deg=pose.tolist())
+        p = plan(sc)
+        F = normal_force(p, sc)
+        b = brush_positions(p.pose, cleaning.brush_offset_m)[:, [0, 2]]
+        pts = r_S[k] + b[:, :1] * R_SC[k][:, 0] + b[:, 1:] * R_SC[k][:, 2]
+        n_S = n_y * R_SC[k][:, 1]
+        t, N = surface_hits(f, sign, pts, n_S)
+        if not np.isfinite(t).all():
+            raise ScenarioError(f"the rail leaves the hull: at s = {s[k]:.4g} m the brush's path meets no side of "
+                                "the surface", key="ship.carriage.rail_m")
+        F_hull = F * (N @ n_S)
+        contact = (np.abs(t) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
+        stand_off[k] = t.min(), t.max()
+        touches[k] = bool((np.abs(t) <= tol).any())
+        force[k] = F_hull.min(), F_hull.max()
+        in_band[k] = 100.0 * contact.mean()
+        maps.append(coverage_map(panel, holes, b, contact, width_m=cleaning.brush_diameter_m))
+        if progress is not None:
+            progress((k + 1) / s.size)
+    if not touches.any():
+        k = int(np.argmin(np.abs(stand_off).min(axis=1)))
+        raise ScenarioError(f"the rail does not follow the hull: at every station the hull stands off the frame's "
+                            f"plane under the brush by more than stand_off_tolerance_m ({tol:g} m); at best "
+                            f"{np.abs(stand_off[k]).min():.3g} m, at s = {s[k]:.4g} m", key="ship.carriage.rail_m")
+    # the band's stretches along the ship no rail station's panel reaches: by crane
+    reach = []
+    for k in np.unique(stretch):
+        xs = corners_S[stretch == k][..., 0]
+        reach.append((max(float(xs.min()), X0), min(float(xs.max()), X1)))
+    reach.sort()
+    gaps, at = [], X0
+    for a, b in reach + [(X1, X1)]:
+        if a - at >= MIN_PATCH_M:
+            gaps.append((at, a))
+        at = max(at, b)
+    crane, crane_s, stretches = [], [], []
+    if gaps:
+        crane_figures = None if relocation is None else relocation.crane
+        a, b = gaps[0]
+        if crane_figures is None:
+            raise ScenarioError(f"missing: the rail does not reach the band's stations {a:.4g} to {b:.4g} m "
+                                f"({_why(a, b, X0, X1)}); give [cleaning.surface.relocation.crane] to place the "
+                                "frame there", key="cleaning.surface.relocation.crane")
+        try:
+            relocation.check_lift(scenario.robot.mass_kg)
+        except ValueError as exc:
+            raise ScenarioError(str(exc), key="cleaning.surface.relocation.crane.capacity_kg") from None
+    cache: dict = {}
+    pieces = []  # (x start, kind, items): the visits in order along the ship
+    for k in np.unique(stretch):
+        pieces.append((float(corners_S[stretch == k][..., 0].min()), "rail", np.flatnonzero(stretch == k)))
+    for a, b in gaps:
+        try:
+            placed, _ = tile_surface(f, (a, b), (Z0, Z1), width_m=width, height_m=height, tolerance_m=tol,
+                                     max_patches=MAX_SURFACE_PATCHES)
+        except ScenarioError as exc:
+            raise ScenarioError(exc.detail, key="cleaning.surface") from None
+        placed = [placed[i] for i in visit_order(placed, "crane")]
+        first = len(crane)
+        crane += placed
+        times = [_panel_times(cleaning, *p.extent_m, cache, 3)[0] for p in placed]
+        crane_s += times
+        pieces.append((a, "crane", np.arange(first, len(crane))))
+        stretches.append((float(sum(times)) / 3600.0, len(placed)))
+    pieces.sort(key=lambda piece: piece[0])
+    if r_S.shape[0] > 1 and r_S[-1, 0] < r_S[0, 0]:  # a rail laid from the bow aft: the visits that way
+        pieces.reverse()
+        pieces = [(x, kind, items if kind == "rail" else items[::-1]) for x, kind, items in pieces]
+    centre_C = panel.mean(axis=0)
+    visits, move_in, by_crane, where = [], [], [], []
+    for _, kind, items in pieces:
+        for i in items:
+            if kind == "rail":
+                here = r_S[i] + R_SC[i][:, 0] * centre_C[0] + R_SC[i][:, 2] * centre_C[1]
+                visits.append(int(i))
+            else:
+                here = np.asarray(crane[i].centre_S, dtype=float) * np.array([1.0, sign, 1.0])  # the side's
+                visits.append(-1 - int(i))
+            if not where:
+                move_in.append(0.0), by_crane.append(False)
+            elif kind == "rail" and visits[-2] >= 0 and stretch[visits[-2]] == stretch[i]:
+                move = scurve_move(s[i] - s[visits[-2]], carriage.speed_max_m_s, carriage.accel_max_m_s2,
+                                   carriage.jerk_max_m_s3)
+                move_in.append(move.duration_s + settle), by_crane.append(False)
+            else:
+                move_in.append(float(crane_move_s(np.linalg.norm(here - where[-1]), relocation.crane)))
+                by_crane.append(True)
+            where.append(here)
+    visits, move_in, by_crane = np.array(visits, dtype=int), np.array(move_in), np.array(by_crane, dtype=bool)
+    done = []
+    for (hours, count), (a, b) in zip(stretches, gaps):  # each stretch's moves: in, within, back to the rail
+        j = np.flatnonzero(visits < 0)
+        mine = [v for v in j if a <= crane[-1 - visits[v]].x_range[0] < b]
+        if mine and max(mine) + 1 < visits.size and visits[max(mine) + 1] >= 0:
+            mine.append(max(mine) + 1)
+        done.append(CraneStretch(x_m=(float(a), float(b)), why=_why(a, b, X0, X1), placements=count,
+                                 cleaning_hours=hours, crane_moves=int(by_crane[mine].sum()),
+                                 hours=hours + float(move_in[mine].sum()) / 3600.0))
+    stretches = done
+    cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), r_S, R_SC, maps, width_m=cleaning.brush_diameter_m,
+                         excluded=gaps, resolution_m=resolution_m)
+    horizon = scenario.time.duration_s - scenario.trajectory.start_time_s
+    return RailStrip(s_m=s, origin_S=r_S, axes_S=R_SC, clean_s=float(path.duration_s), stand_off_m=stand_off,
+                     force_N=force, in_band_pct=in_band, coverage=cov, crane=crane, crane_s=np.array(crane_s, float),
+                     stretches=stretches, visits=visits, move_in_s=move_in, by_crane=by_crane,
+                     surface=f"{label}, {surface.side} side, stations {X0:g} to {X1:g} m, heights {Z0:g} to {Z1:g} m",
+                     band_m=((float(X0), float(X1)), (float(Z0), float(Z1))), tolerance_m=tol, side_sign=sign,
+                     partial=bool(horizon < path.duration_s * (1.0 - 1e-9)), sharp=sharp)
+
+
+def _why(a: float, b: float, x0: float, x1: float) -> str:
+    """Why a crane cleans the band's stretch a to b: beyond the rail's ends or across a bend."""
+    if a <= x0 + 1e-9:
+        return "aft of the rail's reach"
+    if b >= x1 - 1e-9:
+        return "forward of the rail's reach"
+    return "across a bend of the rail sharper than min_radius_m"
