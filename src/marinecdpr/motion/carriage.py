@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
 __all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
-           "carriage_joints"]
+           "carriage_joints", "carriage_motion_and_joints"]
 
 
 def _rz(angle: np.ndarray) -> np.ndarray:
@@ -202,12 +202,18 @@ def carriage_joints(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
         :func:`on_rail`'s r, v, a; the yaw's rates are the components of C's angular velocity
         and acceleration on S along S's z (the yaw turns C about it alone).
     """
-    _, (r, v, a, R_SC, omega, alpha), yaw = _on_its_rail(ship, t, with_yaw=True)
+    return carriage_motion_and_joints(ship, t)[1]
+
+
+def carriage_motion_and_joints(ship, t: np.ndarray) -> tuple[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """:func:`carriage_motion` and :func:`carriage_joints` at once (the rail evaluated once)."""
+    _, motion, yaw = _on_its_rail(ship, t, with_yaw=True)
+    r, v, a, R_SC, omega, alpha = motion
     z_C = R_SC[:, 2, :]  # S's z in C
     q = np.concatenate([r, yaw[:, None]], axis=1)
     q_dot = np.concatenate([v, np.einsum("ni,ni->n", omega, z_C)[:, None]], axis=1)
     q_ddot = np.concatenate([a, np.einsum("ni,ni->n", alpha, z_C)[:, None]], axis=1)
-    return q, q_dot, q_ddot
+    return motion, (q, q_dot, q_ddot)
 
 
 def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:

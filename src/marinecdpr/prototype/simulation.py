@@ -36,7 +36,7 @@ from marinecdpr.control.controller import (
     controller_parts, known_loads, planned_brush_loads, plans, stand_in_plans, step_loads,
 )
 from marinecdpr.control.records import Loads
-from marinecdpr.motion.basemotion import frame_ship_motion
+from marinecdpr.motion.basemotion import carried_frame_motion, frame_ship_motion
 from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M
 from marinecdpr.prototype.parts.brush import normal_force
@@ -212,13 +212,16 @@ class Prototype(builder.Assembly):
     motion on the half-step grid ``ship_h``, the plans ``ref`` (at t_k) and ``ff`` (at
     mid-step), and the known loads: on the half-step grid ``loads_h`` (f, m (2 n + 1, 3) in C,
     or in P if ``in_P``) that the own plant applies, and at t_k ``known`` (the controller's
-    model of them, which MuJoCo's ship drive applies)."""
+    model of them, which MuJoCo's ship drive applies); for a frame on a carriage, ``carried_h``,
+    the pieces of ``ship_h`` (:class:`~marinecdpr.motion.basemotion.CarriedFrame`: the ship's
+    own motion and the carriage's joints), else None."""
 
     ship_h: Any
     ref: Plan
     ff: Plan
     loads_h: Loads
     known: Loads
+    carried_h: Any = None
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
@@ -231,7 +234,13 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     types, nothing of the planner is compiled, and the prototype is only to compile."""
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
-    ship_h = frame_ship_motion(scenario, np.arange(2 * n + 1) * (0.5 * h))
+    t_h = np.arange(2 * n + 1) * (0.5 * h)
+    carried = None
+    if scenario.ship.carriage is None:
+        ship_h = frame_ship_motion(scenario, t_h)
+    else:  # C's motion, and the ship's and the carriage's on their own (MuJoCo's bodies)
+        carried = carried_frame_motion(scenario, t_h)
+        ship_h = carried.frame
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
     if stand_in:
         p = stand_in_plans(scenario, n, base_model=base_model, ship_h=ship_h)
@@ -247,7 +256,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
     return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
-                     known=loads)
+                     known=loads, carried_h=carried)
 
 
 def _initial_state(scenario: Scenario, ref: Plan):
@@ -302,27 +311,24 @@ def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
 
 
 # ----------------------------------------------------------------------- MuJoCo plant
-def _ship_drive(ship_h, loads: Loads, n: int, scenario: Scenario | None = None) -> ShipDrive:
+def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=()) -> ShipDrive:
     """Feed-forward forces that move the (gravity-compensated, isotropic) MuJoCo ship along
     eta, evaluated at mid-step; a servo acts on the error at the step's start. Loads in C
     are applied in O (a load given in P is turned at each exchange).
 
-    For a frame on a carriage (``scenario.ship.carriage``), ``ship_h`` is C's composed motion;
-    the ship's joints then follow S's own motion (``base_motion``) and the carriage's four
-    joints (:data:`~marinecdpr.prototype.mujoco_model.CARRIAGE_JOINTS`) C's motion on S
-    (:func:`~marinecdpr.motion.carriage.carriage_joints`): joints 6..9 of the drive. The
+    For a frame on a carriage, ``ship_h`` is C's composed motion and ``carried`` its pieces on
+    the same grid (:class:`~marinecdpr.motion.basemotion.CarriedFrame`); the ship's joints
+    then follow S's own motion (``base_motion``) and the carriage's joints, ``coords`` of
+    its (x, y, z, yaw) (:attr:`~marinecdpr.prototype.mujoco_model.MujocoModel.carriage_coords`),
+    C's motion on S (:func:`~marinecdpr.motion.carriage.carriage_joints`): joints 6.. of the drive. The
     feed-forward is the two bodies' exact Newton-Euler forces (each isotropic, gravity
     compensated): the carriage's m a_OC and I alpha_C along its joints, and the ship's
     joints carry them too (about the ship's hinges with the carriage's moment arm)."""
     from marinecdpr.prototype.mujoco_model import SHIP_INERTIA_KG_M2, SHIP_MASS_KG
 
-    carried = scenario is not None and scenario.ship.carriage is not None
     frame_h = ship_h
-    if carried:  # the ship body moves as S; ship_h (C's motion) stays the loads' frame
-        from marinecdpr.motion.basemotion import evaluate_base_motion
-
-        t_h = np.arange(2 * n + 1) * (0.5 * scenario.time.step_s)
-        ship_h = evaluate_base_motion(scenario.base_motion, t_h)
+    if carried is not None:  # the ship body moves as S; ship_h (C's motion) stays the loads' frame
+        ship_h = carried.ship
     perm = [0, 1, 2, 5, 4, 3]  # eta (x, y, z, roll, pitch, yaw) -> joints (x, y, z, yaw, pitch, roll)
     mid = slice(1, 2 * n, 2)
     R_mid = ship_h.R_SO[mid]
@@ -338,9 +344,9 @@ def _ship_drive(ship_h, loads: Loads, n: int, scenario: Scenario | None = None) 
     inertia = np.array([SHIP_MASS_KG] * 3 + [SHIP_INERTIA_KG_M2] * 3)
     q_des = np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm])
     qd_des = np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm])
-    if carried:
-        tau_ff, q_des, qd_des, inertia = _carriage_drive(scenario, t_h, frame_h, ship_h, axes, tau_ff, q_des,
-                                                         qd_des, inertia, n)
+    if carried is not None:
+        tau_ff, q_des, qd_des, inertia = _carriage_drive(carried.joints, coords, frame_h, ship_h, axes, tau_ff,
+                                                         q_des, qd_des, inertia, n)
     R_SO = np.ascontiguousarray(frame_h.R_SO[0:2 * n:2])
     return ShipDrive(
         tau_ff=tau_ff, q_des=q_des, qd_des=qd_des, kp=inertia * wn * wn,
@@ -349,17 +355,16 @@ def _ship_drive(ship_h, loads: Loads, n: int, scenario: Scenario | None = None) 
         f_P=loads.f, m_P=loads.m, in_P=bool(loads.in_P))
 
 
-def _carriage_drive(scenario: Scenario, t_h, frame_h, ship_h, axes, tau_ff, q_des, qd_des, inertia, n: int):
-    """:func:`_ship_drive`'s arrays with the carriage's four joints appended, the ship's
+def _carriage_drive(joints, coords, frame_h, ship_h, axes, tau_ff, q_des, qd_des, inertia, n: int):
+    """:func:`_ship_drive`'s arrays with the carriage's joints (``coords`` of its x, y, z, yaw) appended, the ship's
     feed-forward carrying the carriage body (mass m, inertia I, at C's origin): its force
     F = m a_OC and moment M = I alpha_C (in O) along the ship's slides, about its hinges
     (through S's origin) with the moment of F at C's place, and along the carriage's own
     slides (S's axes) and hinge (S's z)."""
-    from marinecdpr.motion.carriage import carriage_joints
     from marinecdpr.prototype.mujoco_model import CARRIAGE_INERTIA_KG_M2, CARRIAGE_MASS_KG
 
     mid = slice(1, 2 * n, 2)
-    q, qd, _ = carriage_joints(scenario.ship, t_h)
+    q, qd, _ = joints
     F = CARRIAGE_MASS_KG * frame_h.a_SO_O[mid]
     M = CARRIAGE_INERTIA_KG_M2 * np.einsum("nij,nj->ni", frame_h.R_SO[mid], frame_h.alpha_SO_S[mid])
     arm = frame_h.eta[mid][:, :3] - ship_h.eta[mid][:, :3]  # S's origin to C's, in O
@@ -369,9 +374,11 @@ def _carriage_drive(scenario: Scenario, t_h, frame_h, ship_h, axes, tau_ff, q_de
     R_OS = ship_h.R_SO[mid]
     tau[:, 6:9] = np.einsum("nji,nj->ni", R_OS, F)
     tau[:, 9] = np.einsum("ni,ni->n", R_OS[:, :, 2], M)
-    inertia = np.concatenate([inertia, [CARRIAGE_MASS_KG] * 3 + [CARRIAGE_INERTIA_KG_M2]])
-    q_des = np.ascontiguousarray(np.concatenate([q_des, q[0:2 * n:2]], axis=1))
-    qd_des = np.ascontiguousarray(np.concatenate([qd_des, qd[0:2 * n:2]], axis=1))
+    coords = np.asarray(coords, dtype=int)
+    tau = np.ascontiguousarray(tau[:, np.concatenate([np.arange(6), 6 + coords])])
+    inertia = np.concatenate([inertia, np.array([CARRIAGE_MASS_KG] * 3 + [CARRIAGE_INERTIA_KG_M2])[coords]])
+    q_des = np.ascontiguousarray(np.concatenate([q_des, q[0:2 * n:2][:, coords]], axis=1))
+    qd_des = np.ascontiguousarray(np.concatenate([qd_des, qd[0:2 * n:2][:, coords]], axis=1))
     return tau, q_des, qd_des, inertia
 
 
@@ -411,7 +418,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, asm.known, n, scenario)
+    drive = _ship_drive(ship_h, asm.known, n, asm.carried_h, mm.carriage_coords)
     system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
