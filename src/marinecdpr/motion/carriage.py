@@ -37,7 +37,8 @@ from marinecdpr.motion.ship import ShipMotion, body_motion
 if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
-__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C"]
+__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
+           "carriage_joints", "carriage_motion_and_joints"]
 
 
 def _rz(angle: np.ndarray) -> np.ndarray:
@@ -188,6 +189,33 @@ def carriage_motion(ship, t: np.ndarray
     return _on_its_rail(ship, t)[1]
 
 
+def carriage_joints(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The carriage's pose on S as joint coordinates, at times ``t``: C's origin in S and the
+    frame's yaw about S's z from its start, R_SC = Rz(yaw) R_SC0 (a body on slides along S's
+    x, y, z and a hinge about its z, in that order, has these coordinates: MuJoCo's carriage),
+    and their first two time derivatives (``ship`` and ``t`` as :func:`carriage_motion`'s).
+
+    Returns
+    -------
+    q, q_dot, q_ddot : ndarray, shape (n_steps, 4)
+        (x, y, z, yaw): m, rad; m/s, rad/s; m/s^2, rad/s^2. The position's are
+        :func:`on_rail`'s r, v, a; the yaw's rates are the components of C's angular velocity
+        and acceleration on S along S's z (the yaw turns C about it alone).
+    """
+    return carriage_motion_and_joints(ship, t)[1]
+
+
+def carriage_motion_and_joints(ship, t: np.ndarray) -> tuple[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """:func:`carriage_motion` and :func:`carriage_joints` at once (the rail evaluated once)."""
+    _, motion, yaw = _on_its_rail(ship, t, with_yaw=True)
+    r, v, a, R_SC, omega, alpha = motion
+    z_C = R_SC[:, 2, :]  # S's z in C
+    q = np.concatenate([r, yaw[:, None]], axis=1)
+    q_dot = np.concatenate([v, np.einsum("ni,ni->n", omega, z_C)[:, None]], axis=1)
+    q_ddot = np.concatenate([a, np.einsum("ni,ni->n", alpha, z_C)[:, None]], axis=1)
+    return motion, (q, q_dot, q_ddot)
+
+
 def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
     """The rail's unit tangent at the carriage's place at times ``t``, in C: shape (n_steps, 3)
     (``ship`` and ``t`` as :func:`carriage_motion`'s)."""
@@ -195,8 +223,9 @@ def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
     return np.einsum("nji,nj->ni", R_SC, points.t)  # R_SC^T t_S
 
 
-def _on_its_rail(ship, t: np.ndarray):
-    """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there."""
+def _on_its_rail(ship, t: np.ndarray, *, with_yaw: bool = False):
+    """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there (and
+    the frame's yaw from its start, rad, ``with_yaw``)."""
     from marinecdpr.motion.rail import carriage_profile
     from marinecdpr.motion.ship import frame_axes
 
@@ -205,4 +234,6 @@ def _on_its_rail(ship, t: np.ndarray):
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
                                            c.accel_max_m_s2, c.jerk_max_m_s3, np.asarray(t, dtype=float))
     points = rail.at(s)
-    return points, on_rail(points, frame_yaw(rail, s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))
+    yaw = frame_yaw(rail, s)
+    motion = on_rail(points, yaw, s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))
+    return (points, motion, yaw[0]) if with_yaw else (points, motion)
