@@ -477,6 +477,9 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) 
     return C0, C2
 
 
+CHANCE_CHUNK = 2**22
+"""The most (sea state, bin) entries the screen's chance holds at once (32 MB an array)."""
+
 GUST_STEP_M_S = 0.01
 """The gust step of the central difference for the wrench per m/s of gust (the drag is
 quadratic in the wind: the difference is its derivative to rounding)."""
@@ -624,14 +627,23 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     s_b, g = g % 2, g // 2
     f_b, g = g % F, g // F
     t_b, p_b = g % n_t, g // n_t
-    with np.errstate(divide="ignore"):
-        scale = faces.per_newton[p_b, f_b] / np.sqrt(var0[:, p_b, f_b])     # (n_cells, n_bins): z per newton
-    rate = np.sqrt(np.divide(var2, var0, out=np.zeros_like(var0), where=var0 > 0))[:, p_b, f_b] / (2.0 * np.pi)
+    per_newton = faces.per_newton[p_b, f_b]
+    ratio = np.sqrt(np.divide(var2, var0, out=np.zeros_like(var0), where=var0 > 0))  # (n_cells, n_p, F)
     singular = ~full_rank(model.J)                                           # (n_p,)
+    # the cells in chunks of at most CHANCE_CHUNK entries (cells x bins): a slow path over a large
+    # panel has some 10^5 bins, which in 591 sea states at once took 10 GB
+    step = max(1, CHANCE_CHUNK // max(len(key), 1))
+    chunks = [slice(a, min(a + step, n_cells)) for a in range(0, n_cells, step)]
 
-    def chance(margin):
-        """The chance over the job (a bound) with the limits tightened by ``margin`` (n_cells,):
-        per bin, and in all."""
+    def scales(rows: slice) -> tuple[np.ndarray, np.ndarray]:
+        """z per newton and the up-crossing rate of each bin, (n_rows, n_bins), for the cells ``rows``."""
+        with np.errstate(divide="ignore"):
+            scale = per_newton / np.sqrt(var0[rows][:, p_b, f_b])
+        return scale, ratio[rows][:, p_b, f_b] / (2.0 * np.pi)
+
+    def chance(margin, rows: slice, scale, rate):
+        """The chance over the job (a bound) for the cells ``rows`` with the limits tightened by
+        ``margin`` (n_rows,): per bin, and in all."""
         dd = level[None] - margin[:, None]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             z = np.where(np.isfinite(scale), dd * scale, np.where(dd > 0, np.inf, -np.inf))
@@ -640,7 +652,14 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
                             / np.sqrt(2.0 * np.pi) + starts * ndtr(-z), 1.0)
         return term, term.sum(axis=1) + np.where(singular.any(), np.inf, 0.0)
 
-    term, chance_total = chance(np.zeros(n_cells))
+    chance_total = np.empty(n_cells)
+    # the bin that brings the most chance; one beyond the limits even without the sea first
+    worst = np.zeros(n_cells, dtype=int)
+    for rows in chunks:
+        term, chance_total[rows] = chance(np.zeros(rows.stop - rows.start), rows, *scales(rows))
+        if term.shape[1]:
+            worst[rows] = np.argmax(np.where(level[None] <= 0.0, np.inf, term), axis=1)
+        del term
     tensions_ok = chance_total <= exceedance
 
     def margin() -> np.ndarray:
@@ -649,22 +668,23 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         if singular.any():
             return np.full(n_cells, -np.inf)
         half_range = float(np.min(robot.tension_max - robot.tension_min)) / 2.0
-        hi_m = np.full(n_cells, min(float(level.min(initial=np.inf)), half_range))
-        with np.errstate(divide="ignore"):
-            lo_m = (level[None] - 12.0 / scale).min(axis=1, initial=half_range)
-        for _ in range(MARGIN_BISECTIONS):
-            mid = 0.5 * (lo_m + hi_m)
-            ok = chance(mid)[1] <= exceedance
-            lo_m, hi_m = np.where(ok, mid, lo_m), np.where(ok, hi_m, mid)
-        return lo_m
+        out = np.empty(n_cells)
+        for rows in chunks:
+            scale, rate = scales(rows)
+            hi_m = np.full(rows.stop - rows.start, min(float(level.min(initial=np.inf)), half_range))
+            with np.errstate(divide="ignore"):
+                lo_m = (level[None] - 12.0 / scale).min(axis=1, initial=half_range)
+            for _ in range(MARGIN_BISECTIONS):
+                mid = 0.5 * (lo_m + hi_m)
+                ok = chance(mid, rows, scale, rate)[1] <= exceedance
+                lo_m, hi_m = np.where(ok, mid, lo_m), np.where(ok, hi_m, mid)
+            out[rows] = lo_m
+        return out
     band_ok = in_band_low >= in_band_target_pct
     works = tensions_ok & band_ok
     # why each failing sea state fails: the term that brings the most chance (its pose, tool
     # case, facet and side), and the normal force's share
     reasons = []
-    # the bin that brings the most chance; one beyond the limits even without the sea first
-    worst = (np.argmax(np.where(level[None] <= 0.0, np.inf, term), axis=1) if term.shape[1]
-             else np.zeros(n_cells, dtype=int))
     for i, cell in enumerate(cells):
         why = []
         if not tensions_ok[i]:
