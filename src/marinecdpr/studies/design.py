@@ -845,7 +845,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     """What a journal's candidates were judged under, by content: the study, its template
     with each file it reads (its RAOs, its surface's mesh) by the SHA-256 of its bytes (not
     by its path: a copy of the study's folder resumes; a file changed since does not), and
-    its sea states (the scatter diagram's cells at each heading)."""
+    its sea states (the scatter diagram's cells at each heading). A study whose candidates
+    may move by rail keys its constraints too (since the carriage's ``rail_accel_m_s2``): a
+    journal judged without that margin does not resume."""
     import hashlib
     import json
 
@@ -871,6 +873,8 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]
+    if "rail" in spec.choices("relocation"):  # rail candidates judged by the carriage's margin since: a new key
+        study["constraints"] = list(study_constraints(spec))
     for node in (study.get("relocation"), ((scenario.get("cleaning") or {}).get("surface") or {}).get("relocation")):
         rail = (node or {}).get("rail") or {}
         if rail.get("drive_cost_per_kW") == 0.0:
