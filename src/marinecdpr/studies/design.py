@@ -56,7 +56,8 @@ CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretc
 
 CAPACITIES = {"sea_share": "the share of sea states that work", "winch_speed_m_s": "the drum's top speed",
               "winch_power_W": "the winch's rated power", "sag_m": "limits.sag_m", "stretch_m": "limits.stretch_m",
-              "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured"}
+              "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured",
+              "rail_accel_m_s2": "the carriage's largest acceleration the cables hold (a candidate moved by rail)"}
 """What each margin's slack (:attr:`Evaluation.slack`) is a share of: slack = margin / capacity."""
 RAIL_CONSTRAINT = "rail_accel_m_s2"
 """The constraint a candidate moved by rail adds (after :data:`CONSTRAINTS`): the largest
