@@ -269,7 +269,8 @@ class Evaluation:
     tension_max_N : float
     mass_kg : float
     margins : dict
-        :data:`CONSTRAINTS`' margins.
+        :data:`CONSTRAINTS`' margins, and a candidate moved by rail :data:`RAIL_CONSTRAINT`'s
+        (:func:`rail_held_acceleration` less its ``accel_m_s2``).
     frame_origin_m : list of float
         The placement (C's origin in S) where the screen's share is least: where the
         finalists are flown.

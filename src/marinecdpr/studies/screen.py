@@ -47,6 +47,11 @@ same models, linearised in the ship's motion:
    Rayleigh lengths), so the verdict takes the share less the one-sided quantile of that
    scatter for ``exceedance``.
 
+7. **A carriage's accelerations** (a frame moved along a rail between placements: the job
+   itself is cleaned with the frame standing): :func:`held_acceleration`, the largest
+   acceleration along the rail with which the cables hold the platform still at a pose, on
+   a still ship and with each sea state's extreme along every facet over the move.
+
 Left out (said where it matters): winch torque, speed and power, cable sag and stretch, and
 the closed loop's tracking. The time domain judges those.
 """
