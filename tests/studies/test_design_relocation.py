@@ -101,8 +101,8 @@ def test_the_rail_beats_the_crane_on_hours_for_the_same_robot(study):
 
 def test_the_search_chooses_the_moves_and_the_robots_and_writes_them(study, tmp_path):
     """The search's candidates carry a mode from ["crane", "rail"] and a count from [1, 3];
-    candidates.csv has the relocation's columns after cost; the baseline is judged with the
-    study's first choices."""
+    candidates.csv has the relocation's columns after cost and the rail's margin after the
+    others; the baseline is judged with the study's first choices."""
     path, spec, template, cells = study
     result = search(spec, template, cells)
     for e in result.evaluations:
@@ -115,7 +115,9 @@ def test_the_search_chooses_the_moves_and_the_robots_and_writes_them(study, tmp_
     with open(tmp_path / "o" / "candidates.csv", newline="") as fh:
         rows = list(csv.reader(fh))
     at = CANDIDATE_COLUMNS.index("cost") + 1
-    assert rows[0] == CANDIDATE_COLUMNS[:at] + RELOCATION_COLUMNS + CANDIDATE_COLUMNS[at:]
+    # a candidate may move by rail: the carriage's margin after the others (blank by crane)
+    assert rows[0] == (CANDIDATE_COLUMNS[:at] + RELOCATION_COLUMNS + CANDIDATE_COLUMNS[at:-2]
+                       + ["margin_rail_accel_m_s2"] + CANDIDATE_COLUMNS[-2:])
     got = {(r[rows[0].index("relocation")], int(r[rows[0].index("robots")])) for r in rows[1:]}
     assert got <= {("crane", 1), ("crane", 3), ("rail", 1), ("rail", 3)} and got
 

@@ -107,6 +107,9 @@ def design(
             f"rope {x['rope']}"
             + (f", moved by {x['relocation']}, {x['robots']} robot{'s' if x['robots'] != 1 else ''} "
                f"(the moves cost {e.relocation_cost:.6g})" if "relocation" in x else "")
+            + (f", the carriage at {x.get('rail_speed_m_s', rail.speed_m_s):.3g} m/s, "
+               f"{x.get('rail_accel_m_s2', rail.accel_m_s2):.3g} m/s^2, {x.get('rail_jerk_m_s3', rail.jerk_m_s3):.3g} "
+               f"m/s^3" if x.get("relocation") == "rail" and (rail := study_spec.relocation.rail) is not None else "")
             + f": {e.placements} placements, {e.surface_hours:.4g} h on the surface, works in "
             f"{100 * e.sea_share:.1f} % of the seas: {e.expected_hours:.4g} expected h (target "
             f"{study_spec.targets.hours:g} h: {'met' if e.expected_hours <= study_spec.targets.hours else 'not met'})"),

@@ -14,7 +14,7 @@ import numpy as np
 from marinecdpr.report.figures import _plain, _pyplot, _save
 from marinecdpr.report.files import write_json
 from marinecdpr.scenario.design import CONTINUOUS
-from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario
+from marinecdpr.studies.design import CONSTRAINTS, candidate_scenario, study_constraints
 from marinecdpr.textfiles import atomic_path
 
 __all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometry",
@@ -22,41 +22,59 @@ __all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometr
            "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN"]
 
 
-CANDIDATE_COLUMNS = (["index", "generation", *CONTINUOUS, "winch", "rope", "pattern", "mass_kg", "tension_max_N",
-                      "placements", "frame_turn_median_deg", "frame_turn_max_deg", "surface_hours", "sea_share",
-                      "expected_hours", "power_kW", "cost"]
-                     + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
+_HEAD = ["index", "generation"]
+_AFTER = ["winch", "rope", "pattern", "mass_kg", "tension_max_N", "placements", "frame_turn_median_deg",
+          "frame_turn_max_deg", "surface_hours", "sea_share", "expected_hours", "power_kW", "cost"]
+CANDIDATE_COLUMNS = (_HEAD + [*CONTINUOUS] + _AFTER + [f"margin_{k}" for k in CONSTRAINTS] + ["feasible", "reason"])
 """candidates.csv's and pareto.csv's columns."""
 RELOCATION_COLUMNS = ["relocation", "robots", "relocation_cost", "rail_moves", "crane_moves"]
 """The columns a study that sets the frame's moves or the robots (``[relocation]``, or
 ``relocation``/``robots`` among its variables) adds after ``cost``."""
 
 
-def _columns(relocates: bool) -> list[str]:
-    if not relocates:
-        return CANDIDATE_COLUMNS
-    at = CANDIDATE_COLUMNS.index("cost") + 1
-    return CANDIDATE_COLUMNS[:at] + RELOCATION_COLUMNS + CANDIDATE_COLUMNS[at:]
+@dataclass(frozen=True)
+class _Layout:
+    """What a study's candidates.csv holds beyond :data:`CANDIDATE_COLUMNS`: the relocation's
+    columns (:data:`RELOCATION_COLUMNS`, after ``cost``), the carriage's limits it makes
+    variables (after the continuous variables; blank in a candidate moved otherwise) and its
+    constraints (:func:`~marinecdpr.studies.design.study_constraints`: ``margin_rail_accel_m_s2``
+    where a candidate may move by rail)."""
+
+    relocates: bool = False
+    rail: tuple = ()
+    constraints: tuple = CONSTRAINTS
 
 
-def _row(i: int, gen: int, e, relocates: bool = False) -> list:
+def _layout(spec) -> _Layout:
+    return _Layout(relocates=spec.relocates, rail=tuple(spec.rail_variables), constraints=study_constraints(spec))
+
+
+def _columns(layout: _Layout = _Layout()) -> list[str]:
+    return (_HEAD + [*CONTINUOUS, *layout.rail] + _AFTER + (RELOCATION_COLUMNS if layout.relocates else [])
+            + [f"margin_{k}" for k in layout.constraints] + ["feasible", "reason"])
+
+
+def _row(i: int, gen: int, e, layout: _Layout = _Layout()) -> list:
     def num(v):
         return "" if v is None or not np.isfinite(v) else f"{v:.10g}"
 
     moved = ([e.x.get("relocation", ""), e.x.get("robots", ""), num(e.relocation_cost), e.rail_moves, e.crane_moves]
-             if relocates else [])
-    return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), e.x["winch"], e.x["rope"], e.x.get("pattern", "uncrossed"),
+             if layout.relocates else [])
+    on_rail = e.x.get("relocation") == "rail"
+    rail = [num(e.x[k]) if on_rail and k in e.x else "" for k in layout.rail]
+    return ([i, gen, *(num(e.x[k]) for k in CONTINUOUS), *rail, e.x["winch"], e.x["rope"],
+             e.x.get("pattern", "uncrossed"),
              num(e.mass_kg), num(e.tension_max_N), e.placements, *(num(v) for v in e.frame_turn_deg),
              num(e.surface_hours), num(e.sea_share),
              num(e.expected_hours), num(e.power_kW), num(e.cost)] + moved
-            + [num(e.margins.get(k, float("nan"))) for k in CONSTRAINTS] + [int(e.feasible), e.reason])
+            + [num(e.margins.get(k, float("nan"))) for k in layout.constraints] + [int(e.feasible), e.reason])
 
 
-def _write_rows(path: Path, rows: list[list], relocates: bool = False) -> Path:
+def _write_rows(path: Path, rows: list[list], layout: _Layout = _Layout()) -> Path:
     with atomic_path(path) as tmp:
         with open(tmp, "w", encoding="utf-8", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(_columns(relocates))
+            w.writerow(_columns(layout))
             w.writerows(rows)
     return path
 
@@ -277,11 +295,11 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
     folder = Path(folder)
     spec = study.spec
     ev = study.evaluations
-    moves = spec.relocates
-    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e, moves) for i, (e, g) in
-                                                    enumerate(zip(ev, study.generation))], moves)]
-    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i], moves)
-                                                     for i in study.front], moves))
+    layout = _layout(spec)
+    paths = [_write_rows(folder / "candidates.csv", [_row(i, int(g), e, layout) for i, (e, g) in
+                                                    enumerate(zip(ev, study.generation))], layout)]
+    paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i], layout)
+                                                     for i in study.front], layout))
     paths.append(_save(pareto_figure(study), folder / "pareto.png"))
     paths.append(_save(convergence_figure(study), folder / "convergence.png"))
     designs = folder / "designs"

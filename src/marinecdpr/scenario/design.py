@@ -21,7 +21,7 @@ from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 from marinecdpr.scenario.relocation import ROBOTS_MAX, Relocation
 
 __all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS", "POPULATION", "GENERATIONS",
-           "SEED_MAX", "STUDY_NAME", "safe_stem",
+           "SEED_MAX", "STUDY_NAME", "safe_stem", "RAIL_VARIABLES",
            "WINCH_INERTIA_PER_TORQUE"]
 
 POPULATION = (4, 1000)
@@ -47,9 +47,9 @@ def safe_stem(value: str) -> str:
     return value
 
 
-def _bound(lo: float, hi: float, unit: str, why: str) -> Any:
-    """A number in [lo, hi], or a pair [low, high] within it with low <= high."""
-    one = _ranged(lo, hi, unit, why)
+def _bound(lo: float, hi: float, unit: str, why: str, *, above: bool = False) -> Any:
+    """A number in [lo, hi] ((lo, hi] with ``above``), or a pair [low, high] within it with low <= high."""
+    one = _ranged(lo, hi, unit, why, above=above)
 
     def ordered(value):
         if isinstance(value, tuple) and not value[0] <= value[1]:
@@ -69,6 +69,10 @@ ends), so that they pass each other."""
 CONTINUOUS = ("frame_width_m", "frame_height_m", "platform_width_m", "platform_height_m", "tool_width_m",
               "speed_m_s", "overlap_share")
 """The continuous design variables, in the order candidates list them."""
+RAIL_VARIABLES = {"rail_speed_m_s": "speed_m_s", "rail_accel_m_s2": "accel_m_s2", "rail_jerk_m_s3": "jerk_m_s3"}
+"""The carriage's limits as design variables (optional, each a number or ``[lo, hi]``), listed
+after :data:`CONTINUOUS` where the study gives them, and the ``[relocation.rail]`` figures
+each overrides in a candidate that moves by rail."""
 
 
 class Variables(_Model):
@@ -81,6 +85,13 @@ class Variables(_Model):
     tool_width_m: _bound(0.02, 5.0, "m", "the brush's cleaning width")
     speed_m_s: _bound(0.005, 5.0, "m/s", "the tool's travel speed")
     overlap_share: _bound(0.0, 0.5, "", "the lanes' overlap, a share of the tool's width") = 0.15
+    rail_speed_m_s: _bound(0.0, 10.0, "m/s", "a carriage on a rail, not a vehicle", above=True) | None = None
+    """The carriage's top speed (``[relocation.rail] speed_m_s`` in candidates moved by rail)."""
+    rail_accel_m_s2: _bound(0.0, 20.0, "m/s^2", "two g: beyond any carriage's drive", above=True) | None = None
+    """The carriage's acceleration (``[relocation.rail] accel_m_s2``; the cables hold the
+    platform against it: the constraint ``rail_accel_m_s2``)."""
+    rail_jerk_m_s3: _bound(0.0, 1000.0, "m/s^3", "beyond any carriage's drive", above=True) | None = None
+    """The carriage's jerk (``[relocation.rail] jerk_m_s3``)."""
     winch: list[StrictStr] | None = None
     """Winch names from ``[[winches]]`` to choose from (default: every one)."""
     rope: list[StrictStr] | None = None
@@ -234,6 +245,13 @@ class DesignSpec(_Model):
             for i, value in enumerate(chosen):
                 if value in chosen[:i]:
                     raise _KeyedError(f"variables.{key}[{i + 1}]", f"{value!r} is listed twice")
+        for key in self.rail_variables:
+            if self.relocation is None or self.relocation.rail is None:
+                raise _KeyedError(f"variables.{key}", "sets the carriage's limits: give [relocation.rail], whose "
+                                                     "figures it overrides in candidates moved by rail")
+            if "rail" not in self.choices("relocation"):
+                raise _KeyedError(f"variables.{key}", "sets the carriage's limits, but no candidate moves by rail: "
+                                                     "list \"rail\" in variables.relocation")
         for i, mode in enumerate(self.variables.relocation or []):
             if mode != "fixed" and getattr(self.relocation, mode, None) is None:
                 raise _KeyedError(f"variables.relocation[{i + 1}]", f"{mode!r} needs its figures in "
@@ -265,10 +283,16 @@ class DesignSpec(_Model):
         chosen = getattr(self.variables, key)
         return [e for e in catalogue if chosen is None or e.name in chosen]
 
+    @property
+    def rail_variables(self) -> list[str]:
+        """The carriage's limits the study makes variables (:data:`RAIL_VARIABLES`' keys it gives)."""
+        return [k for k in RAIL_VARIABLES if getattr(self.variables, k) is not None]
+
     def bounds(self) -> dict[str, tuple[float, float]]:
-        """Every continuous variable's [lo, hi] (a held one's lo = hi)."""
+        """Every continuous variable's [lo, hi] (a held one's lo = hi): :data:`CONTINUOUS`,
+        then the carriage's limits the study gives (:attr:`rail_variables`)."""
         out = {}
-        for key in CONTINUOUS:
+        for key in (*CONTINUOUS, *self.rail_variables):
             v = getattr(self.variables, key)
             out[key] = (float(v[0]), float(v[1])) if isinstance(v, tuple) else (float(v), float(v))
         return out

@@ -70,6 +70,13 @@ class RailMoves(_Model):
     """The rail's cost per metre, in the user's cost unit."""
     carriage_cost: _Cost = 0.0
     """Each carriage's cost (one per robot), in the user's cost unit."""
+    drive_cost_per_kW: _Cost = 0.0
+    """Each carriage's drive, in the user's cost unit per kilowatt of its peak power: the
+    force that accelerates the frame and the platform at ``accel_m_s2`` times ``speed_m_s``,
+    (``frame_mass_kg`` + the platform's) x accel x speed
+    (:func:`~marinecdpr.studies.relocation.carriage_drive_kW`); added to ``carriage_cost``.
+    A faster or harder-accelerating carriage costs more (a design study's ``rail_speed_m_s``
+    and ``rail_accel_m_s2`` then trade its hours against its cost). Needs ``frame_mass_kg``."""
 
 
 class Relocation(_Model):
@@ -90,6 +97,9 @@ class Relocation(_Model):
             raise _KeyedError("crane", "missing: mode = \"crane\" needs the crane's figures")
         if self.mode == "rail" and self.rail is None:
             raise _KeyedError("rail", "missing: mode = \"rail\" needs the carriage's figures")
+        if self.rail is not None and self.rail.drive_cost_per_kW > 0.0 and self.frame_mass_kg is None:
+            raise _KeyedError("frame_mass_kg", "missing: rail.drive_cost_per_kW prices the drive that accelerates "
+                                               "the frame: give its mass (kg, with its winches)")
         if self.crane is not None and self.frame_mass_kg is None:
             raise _KeyedError("frame_mass_kg", "missing: a crane lifts the frame: give its mass (kg, with its "
                                                "winches; the platform's is the robot's mass_kg)")

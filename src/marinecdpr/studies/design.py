@@ -41,22 +41,36 @@ from scipy.fft import next_fast_len
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
-from marinecdpr.scenario.design import CONTINUOUS, DesignSpec
+from marinecdpr.scenario.design import CONTINUOUS, RAIL_VARIABLES, DesignSpec
 from marinecdpr.scenario.schema import Scenario, validated_scenario
 from marinecdpr.studies.executor import Executor
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
-           "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of"]
+           "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of", "RAIL_CONSTRAINT",
+           "study_constraints", "candidate_rail", "rail_held_acceleration"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
 
 CAPACITIES = {"sea_share": "the share of sea states that work", "winch_speed_m_s": "the drum's top speed",
               "winch_power_W": "the winch's rated power", "sag_m": "limits.sag_m", "stretch_m": "limits.stretch_m",
-              "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured"}
+              "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured",
+              "rail_accel_m_s2": "the carriage's largest acceleration the cables hold (a candidate moved by rail)"}
 """What each margin's slack (:attr:`Evaluation.slack`) is a share of: slack = margin / capacity."""
+RAIL_CONSTRAINT = "rail_accel_m_s2"
+"""The constraint a candidate moved by rail adds (after :data:`CONSTRAINTS`): the largest
+acceleration of the carriage with which the cables hold the platform at the panel's centre in
+the sea states the candidate works in (:func:`~marinecdpr.studies.screen.held_acceleration`),
+less its ``accel_m_s2``; its capacity that largest acceleration."""
+
+
+def study_constraints(spec: DesignSpec) -> tuple[str, ...]:
+    """The constraints a study's candidates report: :data:`CONSTRAINTS`, and
+    :data:`RAIL_CONSTRAINT` where any candidate may move by rail (a candidate moved otherwise
+    has no such margin: nothing to hold)."""
+    return CONSTRAINTS + ((RAIL_CONSTRAINT,) if "rail" in spec.choices("relocation") else ())
 
 SAG_SHARE = 0.01
 """A finalist flies sagging (catenary) cables where its longest span's sag at the least
@@ -255,7 +269,8 @@ class Evaluation:
     tension_max_N : float
     mass_kg : float
     margins : dict
-        :data:`CONSTRAINTS`' margins.
+        :data:`CONSTRAINTS`' margins, and a candidate moved by rail :data:`RAIL_CONSTRAINT`'s
+        (:func:`rail_held_acceleration` less its ``accel_m_s2``).
     frame_origin_m : list of float
         The placement (C's origin in S) where the screen's share is least: where the
         finalists are flown.
@@ -277,7 +292,7 @@ class Evaluation:
         1 unused, 0 binding, negative short.
     relocation_cost : float
         With a relocation (``[relocation]``, or the template's): what the moves cost
-        (crane hire, rail, carriages), included in ``cost``
+        (crane hire, rail, carriages and their drives), included in ``cost``
         (:func:`~marinecdpr.studies.relocation.relocation_cost`).
     rail_moves, crane_moves : int
         With a relocation: the moves made along the rail and by crane.
@@ -605,7 +620,7 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         return Evaluation(x=dict(x), feasible=False, reason=str(exc), placements=0, surface_hours=nan, sea_share=0.0,
                           expected_hours=float("inf"), power_kW=power_kW, cost=cost, tension_max_N=t_max,
                           mass_kg=robot.mass_kg, margins={k: nan for k in CONSTRAINTS})
-    share, _, worst, turned, why = screen_surface(sc, cells, *frame_placements(template, W, H))
+    share, works, worst, turned, why = screen_surface(sc, cells, *frame_placements(template, W, H))
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
         "sea_share": share - spec.targets.sea_share,
@@ -620,16 +635,51 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                 "winch_power_W": winch.power_W, "sag_m": spec.limits.sag_m, "stretch_m": spec.limits.stretch_m,
                 "panel_m": float(min(np.ptp(panel[:, 0]), np.ptp(panel[:, 1]))),
                 "clearance_m": margins["clearance_m"] + rope.diameter_m + spec.limits.clearance_m}
+    rail = candidate_rail(spec, x)
+    said = {}
+    if rail is not None:  # the carriage's accelerations: a load the cables hold
+        held = rail_held_acceleration(sc, rail, float(W), [c for c, ok in zip(cells, works) if ok], worst, turned)
+        margins[RAIL_CONSTRAINT] = held - rail.accel_m_s2
+        capacity[RAIL_CONSTRAINT] = held
+        said[RAIL_CONSTRAINT] = (f" (the cables hold the platform at the panel's centre while the carriage "
+                                 f"accelerates along the rail at +-{held:.3g} m/s^2 at most in the seas the job "
+                                 f"works in, not at the rail's accel_m_s2 {rail.accel_m_s2:.3g} m/s^2)")
     short = [k for k, v in margins.items() if not v >= 0.0]
     expected = job.hours / share if share > 0 else float("inf")
     moved = _relocation_figures(job)
     cost = cost + moved["relocation_cost"] if moved else cost
-    return Evaluation(x=dict(x), feasible=not short, reason=", ".join(f"{k} short by {-margins[k]:.3g}" for k in short),
+    return Evaluation(x=dict(x), feasible=not short,
+                      reason=", ".join(f"{k} short by {-margins[k]:.3g}{said.get(k, '')}" for k in short),
                       placements=len(job.placements), surface_hours=job.hours, sea_share=share, **moved,
                       expected_hours=expected, power_kW=power_kW, cost=cost, tension_max_N=t_max,
                       mass_kg=robot.mass_kg, margins=margins, frame_origin_m=[float(v) for v in worst],
                       frame_orientation_deg=[float(v) for v in turned], frame_turn_deg=_turn_summary(job.placements),
                       sea_reason=why, **_breakdown(job), slack=_slack(margins, capacity))
+
+
+def rail_held_acceleration(sc: Scenario, rail, width_m: float, cells: list, origin_S, orientation_deg) -> float:
+    """The largest acceleration of a candidate's carriage (m/s^2) with which its cables hold
+    the platform at the panel's centre (where :func:`fly_rail_move` holds it), the frame at
+    ``origin_S`` turned by ``orientation_deg`` (the screen's hardest placement), the rail
+    along the frame's x axis laid level (as :func:`~marinecdpr.studies.relocation.rail_move_scenario`
+    lays it), in every one of ``cells`` (the sea states the candidate works in; none: a ship
+    at rest), the sea's extreme taken over one move of a frame's width at the rail's limits
+    (:func:`~marinecdpr.studies.screen.held_acceleration`)."""
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.motion.ship import frame_axes
+    from marinecdpr.studies.screen import held_acceleration
+
+    x_S = frame_axes([float(v) for v in orientation_deg])[:, 0]
+    level = np.array([x_S[0], x_S[1], 0.0])
+    if np.linalg.norm(level) < 1e-6:  # no level rail along a frame standing on its side
+        return float("-inf")
+    panel = np.asarray(sc.cleaning.panel_m, dtype=float)
+    hold = [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]
+    placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin_S],
+                             frame_orientation_deg=[float(v) for v in orientation_deg])
+    move_s = float(scurve_move(width_m, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s)
+    held = held_acceleration(placed, cells, level, hold_C=hold, duration_s=move_s)
+    return float(held.cells_m_s2.min()) if len(cells) else held.still_m_s2
 
 
 def _breakdown(job) -> dict:
@@ -659,8 +709,22 @@ def relocation_of(spec: DesignSpec, x: dict) -> dict | None:
     if not spec.relocates:
         return None
     base = spec.relocation.model_dump(exclude_none=True) if spec.relocation is not None else {}
-    return base | {"mode": x.get("relocation", spec.choices("relocation")[0]),
-                   "robots": int(x.get("robots", spec.choices("robots")[0]))}
+    mode = x.get("relocation", spec.choices("relocation")[0])
+    if mode == "rail" and any(k in x for k in RAIL_VARIABLES):  # the candidate's carriage
+        base["rail"] = base["rail"] | {field: float(x[k]) for k, field in RAIL_VARIABLES.items() if k in x}
+    return base | {"mode": mode, "robots": int(x.get("robots", spec.choices("robots")[0]))}
+
+
+def candidate_rail(spec: DesignSpec, x: dict):
+    """The carriage's limits of a candidate moved by rail (``[relocation.rail]`` with the
+    candidate's ``rail_speed_m_s``, ``rail_accel_m_s2``, ``rail_jerk_m_s3``), a
+    :class:`~marinecdpr.scenario.relocation.RailMoves`; None for a candidate moved otherwise."""
+    from marinecdpr.scenario.relocation import Relocation
+
+    relocation = relocation_of(spec, x)
+    if relocation is None or relocation["mode"] != "rail":
+        return None
+    return Relocation.model_validate(relocation).rail
 
 
 def _robots(template: Scenario, x: dict) -> int:
@@ -783,7 +847,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     """What a journal's candidates were judged under, by content: the study, its template
     with each file it reads (its RAOs, its surface's mesh) by the SHA-256 of its bytes (not
     by its path: a copy of the study's folder resumes; a file changed since does not), and
-    its sea states (the scatter diagram's cells at each heading)."""
+    its sea states (the scatter diagram's cells at each heading). A study whose candidates
+    may move by rail keys its constraints too (since the carriage's ``rail_accel_m_s2``): a
+    journal judged without that margin does not resume."""
     import hashlib
     import json
 
@@ -806,6 +872,15 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
                       (((scenario.get("cleaning") or {}).get("surface") or {}), "relocation")):
         if key in node and node[key] is None:
             del node[key]
+    for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
+        if study["variables"].get(key, 0) is None:
+            del study["variables"][key]
+    if "rail" in spec.choices("relocation"):  # rail candidates judged by the carriage's margin since: a new key
+        study["constraints"] = list(study_constraints(spec))
+    for node in (study.get("relocation"), ((scenario.get("cleaning") or {}).get("surface") or {}).get("relocation")):
+        rail = (node or {}).get("rail") or {}
+        if rail.get("drive_cost_per_kW") == 0.0:
+            del rail["drive_cost_per_kW"]
     text = json.dumps([study, by_content(scenario), [c.__dict__ for c in cells]], sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -851,7 +926,7 @@ def _from_json(d) -> Evaluation:
     x = d["x"]
     if not isinstance(x, dict) or set(CONTINUOUS) - set(x):
         raise ValueError("x: expected the candidate's variables")
-    out = {"x": {k: (_number(f"x.{k}", v) if k in CONTINUOUS else v) for k, v in x.items()}}
+    out = {"x": {k: (_number(f"x.{k}", v) if k in CONTINUOUS or k in RAIL_VARIABLES else v) for k, v in x.items()}}
     for k in ("winch", "rope", "pattern", "relocation"):
         if k in x and not isinstance(x[k], str):
             raise ValueError(f"x.{k}: expected a name, got {x[k]!r:.40}")
@@ -992,6 +1067,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
             sink.write(json.dumps({"study": key}) + "\n")
             sink.flush()
     bounds = spec.bounds()
+    constraints = study_constraints(spec)
     free = {k: Real(bounds=b) for k, b in bounds.items() if b[0] < b[1]}
     choices = {k: [e.name for e in spec.choices(k)] for k in ("winch", "rope")}
     choices["pattern"] = spec.choices("pattern")
@@ -1007,7 +1083,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
     best = [float("inf")]
 
     def full(xd: dict) -> dict:
-        x = {k: (float(xd[k]) if k in xd else bounds[k][0]) for k in CONTINUOUS}
+        x = {k: (float(xd[k]) if k in xd else bounds[k][0]) for k in bounds}
         for k, names in choices.items():
             x[k] = (int if k == "robots" else str)(xd[k]) if k in xd else names[0]
         return x
@@ -1036,7 +1112,7 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
 
     class Study(Problem):
         def __init__(self, session):
-            super().__init__(vars=free, n_obj=2, n_ieq_constr=len(CONSTRAINTS))
+            super().__init__(vars=free, n_obj=2, n_ieq_constr=len(constraints))
             self.session = session
 
         def _evaluate(self, X, out, *args, **kwargs):
@@ -1052,7 +1128,8 @@ def search(spec: DesignSpec, template: Scenario, cells: list, *,
             es = [known[_candidate_key(x)] for x in xs]
             out["F"] = np.array([[e.expected_hours if np.isfinite(e.expected_hours) else 1e9,
                                   e.objective(spec.objective)] for e in es])
-            out["G"] = np.array([[-(m if np.isfinite(m) else -1e9) for m in (e.margins[k] for k in CONSTRAINTS)]
+            # a margin a candidate does not have (the rail's, moved by crane) binds nothing
+            out["G"] = np.array([[-(m if np.isfinite(m) else -1e9) for m in (e.margins.get(k, 0.0) for k in constraints)]
                                  for e in es])
 
     try:
@@ -1171,7 +1248,7 @@ def fly_rail_move(spec: DesignSpec, sc: Scenario, e: "Evaluation", cell) -> Rail
     from marinecdpr.studies.prototype_runs import bypassed_text, controller_verdict
     from marinecdpr.studies.relocation import rail_move_scenario
 
-    rail = spec.relocation.rail
+    rail = candidate_rail(spec, e.x)
     distance = float(e.x["frame_width_m"])
     panel = np.asarray(sc.cleaning.panel_m, dtype=float)
     hold = [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]

@@ -22,7 +22,8 @@ job takes the slowest robot's time.
 Costs (:func:`relocation_cost`): a crane (where any move is by crane) is hired for the whole
 job, one per robot (each robot's moves wait for no other's): ``robots x hire_per_h x the
 job's hours``; a rail (mode rail) runs the band's length along the ship (its stations'
-span) at ``cost_per_m``, with one carriage per robot at ``carriage_cost``.
+span) at ``cost_per_m``, with one carriage per robot at ``carriage_cost`` and its drive at
+``drive_cost_per_kW`` x its peak power (:func:`carriage_drive_kW`).
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.relocation import Crane, RailMoves, Relocation
 
 __all__ = ["Moves", "crane_move_s", "rail_move_s", "plan_yaw", "turn_radius_m", "visit_order", "stretches",
-           "plan_moves", "relocation_cost", "RelocationCost", "NO_COST", "rail_move_scenario"]
+           "plan_moves", "relocation_cost", "carriage_drive_kW", "RelocationCost", "NO_COST", "rail_move_scenario"]
 
 _ROUND_M = 1e-6
 """Placements whose heights (rows) or stations (columns) agree to this, m, share a row or column."""
@@ -273,7 +274,16 @@ NO_COST = RelocationCost(0.0, 0.0, 0.0)
 """The cost of moves without a relocation model."""
 
 
-def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_length_m: float) -> RelocationCost:
+def carriage_drive_kW(rail: RailMoves, moved_kg: float) -> float:
+    """A carriage drive's peak power: the force accelerating ``moved_kg`` (the frame with
+    its winches and the platform) at the rail's ``accel_m_s2``, times its ``speed_m_s``
+    (the drive's force and speed at once, as at the end of a double-S move's acceleration
+    where it reaches its top speed; a bound on the power it draws), kW."""
+    return float(moved_kg) * rail.accel_m_s2 * rail.speed_m_s / 1000.0
+
+
+def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_length_m: float,
+                    platform_kg: float = 0.0) -> RelocationCost:
     """What the moves cost (the module's rules), in the user's cost unit.
 
     Parameters
@@ -282,6 +292,9 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
         The job's hours (the slowest robot's), h.
     band_length_m : float
         The band's length along the ship (its stations' span), m: the rail's length.
+    platform_kg : float
+        The platform's mass, kg: the carriage's drive accelerates it with the frame
+        (``rail.drive_cost_per_kW``).
 
     Returns
     -------
@@ -293,7 +306,12 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
     hire = robots * relocation.crane.hire_per_h * hours if crane else 0.0
     on_rail = relocation.mode == "rail"
     rail = relocation.rail.cost_per_m * band_length_m if on_rail else 0.0
-    carriages = robots * relocation.rail.carriage_cost if on_rail else 0.0
+    carriages = 0.0
+    if on_rail:
+        moves_on = relocation.rail
+        drive = (moves_on.drive_cost_per_kW * carriage_drive_kW(moves_on, relocation.lifted_kg(platform_kg))
+                 if moves_on.drive_cost_per_kW > 0.0 else 0.0)
+        carriages = robots * (moves_on.carriage_cost + drive)
     return RelocationCost(float(hire), float(rail), float(carriages))
 
 

@@ -47,6 +47,11 @@ same models, linearised in the ship's motion:
    Rayleigh lengths), so the verdict takes the share less the one-sided quantile of that
    scatter for ``exceedance``.
 
+7. **A carriage's accelerations** (a frame moved along a rail between placements: the job
+   itself is cleaned with the frame standing): :func:`held_acceleration`, the largest
+   acceleration along the rail with which the cables hold the platform still at a pose, on
+   a still ship and with each sea state's extreme along every facet over the move.
+
 Left out (said where it matters): winch torque, speed and power, cable sag and stretch, and
 the closed loop's tracking. The time domain judges those.
 """
@@ -70,6 +75,7 @@ from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.operability import Cell
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
+           "HeldAcceleration", "held_acceleration",
            "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
@@ -703,6 +709,120 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     return ScreenResult(cells=list(cells), works=works, tensions_ok=tensions_ok, margin_of=margin,
                         chance=np.minimum(chance_total, 1.0), in_band_pct=in_band, in_band_low_pct=in_band_low,
                         in_band_target_pct=float(in_band_target_pct), exceedance=float(exceedance), reasons=reasons)
+
+
+@dataclass(frozen=True)
+class HeldAcceleration:
+    """The largest acceleration of the frame along a rail with which the cables hold the
+    platform still in C (:func:`held_acceleration`).
+
+    Attributes
+    ----------
+    still_m_s2 : float
+        On a ship at rest, m/s^2 (negative: the cables do not hold the pose even at rest,
+        by that much acceleration's worth; -inf: not at any, or the cables lose rank).
+    cells_m_s2 : ndarray, shape (n_cells,)
+        In each sea state, with the sea's extreme over the move, m/s^2.
+    per_m_s2 : ndarray, shape (6,)
+        The wrench the platform needs per m/s^2 of the frame's acceleration along the rail,
+        in C (N, N m).
+    w0 : ndarray, shape (6,)
+        The wrench it needs at rest, in C (N, N m).
+    """
+
+    still_m_s2: float
+    cells_m_s2: np.ndarray
+    per_m_s2: np.ndarray
+    w0: np.ndarray
+
+
+def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, duration_s: float,
+                      exceedance: float = EXCEEDANCE) -> HeldAcceleration:
+    """How hard a carriage may accelerate the frame along its rail with the cables holding
+    the platform still at the scenario's pose: the largest A such that the wrench the
+    platform needs while the frame accelerates at +A and -A along ``rail_S``, with the sea's
+    part's extreme over the move, stays within the wrenches the cables can give.
+
+    The platform held in C while C accelerates at a along the rail (a straight rail: C does
+    not turn) needs the planner's wrench (:func:`~marinecdpr.planning.planner.required_wrench`)
+    with C's acceleration: on a ship at rest, m (a + g) turned into C and the moment of
+    the platform's weight; it is linear in the translation's acceleration: w(a) = w0 + a D_a,
+    D_a the wrench at 1 m/s^2 along the rail less w0 (a still ship accelerating along the
+    rail: C's acceleration in O). In a sea state, from the screen's linearisation
+    (:func:`screen_model`) at the held pose, the ship's motion adds the
+    linearised wrench's Gaussian part; along each facet f of the zonotope of wrenches the
+    cables can give (:func:`~marinecdpr.model.tension.wrench_faces`: |n_f . (w - c)| <= h_f),
+    its standard deviation s_f = sqrt(n_f' C0 n_f) and its extreme over ``duration_s`` at
+    the chance ``exceedance`` is k_f s_f (:func:`extreme_factor`). At +-A the tensions hold
+    where h_f - |n_f . (w0 - c)| - A |n_f . D_a| >= k_f s_f for every facet: A is the least
+    over the facets of (h_f - |n_f . (w0 - c)| - k_f s_f) / |n_f . D_a|.
+
+    A facet at a time, not Rice's sum over them as :func:`screen_cells` takes it: the move
+    is short, and the acceleration's own phases shorter.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The frame standing where it is (``ship.frame_origin_m``, ``frame_orientation_deg``),
+        its robot, its sea-state base motion's RAOs and spectrum (with cells); its trajectory
+        and ``[cleaning]`` are left out (the platform held, the tool off the hull).
+    cells : list of Cell
+        The sea states (may be empty).
+    rail_S : array_like, shape (3,)
+        The rail's direction in S (normalised here).
+    hold_C : array_like, shape (3,)
+        Where the platform is held in C, m (not turned).
+    duration_s : float
+        The move's duration: the time the sea has to break it, s.
+    exceedance : float
+
+    Returns
+    -------
+    HeldAcceleration
+    """
+    from marinecdpr.model.tension import full_rank, wrench_faces
+    from marinecdpr.scenario.schema import validated_scenario
+
+    d = np.asarray(rail_S, dtype=float)
+    d = d / np.linalg.norm(d)
+    data = scenario.model_dump(exclude_none=True)
+    data.pop("cleaning", None)
+    hold = [float(v) for v in hold_C]
+    data["trajectory"] = {"type": "line", "start_position_m": hold, "end_position_m": hold,
+                          "duration_s": float(duration_s)}
+    data["time"] = dict(data["time"], duration_s=float(duration_s))
+    held = validated_scenario(data)
+    model = screen_model(held, grid=(1, 1))
+    c = list(model.controlled)
+    # the wrench at rest and with C accelerating at 1 m/s^2 along the rail: exact, not by
+    # differences (it is linear in the translation's acceleration)
+    dq = np.zeros((2, 18))
+    dq[1, 12:15] = d
+    w = _wrench(held, model.x_PC_C[[0, 0]], model.twist[[0, 0]], np.zeros((2, 6)), model.R_PC[[0, 0]],
+                _still_plus(dq, held), model.t[[0, 0]], 0.0)
+    w0, per = w[0], w[1] - w[0]
+    faces = wrench_faces(model.J[:1], held.robot.tension_min, held.robot.tension_max)
+    n, h = faces.normal[0], faces.half_width[0]
+    slack0 = h - np.abs(n @ (w0[c] - faces.centre[0]))                         # (F,)
+    slope = np.abs(n @ per[c])
+
+    def largest(slack):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a = np.where(slope > 0, slack / np.where(slope > 0, slope, 1.0),
+                         np.where(slack >= 0, np.inf, -np.inf))
+        return a.min(axis=-1)
+
+    if not full_rank(model.J[:1])[0]:
+        return HeldAcceleration(still_m_s2=-np.inf, cells_m_s2=np.full(len(cells), -np.inf), per_m_s2=per, w0=w0)
+    still = float(largest(slack0))
+    if not cells:
+        return HeldAcceleration(still_m_s2=still, cells_m_s2=np.zeros(0), per_m_s2=per, w0=w0)
+    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
+    var0 = np.einsum("fk,ikl,fl->if", n, C0[:, 0][:, c][:, :, c], n)              # (n_cells, F)
+    var2 = np.einsum("fk,ikl,fl->if", n, C2[:, 0][:, c][:, :, c], n)
+    k = extreme_factor(var0, var2, float(duration_s), exceedance)
+    return HeldAcceleration(still_m_s2=still, cells_m_s2=largest(slack0[None] - k * np.sqrt(var0)),
+                            per_m_s2=per, w0=w0)
 
 
 def why_fails(cells: list, works: np.ndarray, reasons: list) -> str:

@@ -117,6 +117,8 @@ class SurfaceJob:
         mean.
     band_length_m : float
         The band's length along the ship (its stations' span), m: a rail's length.
+    platform_kg : float
+        The robot's platform mass, kg (a rail carriage's drive accelerates it with the frame).
     """
 
     placements: list
@@ -129,6 +131,7 @@ class SurfaceJob:
     relocation: Relocation | None = None
     moves: Moves | None = None
     band_length_m: float = 0.0
+    platform_kg: float = 0.0
 
     @property
     def seconds(self) -> float:
@@ -181,7 +184,7 @@ class SurfaceJob:
         rail, carriages and total, in the user's cost unit (all 0 without ``relocation``)."""
         if self.moves is None:
             return NO_COST
-        return relocation_cost(self.relocation, self.moves, self.hours, self.band_length_m)
+        return relocation_cost(self.relocation, self.moves, self.hours, self.band_length_m, self.platform_kg)
 
     @property
     def hours(self) -> float:
@@ -376,6 +379,7 @@ def surface_job(scenario: Scenario, *, move_time_s: float, panel_m: tuple[float,
     return SurfaceJob(placements=placements, uncleanable=bad, job_s=job, turn_s=times[:, 1],
                       move_time_s=float(move_time_s), relocation=relocation, moves=moves,
                       band_length_m=float(surface.stations_m[1] - surface.stations_m[0]),
+                      platform_kg=float(scenario.robot.mass_kg),
                       frame_panel_m=(width, height), surface=f"{label}, {surface.side} side, stations "
                       f"{surface.stations_m[0]:g} to {surface.stations_m[1]:g} m, heights {surface.heights_m[0]:g} "
                       f"to {surface.heights_m[1]:g} m")
