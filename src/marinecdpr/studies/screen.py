@@ -818,6 +818,9 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     if not cells:
         return HeldAcceleration(still_m_s2=still, cells_m_s2=np.zeros(0), per_m_s2=per, w0=w0)
     C0, C2 = _response_moments(model, _rao_of(held), cells, held)
+    gust = gust_covariance(held, model)
+    if gust is not None:  # the wind's gust beside the sea's, as screen_cells takes it
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
     var0 = np.einsum("fk,ikl,fl->if", n, C0[:, 0][:, c][:, :, c], n)              # (n_cells, F)
     var2 = np.einsum("fk,ikl,fl->if", n, C2[:, 0][:, c][:, :, c], n)
     k = extreme_factor(var0, var2, float(duration_s), exceedance)
