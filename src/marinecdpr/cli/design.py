@@ -86,7 +86,11 @@ def design(
         if est.finalists and study.front:
             compile_notice(options.plant or study_spec.plant or template.simulation.plant)
             with progress_bar("finalists", "sea states") as bar:
-                task = bar.add_task("", total=min(est.finalists, len(study.front)) * len(cells))
+                from marinecdpr.studies.design import sea_columns
+
+                n = min(est.finalists, len(study.front))  # about each column's boundary: two seas each, first
+                task = bar.add_task("", total=n * (len(cells) if study_spec.sea.verify == "all"
+                                                   else 2 * len(sea_columns(cells))))
                 with run_errors(spec):
                     checked = command.verify(options, est, study,
                                              progress=lambda d, tot: bar.update(task, completed=d, total=tot))
