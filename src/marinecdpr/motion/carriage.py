@@ -39,7 +39,8 @@ from marinecdpr.motion.ship import ShipMotion, body_motion
 if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
-__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C"]
+__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
+           "forget_carriage_motions", "CACHED_STEPS"]
 
 
 def frame_yaw(rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -269,6 +270,11 @@ def _on_its_rail(ship, t: np.ndarray):
         return _evaluate_on_rail(ship, t)
     key = (ship.carriage.model_dump_json(), tuple(float(v) for v in ship.frame_orientation_deg), t.shape, t.tobytes())
     return _kept_on_rail(_Keyed(key, ship, t))
+
+
+def forget_carriage_motions() -> None:
+    """Drop the kept carriage motions (:func:`carriage_motion` evaluates afresh)."""
+    _kept_on_rail.cache_clear()
 
 
 class _Keyed:
