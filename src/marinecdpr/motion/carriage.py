@@ -246,6 +246,13 @@ def carriage_motion(ship, t: np.ndarray
         With ``carriage`` set.
     t : ndarray, shape (n_steps,)
         Times, s (from 0).
+
+    Returns
+    -------
+    tuple of ndarray
+        :func:`on_rail`'s, read-only: kept for the last few time grids (of at most
+        :data:`CACHED_STEPS` times), since a run evaluates one grid for its plan, its plant,
+        its controller and its drive (:func:`forget_carriage_motions` drops them).
     """
     return _on_its_rail(ship, t)[1]
 
@@ -258,7 +265,8 @@ def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
 
 
 CACHED_STEPS = 1 << 17
-"""The longest time grid whose carriage motion is kept (:func:`carriage_motion`): a few tens of MB."""
+"""The longest time grid whose carriage motion is kept (:func:`carriage_motion`): about 35 MB at
+most for each of the 4 kept."""
 
 
 def _on_its_rail(ship, t: np.ndarray):
