@@ -47,15 +47,16 @@ def test_a_bad_option_is_one_error_naming_its_field(options, field, words):
 
 
 def test_the_estimate_reads_the_study_and_chooses_the_executors():
-    """ship_side: 34 sea states x 3 headings; its 3 finalists' every sea state flown closed
-    loop is 3 x 102 x n_steps x 100 steps, far beyond auto's 20 M: a local cluster; the
-    candidates on Dask only where asked."""
+    """ship_side: the North Atlantic's 197 sea states x 3 headings; its 2 finalists flown about
+    each of its 48 columns' boundary (some four seas a column) closed loop are 2 x 192 x
+    n_steps x 100 steps, far beyond auto's 20 M: a local cluster; the candidates on Dask only
+    where asked."""
     spec = DesignCommandSpec(population=4, generations=2, seed=5)
     est = command.estimate(spec)
     assert (est.study.population, est.study.generations, est.study.seed) == (4, 2, 5)
-    assert est.candidates == 8 and len(est.cells) == 102 and est.finalists == est.study.finalists == 3
+    assert est.candidates == 8 and len(est.cells) == 591 and est.finalists == est.study.finalists == 2
     assert est.search_executor == Executor.serial()
-    assert 3 * 102 * est.template.time.n_steps * 100 >= 20_000_000
+    assert 2 * 192 * est.template.time.n_steps * 100 >= 20_000_000
     assert (est.verify_executor.kind, est.verify_executor.why) == ("local", "large")
     quiet = command.estimate(DesignCommandSpec(verify=False))
     assert quiet.finalists == 0 and quiet.verify_executor == Executor.serial()
@@ -101,7 +102,7 @@ def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
     result = command.run(spec, journal=tmp_path / "py.jsonl", progress=lambda d, n, best: seen.append((d, n)))
     study = result.study
     assert len(study.evaluations) == 4 and list(study.generation) == [0] * 4
-    assert seen[-1] == (4, 4) and result.verified == () and result.cells == 102
+    assert seen[-1] == (4, 4) and result.verified == () and result.cells == 591
     s = result.summary()
     assert s["candidates"] == 4 and s["seed"] == 11 and s["verified"] is False
     assert [f["index"] for f in s["front"]] == study.front
@@ -111,7 +112,7 @@ def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
     res = runner.invoke(app, ["design", "--population", "4", "--generations", "1", "--seed", "11", "--no-verify",
                               "--out", str(out)])
     assert res.exit_code == 0, res.output
-    assert f"ship_side: 4 candidates ({s['feasible']} feasible) over 102 sea states" in res.stdout
+    assert f"ship_side: 4 candidates ({s['feasible']} feasible) over 591 sea states" in res.stdout
     for path in written:
         name = path.relative_to(tmp_path / "py")
         if path.suffix in (".csv", ".json", ".toml", ".html"):
@@ -159,7 +160,7 @@ def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch):
     ns: dict = {}
     exec(compile(blocks[0], str(DOC), "exec"), ns)  # noqa: S102 - the page's own examples
     est, study = ns["est"], ns["study"]
-    assert est.candidates == 4 and len(est.cells) == 102                  # as the page's comment says
+    assert est.candidates == 4 and len(est.cells) == 591                  # as the page's comment says
     assert len(ns["hours"]) == 4 and ns["hours"] == [e.expected_hours for e in study.evaluations]
     if study.front:
         assert ns["best"].expected_hours == min(e.expected_hours for e in study.evaluations

@@ -32,6 +32,9 @@ def _variants():
             "simulation.cables", winch="motor"),
         "clean": marinecdpr.load_scenario("paper_clean"),
         "camera": paper.with_updates("simulation.camera", latency_s=0.01, noise_m=0.001, weight=0.4),
+        "carriage": paper.with_changes(ship={"carriage": {  # the frame on a rail: the carriage drive's part
+            "rail_m": [[-0.78, 0.0, 2.2], [3.0, 0.0, 2.2]], "speed_max_m_s": 0.5, "accel_max_m_s2": 0.4,
+            "jerk_max_m_s3": 2.0, "stations_m": [0.0, 1.0], "mass_kg": 40.0}}),
     }
 
 

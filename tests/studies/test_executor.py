@@ -142,3 +142,15 @@ def test_serial_and_a_local_cluster_give_the_same_results_to_the_bit():
     # a piece's error reaches the caller as itself, and the cluster is torn down
     with pytest.raises(ValueError, match="realisations must be at least 1, got 0"):
         Executor.local(workers=1).map(evaluate_cell, template, CELLS[:1], KW | {"realisations": 0})
+
+
+def test_a_piece_that_kills_its_workers_is_one_line():
+    """A piece of work whose every worker dies (here at once: the scheduler allowed no
+    failure) is an ExecutorError of one line naming the workers, not Dask's traceback."""
+    pytest.importorskip("dask.distributed")
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with pytest.raises(ExecutorError) as err:
+            Executor.local(workers=1).map(lambda template, item: __import__("os")._exit(3), None, [1])
+    assert "workers died" in str(err.value) and "\n" not in str(err.value) and err.value.option == "workers"

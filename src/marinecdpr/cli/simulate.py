@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from marinecdpr.cli.common import (compile_notice, console, err_console, fail_bypassed, fail_scenario, load, output,
-    plain, run_errors, spec_of, styled)
+from marinecdpr.cli.common import (EXIT_INFEASIBLE, compile_notice, console, err_console, fail, fail_bypassed,
+    fail_scenario, load, output, plain, run_errors, spec_of, styled)
 from marinecdpr.cli.progress import progress_bar
 from marinecdpr.commands.simulate import SimulateSpec
 from marinecdpr.errors import ScenarioError
@@ -83,6 +83,9 @@ def simulate(
     for warning in f.warnings:
         err_console.print(plain(f"warning: {warning}"), highlight=False, soft_wrap=True)
     console.print(plain(f"written to {out}/: " + ", ".join(p.name for p in paths)), highlight=False)
+    drive = f.drive_verdict()
+    if drive is not None:  # as plan says it of the plan: one line, exit 3, the files written
+        fail(f"carriage drive: {plain(sc.name)}: {plain(drive)}; see {out / 'summary.json'}", EXIT_INFEASIBLE)
     fail_bypassed(result.bypassed(), sc, out)
 
 

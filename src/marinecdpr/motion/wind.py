@@ -30,8 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["wind_speed_at", "wind_direction_O", "froya_spectrum", "GustSeries", "gust_series", "FROYA_N",
-           "OVERSAMPLING"]
+__all__ = ["wind_speed_at", "wind_direction_O", "froya_spectrum", "GustSeries", "gust_series", "gust_harmonics",
+           "gust_moments", "FROYA_N", "OVERSAMPLING"]
 
 FROYA_N = 0.468
 """The exponent n of Frøya's spectrum."""
@@ -123,6 +123,29 @@ class GustSeries:
         return (1.0 - w) * self.u[j] + w * self.u[(j + 1) % self.u.size]
 
 
+def gust_harmonics(u0: float, z: float, record_s: float, f_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """The gust series' harmonics: f_k = k / T, k = 1..K (f_K <= ``f_max``), and their
+    amplitudes sqrt(2 S(f_k) / T) (Frøya's S; arguments as :func:`gust_series`'s).
+
+    Returns
+    -------
+    f, amplitude : ndarray, shape (K,)
+        Hz, m/s.
+    """
+    K = max(1, int(np.floor(f_max * record_s + 1e-9)))
+    f = np.arange(1, K + 1) / record_s
+    return f, np.sqrt(2.0 * froya_spectrum(f, u0, z) / record_s)
+
+
+def gust_moments(u0: float, z: float, record_s: float, f_max: float) -> tuple[float, float]:
+    """The gust series' variance and its rate's, (m/s)^2 and (m/s^2)^2: sum a_k^2 / 2 and
+    sum (2 pi f_k)^2 a_k^2 / 2 over its harmonics (:func:`gust_harmonics`; any one record's,
+    over its period, whatever its phases)."""
+    f, amp = gust_harmonics(u0, z, record_s, f_max)
+    half = 0.5 * amp**2
+    return float(half.sum()), float(((2.0 * np.pi * f) ** 2 * half).sum())
+
+
 def gust_series(u0: float, z: float, record_s: float, f_max: float, seed: int) -> GustSeries:
     """A Frøya gust series of period ``record_s`` (the module's sum, by an inverse FFT).
 
@@ -143,9 +166,8 @@ def gust_series(u0: float, z: float, record_s: float, f_max: float, seed: int) -
     -------
     GustSeries
     """
-    K = max(1, int(np.floor(f_max * record_s + 1e-9)))
-    k = np.arange(1, K + 1)
-    amp = np.sqrt(2.0 * froya_spectrum(k / record_s, u0, z) / record_s)
+    f, amp = gust_harmonics(u0, z, record_s, f_max)
+    K = f.size
     phi = np.random.default_rng(seed).uniform(0.0, 2.0 * np.pi, K)
     n_grid = 2 * OVERSAMPLING * K
     coeff = np.zeros(n_grid // 2 + 1, dtype=complex)

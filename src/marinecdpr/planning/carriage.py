@@ -26,7 +26,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.motion.basemotion import fixed_ship_motion, frame_ship_motion
 from marinecdpr.motion.carriage import rail_tangent_C
 
-__all__ = ["DriveForce", "DrivePeak", "drive_force"]
+__all__ = ["DriveForce", "DrivePeak", "drive_force", "carriage_load"]
 
 
 @dataclass(frozen=True)
@@ -120,12 +120,37 @@ def drive_force(plan, scenario) -> DriveForce:
         raise ScenarioError("the drive's force over pulleys is not built yet", key="ship.carriage")
     t = np.asarray(plan.t, dtype=float)
     ship = fixed_ship_motion(scenario, t) if plan.base_model == "fixed" else frame_ship_motion(scenario, t)
+    own, along = carriage_load(scenario, ship, t)
+    pose = np.asarray(plan.pose, dtype=float)
+    kin = cable_kinematics(pose[:, :3], matrix_from_euler(pose[:, 3:]), robot.frame_anchors, robot.platform_anchors)
+    f_p = np.einsum("nij,ni->nj", kin.units, np.asarray(plan.tensions, dtype=float))  # sum_i T_i u_i
+    force = own + np.einsum("ni,ni->n", f_p, along)
+    return DriveForce(t=t, force_N=force, limit_N=c.drive_force_max_N)
+
+
+def carriage_load(scenario, ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The drive's force for the carriage's own mass, m_c (a_OC - g) . t, and the rail's tangent
+    t in C (the cables' pull f_p . t is the rest of the module's equation).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        With ``[ship.carriage]`` and its ``mass_kg``.
+    ship : ShipMotion
+        C's motion in O at the times ``t`` (:func:`~marinecdpr.motion.basemotion.frame_ship_motion`,
+        or a fixed-base plan's :func:`~marinecdpr.motion.basemotion.fixed_ship_motion`).
+    t : ndarray, shape (n_steps,)
+        s.
+
+    Returns
+    -------
+    own : ndarray, shape (n_steps,)
+        N, along the rail.
+    along : ndarray, shape (n_steps, 3)
+        The rail's unit tangent in C (:func:`~marinecdpr.motion.carriage.rail_tangent_C`).
+    """
     R_OC = ship.R_SO
     a_C = np.einsum("nji,nj->ni", R_OC, ship.a_SO_O)  # R_OC^T a_OC
     g_C = np.einsum("nji,j->ni", R_OC, [0.0, 0.0, -scenario.environment.gravity_m_s2])
     along = rail_tangent_C(scenario.ship, t)
-    pose = np.asarray(plan.pose, dtype=float)
-    kin = cable_kinematics(pose[:, :3], matrix_from_euler(pose[:, 3:]), robot.frame_anchors, robot.platform_anchors)
-    f_p = np.einsum("nij,ni->nj", kin.units, np.asarray(plan.tensions, dtype=float))  # sum_i T_i u_i
-    force = np.einsum("ni,ni->n", c.mass_kg * (a_C - g_C) + f_p, along)
-    return DriveForce(t=t, force_N=force, limit_N=c.drive_force_max_N)
+    return np.einsum("ni,ni->n", scenario.ship.carriage.mass_kg * (a_C - g_C), along), along

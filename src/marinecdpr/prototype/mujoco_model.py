@@ -16,6 +16,20 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
     acceleration; the cables' reaction barely moves a ship this heavy.
 ``frame``
     Robot frame C, fixed to the ship at ``ship.frame_origin_m`` (in S'); holds the frame anchors.
+``carriage`` (a frame carried on a rail, ``[ship.carriage]``)
+    Then the ship body moves as S itself (its joints are S's eta) and the frame hangs from
+    a carriage body on it: as heavy as the ship (:data:`CARRIAGE_MASS_KG`, isotropic
+    :data:`CARRIAGE_INERTIA_KG_M2`, gravity compensated), on joints relative to the ship in
+    the order slide x, slide y, slide z, hinge z (all along S's axes), so that its joint
+    positions are C's origin in S and the frame's yaw from its start
+    (:func:`~marinecdpr.motion.carriage.carriage_joints`); a coordinate the carriage's moves
+    do not change (:func:`carriage_coordinates`: a level rail's z, a straight rail's yaw) is
+    no joint but the body's constant place (each joint costs MuJoCo's RK4 about 0.7 us a
+    step). The ``frame`` body sits on it turned by the frame's lean at the rail's start
+    (R_SC0, ``ship.frame_orientation_deg``).
+    The simulation drives the carriage's joints as it drives the ship's (exact feed-forward
+    of the two bodies' motion and a stiff servo), so C moves as the composed motion the
+    own plant takes (:func:`~marinecdpr.motion.basemotion.frame_ship_motion`).
 ``platform``
     The platform, origin at its centre of mass: slide x, slide z, hinge y relative to
     C for a planar robot; slide x, y, z and a ball joint for a spatial one.
@@ -30,20 +44,29 @@ longer than the planner's length (``MujocoModel.tendon_offset``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
+from marinecdpr.geometry.rotations import quaternion_from_matrix
 from marinecdpr.motion.basemotion import frame_origin_of
+from marinecdpr.motion.ship import frame_axes
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2"]
+__all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2", "CARRIAGE_MASS_KG",
+           "CARRIAGE_INERTIA_KG_M2", "CARRIAGE_JOINTS", "carriage_coordinates"]
 
 PULLEY_INLET_M = 0.05
 """How far back along its arrival direction a pulley cable's tendon starts, m."""
 SHIP_MASS_KG = 1.0e7
 SHIP_INERTIA_KG_M2 = 1.0e8
+CARRIAGE_MASS_KG = SHIP_MASS_KG
+"""MuJoCo's carriage body: as heavy as the ship, so that the cables' pull barely moves it off
+its trajectory (its servo's error ~ pull / (mass (2 pi 10 Hz)^2), 1e-8 m for 500 N); the
+drive's real force is the carriage part's record (:mod:`~marinecdpr.prototype.parts.carriage`)."""
+CARRIAGE_INERTIA_KG_M2 = SHIP_INERTIA_KG_M2
+CARRIAGE_JOINTS = ("carriage_x", "carriage_y", "carriage_z", "carriage_yaw")
 INTEGRATORS = {"RK4": "RK4", "Euler": "Euler", "implicitfast": "implicitfast"}
 
 
@@ -73,6 +96,10 @@ class MujocoModel:
     platform_dofs: np.ndarray
     platform_body: int
     tendon_offset: np.ndarray
+    carriage_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    """DOF addresses of the carriage's joints on the ship; empty without a carriage."""
+    carriage_coords: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    """Which of the carriage's (x, y, z, yaw) on S (0..3) those joints are, in order."""
 
 
 def _v(x) -> str:
@@ -150,6 +177,16 @@ def build_xml(scenario: Scenario) -> str:
     motors = "\n".join(f'    <motor name="T{i}" tendon="cable{i}" gear="-1"/>'
                        for i in range(1, r.n_cables + 1))
     Ms, Is = SHIP_MASS_KG, SHIP_INERTIA_KG_M2
+    frame = f"""      <body name="frame" pos="{_v(frame_origin_of(scenario))}">
+{frame_sites}
+        <body name="platform" pos="0 0 0">
+          {joints}
+          <inertial pos="0 0 0" mass="{r.mass_kg:.17g}" fullinertia="{_v(full)}"/>
+{plat_sites}
+        </body>
+      </body>"""
+    if scenario.ship.carriage is not None:
+        frame = _carried(frame, scenario)
     return f"""<mujoco model="{scenario.name}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="{step:.17g}" gravity="0 0 {-g:.17g}" integrator="{integ}">
@@ -164,14 +201,7 @@ def build_xml(scenario: Scenario) -> str:
       <joint name="ship_pitch" type="hinge" axis="0 1 0"/>
       <joint name="ship_roll" type="hinge" axis="1 0 0"/>
       <inertial pos="0 0 0" mass="{Ms:.17g}" diaginertia="{Is:.17g} {Is:.17g} {Is:.17g}"/>
-      <body name="frame" pos="{_v(frame_origin_of(scenario))}">
-{frame_sites}
-        <body name="platform" pos="0 0 0">
-          {joints}
-          <inertial pos="0 0 0" mass="{r.mass_kg:.17g}" fullinertia="{_v(full)}"/>
-{plat_sites}
-        </body>
-      </body>
+{frame}
     </body>
   </worldbody>
   <tendon>
@@ -182,6 +212,53 @@ def build_xml(scenario: Scenario) -> str:
   </actuator>
 </mujoco>
 """
+
+
+def carriage_coordinates(scenario: Scenario) -> tuple[np.ndarray, np.ndarray]:
+    """Which of the carriage's coordinates on S, (x, y, z, yaw) (:func:`~marinecdpr.motion.carriage.carriage_joints`),
+    its moves change, and their values at the start.
+
+    A position coordinate changes only if the rail's points differ in it (its arcs lie in
+    the planes of its corners), the yaw only if the rail bends; none if the carriage has
+    one place to be.
+
+    Returns
+    -------
+    moving : ndarray of int
+        The indices (0..3) of those that change, in order: MuJoCo's carriage joints.
+    start : ndarray, shape (4,)
+        All four at t = 0, m and rad (the others' constant values).
+    """
+    from marinecdpr.motion.carriage import carriage_joints, rail_of
+
+    c = scenario.ship.carriage
+    start = carriage_joints(scenario.ship, np.zeros(1))[0][0]
+    if np.ptp(c.stations_m) == 0:
+        return np.zeros(0, dtype=int), start
+    points = np.asarray(c.rail_m, dtype=float)
+    _, _, turn_a, turn_b = rail_of(scenario.ship).bends
+    moving = [i for i in range(3) if np.ptp(points[:, i]) > 0] + ([3] if np.any(turn_a != turn_b) else [])
+    return np.array(moving, dtype=int), start
+
+
+def _carried(frame: str, scenario: Scenario) -> str:
+    """The frame's body hung from the carriage's (see the module docstring), turned on it by
+    the frame's lean at the rail's start (and its yaw there, where the yaw is no joint)."""
+    Mc, Ic = CARRIAGE_MASS_KG, CARRIAGE_INERTIA_KG_M2
+    axes = ("1 0 0", "0 1 0", "0 0 1")
+    moving, start = carriage_coordinates(scenario)
+    joints = "".join(f'\n        <joint name="{CARRIAGE_JOINTS[i]}" type="{"hinge" if i == 3 else "slide"}" '
+                     f'axis="{axes[min(i, 2)]}"/>' for i in moving)
+    place = np.where(np.isin(np.arange(3), moving), 0.0, start[:3])
+    R = frame_axes(scenario.ship.frame_orientation_deg)
+    if 3 not in moving and start[3] != 0.0:
+        c, s = np.cos(start[3]), np.sin(start[3])
+        R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ R
+    quat = quaternion_from_matrix(R)
+    frame = frame.replace('<body name="frame" pos="0 0 0">', f'<body name="frame" pos="0 0 0" quat="{_v(quat)}">', 1)
+    return (f'      <body name="carriage" pos="{_v(place)}" gravcomp="1">{joints}\n'
+            f'        <inertial pos="0 0 0" mass="{Mc:.17g}" diaginertia="{Ic:.17g} {Ic:.17g} {Ic:.17g}"/>\n'
+            f'{frame}\n      </body>')
 
 
 def quiet_mujoco_log() -> None:
@@ -217,5 +294,7 @@ def build_model(scenario: Scenario) -> MujocoModel:
                                      model.jnt_dofadr[jid(n)] + (3 if n == "pball" else 1)) for n in names])
     body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "platform")
     offset = np.where(scenario.robot.pulley_radii > 0, PULLEY_INLET_M, 0.0)
+    coords = carriage_coordinates(scenario)[0] if scenario.ship.carriage is not None else np.zeros(0, dtype=int)
+    carriage = np.array([model.jnt_dofadr[jid(CARRIAGE_JOINTS[i])] for i in coords], dtype=int)
     return MujocoModel(model=model, xml=xml, ship_dofs=ship, platform_qpos=qpos, platform_dofs=dofs,
-                       platform_body=body, tendon_offset=offset)
+                       platform_body=body, tendon_offset=offset, carriage_dofs=carriage, carriage_coords=coords)

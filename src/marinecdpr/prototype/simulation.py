@@ -36,7 +36,7 @@ from marinecdpr.control.controller import (
     controller_parts, known_loads, planned_brush_loads, planned_wind_loads, plans, stand_in_plans, step_loads,
 )
 from marinecdpr.control.records import Loads
-from marinecdpr.motion.basemotion import frame_ship_motion
+from marinecdpr.motion.basemotion import carried_frame_motion, frame_ship_motion
 from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M
 from marinecdpr.prototype.parts.brush import normal_force
@@ -45,6 +45,7 @@ from marinecdpr.prototype.plants import (
 )
 from marinecdpr.errors import ScenarioError, SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler, quaternion_from_matrix
+from marinecdpr.planning.carriage import DriveForce
 from marinecdpr.planning.planner import Plan
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
@@ -79,6 +80,13 @@ class SimResult:
         Motor winches (``simulation.cables.winch = "motor"``): the steps where any motor's
         torque was cut to its torque, power or speed limit, and where any turned past its
         speed limit; 0 for other winches.
+    carriage_tracking_error : float
+        A frame carried on a rail, on MuJoCo: the largest deviation of the carriage's joints
+        (x, y, z on the ship, m; yaw, rad) from the carriage's trajectory (0 otherwise).
+    carriage_drive : DriveForce or None
+        A carriage with its mass (``ship.carriage.mass_kg``): the force its drive gives along
+        the rail at each step (:class:`~marinecdpr.planning.carriage.DriveForce`, from the
+        carriage part, :mod:`~marinecdpr.prototype.parts.carriage`); None otherwise.
     """
 
     run: str
@@ -94,6 +102,8 @@ class SimResult:
     ship_tracking_error: float
     winch_limited_steps: int = 0
     winch_overspeed_steps: int = 0
+    carriage_tracking_error: float = 0.0
+    carriage_drive: Any = None
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -175,19 +185,23 @@ def simulate(
                        al_s=np.ascontiguousarray(ship_h.alpha_SO_S), a_SO=np.ascontiguousarray(ship_h.a_SO_O),
                        f=loads.f, m=loads.m, in_P=loads.in_P)
         fallbacks = _blocks(scenario, run, t, progress, bound(own_loop, h, own, system))
-        ship_error = 0.0  # the own plant moves the ship exactly
+        ship_error = carriage_error = 0.0  # the own plant moves the ship (and C) exactly
     else:
-        fallbacks, ship_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm, progress)
+        fallbacks, ship_error, carriage_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm,
+                                                            progress)
     log = asm.get("Log")
     log.pose[:, 3:] = np.unwrap(log.pose[:, 3:], axis=0)
     motor = asm.get("MotorWinch") or asm.get("CatenaryMotorWinch")
     limited = motor.limited if motor is not None else (0, 0)
+    drive = asm.get("CarriageDrive")
     return SimResult(
         run=run, plant=plant, t=t, pose_planned=np.ascontiguousarray(ref.pose[:n]), pose=log.pose,
         lengths_planned=np.ascontiguousarray(ref.lengths[:n]), lengths=log.lengths,
         tensions_commanded=log.T_cmd, tensions=log.T_app, controller_fallbacks=int(fallbacks),
         ship_tracking_error=ship_error, winch_limited_steps=int(limited[0]),
-        winch_overspeed_steps=int(limited[1]),
+        winch_overspeed_steps=int(limited[1]), carriage_tracking_error=carriage_error,
+        carriage_drive=None if drive is None else DriveForce(
+            t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
     )
 
 
@@ -199,8 +213,10 @@ class Prototype(builder.Assembly):
     mid-step), and the known loads: on the half-step grid ``loads_h`` (f, m (2 n + 1, 3) in C,
     or in P if ``in_P``) that the own plant applies; at t_k ``known`` (the controller's model
     of them: the same, but with ``[wind]`` the wind the plan holds where the plants meet the
-    gust series); and ``held``, what MuJoCo's ship drive holds over each step (the loads at
-    t_k; with ``[wind]``, the wind's at mid-step)."""
+    gust series); ``held``, what MuJoCo's ship drive holds over each step (the loads at t_k;
+    with ``[wind]``, the wind's at mid-step); for a frame on a carriage, ``carried_h``, the
+    pieces of ``ship_h`` (:class:`~marinecdpr.motion.basemotion.CarriedFrame`: the ship's own
+    motion and the carriage's joints), else None."""
 
     ship_h: Any
     ref: Plan
@@ -208,6 +224,7 @@ class Prototype(builder.Assembly):
     loads_h: Loads
     known: Loads
     held: Loads
+    carried_h: Any = None
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
@@ -220,7 +237,13 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     types, nothing of the planner is compiled, and the prototype is only to compile."""
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
-    ship_h = frame_ship_motion(scenario, np.arange(2 * n + 1) * (0.5 * h))
+    t_h = np.arange(2 * n + 1) * (0.5 * h)
+    carried = None
+    if scenario.ship.carriage is None:
+        ship_h = frame_ship_motion(scenario, t_h)
+    else:  # C's motion, and the ship's and the carriage's on their own (MuJoCo's bodies)
+        carried = carried_frame_motion(scenario, t_h)
+        ship_h = carried.frame
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
     if stand_in:
         p = stand_in_plans(scenario, n, base_model=base_model, ship_h=ship_h)
@@ -241,7 +264,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
     return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
-                     known=loads, held=held)
+                     known=loads, held=held, carried_h=carried)
 
 
 def _held_with_wind(calm_h: Loads, loads_h: Loads, n: int) -> Loads:
@@ -305,12 +328,24 @@ def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
 
 
 # ----------------------------------------------------------------------- MuJoCo plant
-def _ship_drive(ship_h, loads: Loads, n: int) -> ShipDrive:
+def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=()) -> ShipDrive:
     """Feed-forward forces that move the (gravity-compensated, isotropic) MuJoCo ship along
     eta, evaluated at mid-step; a servo acts on the error at the step's start. Loads in C
-    are applied in O (a load given in P is turned at each exchange)."""
+    are applied in O (a load given in P is turned at each exchange).
+
+    For a frame on a carriage, ``ship_h`` is C's composed motion and ``carried`` its pieces on
+    the same grid (:class:`~marinecdpr.motion.basemotion.CarriedFrame`); the ship's joints
+    then follow S's own motion (``base_motion``) and the carriage's joints, ``coords`` of
+    its (x, y, z, yaw) (:attr:`~marinecdpr.prototype.mujoco_model.MujocoModel.carriage_coords`),
+    C's motion on S (:func:`~marinecdpr.motion.carriage.carriage_joints`): joints 6.. of the drive. The
+    feed-forward is the two bodies' exact Newton-Euler forces (each isotropic, gravity
+    compensated): the carriage's m a_OC and I alpha_C along its joints, and the ship's
+    joints carry them too (about the ship's hinges with the carriage's moment arm)."""
     from marinecdpr.prototype.mujoco_model import SHIP_INERTIA_KG_M2, SHIP_MASS_KG
 
+    frame_h = ship_h
+    if carried is not None:  # the ship body moves as S; ship_h (C's motion) stays the loads' frame
+        ship_h = carried.ship
     perm = [0, 1, 2, 5, 4, 3]  # eta (x, y, z, roll, pitch, yaw) -> joints (x, y, z, yaw, pitch, roll)
     mid = slice(1, 2 * n, 2)
     R_mid = ship_h.R_SO[mid]
@@ -324,19 +359,50 @@ def _ship_drive(ship_h, loads: Loads, n: int) -> ShipDrive:
     tau_ff[:, 3:] = SHIP_INERTIA_KG_M2 * np.einsum("nja,na->nj", axes, alpha_O)
     wn = 2.0 * np.pi * SHIP_SERVO_HZ
     inertia = np.array([SHIP_MASS_KG] * 3 + [SHIP_INERTIA_KG_M2] * 3)
-    R_SO = np.ascontiguousarray(ship_h.R_SO[0:2 * n:2])
+    q_des = np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm])
+    qd_des = np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm])
+    if carried is not None:
+        tau_ff, q_des, qd_des, inertia = _carriage_drive(carried.joints, coords, frame_h, ship_h, axes, tau_ff,
+                                                         q_des, qd_des, inertia, n)
+    R_SO = np.ascontiguousarray(frame_h.R_SO[0:2 * n:2])
     return ShipDrive(
-        tau_ff=tau_ff, q_des=np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm]),
-        qd_des=np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm]), kp=inertia * wn * wn,
+        tau_ff=tau_ff, q_des=q_des, qd_des=qd_des, kp=inertia * wn * wn,
         kd=inertia * 2.0 * wn, f_O=np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.f)),
         m_O=np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.m)), R_SO=R_SO,
         f_P=loads.f, m_P=loads.m, in_P=bool(loads.in_P))
 
 
+def _carriage_drive(joints, coords, frame_h, ship_h, axes, tau_ff, q_des, qd_des, inertia, n: int):
+    """:func:`_ship_drive`'s arrays with the carriage's joints (``coords`` of its x, y, z, yaw) appended, the ship's
+    feed-forward carrying the carriage body (mass m, inertia I, at C's origin): its force
+    F = m a_OC and moment M = I alpha_C (in O) along the ship's slides, about its hinges
+    (through S's origin) with the moment of F at C's place, and along the carriage's own
+    slides (S's axes) and hinge (S's z)."""
+    from marinecdpr.prototype.mujoco_model import CARRIAGE_INERTIA_KG_M2, CARRIAGE_MASS_KG
+
+    mid = slice(1, 2 * n, 2)
+    q, qd, _ = joints
+    F = CARRIAGE_MASS_KG * frame_h.a_SO_O[mid]
+    M = CARRIAGE_INERTIA_KG_M2 * np.einsum("nij,nj->ni", frame_h.R_SO[mid], frame_h.alpha_SO_S[mid])
+    arm = frame_h.eta[mid][:, :3] - ship_h.eta[mid][:, :3]  # S's origin to C's, in O
+    tau = np.empty((n, 10))
+    tau[:, :3] = tau_ff[:, :3] + F
+    tau[:, 3:6] = tau_ff[:, 3:] + np.einsum("nja,na->nj", axes, M + np.cross(arm, F))
+    R_OS = ship_h.R_SO[mid]
+    tau[:, 6:9] = np.einsum("nji,nj->ni", R_OS, F)
+    tau[:, 9] = np.einsum("ni,ni->n", R_OS[:, :, 2], M)
+    coords = np.asarray(coords, dtype=int)
+    tau = np.ascontiguousarray(tau[:, np.concatenate([np.arange(6), 6 + coords])])
+    inertia = np.concatenate([inertia, np.array([CARRIAGE_MASS_KG] * 3 + [CARRIAGE_INERTIA_KG_M2])[coords]])
+    q_des = np.ascontiguousarray(np.concatenate([q_des, q[0:2 * n:2][:, coords]], axis=1))
+    qd_des = np.ascontiguousarray(np.concatenate([qd_des, qd[0:2 * n:2][:, coords]], axis=1))
+    return tau, q_des, qd_des, inertia
+
+
 def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive) -> MujocoPlant:
     """MuJoCo's arrays as a record, the ship and the platform put at their initial state."""
     x0, R0, v0, w0 = state0
-    ship_dofs = mm.ship_dofs.astype(np.int64)
+    ship_dofs = np.concatenate([mm.ship_dofs, mm.carriage_dofs]).astype(np.int64)  # as the drive's joints
     data.qpos[ship_dofs] = drive.q_des[0]
     data.qvel[ship_dofs] = drive.qd_des[0]
     planar = scenario.robot.dofs == "planar"
@@ -352,7 +418,7 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
     return MujocoPlant(qpos=data.qpos, qvel=data.qvel, ctrl=data.ctrl, qfrc=data.qfrc_applied,
                        xfrc=data.xfrc_applied, ten_k=model.tendon_stiffness, ten_spring=model.tendon_lengthspring,
                        ten_c=model.tendon_damping, planar=planar, pq=pq, pd=pd, body=mm.platform_body,
-                       ship_dofs=ship_dofs, ship_err=np.zeros(1), x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3),
+                       ship_dofs=ship_dofs, ship_err=np.zeros(2), x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3),
                        w=np.empty(3), R_PO=np.empty((3, 3)), q=np.empty(4),
                        offset=np.ascontiguousarray(mm.tendon_offset))
 
@@ -369,7 +435,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, asm.held, n)
+    drive = _ship_drive(ship_h, asm.held, n, asm.carried_h, mm.carriage_coords)
     system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
@@ -396,4 +462,4 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
         return fb, bad
 
     fallbacks = _blocks(scenario, run, t, progress, loop)
-    return fallbacks, float(mj.ship_err[0])
+    return fallbacks, float(mj.ship_err[0]), float(mj.ship_err[1])

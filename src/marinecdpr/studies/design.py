@@ -1283,7 +1283,10 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     the ``executor`` (:class:`~marinecdpr.studies.executor.Executor`, default serial) as
     ``clean --seas`` does, as built (:func:`as_built`: the rope's weight
     and stretch, the winches' dynamics and limits) at the placement where the screen found
-    the seas hardest; the time-domain share and hours beside the screen's there.
+    the seas hardest; the time-domain share and hours beside the screen's there. With
+    ``[sea] verify = "boundary"`` only the seas about each column's boundary fly
+    (:func:`fly_boundary`). A finalist on a rail also flies a move of its frame along the rail
+    in the highest sea flown that works (:func:`fly_rail_move`).
 
     Parameters
     ----------
@@ -1340,9 +1343,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             failed = [r for r in cs.sea.results if not r.operable]
             n_flown = len(cells)
         rail_move = None
-        if e.x.get("relocation") == "rail" and td.any():  # the highest sea flown that works
-            hardest = max((j for j in (range(len(cells)) if not boundary else results) if td[j]),
-                          key=lambda j: (cells[j].hs, -j))
+        hardest = max((j for j in (results if boundary else range(len(cells))) if td[j]),
+                      key=lambda j: (cells[j].hs, -j), default=None)  # the highest sea flown that works
+        if e.x.get("relocation") == "rail" and hardest is not None:
             rail_move = fly_rail_move(spec, sc, e, cells[hardest])
         out.append(Verification(
             index=i, rank=rank, surface_hours=e.surface_hours, screen_share=screened.share, td_share=share,

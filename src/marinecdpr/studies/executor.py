@@ -375,6 +375,7 @@ class Session:
         from concurrent.futures import CancelledError
 
         from dask.distributed import as_completed
+        from distributed import KilledWorker
 
         todo, done = list(range(total)), 0
         for attempt in range(1, FORGOTTEN_RETRIES + 2):
@@ -388,6 +389,10 @@ class Session:
                 except CancelledError:  # the cluster forgot it (a worker or the client's link lost under load)
                     lost.append(k)
                     continue
+                except KilledWorker:  # every worker that took it died: one line, not Dask's traceback
+                    raise ExecutorError("workers", len(self.client.scheduler_info().get("workers", {})),
+                                        "the Dask workers died running a piece of work (out of memory, or killed): "
+                                        "fewer workers, or a less loaded machine") from None
                 done += 1
                 if each is not None:
                     each(k, results[k])

@@ -78,7 +78,11 @@ class RunFigures:
     ``max_abs_error_y_m`` and ``max_abs_error_{rx,ry,rz}_deg`` (None for a planar robot).
     ``controller_bypassed_share`` and ``controller_verdict`` (:func:`controller_verdict`) are
     None for a run without a controller; ``winch_limited_steps`` and ``winch_overspeed_steps``
-    None without motor winches. ``within_error_bound`` is False if a position or cable-length
+    None without motor winches. ``carriage_drive`` (a frame carried by a carriage with its
+    mass): the drive's largest force along the rail over the run, ``{"peak_N", "at_s",
+    "limit_N"}`` (the carriage part's record, :mod:`~marinecdpr.prototype.parts.carriage`),
+    and ``carriage_tracking_error`` (any carriage) the carriage's largest deviation from its
+    trajectory (m or rad; 0 on the own plant); else None. ``within_error_bound`` is False if a position or cable-length
     error passed :func:`error_bounds`' first value or the angle error its second;
     ``beyond_error_bound`` names the quantities that did, e.g. ``("x", "rz", "cable 3")``.
     """
@@ -105,6 +109,8 @@ class RunFigures:
     controller_verdict: str | None = None
     winch_limited_steps: int | None = None
     winch_overspeed_steps: int | None = None
+    carriage_drive: dict | None = None
+    carriage_tracking_error: float | None = None
 
     @property
     def largest_position_error_m(self) -> float:
@@ -143,6 +149,10 @@ class RunFigures:
             out["winch_limited_steps"] = self.winch_limited_steps
             out["winch_overspeed_steps"] = self.winch_overspeed_steps
         out["ship_tracking_error"] = self.ship_tracking_error
+        if self.carriage_tracking_error is not None:
+            out["carriage_tracking_error"] = self.carriage_tracking_error
+        if self.carriage_drive is not None:
+            out["carriage_drive"] = dict(self.carriage_drive)
         out["plant"] = self.plant
         out["within_error_bound"] = self.within_error_bound
         out["beyond_error_bound"] = list(self.beyond_error_bound)
@@ -182,6 +192,11 @@ def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     if scenario.simulation.cables.winch == "motor":
         f["winch_limited_steps"] = res.winch_limited_steps
         f["winch_overspeed_steps"] = res.winch_overspeed_steps
+    if scenario.ship.carriage is not None:
+        f["carriage_tracking_error"] = res.carriage_tracking_error
+    if res.carriage_drive is not None:
+        d = res.carriage_drive
+        f["carriage_drive"] = {"peak_N": d.peak_N, "at_s": d.peak_at_s, "limit_N": d.limit_N}
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     beyond = [name for name in ("x", "y", "z") if f.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
     if scenario.robot.dofs == "planar":
@@ -247,6 +262,9 @@ class PrototypeFigures:
         :func:`run_warnings`, and the plan's first close approach.
     interference : dict or None
         :meth:`~marinecdpr.planning.planner.Plan.interference_summary`.
+    runs_beyond_carriage_drive : tuple of str or None
+        A carriage with a drive limit: the runs whose drive had to give more than
+        ``ship.carriage.drive_force_max_N`` (:meth:`drive_verdict`); None without one.
     """
 
     scenario: str
@@ -270,6 +288,20 @@ class PrototypeFigures:
     winches: dict | None = None
     paper_reported: dict | None = None
     interference: dict | None = None
+    runs_beyond_carriage_drive: tuple[str, ...] | None = None
+
+    def drive_verdict(self) -> str | None:
+        """One line where a run's carriage drive had to give more than its limit (the run of
+        the largest force, and how many more), as ``plan`` says it of the plan; None otherwise."""
+        from marinecdpr.planning.carriage import DrivePeak
+
+        beyond = self.runs_beyond_carriage_drive
+        if not beyond:
+            return None
+        worst = max(beyond, key=lambda name: self.runs[name].carriage_drive["peak_N"])
+        d = self.runs[worst].carriage_drive
+        more = f" (and {len(beyond) - 1} more run{'s' if len(beyond) > 2 else ''})" if len(beyond) > 1 else ""
+        return f"{worst}{more}: " + DrivePeak(peak_N=d["peak_N"], at_s=d["at_s"], limit_N=d["limit_N"]).verdict()
 
     def to_json(self) -> dict:
         """``summary.json``'s content (each run's figures under its name)."""
@@ -301,6 +333,8 @@ class PrototypeFigures:
         out["warnings"] = list(self.warnings)
         if self.interference is not None:
             out["interference"] = self.interference
+        if self.runs_beyond_carriage_drive is not None:
+            out["runs_beyond_carriage_drive"] = list(self.runs_beyond_carriage_drive)
         return out
 
     @classmethod
@@ -316,7 +350,7 @@ class PrototypeFigures:
         rest = {k: v for k, v in data.items() if k not in runs}
         return cls(runs=runs, **_record_fields(cls, rest, "the main job's figures",
                                                tuples=("runs_beyond_error_bound", "runs_controller_bypassed",
-                                                       "warnings")))
+                                                       "warnings", "runs_beyond_carriage_drive")))
 
 
 def _record_fields(cls, data: dict, what: str, *, tuples: tuple[str, ...]) -> dict:
@@ -364,7 +398,17 @@ def prototype_figures(plan: Plan, results: dict[str, SimResult], scenario: Scena
         runs=runs,
         runs_beyond_error_bound=tuple(name for name, r in runs.items() if not r.within_error_bound),
         runs_controller_bypassed=tuple(name for name, r in runs.items() if r.controller_verdict == "bypassed"),
-        warnings=tuple(warnings), interference=close)
+        warnings=tuple(warnings), interference=close,
+        runs_beyond_carriage_drive=_beyond_drive(runs, scenario))
+
+
+def _beyond_drive(runs: dict, scenario: Scenario) -> tuple[str, ...] | None:
+    """The runs whose carriage drive passed its limit; None without a carriage's drive limit."""
+    c = scenario.ship.carriage
+    if c is None or c.drive_force_max_N is None or not any(r.carriage_drive for r in runs.values()):
+        return None
+    return tuple(name for name, r in runs.items()
+                 if r.carriage_drive is not None and r.carriage_drive["peak_N"] > c.drive_force_max_N)
 
 
 def summary(plan: Plan, results: dict[str, SimResult], scenario: Scenario, *,

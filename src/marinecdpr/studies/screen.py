@@ -477,6 +477,48 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) 
     return C0, C2
 
 
+GUST_STEP_M_S = 0.01
+"""The gust step of the central difference for the wrench per m/s of gust (the drag is
+quadratic in the wind: the difference is its derivative to rounding)."""
+
+
+def gust_covariance(scenario: Scenario, model: ScreenModel) -> tuple[np.ndarray, np.ndarray] | None:
+    """The wind gust's share of the wrench's covariance and its rate's at the model's poses,
+    (n_poses, 6, 6) each: G G^T sigma_u^2 and G G^T sigma_u'^2, with G (n_poses, 6) the
+    required wrench per m/s of gust (along the mean wind, the same at every height: the
+    wind's loads' central difference at +-:data:`GUST_STEP_M_S`) and the gust series'
+    moments (:func:`~marinecdpr.motion.wind.gust_moments`). The gust and the sea are
+    independent: their covariances add. None without a gust the plan does not hold
+    (no ``[wind]``, ``gust = "none"``, or ``plan_gust = "series"``: the plan holds the gust)."""
+    wind = scenario.wind
+    if wind is None or wind.gust == "none" or wind.plan_gust == "series":
+        return None
+    from marinecdpr.model.dynamics import wrench_terms
+    from marinecdpr.model.wind import wind_loads
+    from marinecdpr.motion.basemotion import frame_origin_of
+    from marinecdpr.motion.wind import gust_moments
+    from marinecdpr.scenario.wind import AIR_DENSITY_KG_M3
+
+    robot = scenario.robot
+    n_p = model.t.size
+    calm = _still_plus(np.zeros((n_p, 18)), scenario)
+    origin = frame_origin_of(scenario)
+    factor = 1.0 if wind.plan_gust == "mean" else float(wind.plan_gust)
+    w = []
+    for u in (GUST_STEP_M_S, -GUST_STEP_M_S):
+        f, m = wind_loads(wind, model.x_PC_C, model.twist, model.R_PC, calm, frame_origin_S=origin,
+                          frame_anchors=robot.frame_anchors, platform_anchors=robot.platform_anchors, gust=u,
+                          gust_factor=factor, rho=AIR_DENSITY_KG_M3)
+        w.append(wrench_terms(model.x_PC_C, model.twist, np.zeros((n_p, 6)), model.R_PC, calm, frame_origin_S=origin,
+                              mass=robot.mass_kg, I_PP=robot.inertia, gravity=scenario.environment.gravity_m_s2,
+                              f_ext_C=f, m_ext_C=m).total)
+    G = (w[0] - w[1]) / (2.0 * GUST_STEP_M_S)
+    var0, var2 = gust_moments(float(wind.speed_m_s), float(wind.gust_height_m), float(wind.record_s),
+                              float(wind.frequency_max_hz))
+    GG = G[:, :, None] * G[:, None, :]
+    return GG * var0, GG * var2
+
+
 def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | None = None,
                  exceedance: float = EXCEEDANCE, in_band_target_pct: float = 95.0) -> ScreenResult:
     """The screen's verdict on the scenario's job in each sea state.
@@ -500,6 +542,9 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         raise ScenarioError("the screen needs a sea-state base motion (its RAOs and spectrum)", key="base_motion.type")
     model = model if model is not None else screen_model(scenario)
     C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
+    gust = gust_covariance(scenario, model)
+    if gust is not None:  # the wind's gust beside the sea's response, in every sea state
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
     robot = scenario.robot
     c = list(model.controlled)
     k = len(c)

@@ -28,6 +28,7 @@ order  part (module)                       writes
                                            (catenary: the tension at the winch end)
 45     motor winch (``winches``)           L0 (held and drum)
 50     brush contact (``brush``)           f_ext, m_ext
+60     carriage drive (``carriage``)       nothing: its force along the rail, recorded
 90     log (``log``)                       the run's time series
 =====  ==================================  ==========================================
 
