@@ -49,7 +49,8 @@ def test_a_message_with_brackets_is_printed_as_written(monkeypatch):
     res = runner.invoke(cli.app, ["latency", "paper", "--calls", "10"])
     assert res.exit_code == 0, res.output
     assert "  quadprog: quadprog not installed (pip install 'marinecdpr[bench]')" in res.output.splitlines()
-    assert res.output.startswith("robot [v2]: 8 cables")
+    lines = [line for line in res.output.splitlines() if not line.startswith("compiling ")]  # a cold cache says so
+    assert lines[0].startswith("robot [v2]: 8 cables")
 
 
 def test_styled_prefixes_keep_the_message_literal(capsys):
