@@ -146,3 +146,81 @@ def test_the_frame_s_yaw_follows_the_rail_and_turns_smoothly_through_its_bends()
     for x in np.concatenate([a, b]):
         _, d1, d2 = frame_yaw(rail, np.array([x - 1e-9, x + 1e-9]))
         assert np.max(np.abs(d1)) < 1e-12 and np.max(np.abs(d2)) < 1e-6
+
+
+def _rail_scenario(yaw_deg=0.0, **carriage):
+    import marinecdpr
+
+    rail = {"rail_m": [[-0.78, 0.0, 2.2], [3.0, 0.0, 2.2], [6.0, 3.0, 2.2]], "corner_radius_m": 2.0,
+            "speed_max_m_s": 0.6, "accel_max_m_s2": 0.5, "jerk_max_m_s3": 2.0, "stations_m": [2.5, 4.0],
+            "dwell_s": 0.2} | carriage
+    paper = marinecdpr.load_scenario("paper")  # the paper's rolling, pitching, yawing ship
+    return paper.with_changes(ship={"carriage": rail, "frame_orientation_deg": [10.0, 0.0, yaw_deg]},
+                              time={"step_s": 0.001, "duration_s": 3.0})
+
+
+def test_a_carried_frame_s_motion_is_the_composition_its_euler_angles_derived_only_when_asked(monkeypatch):
+    """The models take C's rotation, angular velocity and acceleration as composed; the Euler
+    angles of R_OC and their rates (two batched solves, which took most of a carried plan's
+    time) are derived only when something asks for eta (MuJoCo's ship, the MRU), and give the
+    same motion back."""
+    import marinecdpr
+    from marinecdpr.motion.basemotion import evaluate_base_motion, frame_ship_motion
+    from marinecdpr.motion.carriage import carriage_motion
+
+    sc = _rail_scenario()
+    t = sc.time.step_s * np.arange(sc.time.n_steps)
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("the Euler rates were derived")
+
+    monkeypatch.setattr(np.linalg, "solve", no_solve)
+    m = frame_ship_motion(sc, t)
+    p = marinecdpr.plan(sc)  # needs no Euler angles of C
+    ship = evaluate_base_motion(sc.base_motion, t)
+    r, v, a, R_SC, w_CS, al_CS = carriage_motion(sc.ship, t)
+    assert np.max(np.abs(m.R_SO - ship.R_SO @ R_SC)) < 1e-15  # measured: 2.2e-16
+    w = np.einsum("nji,nj->ni", R_SC, ship.omega_SO_S) + w_CS
+    assert np.max(np.abs(m.omega_SO_S - w)) <= 1e-15 * np.max(np.abs(w))
+    assert p.feasible.all()
+    monkeypatch.undo()
+    back = ship_motion(m.eta, m.eta_dot, m.eta_ddot)  # as MuJoCo's ship is driven
+    assert np.max(np.abs(back.R_SO - m.R_SO)) < 1e-15
+    for got, want in ((back.omega_SO_S, m.omega_SO_S), (back.alpha_SO_S, m.alpha_SO_S)):
+        assert np.max(np.abs(got - want)) <= 1e-14 * np.max(np.abs(want))
+
+
+def test_a_chunk_of_a_carried_motion_takes_its_euler_angles_from_the_whole_series():
+    """Turning the frame through yaw = 180 deg on S: eta's yaw is unwrapped over the whole
+    series, and a chunk (as a long plan takes its pieces) asked for eta later gets the whole
+    series' rows, not angles unwrapped from its own start."""
+    from marinecdpr.motion.basemotion import frame_ship_motion
+
+    sc = _rail_scenario(170.0, stations_m=[2.9, 4.5], speed_max_m_s=1.0, accel_max_m_s2=1.0, jerk_max_m_s3=5.0)
+    t = sc.time.step_s * np.arange(sc.time.n_steps)
+    whole = frame_ship_motion(sc, t)
+    rows = slice(2000, None)
+    chunk = frame_ship_motion(sc, t).take(rows)  # a fresh motion: its eta not yet derived
+    assert whole.eta[0, 5] < np.pi - 0.1 and whole.eta[-1, 5] > np.pi + 0.5  # it does cross 180 deg
+    for got, want in ((chunk.eta, whole.eta), (chunk.eta_dot, whole.eta_dot), (chunk.eta_ddot, whole.eta_ddot)):
+        assert np.array_equal(got, want[rows])
+
+
+def test_the_kept_carriage_motion_is_its_own_carriage_s_and_read_only():
+    """C's motion on S is kept per carriage and time grid: the same again, another carriage's
+    or another grid's its own, and the kept arrays cannot be written."""
+    from marinecdpr.motion.carriage import carriage_motion, forget_carriage_motions
+
+    sc = _rail_scenario()
+    t = sc.time.step_s * np.arange(sc.time.n_steps)
+    first = carriage_motion(sc.ship, t)
+    forget_carriage_motions()
+    fresh = carriage_motion(sc.ship, t)
+    for other in (carriage_motion(_rail_scenario(stations_m=[2.5, 3.5]).ship, t), carriage_motion(sc.ship, t[:-1]),
+                  carriage_motion(_rail_scenario(dwell_s=0.3).ship, t)):
+        assert other[0].shape != first[0].shape or np.max(np.abs(other[0] - first[0])) > 0.01
+    again = carriage_motion(sc.ship, t)
+    for a, b, c in zip(first, again, fresh):
+        assert np.array_equal(a, b) and np.array_equal(a, c) and c is not a
+        with pytest.raises(ValueError, match="read-only"):
+            a[0] = 0.0

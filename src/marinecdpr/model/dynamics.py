@@ -136,9 +136,9 @@ def absolute_motion(
     xt = _time_last(x_PC)
     out = np.empty((5, 3, xt.shape[1]))
     ship_t = RB.ShipAt(_time_last(ship.R_SO), _time_last(ship.omega_SO_S), _time_last(ship.alpha_SO_S),
-                       _time_last(ship.eta_ddot)[:3])
-    RB.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.eta)[:3],
-                       _time_last(ship.eta_dot)[:3], ship_t, _const(frame_origin_S), out)  # eqs. (7)-(11)
+                       _time_last(ship.a_SO_O))
+    RB.absolute_series(xt, _time_last(twist), _time_last(twist_dot), _time_last(ship.x_SO_O),
+                       _time_last(ship.v_SO_O), ship_t, _const(frame_origin_S), out)  # eqs. (7)-(11)
     return AbsoluteMotion(*(out[p].T for p in range(5)))
 
 

@@ -28,9 +28,11 @@ drive gives).
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit
 
 from marinecdpr.motion.ship import ShipMotion, body_motion
 
@@ -38,14 +40,7 @@ if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
 __all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
-           "carriage_joints", "carriage_motion_and_joints"]
-
-
-def _rz(angle: np.ndarray) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    R = np.zeros(angle.shape + (3, 3))
-    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1], R[..., 2, 2] = c, -s, s, c, 1.0
-    return R
+           "carriage_joints", "carriage_motion_and_joints", "forget_carriage_motions", "CACHED_STEPS"]
 
 
 def frame_yaw(rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -68,17 +63,27 @@ def frame_yaw(rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     yaw, dyaw, ddyaw : ndarray, shape (n,)
         rad, rad/m, rad/m^2.
     """
-    s = np.asarray(s, dtype=float)
+    s = np.ascontiguousarray(s, dtype=float).ravel()
     a, b, psi_a, psi_b = rail.bends
-    yaw, dyaw, ddyaw = np.zeros(s.size), np.zeros(s.size), np.zeros(s.size)
-    for a_k, b_k, d_k in zip(a, b, psi_b - psi_a):  # one pass per bend, over every sample
-        w = b_k - a_k
-        x = np.clip((s - a_k) / w, 0.0, 1.0)
-        x2 = x * x
-        yaw += d_k * x2 * x * (10.0 + x * (6.0 * x - 15.0))
-        dyaw += d_k / w * 30.0 * x2 * (1.0 + x * (x - 2.0))
-        ddyaw += d_k / (w * w) * 60.0 * x * (1.0 + x * (2.0 * x - 3.0))
+    yaw, dyaw, ddyaw = np.empty(s.size), np.empty(s.size), np.empty(s.size)
+    _yaw_series(s, np.asarray(a, dtype=float), np.asarray(b, dtype=float), np.asarray(psi_b - psi_a, dtype=float),
+                yaw, dyaw, ddyaw)
     return yaw, dyaw, ddyaw
+
+
+@njit(cache=True)
+def _yaw_series(s, a, b, d, yaw, dyaw, ddyaw):
+    """:func:`frame_yaw`'s sums over the bends (from a to b, turning by d) at every sample."""
+    for j in range(s.size):
+        y = dy = ddy = 0.0
+        for k in range(a.size):
+            w = b[k] - a[k]
+            x = min(max((s[j] - a[k]) / w, 0.0), 1.0)
+            x2 = x * x
+            y += d[k] * x2 * x * (10.0 + x * (6.0 * x - 15.0))
+            dy += d[k] / w * 30.0 * x2 * (1.0 + x * (x - 2.0))
+            ddy += d[k] / (w * w) * 60.0 * x * (1.0 + x * (2.0 * x - 3.0))
+        yaw[j], dyaw[j], ddyaw[j] = y, dy, ddy
 
 
 def on_rail(points, yaw: tuple[np.ndarray, np.ndarray, np.ndarray], s_dot: np.ndarray, s_ddot: np.ndarray,
@@ -108,19 +113,39 @@ def on_rail(points, yaw: tuple[np.ndarray, np.ndarray, np.ndarray], s_dot: np.nd
     """
     s_dot = np.asarray(s_dot, dtype=float)
     s_ddot = np.asarray(s_ddot, dtype=float)
-    psi, dpsi, ddpsi = yaw
-    v = points.t * s_dot[:, None]
-    a = points.dt * (s_dot * s_dot)[:, None] + points.t * s_ddot[:, None]
-    R_SC = _rz(psi) @ R_SC0
-    z_C = R_SC[:, 2, :]  # rows: R_SC^T z, S's z in C
-    omega = z_C * (dpsi * s_dot)[:, None]
-    alpha = z_C * (ddpsi * s_dot * s_dot + dpsi * s_ddot)[:, None]
+    psi, dpsi, ddpsi = (np.asarray(y, dtype=float) for y in yaw)
+    n = s_dot.size
+    v, a, omega, alpha = (np.empty((n, 3)) for _ in range(4))
+    R_SC = np.empty((n, 3, 3))
+    _on_rail_series(np.asarray(points.t, dtype=float), np.asarray(points.dt, dtype=float), np.cos(psi), np.sin(psi),
+                    dpsi, ddpsi, s_dot, s_ddot, np.asarray(R_SC0, dtype=float), v, a, R_SC, omega, alpha)
     return points.r, v, a, R_SC, omega, alpha
+
+
+@njit(cache=True)
+def _on_rail_series(t, dt, c, sn, dpsi, ddpsi, s_dot, s_ddot, R0, v, a, R_SC, omega, alpha):
+    """:func:`on_rail`'s equations at every sample k (t, dt (n, 3) the rail's tangent and its
+    derivative along s; c, sn the cosine and sine of the yaw): v, a (n, 3), R_SC = Rz(psi)
+    R_SC0 (n, 3, 3), omega, alpha (n, 3). S's z in C, R_SC^T z, is R_SC0's third row (the yaw
+    turns about z)."""
+    for k in range(s_dot.size):
+        sd, sdd = s_dot[k], s_ddot[k]
+        wz = dpsi[k] * sd
+        az = ddpsi[k] * sd * sd + dpsi[k] * sdd
+        for i in range(3):
+            v[k, i] = t[k, i] * sd
+            a[k, i] = dt[k, i] * (sd * sd) + t[k, i] * sdd
+            R_SC[k, 0, i] = c[k] * R0[0, i] - sn[k] * R0[1, i]
+            R_SC[k, 1, i] = sn[k] * R0[0, i] + c[k] * R0[1, i]
+            R_SC[k, 2, i] = R0[2, i]
+            omega[k, i] = R0[2, i] * wz
+            alpha[k, i] = R0[2, i] * az
 
 
 def carried_motion(ship: ShipMotion, r_S: np.ndarray, v_S: np.ndarray, a_S: np.ndarray, R_SC: np.ndarray,
                    omega_CS_C: np.ndarray, alpha_CS_C: np.ndarray) -> ShipMotion:
-    """C's motion in O: the ship's motion composed with C's motion on the ship (the module's equations).
+    """C's motion in O: the ship's motion composed with C's motion on the ship (the module's
+    equations, :func:`_compose` over the samples).
 
     Parameters
     ----------
@@ -136,38 +161,74 @@ def carried_motion(ship: ShipMotion, r_S: np.ndarray, v_S: np.ndarray, a_S: np.n
     Returns
     -------
     ShipMotion
-        The motion of the body C (origin C's, axes C's) as the models take a ship's: its eta
-        is C's origin in O and the Euler angles of R_OC, with their exact derivatives.
+        The motion of the body C (origin C's, axes C's) as the models take a ship's
+        (:func:`~marinecdpr.motion.ship.body_motion`: its R_SO is R_OC, its eta C's origin in
+        O and the Euler angles of R_OC, with their exact derivatives). Its arrays are views
+        of time-last buffers, as :func:`~marinecdpr.motion.ship.ship_motion`'s.
     """
-    R_OS = ship.R_SO  # R_S^O
-    w, al = ship.omega_SO_S, ship.alpha_SO_S
-    x = ship.eta[:, :3] + np.einsum("nij,nj->ni", R_OS, r_S)
-    w_r = np.cross(w, r_S)
-    v = ship.eta_dot[:, :3] + np.einsum("nij,nj->ni", R_OS, w_r + v_S)
-    rel = np.cross(al, r_S) + np.cross(w, w_r) + 2.0 * np.cross(w, v_S) + a_S
-    a = ship.eta_ddot[:, :3] + np.einsum("nij,nj->ni", R_OS, rel)
-    R_OC = R_OS @ R_SC
-    w_C = np.einsum("nji,nj->ni", R_SC, w)  # R_SC^T omega
-    omega_C = w_C + omega_CS_C
-    alpha_C = np.einsum("nji,nj->ni", R_SC, al) + np.cross(w_C, omega_CS_C) + alpha_CS_C
-    return body_motion(x, v, a, R_OC, omega_C, alpha_C)
+    n = r_S.shape[0]
+    xt, vt, at, wt, alt = (np.empty((3, n)) for _ in range(5))
+    Rt = np.empty((3, 3, n))
+    f = np.asarray
+    _compose(f(ship.x_SO_O, dtype=float), f(ship.v_SO_O, dtype=float), f(ship.a_SO_O, dtype=float),
+             f(ship.R_SO, dtype=float), f(ship.omega_SO_S, dtype=float), f(ship.alpha_SO_S, dtype=float),
+             f(r_S, dtype=float), f(v_S, dtype=float), f(a_S, dtype=float), f(R_SC, dtype=float),
+             f(omega_CS_C, dtype=float), f(alpha_CS_C, dtype=float), xt, vt, at, Rt, wt, alt)
+    return body_motion(xt.T, vt.T, at.T, np.moveaxis(Rt, (0, 1), (-2, -1)), wt.T, alt.T)
+
+
+@njit(cache=True)
+def _compose(x0, v0, a0, R, w, al, r, v, a, Q, wq, aq, xt, vt, at, Rt, wt, alt):
+    """The module's composition at every sample k: the ship's x0, v0, a0 (n, 3) in O, R = R_OS
+    (n, 3, 3), w, al (n, 3) in S; C on S: r, v, a (n, 3) in S, Q = R_SC (n, 3, 3), wq, aq (n, 3)
+    in C. Written time-last: xt, vt, at (3, n) in O, Rt = R_OC (3, 3, n), wt, alt (3, n) in C."""
+    for k in range(r.shape[0]):
+        w0, w1, w2 = w[k, 0], w[k, 1], w[k, 2]
+        r0, r1, r2 = r[k, 0], r[k, 1], r[k, 2]
+        u0, u1, u2 = v[k, 0], v[k, 1], v[k, 2]
+        wr0, wr1, wr2 = w1 * r2 - w2 * r1, w2 * r0 - w0 * r2, w0 * r1 - w1 * r0  # omega x r
+        p0, p1, p2 = wr0 + u0, wr1 + u1, wr2 + u2  # omega x r + v
+        # alpha x r + omega x (omega x r) + 2 omega x v + a
+        q0 = (al[k, 1] * r2 - al[k, 2] * r1) + (w1 * wr2 - w2 * wr1) + 2.0 * (w1 * u2 - w2 * u1) + a[k, 0]
+        q1 = (al[k, 2] * r0 - al[k, 0] * r2) + (w2 * wr0 - w0 * wr2) + 2.0 * (w2 * u0 - w0 * u2) + a[k, 1]
+        q2 = (al[k, 0] * r1 - al[k, 1] * r0) + (w0 * wr1 - w1 * wr0) + 2.0 * (w0 * u1 - w1 * u0) + a[k, 2]
+        for i in range(3):
+            xt[i, k] = x0[k, i] + (R[k, i, 0] * r0 + R[k, i, 1] * r1 + R[k, i, 2] * r2)
+            vt[i, k] = v0[k, i] + (R[k, i, 0] * p0 + R[k, i, 1] * p1 + R[k, i, 2] * p2)
+            at[i, k] = a0[k, i] + (R[k, i, 0] * q0 + R[k, i, 1] * q1 + R[k, i, 2] * q2)
+            for j in range(3):
+                Rt[i, j, k] = R[k, i, 0] * Q[k, 0, j] + R[k, i, 1] * Q[k, 1, j] + R[k, i, 2] * Q[k, 2, j]
+        c0 = Q[k, 0, 0] * w0 + Q[k, 1, 0] * w1 + Q[k, 2, 0] * w2  # R_SC^T omega
+        c1 = Q[k, 0, 1] * w0 + Q[k, 1, 1] * w1 + Q[k, 2, 1] * w2
+        c2 = Q[k, 0, 2] * w0 + Q[k, 1, 2] * w1 + Q[k, 2, 2] * w2
+        o0, o1, o2 = wq[k, 0], wq[k, 1], wq[k, 2]
+        wt[0, k], wt[1, k], wt[2, k] = c0 + o0, c1 + o1, c2 + o2
+        cross = (c1 * o2 - c2 * o1, c2 * o0 - c0 * o2, c0 * o1 - c1 * o0)  # (R_SC^T omega) x omega_CS
+        for j in range(3):
+            alt[j, k] = (Q[k, 0, j] * al[k, 0] + Q[k, 1, j] * al[k, 1] + Q[k, 2, j] * al[k, 2]) + cross[j] + aq[k, j]
 
 
 def rail_of(ship) -> "Rail":
     """The rail of a scenario's ``[ship.carriage]``, checked (:func:`~marinecdpr.motion.rail.check_rail`);
-    a rail that cannot be built raises the ScenarioError naming the key."""
+    a rail that cannot be built raises the ScenarioError naming the key. Built once per rail
+    (its points, corner radius and stations; :class:`~marinecdpr.motion.rail.Rail` is immutable)."""
+    c = ship.carriage
+    return _rail(tuple(map(tuple, np.asarray(c.rail_m, dtype=float).tolist())), float(c.corner_radius_m),
+                 tuple(np.asarray(c.stations_m, dtype=float).ravel().tolist()))
+
+
+@lru_cache(maxsize=16)
+def _rail(points: tuple, corner_radius_m: float, stations: tuple) -> "Rail":
     from marinecdpr.errors import ScenarioError
     from marinecdpr.motion.rail import RailError, check_rail, check_stations
-
-    c = ship.carriage
 
     def where(e: RailError) -> str:  # the rail's own key as the scenario's
         key = (e.key or "rail_m").replace("points_S", "rail_m")
         return f"ship.carriage.{key}"
 
     try:
-        rail = check_rail(np.asarray(c.rail_m, dtype=float), c.corner_radius_m)
-        check_stations(rail, np.asarray(c.stations_m, dtype=float))
+        rail = check_rail(np.asarray(points, dtype=float), corner_radius_m)
+        check_stations(rail, np.asarray(stations, dtype=float))
     except RailError as e:
         raise ScenarioError(e.detail, key=where(e)) from None
     return rail
@@ -185,6 +246,13 @@ def carriage_motion(ship, t: np.ndarray
         With ``carriage`` set.
     t : ndarray, shape (n_steps,)
         Times, s (from 0).
+
+    Returns
+    -------
+    tuple of ndarray
+        :func:`on_rail`'s, read-only: kept for the last few time grids (of at most
+        :data:`CACHED_STEPS` times), since a run evaluates one grid for its plan, its plant,
+        its controller and its drive (:func:`forget_carriage_motions` drops them).
     """
     return _on_its_rail(ship, t)[1]
 
@@ -223,17 +291,62 @@ def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
     return np.einsum("nji,nj->ni", R_SC, points.t)  # R_SC^T t_S
 
 
+CACHED_STEPS = 1 << 17
+"""The longest time grid whose carriage motion is kept (:func:`carriage_motion`): about 35 MB at
+most for each of the 4 kept."""
+
+
 def _on_its_rail(ship, t: np.ndarray, *, with_yaw: bool = False):
     """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there (and
-    the frame's yaw from its start, rad, ``with_yaw``)."""
+    the frame's yaw from its start, rad, ``with_yaw``): read-only arrays, kept for the last
+    few grids of at most :data:`CACHED_STEPS` times, as a run evaluates the same grid for its
+    plan, its plant, its controller and its drive."""
+    t = np.asarray(t, dtype=float)
+    if t.size > CACHED_STEPS:
+        out = _evaluate_on_rail(ship, t)
+    else:
+        key = (ship.carriage.model_dump_json(), tuple(float(v) for v in ship.frame_orientation_deg), t.shape,
+               t.tobytes())
+        out = _kept_on_rail(_Keyed(key, ship, t))
+    return out if with_yaw else out[:2]
+
+
+def forget_carriage_motions() -> None:
+    """Drop the kept carriage motions (:func:`carriage_motion` evaluates afresh)."""
+    _kept_on_rail.cache_clear()
+
+
+class _Keyed:
+    """A carriage and a time grid, hashed and compared by ``key`` (for the cache)."""
+
+    __slots__ = ("key", "ship", "t")
+
+    def __init__(self, key, ship, t):
+        self.key, self.ship, self.t = key, ship, t
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, _Keyed) and self.key == other.key
+
+
+@lru_cache(maxsize=4)
+def _kept_on_rail(keyed: _Keyed):
+    points, rel, yaw = out = _evaluate_on_rail(keyed.ship, keyed.t)
+    for a in (points.r, points.t, points.dt, points.ddt, *rel, yaw):
+        a.flags.writeable = False
+    return out
+
+
+def _evaluate_on_rail(ship, t: np.ndarray):
     from marinecdpr.motion.rail import carriage_profile
     from marinecdpr.motion.ship import frame_axes
 
     c = ship.carriage
     rail = rail_of(ship)
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
-                                           c.accel_max_m_s2, c.jerk_max_m_s3, np.asarray(t, dtype=float))
-    points = rail.at(s)
+                                           c.accel_max_m_s2, c.jerk_max_m_s3, t)
+    points = rail.at(s, heading=False)
     yaw = frame_yaw(rail, s)
-    motion = on_rail(points, yaw, s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))
-    return (points, motion, yaw[0]) if with_yaw else (points, motion)
+    return points, on_rail(points, yaw, s_dot, s_ddot, frame_axes(ship.frame_orientation_deg)), yaw[0]

@@ -28,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.checks import check_finite, check_positive
@@ -122,7 +123,8 @@ class RailPoints:
     dheading : ndarray, shape (n,)
         ``dpsi/ds``, rad/m.
     ddheading : ndarray, shape (n,)
-        ``d2psi/ds2``, rad/m^2.
+        ``d2psi/ds2``, rad/m^2. (The three are None where :meth:`Rail.at` is asked without
+        the heading.)
     """
 
     r: np.ndarray
@@ -189,7 +191,7 @@ class Rail:
         arc = kappa > 0.0
         return s0[arc], ends[arc], psi0[arc], psi_end[arc]
 
-    def at(self, s) -> RailPoints:
+    def at(self, s, heading: bool = True) -> RailPoints:
         """The rail's geometry at arc lengths ``s``.
 
         Parameters
@@ -197,6 +199,9 @@ class Rail:
         s : array_like, shape (n,)
             Arc lengths from the first point, m, in ``[0, length_m]`` (values within 1e-9 m
             outside are clipped; others are refused with :class:`RailError` naming them).
+        heading : bool
+            False leaves out the heading and its derivatives (None), which a carriage's
+            motion on the rail does not take.
 
         Returns
         -------
@@ -209,20 +214,17 @@ class Rail:
         s = _on_rail(_vector(s, "s"), self._length, "arc lengths", "s")
         s0, a0, u, nrm, kappa, psi0 = self._pieces
         k = np.clip(np.searchsorted(s0, s, side="right") - 1, 0, s0.size - 1)
-        sigma = (s - s0[k])[:, None]
-        kap = kappa[k][:, None]
-        uk, nk = u[k], nrm[k]
-        arc = kap[:, 0] > 0.0
+        sigma = s - s0[k]
+        kap = kappa[k]
         phi = sigma * kap
-        c, sn = np.cos(phi), np.sin(phi)
-        # along: sin(k sigma)/k, across: (1 - cos(k sigma))/k; sigma and 0 on a straight piece
-        safe = np.where(arc[:, None], kap, 1.0)
-        along = np.where(arc[:, None], sn / safe, sigma)
-        across = np.where(arc[:, None], 2.0 * np.sin(0.5 * phi) ** 2 / safe, 0.0)
-        r = a0[k] + along * uk + across * nk
-        t = c * uk + sn * nk
-        dt = kap * (c * nk - sn * uk)
-        ddt = -kap * kap * t
+        r, t, dt, ddt = (np.empty((s.size, 3)) for _ in range(4))
+        c, sn, h = np.ones(s.size), np.zeros(s.size), np.zeros(s.size)  # on a straight piece phi = 0
+        arc = kap > 0.0
+        if arc.any():
+            c[arc], sn[arc], h[arc] = np.cos(phi[arc]), np.sin(phi[arc]), np.sin(0.5 * phi[arc])
+        _piece_series(k, sigma, kap, c, sn, h, a0, u, nrm, r, t, dt, ddt)
+        if not heading:
+            return RailPoints(r=r, t=t, dt=dt, ddt=ddt, heading=None, dheading=None, ddheading=None)
         # heading: exact on each piece, continued from the piece's unwrapped start value
         raw = np.arctan2(t[:, 1], t[:, 0])
         psi = psi0[k] + (raw - psi0[k] + np.pi) % (2.0 * np.pi) - np.pi
@@ -233,6 +235,28 @@ class Rail:
         dpsi = num / q
         ddpsi = (dnum * q - num * dq) / (q * q)
         return RailPoints(r=r, t=t, dt=dt, ddt=ddt, heading=psi, dheading=dpsi, ddheading=ddpsi)
+
+
+@njit(cache=True)
+def _piece_series(k, sigma, kap, c, sn, h, a0, u, nrm, r, t, dt, ddt):
+    """The rail's point at each sample j on its piece k[j], sigma[j] along it (curvature kap[j];
+    c, sn, h: cos, sin of kap sigma and sin of half of it): r, t, dt, ddt (n, 3) (the pieces'
+    a0, u, nrm as :meth:`Rail.at` reads them). On an arc the point is sin(k sigma)/k along
+    the start's tangent and (1 - cos(k sigma))/k = 2 sin^2(k sigma / 2)/k across towards the
+    centre; on a straight piece sigma along and 0 across."""
+    for j in range(k.size):
+        p, kj = k[j], kap[j]
+        if kj > 0.0:
+            along, across = sn[j] / kj, 2.0 * (h[j] * h[j]) / kj
+        else:
+            along, across = sigma[j], 0.0
+        for i in range(3):
+            ui, ni = u[p, i], nrm[p, i]
+            r[j, i] = a0[p, i] + along * ui + across * ni
+            ti = c[j] * ui + sn[j] * ni
+            t[j, i] = ti
+            dt[j, i] = kj * (c[j] * ni - sn[j] * ui)
+            ddt[j, i] = -kj * kj * ti
 
 
 def check_rail(points_S, corner_radius_m) -> Rail:

@@ -10,59 +10,81 @@ dynamics need.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property, partial
 
 import numpy as np
 
 from marinecdpr.geometry.rotations import euler_from_matrix, euler_kinematics
 
 __all__ = ["ShipMotion", "ship_motion", "still_ship", "frame_axes", "frame_origin_in_axes", "in_frame_axes",
-           "body_motion"]
+           "body_motion", "body_coordinates"]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ShipMotion:
     """The ship's motion over a time series (all arrays share ``n_steps``).
 
     Attributes
     ----------
-    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
-        ``(x, y, z, roll, pitch, yaw)`` of S in O (m, rad) and derivatives.
+    x_SO_O, v_SO_O, a_SO_O : ndarray, shape (n_steps, 3)
+        Position of S's origin in O, its velocity and acceleration, m, m/s, m/s^2.
     R_SO : ndarray, shape (n_steps, 3, 3)
         R_S^O: maps S-frame vectors to O.
     omega_SO_S : ndarray, shape (n_steps, 3)
         Ship angular velocity omega_SO expressed in S, rad/s.
     alpha_SO_S : ndarray, shape (n_steps, 3)
         Ship angular acceleration expressed in S, rad/s^2.
+    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
+        ``(x, y, z, roll, pitch, yaw)`` of S in O (m, rad) and derivatives (properties: a
+        body's motion, :func:`body_motion`, derives its Euler angles the first time they are
+        asked for).
     """
 
-    eta: np.ndarray
-    eta_dot: np.ndarray
-    eta_ddot: np.ndarray
+    x_SO_O: np.ndarray
+    v_SO_O: np.ndarray
+    a_SO_O: np.ndarray
     R_SO: np.ndarray
     omega_SO_S: np.ndarray
     alpha_SO_S: np.ndarray
+    # (eta, eta_dot, eta_ddot), or a function of no arguments that gives them
+    _coordinates: object = field(repr=False)
+
+    @cached_property
+    def _eta(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        c = self._coordinates
+        return c() if callable(c) else c
 
     @property
-    def x_SO_O(self) -> np.ndarray:
-        """Position of S's origin in O, shape (n_steps, 3), m."""
-        return self.eta[:, :3]
+    def eta(self) -> np.ndarray:
+        return self._eta[0]
 
     @property
-    def a_SO_O(self) -> np.ndarray:
-        """Acceleration of S's origin in O, shape (n_steps, 3), m/s^2."""
-        return self.eta_ddot[:, :3]
+    def eta_dot(self) -> np.ndarray:
+        return self._eta[1]
+
+    @property
+    def eta_ddot(self) -> np.ndarray:
+        return self._eta[2]
 
     def take(self, rows) -> "ShipMotion":
         """The motion at some of the samples: ``rows`` indexes the time axis (a slice, an
         integer array or a mask)."""
-        return ShipMotion(eta=self.eta[rows], eta_dot=self.eta_dot[rows], eta_ddot=self.eta_ddot[rows],
-                          R_SO=self.R_SO[rows],
-                          omega_SO_S=self.omega_SO_S[rows], alpha_SO_S=self.alpha_SO_S[rows])
+        c = self._coordinates
+        if callable(c) and "_eta" not in self.__dict__:  # still to be derived: from the whole series
+            c = partial(_rows_of, self, rows)
+        else:
+            c = tuple(e[rows] for e in self._eta)
+        return ShipMotion(self.x_SO_O[rows], self.v_SO_O[rows], self.a_SO_O[rows], self.R_SO[rows],
+                          self.omega_SO_S[rows], self.alpha_SO_S[rows], c)
 
     @property
     def is_still(self) -> bool:
         return not (np.any(self.eta) or np.any(self.eta_dot) or np.any(self.eta_ddot))
+
+
+def _rows_of(motion: ShipMotion, rows) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return tuple(e[rows] for e in motion._eta)
 
 
 def ship_motion(eta: np.ndarray, eta_dot: np.ndarray, eta_ddot: np.ndarray) -> ShipMotion:
@@ -82,7 +104,7 @@ def ship_motion(eta: np.ndarray, eta_dot: np.ndarray, eta_ddot: np.ndarray) -> S
     eta_dot = np.asarray(eta_dot, dtype=float)
     eta_ddot = np.asarray(eta_ddot, dtype=float)
     R, omega, alpha = euler_kinematics(eta[:, 3:], eta_dot[:, 3:], eta_ddot[:, 3:])
-    return ShipMotion(eta=eta, eta_dot=eta_dot, eta_ddot=eta_ddot, R_SO=R, omega_SO_S=omega, alpha_SO_S=alpha)
+    return ShipMotion(eta[:, :3], eta_dot[:, :3], eta_ddot[:, :3], R, omega, alpha, (eta, eta_dot, eta_ddot))
 
 
 def still_ship(n_steps: int) -> ShipMotion:
@@ -110,10 +132,9 @@ def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
 
     S' moves as S: its origin's position (eta's first three) is S's; R_S'O = R_SO R_SC; its
     angular velocity and acceleration in S' are R_SC^T times S's. eta' carries the Euler
-    angles of R_S'O (unwrapped over time) and their exact rates and accelerations (from
-    omega_b = E(angles) rates and alpha_b = E rates' + (dE/dt) rates), so that
-    :func:`ship_motion` of eta' gives back R_S'O, omega and alpha (a prescribed ship such as
-    MuJoCo's is driven by eta').
+    angles of R_S'O (:func:`body_coordinates`), and the motion's rotation, angular velocity
+    and acceleration are :func:`ship_motion`'s of eta' (as MuJoCo's ship, driven by eta',
+    has them).
 
     Parameters
     ----------
@@ -129,19 +150,17 @@ def in_frame_axes(ship: ShipMotion, R_SC: np.ndarray) -> ShipMotion:
     R_SC = np.asarray(R_SC, dtype=float)
     if np.array_equal(R_SC, np.eye(3)):
         return ship
-    return body_motion(ship.eta[:, :3], ship.eta_dot[:, :3], ship.eta_ddot[:, :3], ship.R_SO @ R_SC,
-                       ship.omega_SO_S @ R_SC, ship.alpha_SO_S @ R_SC)  # rows: (R_SC^T w)^T
+    return ship_motion(*body_coordinates(ship.x_SO_O, ship.v_SO_O, ship.a_SO_O, ship.R_SO @ R_SC,
+                                         ship.omega_SO_S @ R_SC, ship.alpha_SO_S @ R_SC))  # rows: (R_SC^T w)^T
 
 
 def body_motion(x_O: np.ndarray, v_O: np.ndarray, a_O: np.ndarray, R_BO: np.ndarray, omega_B: np.ndarray,
                 alpha_B: np.ndarray) -> ShipMotion:
     """A rigid body's motion as a :class:`ShipMotion` (the body in the ship's place), from its
-    origin's motion and its rotation, angular velocity and acceleration.
-
-    eta carries the Euler angles of R_BO (roll and yaw unwrapped over time) and their exact
-    rates and accelerations (from omega_b = E(angles) rates and alpha_b = E rates' + (dE/dt)
-    rates), so that :func:`ship_motion` of eta gives back R_BO, omega and alpha (a prescribed
-    body such as MuJoCo's ship is driven by eta).
+    origin's motion and its rotation, angular velocity and acceleration, which it keeps as
+    given; its ``eta`` (the Euler angles of R_BO and their rates, :func:`body_coordinates`)
+    is derived the first time it is asked for (a prescribed body such as MuJoCo's ship is
+    driven by it; the models take the rotation and its rates themselves).
 
     Parameters
     ----------
@@ -151,6 +170,24 @@ def body_motion(x_O: np.ndarray, v_O: np.ndarray, a_O: np.ndarray, R_BO: np.ndar
         R_B^O: the body's axes in O.
     omega_B, alpha_B : ndarray, shape (n_steps, 3)
         Its angular velocity (rad/s) and acceleration (rad/s^2) relative to O, in the body's axes.
+    """
+    return ShipMotion(x_O, v_O, a_O, R_BO, omega_B, alpha_B,
+                      partial(body_coordinates, x_O, v_O, a_O, R_BO, omega_B, alpha_B))
+
+
+def body_coordinates(x_O: np.ndarray, v_O: np.ndarray, a_O: np.ndarray, R_BO: np.ndarray, omega_B: np.ndarray,
+                     alpha_B: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A rigid body's generalised coordinates as a ship's, eta = (x, y, z, roll, pitch, yaw),
+    and their first two time derivatives (arguments as :func:`body_motion`'s).
+
+    The angles are the Euler angles of R_BO (roll and yaw unwrapped over time), their exact
+    rates and accelerations from omega_b = E(angles) rates and alpha_b = E rates' + (dE/dt)
+    rates, so that :func:`ship_motion` of eta gives back R_BO, omega and alpha.
+
+    Returns
+    -------
+    eta, eta_dot, eta_ddot : ndarray, shape (n_steps, 6)
+        m, rad and their rates.
     """
     angles = euler_from_matrix(R_BO)
     angles[:, [0, 2]] = np.unwrap(angles[:, [0, 2]], axis=0)  # roll and yaw continuous over time
@@ -167,4 +204,4 @@ def body_motion(x_O: np.ndarray, v_O: np.ndarray, a_O: np.ndarray, R_BO: np.ndar
     eta = np.concatenate([x_O, angles], axis=1)
     eta_dot = np.concatenate([v_O, rates], axis=1)
     eta_ddot = np.concatenate([a_O, accels], axis=1)
-    return ship_motion(eta, eta_dot, eta_ddot)
+    return eta, eta_dot, eta_ddot
