@@ -517,20 +517,14 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     r_S, R_SC = station_poses(ship, rail, s)
     # the rail on the band: each station's panel reaching its stations and its heights
     corners_S = r_S[:, None, :] + np.einsum("nij,kj->nki", R_SC[:, :, [0, 2]], panel)
-    x_lo, x_hi = corners_S[..., 0].min(axis=1), corners_S[..., 0].max(axis=1)
-    off = np.flatnonzero((x_hi <= X0) | (x_lo >= X1))
-    if off.size:
-        k = int(off[0])
-        raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
-                            f"spans stations {x_lo[k]:.4g} to {x_hi[k]:.4g} m in S, outside its stations_m "
-                            f"[{X0:g}, {X1:g}] m", key="ship.carriage.rail_m")
-    z_lo, z_hi = corners_S[..., 2].min(axis=1), corners_S[..., 2].max(axis=1)
-    off = np.flatnonzero((z_hi <= Z0) | (z_lo >= Z1))
-    if off.size:
-        k = int(off[0])
-        raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
-                            f"spans heights {z_lo[k]:.4g} to {z_hi[k]:.4g} m in S, outside its heights_m "
-                            f"[{Z0:g}, {Z1:g}] m", key="ship.carriage.rail_m")
+    for axis, (a, b), what, key in ((0, (X0, X1), "stations", "stations_m"), (2, (Z0, Z1), "heights", "heights_m")):
+        lo_k, hi_k = corners_S[..., axis].min(axis=1), corners_S[..., axis].max(axis=1)
+        off = np.flatnonzero((hi_k <= a) | (lo_k >= b))
+        if off.size:
+            k = int(off[0])
+            raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
+                                f"spans {what} {lo_k[k]:.4g} to {hi_k[k]:.4g} m in S, outside its {key} "
+                                f"[{a:g}, {b:g}] m", key="ship.carriage.rail_m")
     # each station: the plan with the frame standing there, the brush on the hull
     flown = scenario.with_updates("ship", carriage=None)
     n_y = float(cleaning.hull_normal[1])
