@@ -666,15 +666,13 @@ def rail_held_acceleration(sc: Scenario, rail, width_m: float, cells: list, orig
     at rest), the sea's extreme taken over one move of a frame's width at the rail's limits
     (:func:`~marinecdpr.studies.screen.held_acceleration`)."""
     from marinecdpr.motion.rail import scurve_move
-    from marinecdpr.motion.ship import frame_axes
+    from marinecdpr.studies.relocation import level_rail_S
     from marinecdpr.studies.screen import held_acceleration
 
-    x_S = frame_axes([float(v) for v in orientation_deg])[:, 0]
-    level = np.array([x_S[0], x_S[1], 0.0])
-    if np.linalg.norm(level) < 1e-6:  # no level rail along a frame standing on its side
+    level = level_rail_S(orientation_deg)
+    if level is None:  # no level rail along a frame standing on its side
         return float("-inf")
-    panel = np.asarray(sc.cleaning.panel_m, dtype=float)
-    hold = [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]
+    hold = rail_hold_C(sc)
     placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin_S],
                              frame_orientation_deg=[float(v) for v in orientation_deg])
     move_s = float(scurve_move(width_m, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s)
@@ -1236,6 +1234,13 @@ class RailMoveCheck:
     reason: str = ""
 
 
+def rail_hold_C(sc: Scenario) -> list[float]:
+    """Where the platform is held while the carriage moves the frame along its rail: the
+    cleaning panel's centre (its corners' mean) in C, m."""
+    panel = np.asarray(sc.cleaning.panel_m, dtype=float)
+    return [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]
+
+
 def fly_rail_move(spec: DesignSpec, sc: Scenario, e: "Evaluation", cell) -> RailMoveCheck:
     """Fly a rail finalist's move (:class:`RailMoveCheck`): ``sc`` its scenario as built
     (:func:`as_built`), ``cell`` the sea state."""
@@ -1250,8 +1255,7 @@ def fly_rail_move(spec: DesignSpec, sc: Scenario, e: "Evaluation", cell) -> Rail
 
     rail = candidate_rail(spec, e.x)
     distance = float(e.x["frame_width_m"])
-    panel = np.asarray(sc.cleaning.panel_m, dtype=float)
-    hold = [float(panel[:, 0].mean()), 0.0, float(panel[:, 1].mean())]
+    hold = rail_hold_C(sc)
     move = rail_move_scenario(sc, rail, distance, hold_C=hold, mass_kg=spec.relocation.frame_mass_kg)
     move = cell_scenario(move, cell, move.time.duration_s, move.time.step_s)
     nan = float("nan")

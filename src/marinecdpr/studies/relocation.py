@@ -36,7 +36,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.relocation import Crane, RailMoves, Relocation
 
 __all__ = ["Moves", "crane_move_s", "rail_move_s", "plan_yaw", "turn_radius_m", "visit_order", "stretches",
-           "plan_moves", "relocation_cost", "carriage_drive_kW", "RelocationCost", "NO_COST", "rail_move_scenario"]
+           "plan_moves", "relocation_cost", "carriage_drive_kW", "RelocationCost", "NO_COST", "rail_move_scenario", "level_rail_S"]
 
 _ROUND_M = 1e-6
 """Placements whose heights (rows) or stations (columns) agree to this, m, share a row or column."""
@@ -315,6 +315,17 @@ def relocation_cost(relocation: Relocation, moves: Moves, hours: float, band_len
     return RelocationCost(float(hire), float(rail), float(carriages))
 
 
+def level_rail_S(orientation_deg) -> np.ndarray | None:
+    """The direction in S of a rail along a frame turned by ``orientation_deg`` (``ship.
+    frame_orientation_deg``): its x axis laid level, (3,), not normalised; None where that
+    axis stands vertical (no level rail along it)."""
+    from marinecdpr.motion.ship import frame_axes
+
+    x_S = frame_axes([float(v) for v in orientation_deg])[:, 0]
+    level = np.array([x_S[0], x_S[1], 0.0])
+    return None if np.linalg.norm(level) < 1e-6 else level
+
+
 def rail_move_scenario(scenario, rail: RailMoves, distance_m: float, *, hold_C, mass_kg: float | None = None,
                        dwell_s: float = 2.0, tail_s: float = 5.0):
     """The scenario's frame carried ``distance_m`` along a straight rail from where it stands,
@@ -345,7 +356,6 @@ def rail_move_scenario(scenario, rail: RailMoves, distance_m: float, *, hold_C, 
     Scenario
     """
     from marinecdpr.motion.rail import scurve_move
-    from marinecdpr.motion.ship import frame_axes
     from marinecdpr.scenario.schema import validated_scenario
 
     if not np.isfinite(distance_m) or distance_m <= 0.0:
@@ -354,9 +364,8 @@ def rail_move_scenario(scenario, rail: RailMoves, distance_m: float, *, hold_C, 
     if ship.carriage is not None:
         raise ScenarioError("the frame is carried on a rail already", key="ship.carriage", source=scenario.name)
     origin = np.asarray(ship.frame_origin_m, dtype=float)
-    x_S = frame_axes(ship.frame_orientation_deg)[:, 0]
-    level = np.array([x_S[0], x_S[1], 0.0])
-    if np.linalg.norm(level) < 1e-6:
+    level = level_rail_S(ship.frame_orientation_deg)
+    if level is None:
         raise ScenarioError("the frame's x axis stands vertical: no level rail along it", key="ship.frame_orientation_deg",
                             source=scenario.name)
     level /= np.linalg.norm(level)
