@@ -4,7 +4,8 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
 
 ``ship``
     A very heavy rigid body (:data:`SHIP_MASS_KG`, isotropic inertia
-    :data:`SHIP_INERTIA_KG_M2`, gravity compensated) on six joints in the order
+    :data:`SHIP_INERTIA_KG_M2`, more with a carriage far from S's origin: :func:`ship_inertia`;
+    gravity compensated) on six joints in the order
     slide x, slide y, slide z, hinge z (yaw), hinge y (pitch), hinge x (roll): MuJoCo
     applies a body's joints in order, each about the axes left by the previous ones,
     so the ship's orientation is Rz(yaw) Ry(pitch) Rx(roll) = R_SO and its joint
@@ -55,7 +56,7 @@ from marinecdpr.motion.ship import frame_axes
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2", "CARRIAGE_MASS_KG",
-           "CARRIAGE_INERTIA_KG_M2", "CARRIAGE_JOINTS", "carriage_coordinates"]
+           "CARRIAGE_INERTIA_KG_M2", "CARRIAGE_JOINTS", "CARRIAGE_REACH_SHARE", "carriage_coordinates", "ship_inertia"]
 
 PULLEY_INLET_M = 0.05
 """How far back along its arrival direction a pulley cable's tendon starts, m."""
@@ -66,6 +67,9 @@ CARRIAGE_MASS_KG = SHIP_MASS_KG
 its trajectory (its servo's error ~ pull / (mass (2 pi 10 Hz)^2), 1e-8 m for 500 N); the
 drive's real force is the carriage part's record (:mod:`~marinecdpr.prototype.parts.carriage`)."""
 CARRIAGE_INERTIA_KG_M2 = SHIP_INERTIA_KG_M2
+CARRIAGE_REACH_SHARE = 0.1
+"""With a carriage, the ship's inertia is at least the carriage's mass at its farthest reach
+from S's origin over this share, squared (:func:`ship_inertia`)."""
 CARRIAGE_JOINTS = ("carriage_x", "carriage_y", "carriage_z", "carriage_yaw")
 INTEGRATORS = {"RK4": "RK4", "Euler": "Euler", "implicitfast": "implicitfast"}
 
@@ -100,6 +104,27 @@ class MujocoModel:
     """DOF addresses of the carriage's joints on the ship; empty without a carriage."""
     carriage_coords: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     """Which of the carriage's (x, y, z, yaw) on S (0..3) those joints are, in order."""
+    ship_inertia_kg_m2: float = SHIP_INERTIA_KG_M2
+    """The ship body's isotropic inertia (:func:`ship_inertia`), kg m^2."""
+
+
+def ship_inertia(scenario: Scenario) -> float:
+    """The ship body's isotropic inertia, kg m^2: :data:`SHIP_INERTIA_KG_M2`, or with a
+    carriage at least CARRIAGE_MASS_KG (r / CARRIAGE_REACH_SHARE)^2, r the rail's farthest
+    point from S's origin.
+
+    The ship's and the carriage's servos act on each joint as if it moved its own body alone;
+    a carriage of the ship's mass r from the ship's hinges adds M r^2 to what they turn, so
+    that a force on a carriage slide across r also turns the ship: the slide's effective mass
+    1 / (1/M_c + 1/M_s + r^2/I_s) falls to I_s / r^2 (1.4e4 kg at 85 m) and its stiff servo,
+    tuned for M_c, is unstable under RK4. With I_s >= M_c (r / 0.1)^2 that mass stays above
+    M_c / 2.01.
+    """
+    carriage = scenario.ship.carriage
+    if carriage is None:
+        return SHIP_INERTIA_KG_M2
+    reach = float(np.linalg.norm(np.asarray(carriage.rail_m, dtype=float), axis=1).max())
+    return max(SHIP_INERTIA_KG_M2, CARRIAGE_MASS_KG * (reach / CARRIAGE_REACH_SHARE) ** 2)
 
 
 def _v(x) -> str:
@@ -176,7 +201,7 @@ def build_xml(scenario: Scenario) -> str:
     frame_sites += "".join("\n" + x for x in pulleys)
     motors = "\n".join(f'    <motor name="T{i}" tendon="cable{i}" gear="-1"/>'
                        for i in range(1, r.n_cables + 1))
-    Ms, Is = SHIP_MASS_KG, SHIP_INERTIA_KG_M2
+    Ms, Is = SHIP_MASS_KG, ship_inertia(scenario)
     frame = f"""      <body name="frame" pos="{_v(frame_origin_of(scenario))}">
 {frame_sites}
         <body name="platform" pos="0 0 0">
@@ -297,4 +322,5 @@ def build_model(scenario: Scenario) -> MujocoModel:
     coords = carriage_coordinates(scenario)[0] if scenario.ship.carriage is not None else np.zeros(0, dtype=int)
     carriage = np.array([model.jnt_dofadr[jid(CARRIAGE_JOINTS[i])] for i in coords], dtype=int)
     return MujocoModel(model=model, xml=xml, ship_dofs=ship, platform_qpos=qpos, platform_dofs=dofs,
-                       platform_body=body, tendon_offset=offset, carriage_dofs=carriage, carriage_coords=coords)
+                       platform_body=body, tendon_offset=offset, carriage_dofs=carriage, carriage_coords=coords,
+                       ship_inertia_kg_m2=ship_inertia(scenario))

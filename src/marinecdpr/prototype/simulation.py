@@ -328,7 +328,7 @@ def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
 
 
 # ----------------------------------------------------------------------- MuJoCo plant
-def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=()) -> ShipDrive:
+def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=(), ship_inertia: float | None = None) -> ShipDrive:
     """Feed-forward forces that move the (gravity-compensated, isotropic) MuJoCo ship along
     eta, evaluated at mid-step; a servo acts on the error at the step's start. Loads in C
     are applied in O (a load given in P is turned at each exchange).
@@ -340,8 +340,12 @@ def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=()) -> ShipDr
     C's motion on S (:func:`~marinecdpr.motion.carriage.carriage_joints`): joints 6.. of the drive. The
     feed-forward is the two bodies' exact Newton-Euler forces (each isotropic, gravity
     compensated): the carriage's m a_OC and I alpha_C along its joints, and the ship's
-    joints carry them too (about the ship's hinges with the carriage's moment arm)."""
+    joints carry them too (about the ship's hinges with the carriage's moment arm).
+    ``ship_inertia``: the ship body's (:func:`~marinecdpr.prototype.mujoco_model.ship_inertia`),
+    kg m^2; default :data:`~marinecdpr.prototype.mujoco_model.SHIP_INERTIA_KG_M2`."""
     from marinecdpr.prototype.mujoco_model import SHIP_INERTIA_KG_M2, SHIP_MASS_KG
+
+    Is = SHIP_INERTIA_KG_M2 if ship_inertia is None else float(ship_inertia)
 
     frame_h = ship_h
     if carried is not None:  # the ship body moves as S; ship_h (C's motion) stays the loads' frame
@@ -356,9 +360,9 @@ def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=()) -> ShipDr
                      R_mid[:, :, 0]], axis=1)  # yaw, pitch, roll axes in O
     tau_ff = np.empty((n, 6))
     tau_ff[:, :3] = SHIP_MASS_KG * ship_h.a_SO_O[mid]
-    tau_ff[:, 3:] = SHIP_INERTIA_KG_M2 * np.einsum("nja,na->nj", axes, alpha_O)
+    tau_ff[:, 3:] = Is * np.einsum("nja,na->nj", axes, alpha_O)
     wn = 2.0 * np.pi * SHIP_SERVO_HZ
-    inertia = np.array([SHIP_MASS_KG] * 3 + [SHIP_INERTIA_KG_M2] * 3)
+    inertia = np.array([SHIP_MASS_KG] * 3 + [Is] * 3)
     q_des = np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm])
     qd_des = np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm])
     if carried is not None:
@@ -435,7 +439,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, asm.held, n, asm.carried_h, mm.carriage_coords)
+    drive = _ship_drive(ship_h, asm.held, n, asm.carried_h, mm.carriage_coords, mm.ship_inertia_kg_m2)
     system = asm.system
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
