@@ -45,7 +45,8 @@ from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajecto
 from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
-__all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety", "controller_parts", "controller_records", "plans", "stand_in_plans",
+__all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety",
+           "controller_parts", "controller_records", "plans", "stand_in_plans",
            "planned_brush_loads", "planned_wind_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
            "step_from_arrays", "step_entry_point"]
 
