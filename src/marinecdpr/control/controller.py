@@ -29,8 +29,8 @@ from numba.typed import List
 from marinecdpr.borrowed import borrowed_first
 from marinecdpr.compiled_cache import entry_point
 from marinecdpr.control.records import (
-    ENCODERS, POSE_SENSOR, PREDICTIONS, ControllerParts, Gains, Loads, Reference, RobotModel, empty_command,
-    empty_measurement, empty_work, unused_predictor,
+    ENCODERS, KINDS, MODES, POSE_SENSOR, PREDICTIONS, SENSORS, ControllerParts, Gains, Loads, Reference, RobotModel,
+    Safety, empty_command, empty_measurement, empty_safety, empty_work, unused_predictor,
 )
 from marinecdpr.control.step import control_step
 from marinecdpr.errors import InfeasibleError
@@ -43,9 +43,10 @@ from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
 from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
-from marinecdpr.scenario.schema import Scenario
+from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
-__all__ = ["Controller", "Plans", "BrushLoads", "controller_parts", "controller_records", "plans", "stand_in_plans",
+__all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety",
+           "controller_parts", "controller_records", "plans", "stand_in_plans",
            "planned_brush_loads", "planned_wind_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
            "step_from_arrays", "step_entry_point"]
 
@@ -242,6 +243,49 @@ def step_loads(loads_h: Loads, n: int) -> Loads:
                  in_P=loads_h.in_P)
 
 
+def safety(scenario: Scenario) -> Safety:
+    """The controller's fault detection (``[simulation.control.safety]``), nothing detected yet:
+    the delays in exchanges (at least one), the MRU's timeout past its own latency and
+    sampling period, the stop's damping 2 pi f, 1/s."""
+    sim, h = scenario.simulation, scenario.time.step_s
+    cfg, mru = sim.control.safety, sim.mru
+    rate = mru.rate_hz if mru.rate_hz is not None else MRU_UNITS[mru.unit][0]
+    period = h if rate is None else 1.0 / rate
+    robot = scenario.robot
+    return empty_safety(robot.n_cables, robot.tension_min, robot.tension_max, detect=cfg.detect,
+                        slack_fraction=cfg.slack_fraction, slack_steps=max(1, math.ceil(cfg.slack_delay_s / h - 1e-9)),
+                        jump_m=cfg.jump_m, frozen_m=cfg.frozen_m, disagree_m=cfg.disagree_m,
+                        disagree_steps=max(1, math.ceil(cfg.disagree_delay_s / h - 1e-9)),
+                        mru_timeout_s=cfg.mru_timeout_s + mru.latency_s + period, park=cfg.on_cable_loss == "park",
+                        stop_kd=2.0 * np.pi * cfg.stop_damping_hz)
+
+
+@dataclass(frozen=True)
+class Detection:
+    """One detection of the controller's watch: the step and its time (s), the kind
+    (:data:`~marinecdpr.control.records.KINDS`), the sensor (:data:`~marinecdpr.control.records.SENSORS`'
+    name, or "" for a cable's load cell against its command) and the cable (0-based; -1: none)."""
+
+    step: int
+    t: float
+    kind: str
+    sensor: str
+    cable: int
+
+
+def detections(s: Safety, step_s: float) -> list[Detection]:
+    """What the safety record ``s`` detected, in order."""
+    kinds = {v: n for n, v in KINDS.items()}
+    sensors = {v: n for n, v in SENSORS.items()}
+    return [Detection(step=int(e[0]), t=float(e[0] * step_s), kind=kinds[int(e[1])], sensor=sensors.get(int(e[2]), ""),
+                      cable=int(e[3])) for e in s.events[:int(s.n_events[0])]]
+
+
+def reaction(s: Safety) -> str:
+    """The controller's reaction now (:data:`~marinecdpr.control.records.MODES`' name)."""
+    return {v: n for n, v in MODES.items()}[int(s.mode[0])]
+
+
 def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool) -> ControllerParts:
     """The controller's records for the scenario flying the mid-step plan ``ff`` with the
     known ``loads`` at t_k."""
@@ -251,7 +295,8 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
     ref = reference(ff, sag=scenario.simulation.cables.model == "catenary")
     return ControllerParts(ref=ref, model=robot_model(scenario), gains=gains(scenario, closed=closed), loads=loads,
-                           meas=empty_measurement(m), cmd=empty_command(m), work=work, predictor=predictor(scenario))
+                           meas=empty_measurement(m), cmd=empty_command(m), work=work, predictor=predictor(scenario),
+                           safety=safety(scenario))
 
 
 def controller_records(scenario: Scenario, p: Plans, n: int, *, closed: bool) -> ControllerParts:
@@ -395,6 +440,17 @@ class Controller:
         return self._held
 
     @property
+    def detections(self) -> list[Detection]:
+        """What the controller's watch has detected so far (:class:`Detection`), in order."""
+        return detections(self.parts.safety, self.step_s)
+
+    @property
+    def reaction(self) -> str:
+        """The controller's reaction now: normal, go_on, park, stop or brake
+        (:data:`~marinecdpr.control.records.MODES`)."""
+        return reaction(self.parts.safety)
+
+    @property
     def command(self):
         """The last step's :class:`~marinecdpr.control.records.Command` (overwritten by the next)."""
         return self.parts.cmd
@@ -417,8 +473,9 @@ class Controller:
         R : ndarray, shape (3, 3)
             R_PC, the platform's orientation in C (with a pose sensor).
         lengths, length_rates, tensions : ndarray, shape (m,)
-            From the winches (``pose_from = "encoders"``): the unstretched lengths paid out
-            (m), their rates (m/s) and the cables' measured tensions (N).
+            From the winches (needed with ``pose_from = "encoders"``; with a pose sensor, what
+            the fault detection watches where given): the unstretched lengths paid out (m),
+            their rates (m/s) and the cables' measured tensions (N).
         t_pose, t_ship : float, optional
             The pose's and the ship sample's time stamps, s (default t: measured now; the
             encoders are read now).
@@ -430,19 +487,27 @@ class Controller:
             overwritten by the next step.
         """
         m = self._m
+        present = self.parts.safety.present
         if self._encoders:
             if lengths is None or length_rates is None or tensions is None:
                 raise ValueError("a controller with its pose from the encoders needs lengths, length_rates and "
                                  "tensions")
             x, R, v, w = self._z3, self._eye, self._z3, self._z3
-            lengths = _array(lengths, "lengths", (m,))
-            length_rates = _array(length_rates, "length_rates", (m,))
-            tensions = _array(tensions, "tensions", (m,))
+            present[0] = 0
         elif x is None or R is None or v is None or w is None:
             raise ValueError("a controller with a pose sensor needs x, R, v and w")
         else:
-            lengths = length_rates = tensions = self._zm
+            present[0] = 1
             x, R, v, w = _array(x, "x", (3,)), _array(R, "R", (3, 3)), _array(v, "v", (3,)), _array(w, "w", (3,))
+        # with a pose sensor the encoders and load cells are optional: the watch uses what is given
+        present[1] = tensions is not None
+        present[2] = lengths is not None and length_rates is not None
+        tensions = self._zm if tensions is None else _array(tensions, "tensions", (m,))
+        if present[2]:
+            lengths = _array(lengths, "lengths", (m,))
+            length_rates = _array(length_rates, "length_rates", (m,))
+        else:
+            lengths = length_rates = self._zm
         eta = _array(eta, "eta", (3, 6))
         k = int(round(t / self.step_s))
         if not 0 <= k < self.n_steps:

@@ -19,9 +19,10 @@ from marinecdpr.geometry.forward import ForwardWork, forward_work
 from marinecdpr.model.tension_solver import TensionWork, tension_work
 from marinecdpr.motion.prediction import Predictor
 
-__all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "ControllerParts",
-           "empty_measurement", "empty_command", "empty_work", "unused_predictor", "NoPredictor", "NoForwardWork",
-           "POSE_SENSOR", "ENCODERS", "PREDICTIONS"]
+__all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "Safety", "ControllerParts",
+           "empty_measurement", "empty_command", "empty_work", "empty_safety", "unused_predictor", "NoPredictor",
+           "NoForwardWork", "POSE_SENSOR", "ENCODERS", "PREDICTIONS", "SENSORS", "KINDS", "MODES", "RESIDUALS",
+           "MAX_EVENTS"]
 
 POSE_SENSOR = 0
 """``Gains.pose_from``: the platform's pose and twist come from a pose sensor."""
@@ -146,13 +147,15 @@ class Command(NamedTuple):
     for length-controlled winches, m. at_limit : (m,) int, -1 at the lower tension limit,
     +1 at the upper, 0 within. flags : (3,) int: 1 if the tension problem had no solution
     within limits (the plan's tensions were commanded), the number of cables at a limit,
-    1 if the pose from the encoders did not converge.
+    1 if the pose from the encoders did not converge. brake : (m,) int, 1 where the
+    controller asks a winch's brake to engage (its last resort, :class:`Safety`), else 0.
     """
 
     T_cmd: np.ndarray
     L0_cmd: np.ndarray
     at_limit: np.ndarray
     flags: np.ndarray
+    brake: np.ndarray
 
 
 class Work(NamedTuple):
@@ -189,7 +192,8 @@ class Work(NamedTuple):
 
 class ControllerParts(NamedTuple):
     """Everything a controller step reads and writes: the plan, the model, the gains, the
-    known loads, this exchange's measurement and command, and the working memory."""
+    known loads, this exchange's measurement and command, the working memory, and the fault
+    detection's settings and memory."""
 
     ref: Reference
     model: RobotModel
@@ -199,6 +203,7 @@ class ControllerParts(NamedTuple):
     cmd: Command
     work: Work
     predictor: Predictor
+    safety: Safety
 
 
 def empty_measurement(m: int) -> Measurement:
@@ -209,7 +214,103 @@ def empty_measurement(m: int) -> Measurement:
 
 def empty_command(m: int) -> Command:
     return Command(T_cmd=np.zeros(m), L0_cmd=np.zeros(m), at_limit=np.zeros(m, dtype=np.int64),
-                   flags=np.zeros(3, dtype=np.int64))
+                   flags=np.zeros(3, dtype=np.int64), brake=np.zeros(m, dtype=np.int64))
+
+
+SENSORS = {"pose": 0, "load_cell": 1, "encoder": 2, "mru": 3}
+"""A detection's sensor (the ``sensor`` column of :attr:`Safety.events`; -1: none, a cable)."""
+KINDS = {"cable_slack": 1, "non_finite": 2, "frozen": 3, "jump": 4, "disagree": 5, "dropout": 6}
+"""A detection's kind (the ``kind`` column of :attr:`Safety.events`): a cable's load cell far
+below its command for the stated time (slack or broken); a reading that is not a finite
+number; a reading unchanged while the plan moved; a reading that moved far beyond what the plan
+moves; the encoders and the pose sensor disagreeing on a cable's length for the stated time;
+the motion reference unit's samples stopping."""
+MODES = {"normal": 0, "go_on": 1, "park": 2, "stop": 3, "brake": 4}
+"""The controller's reaction (:attr:`Safety.mode`): nothing detected; a cable lost, its tension
+redistributed on the plan; holding the pose where the fault was detected; a stop (a wrench
+opposing the motion, to rest) where the remaining cables cannot hold the plan; the brakes,
+where even the stop has no tensions within limits."""
+RESIDUALS = ("slack", "jump", "frozen", "disagree", "mru_age")
+"""The watched residuals, each over its threshold (:attr:`Safety.peak`): a cable's 1 - T_meas /
+T_cmd over 1 - ``slack_fraction``; a reading's move beyond the plan's over ``jump_m``; the
+plan's move under an unchanged reading over ``frozen_m``; the encoders' and the pose
+sensor's length difference over ``disagree_m``; the MRU sample's age over ``mru_timeout_s``."""
+MAX_EVENTS = 16
+"""The most detections a controller records (:attr:`Safety.events`)."""
+
+
+class Safety(NamedTuple):
+    """The controller's fault detection and reaction (``[simulation.control.safety]``): its
+    settings, its memory, and what it detected.
+
+    Settings: detect (bool); slack_fraction (-) and slack_steps (int): a cable's load cell
+    below slack_fraction of its last command for slack_steps exchanges is a lost cable;
+    jump_m, frozen_m, disagree_m (m) and disagree_steps (int); mru_timeout_s (s); park
+    (bool): hold the pose after a cable loss even where the remaining cables hold the plan;
+    stop_kd (1/s): the stop's a = -stop_kd v.
+
+    State (m cables): present (4,) int, 1 where the caller measures that sensor this exchange
+    (:data:`SENSORS`; the prototype measures all four); count (2, m) int, the exchanges a
+    cable's load cell has read low and its length has disagreed; lost (m,) int, 1 where a cable
+    is lost; bad (4,) int, 1 where a sensor is faulty; mode (1,) int, a :data:`MODES` value;
+    since (1,) int, the step the reaction started; hold_x (3,), hold_R (3, 3): the pose the
+    controller holds (park, stop), in C; last_x (3,), last_L (m,): the previous exchange's
+    pose sensor's and encoders' readings; moved_x (1,), moved_L (m,): how far the plan moved
+    since each reading last changed, m; lo, hi (m,): the tension limits the step solves
+    within (a lost cable's both 0), N; events (MAX_EVENTS, 4) int: each detection's step, kind
+    (:data:`KINDS`), sensor (:data:`SENSORS`, -1 for a cable) and cable (-1 for none);
+    n_events (1,) int; peak (len(RESIDUALS),): each watched residual's largest ratio to its
+    threshold over the exchanges before the first detection (>= 1: it tripped).
+    """
+
+    detect: bool
+    slack_fraction: float
+    slack_steps: int
+    jump_m: float
+    frozen_m: float
+    disagree_m: float
+    disagree_steps: int
+    mru_timeout_s: float
+    park: bool
+    stop_kd: float
+    present: np.ndarray
+    count: np.ndarray
+    lost: np.ndarray
+    bad: np.ndarray
+    mode: np.ndarray
+    since: np.ndarray
+    hold_x: np.ndarray
+    hold_R: np.ndarray
+    last_x: np.ndarray
+    last_L: np.ndarray
+    moved_x: np.ndarray
+    moved_L: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    events: np.ndarray
+    n_events: np.ndarray
+    peak: np.ndarray
+    zero: np.ndarray  # (3,) zeros: the held pose's twist and acceleration
+    Ls: np.ndarray  # (m,) scratch: the cables' lengths at the held pose
+    Js: np.ndarray  # (m, 6) scratch
+
+
+def empty_safety(m: int, lo: np.ndarray, hi: np.ndarray, *, detect: bool = False, slack_fraction: float = 0.25,
+                 slack_steps: int = 20, jump_m: float = 0.05, frozen_m: float = 0.02, disagree_m: float = 0.05,
+                 disagree_steps: int = 20, mru_timeout_s: float = 0.5, park: bool = False,
+                 stop_kd: float = 4.0 * np.pi) -> Safety:
+    """A controller's safety record for m cables with tension limits lo, hi (m,), N, nothing
+    detected yet, every sensor present."""
+    return Safety(detect=bool(detect), slack_fraction=float(slack_fraction), slack_steps=int(slack_steps),
+                  jump_m=float(jump_m), frozen_m=float(frozen_m), disagree_m=float(disagree_m),
+                  disagree_steps=int(disagree_steps), mru_timeout_s=float(mru_timeout_s), park=bool(park),
+                  stop_kd=float(stop_kd), present=np.ones(4, dtype=np.int64), count=np.zeros((2, m), dtype=np.int64),
+                  lost=np.zeros(m, dtype=np.int64), bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
+                  since=np.full(1, -1, dtype=np.int64), hold_x=np.zeros(3), hold_R=np.eye(3),
+                  last_x=np.full(3, np.nan), last_L=np.full(m, np.nan), moved_x=np.zeros(1), moved_L=np.zeros(m),
+                  lo=np.array(lo, dtype=float), hi=np.array(hi, dtype=float),
+                  events=np.full((MAX_EVENTS, 4), -1, dtype=np.int64), n_events=np.zeros(1, dtype=np.int64),
+                  peak=np.zeros(len(RESIDUALS)), zero=np.zeros(3), Ls=np.zeros(m), Js=np.zeros((m, 6)))
 
 
 class NoPredictor(NamedTuple):

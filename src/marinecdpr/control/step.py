@@ -16,10 +16,19 @@ user's own loop. In order:
 4. the unstretched length a length-controlled winch pays out for that tension, and the
    lead on the winches' lag.
 
+Before that, in closed loop with ``[simulation.control.safety] detect``, :func:`watch`
+checks the measurements (a cable's load cell far below its command, a sensor's reading not
+finite, frozen or jumping, the encoders and the pose sensor disagreeing, the MRU dropping
+out); after a detection, :func:`react` commands instead, by what is left: the lost cable's
+tension redistributed, a parked pose, a stop, or the brakes (``cmd.brake``). Until a
+detection the commands are the same numbers as without the watch.
+
 No step allocates; every record is :mod:`marinecdpr.control.records`'.
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 from numba.extending import overload
@@ -36,7 +45,7 @@ from marinecdpr.model.tension_solver import tensions_step
 from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
 
-__all__ = ["control_step", "estimate_state", "pose_from_encoders", "cables_at", "mm3", "disturbance_C"]
+__all__ = ["control_step", "estimate_state", "pose_from_encoders", "cables_at", "mm3", "disturbance_C", "watch", "react"]
 
 _cache = True
 
@@ -204,26 +213,43 @@ def pose_from_encoders(meas, model, work, gains):
 
 
 @njit(cache=_cache, inline="always")
+def _computed_torque(gains, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, work):
+    """Computed torque on the error to the target (x_t, R_t, v_t, w_t, a_t, al_t) from the
+    estimated state (``work.x``, R, v, w): a = a_t + kd (v_t - v) + kp (x_t - x), the rotation
+    error in C; written to ``work.a_cmd``."""
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    E = work.m3[2]
+    mm3(R_t, R_m, E, True)
+    e0, e1, e2 = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
+    a_cmd, al_cmd = work.a_cmd[0], work.a_cmd[1]
+    for i in range(3):
+        a_cmd[i] = a_t[i] + kd * (v_t[i] - v_m[i]) + kp * (x_t[i] - x_m[i])
+        al_cmd[i] = (al_t[i] + kd * (w_t[i] - w_m[i])
+                     + kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
+
+
+@njit(cache=_cache, inline="always")
+def _required_wrench(k, model, loads, work, a_SO):
+    """The wrench (eq. 15, with the known loads at t_k) the commanded accelerations
+    ``work.a_cmd`` need at the estimated state, and the cables there: ``work.wrench``,
+    ``work.L``, ``work.J``."""
+    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
+    f_k, m_k = work.v3[2], work.v3[3]
+    disturbance_C(loads.f[k], loads.m[k], loads.in_P, R_m, f_k, m_k)
+    ship = ShipAt(work.R_SO, work.w_s, work.al_s, a_SO)
+    wrench_parts_step(x_m, v_m, work.a_cmd[0], R_m, w_m, work.a_cmd[1], ship, model, f_k, m_k, work.wrench_parts)
+    sum_wrench_parts(work.wrench_parts, work.wrench)
+    cables_at(x_m, R_m, model, work.L, work.J)
+
+
+@njit(cache=_cache, inline="always")
 def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predictor):
     """Computed torque on the mid-step reference, the wrench it needs (eq. 15) and the
     tension method: T_cmd. Returns 1 where the method has no solution within limits (then
     the plan's tensions are commanded)."""
     a_SO = estimate_state(k, h, meas, ref, work, gains.prediction, predictor)
-    x_m, R_m, v_m, w_m = work.x, work.R, work.v, work.w
-    E = work.m3[2]
-    mm3(ref.R[k], R_m, E, True)
-    e0, e1, e2 = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
-    a_cmd, al_cmd = work.a_cmd[0], work.a_cmd[1]
-    for i in range(3):
-        a_cmd[i] = ref.a[k, i] + gains.kd * (ref.v[k, i] - v_m[i]) + gains.kp * (ref.x[k, i] - x_m[i])
-        al_cmd[i] = (ref.al[k, i] + gains.kd * (ref.w[k, i] - w_m[i])
-                     + gains.kp * (e0 if i == 0 else (e1 if i == 1 else e2)))
-    f_k, m_k = work.v3[2], work.v3[3]
-    disturbance_C(loads.f[k], loads.m[k], loads.in_P, R_m, f_k, m_k)
-    ship = ShipAt(work.R_SO, work.w_s, work.al_s, a_SO)
-    wrench_parts_step(x_m, v_m, a_cmd, R_m, w_m, al_cmd, ship, model, f_k, m_k, work.wrench_parts)
-    sum_wrench_parts(work.wrench_parts, work.wrench)
-    cables_at(x_m, R_m, model, work.L, work.J)
+    _computed_torque(gains, gains.kp, gains.kd, ref.x[k], ref.R[k], ref.v[k], ref.w[k], ref.a[k], ref.al[k], work)
+    _required_wrench(k, model, loads, work, a_SO)
     # every method, exact for any redundancy, compiled (the planning layer's solvers)
     if tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
                        work.tension):
@@ -255,6 +281,279 @@ def _limits(model, cmd):
     return at
 
 
+# ------------------------------------------------------------ detection and reaction
+_POSE, _CELL, _ENCODER, _MRU = 0, 1, 2, 3  # records.SENSORS
+_SLACK, _NON_FINITE, _FROZEN, _JUMP, _DISAGREE, _DROPOUT = 1, 2, 3, 4, 5, 6  # records.KINDS
+_NORMAL, _GO_ON, _PARK, _STOP, _BRAKE = 0, 1, 2, 3, 4  # records.MODES
+
+
+@njit(cache=_cache, inline="always")
+def _detected(s, k, kind, sensor, cable):
+    """Record a detection (:attr:`~marinecdpr.control.records.Safety.events`)."""
+    n = s.n_events[0]
+    if n < s.events.shape[0]:
+        s.events[n, 0] = k
+        s.events[n, 1] = kind
+        s.events[n, 2] = sensor
+        s.events[n, 3] = cable
+        s.n_events[0] = n + 1
+
+
+@njit(cache=_cache, inline="always")
+def _residual(s, j, r):
+    """A watched residual's ratio r to its threshold, kept as the largest before any detection."""
+    if s.n_events[0] == 0 and r > s.peak[j]:
+        s.peak[j] = r
+
+
+@njit(cache=_cache, inline="always")
+def _finite(a):
+    for v in a.flat:
+        if not math.isfinite(v):
+            return False
+    return True
+
+
+@njit(cache=_cache)
+def watch(k, h, ref, model, gains, meas, cmd, work, s):
+    """Detection from what the controller measures at step k, before it commands.
+
+    A cable whose load cell reads below ``slack_fraction`` of its last commanded tension for
+    ``slack_steps`` exchanges is lost (slack or broken); a reading that is not finite, a pose
+    sensor's position or an encoder's length that jumps by more than ``jump_m`` beyond what
+    the plan moves in the exchange, or that reads the same while the plan moved ``frozen_m``,
+    marks its sensor faulty; with a pose sensor, a cable whose encoder length stretched by
+    its load cell's tension (less the plan's sag) differs from its length at the measured
+    pose by ``disagree_m`` for ``disagree_steps`` exchanges marks the encoders and the pose
+    sensor as disagreeing; the MRU's sample older than ``mru_timeout_s`` marks it dropped out.
+    Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
+    ratios to their thresholds before the first detection are kept in ``s.peak``. Returns the
+    number of new detections. Reads ``cmd.T_cmd`` as the last exchange's command; may
+    overwrite ``work.L`` and ``work.J``.
+    """
+    m = cmd.T_cmd.shape[0]
+    n0 = s.n_events[0]
+    held = s.mode[0] == _PARK or s.mode[0] == _STOP or s.mode[0] == _BRAKE  # the plan no longer moves
+    use_pose = gains.pose_from == 0 and s.present[_POSE] != 0
+    if use_pose and s.bad[_POSE] == 0:
+        if not (_finite(meas.x) and _finite(meas.R) and _finite(meas.v) and _finite(meas.w)):
+            s.bad[_POSE] = 1
+            _detected(s, k, _NON_FINITE, _POSE, -1)
+    if s.present[_CELL] != 0 and s.bad[_CELL] == 0:
+        for i in range(m):
+            if not math.isfinite(meas.T[i]):
+                s.bad[_CELL] = 1
+                _detected(s, k, _NON_FINITE, _CELL, i)
+                break
+    if s.present[_ENCODER] != 0 and s.bad[_ENCODER] == 0:
+        for i in range(m):
+            if not (math.isfinite(meas.L[i]) and math.isfinite(meas.Ldot[i])):
+                s.bad[_ENCODER] = 1
+                _detected(s, k, _NON_FINITE, _ENCODER, i)
+                break
+    if s.present[_MRU] != 0 and s.bad[_MRU] == 0:
+        if not (_finite(meas.eta) and math.isfinite(meas.clock[2])):
+            s.bad[_MRU] = 1
+            _detected(s, k, _NON_FINITE, _MRU, -1)
+        else:
+            r = (meas.clock[0] - meas.clock[2]) / s.mru_timeout_s
+            _residual(s, 4, r)
+            if r > 1.0:
+                s.bad[_MRU] = 1
+                _detected(s, k, _DROPOUT, _MRU, -1)
+    # a cable's load cell far below its command, for the stated time
+    if s.present[_CELL] != 0 and s.bad[_CELL] == 0:
+        for i in range(m):
+            Tc = cmd.T_cmd[i]
+            if s.lost[i] != 0 or not Tc > 0.0:
+                continue
+            _residual(s, 0, (1.0 - meas.T[i] / Tc) / (1.0 - s.slack_fraction))
+            if meas.T[i] < s.slack_fraction * Tc:
+                s.count[0, i] += 1
+                if s.count[0, i] >= s.slack_steps:
+                    s.lost[i] = 1
+                    s.lo[i] = 0.0
+                    s.hi[i] = 0.0
+                    _detected(s, k, _SLACK, -1, i)
+            else:
+                s.count[0, i] = 0
+    # the pose sensor: a jump beyond the plan's move, or frozen while the plan moves
+    if use_pose and s.bad[_POSE] == 0:
+        if math.isfinite(s.last_x[0]):
+            d, moved, same = 0.0, 0.0, True
+            for i in range(3):
+                dp = ref.x[k, i] - ref.x[k - 1, i] if (k > 0 and not held) else 0.0
+                d += (meas.x[i] - s.last_x[i] - dp) ** 2
+                moved += dp * dp
+                same = same and meas.x[i] == s.last_x[i]
+            d = math.sqrt(d)
+            _residual(s, 1, d / s.jump_m)
+            s.moved_x[0] = s.moved_x[0] + math.sqrt(moved) if same else 0.0
+            _residual(s, 2, s.moved_x[0] / s.frozen_m)
+            if d > s.jump_m:
+                s.bad[_POSE] = 1
+                _detected(s, k, _JUMP, _POSE, -1)
+            elif s.moved_x[0] > s.frozen_m:
+                s.bad[_POSE] = 1
+                _detected(s, k, _FROZEN, _POSE, -1)
+        for i in range(3):
+            s.last_x[i] = meas.x[i]
+    # the encoders: the same, cable by cable
+    if s.present[_ENCODER] != 0 and s.bad[_ENCODER] == 0:
+        for i in range(m):
+            if s.lost[i] != 0:
+                continue
+            if math.isfinite(s.last_L[i]):
+                dp = ref.L[k, i] - ref.L[k - 1, i] if (k > 0 and not held) else 0.0
+                d = abs(meas.L[i] - s.last_L[i] - dp)
+                _residual(s, 1, d / s.jump_m)
+                s.moved_L[i] = s.moved_L[i] + abs(dp) if meas.L[i] == s.last_L[i] else 0.0
+                _residual(s, 2, s.moved_L[i] / s.frozen_m)
+                if d > s.jump_m:
+                    s.bad[_ENCODER] = 1
+                    _detected(s, k, _JUMP, _ENCODER, i)
+                elif s.moved_L[i] > s.frozen_m:
+                    s.bad[_ENCODER] = 1
+                    _detected(s, k, _FROZEN, _ENCODER, i)
+            s.last_L[i] = meas.L[i]
+    # the encoders against the pose sensor
+    if (use_pose and s.present[_ENCODER] != 0 and s.present[_CELL] != 0 and s.bad[_POSE] == 0
+            and s.bad[_ENCODER] == 0 and s.bad[_CELL] == 0):
+        cables_at(meas.x, meas.R, model, work.L, work.J)
+        for i in range(m):
+            if s.lost[i] != 0:
+                continue
+            d = abs(stretched_length(meas.L[i] - ref.sag[k, i], meas.T[i], model.EA) - work.L[i])
+            _residual(s, 3, d / s.disagree_m)
+            if d > s.disagree_m:
+                s.count[1, i] += 1
+                if s.count[1, i] >= s.disagree_steps:
+                    s.bad[_ENCODER] = 1
+                    _detected(s, k, _DISAGREE, _ENCODER, i)
+                    break
+            else:
+                s.count[1, i] = 0
+    return s.n_events[0] - n0
+
+
+@njit(cache=_cache, inline="always")
+def _hold_here(k, ref, s):
+    """Hold the plan's pose at step k (where the platform is, within its tracking error)."""
+    for i in range(3):
+        s.hold_x[i] = ref.x[k, i]
+        for j in range(3):
+            s.hold_R[i, j] = ref.R[k, i, j]
+
+
+_SCALES = (1.0, 0.5, 0.25, 0.0)
+"""The shares of a reaction's feedback (or of the stop's deceleration) tried in turn, until
+the remaining cables have tensions within their limits for it."""
+
+
+@njit(cache=_cache, inline="always")
+def _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, work, predictor, s):
+    """The tensions of a reaction ``mode`` with ``scale`` times its feedback (go on, park) or
+    its deceleration (stop), within the safety record's limits (a lost cable's both 0, its row
+    of J~ zeroed), written to T_cmd; True if within them."""
+    blind = (s.bad[_POSE] != 0 and gains.pose_from == 0) or (s.bad[_ENCODER] != 0 and gains.pose_from == 1)
+    a_SO = estimate_state(k, h, meas, ref, work, 0 if s.bad[_MRU] != 0 else gains.prediction, predictor)
+    if blind:  # no pose to feed back: the held pose, at rest (feed-forward)
+        for i in range(3):
+            work.x[i] = s.hold_x[i]
+            work.v[i] = 0.0
+            work.w[i] = 0.0
+            for j in range(3):
+                work.R[i, j] = s.hold_R[i, j]
+    z = s.zero
+    if mode == _GO_ON:
+        _computed_torque(gains, scale * gains.kp, scale * gains.kd, ref.x[k], ref.R[k], ref.v[k], ref.w[k], ref.a[k],
+                         ref.al[k], work)
+    elif mode == _PARK:
+        _computed_torque(gains, scale * gains.kp, scale * gains.kd, s.hold_x, s.hold_R, z, z, z, z, work)
+    else:  # the stop: a wrench opposing the motion, to rest
+        _computed_torque(gains, 0.0, scale * s.stop_kd, work.x, work.R, z, z, z, z, work)
+    _required_wrench(k, model, loads, work, a_SO)
+    for i in range(cmd.T_cmd.shape[0]):
+        if s.lost[i] != 0:
+            for j in range(6):
+                work.J[i, j] = 0.0
+    return tensions_step(work.J, work.wrench, model.controlled, s.lo, s.hi, model.method, cmd.T_cmd, work.tension)
+
+
+@njit(cache=_cache, inline="always")
+def _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s):
+    """:func:`_reaction_tensions` at the first of :data:`_SCALES` with tensions within limits;
+    False where none has."""
+    for scale in _SCALES:
+        if _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, work, predictor, s):
+            return True
+    return False
+
+
+@njit(cache=_cache)
+def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
+    """The commands after a detection, by what is left (``s.mode``, escalated as needed).
+
+    A lost cable where the rest still hold the wrench within their limits: its tension
+    redistributed on the plan (go on) or, with ``park``, the pose held; a faulty sensor: the
+    pose held (fed forward from the held pose where the pose itself is lost; the MRU's last
+    sample as it is where it dropped out). Each with its full feedback, or where that has no
+    tensions within limits, half, a quarter or none of it (the plan's, or the held pose's,
+    feed-forward). Where the remaining cables have no tensions within limits even for that,
+    the stop: a = -stop_kd v (a wrench opposing the motion, to rest), or the largest share of
+    that deceleration (1, 1/2, 1/4, 0: held at its velocity) within limits; where not even
+    that, the brakes (``cmd.brake``), the remaining winches holding the plan's tensions within
+    their limits. Writes T_cmd, L0_cmd (the lengths at the held pose, or the plan's when going
+    on) and brake; returns 1 once the reaction is the brakes, else 0.
+    """
+    mode = s.mode[0]
+    if mode != _BRAKE and not _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s):
+        ok = False
+        if mode != _STOP:  # the stop, from where it is
+            mode = _STOP
+            s.mode[0] = mode
+            s.since[0] = k
+            for i in range(3):
+                s.hold_x[i] = work.x[i]
+                for j in range(3):
+                    s.hold_R[i, j] = work.R[i, j]
+            ok = _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s)
+        if not ok:
+            mode = _BRAKE
+            s.mode[0] = mode
+            s.since[0] = k
+    m = cmd.T_cmd.shape[0]
+    if mode == _BRAKE:
+        for i in range(m):
+            cmd.T_cmd[i] = min(max(ref.T[k, i], s.lo[i]), s.hi[i])
+            cmd.brake[i] = 1 - s.lost[i]
+    if mode == _GO_ON:
+        for i in range(m):
+            cmd.L0_cmd[i] = (unstretched_length(ref.L[k, i], cmd.T_cmd[i] - model.damping * ref.Ldot[k, i], model.EA)
+                             + ref.sag[k, i])
+    else:  # the lengths that hold the held pose (the stop's: where it began) at the commanded tensions
+        cables_at(s.hold_x, s.hold_R, model, s.Ls, s.Js)
+        for i in range(m):
+            cmd.L0_cmd[i] = unstretched_length(s.Ls[i], cmd.T_cmd[i], model.EA) + ref.sag[k, i]
+    return 1 if mode == _BRAKE else 0
+
+
+@njit(cache=_cache, inline="always")
+def _choose_reaction(k, ref, s):
+    """After a new detection: a lost cable goes on (or parks, with ``park``) until the rest
+    cannot hold the wrench; a faulty sensor parks; a stop or the brakes stay."""
+    mode = s.mode[0]
+    if mode == _STOP or mode == _BRAKE:
+        return
+    sensor = s.bad[_POSE] + s.bad[_CELL] + s.bad[_ENCODER] + s.bad[_MRU] > 0
+    new = _PARK if (sensor or s.park) else _GO_ON
+    if new != mode:
+        if new == _PARK:
+            _hold_here(k, ref, s)
+        s.mode[0] = new
+        s.since[0] = k
+
+
 @njit(cache=_cache)
 def control_step(k, h, held):
     """One controller step at t_k = k h: the measurement ``ctl.meas`` in, ``ctl.cmd`` out.
@@ -270,6 +569,17 @@ def control_step(k, h, held):
     meas, work = ctl.meas, ctl.work
     fallback = 0
     cmd.flags[2] = 0
+    safety = ctl.safety
+    if gains.closed and safety.detect:
+        if watch(k, h, ref, model, gains, meas, cmd, work, safety) > 0:
+            _choose_reaction(k, ref, safety)
+        if safety.mode[0] != _NORMAL:
+            if gains.pose_from == 1 and safety.bad[_ENCODER] == 0:
+                cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
+            fallback = react(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor, safety)
+            cmd.flags[0] = fallback
+            cmd.flags[1] = _limits(model, cmd)
+            return fallback
     if gains.closed:
         if gains.pose_from == 1:
             cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0

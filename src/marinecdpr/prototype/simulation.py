@@ -26,16 +26,17 @@ them over the step is second-order accurate.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
 
 from marinecdpr.compiled_cache import bound
 from marinecdpr.control.controller import (
-    controller_parts, known_loads, planned_brush_loads, planned_wind_loads, plans, stand_in_plans, step_loads,
+    controller_parts, detections, known_loads, planned_brush_loads, planned_wind_loads, plans, reaction,
+    stand_in_plans, step_loads,
 )
-from marinecdpr.control.records import Loads
+from marinecdpr.control.records import RESIDUALS, Loads
 from marinecdpr.motion.basemotion import carried_frame_motion, frame_ship_motion
 from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M
@@ -83,6 +84,15 @@ class SimResult:
     carriage_tracking_error : float
         A frame carried on a rail, on MuJoCo: the largest deviation of the carriage's joints
         (x, y, z on the ship, m; yaw, rad) from the carriage's trajectory (0 otherwise).
+    detections : tuple of Detection
+        What the closed loop's controller detected (``[simulation.control.safety]``;
+        :class:`~marinecdpr.control.controller.Detection`: step, time, kind, sensor, cable), in
+        order; empty without a fault.
+    reaction : str
+        The controller's reaction at the run's end: normal, go_on, park, stop or brake.
+    residual_peaks : dict
+        Each watched residual's largest ratio to its threshold before the first detection
+        (:data:`~marinecdpr.control.records.RESIDUALS`; >= 1 trips); empty where not watched.
     carriage_drive : DriveForce or None
         A carriage with its mass (``ship.carriage.mass_kg``): the force its drive gives along
         the rail at each step (:class:`~marinecdpr.planning.carriage.DriveForce`, from the
@@ -104,6 +114,9 @@ class SimResult:
     winch_overspeed_steps: int = 0
     carriage_tracking_error: float = 0.0
     carriage_drive: Any = None
+    detections: tuple = ()
+    reaction: str = "normal"
+    residual_peaks: dict = field(default_factory=dict)
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -194,6 +207,8 @@ def simulate(
     motor = asm.get("MotorWinch") or asm.get("CatenaryMotorWinch")
     limited = motor.limited if motor is not None else (0, 0)
     drive = asm.get("CarriageDrive")
+    watch = asm.ctl.safety
+    watched = run == "closed_loop" and watch.detect
     return SimResult(
         run=run, plant=plant, t=t, pose_planned=np.ascontiguousarray(ref.pose[:n]), pose=log.pose,
         lengths_planned=np.ascontiguousarray(ref.lengths[:n]), lengths=log.lengths,
@@ -202,6 +217,8 @@ def simulate(
         winch_overspeed_steps=int(limited[1]), carriage_tracking_error=carriage_error,
         carriage_drive=None if drive is None else DriveForce(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
+        detections=tuple(detections(watch, h)), reaction=reaction(watch),
+        residual_peaks={name: float(v) for name, v in zip(RESIDUALS, watch.peak)} if watched else {},
     )
 
 
@@ -216,7 +233,9 @@ class Prototype(builder.Assembly):
     gust series); ``held``, what MuJoCo's ship drive holds over each step (the loads at t_k;
     with ``[wind]``, the wind's at mid-step); for a frame on a carriage, ``carried_h``, the
     pieces of ``ship_h`` (:class:`~marinecdpr.motion.basemotion.CarriedFrame`: the ship's own
-    motion and the carriage's joints), else None."""
+    motion and the carriage's joints), else None; ``ctl``, the controller's records
+    (:class:`~marinecdpr.control.records.ControllerParts`; what its watch detected is in
+    their ``safety``)."""
 
     ship_h: Any
     ref: Plan
@@ -225,6 +244,7 @@ class Prototype(builder.Assembly):
     known: Loads
     held: Loads
     carried_h: Any = None
+    ctl: Any = None
 
 
 def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = None, include=None,
@@ -264,7 +284,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
     return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
-                     known=loads, held=held, carried_h=carried)
+                     known=loads, held=held, carried_h=carried, ctl=ctl)
 
 
 def _held_with_wind(calm_h: Loads, loads_h: Loads, n: int) -> Loads:

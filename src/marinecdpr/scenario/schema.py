@@ -461,11 +461,48 @@ class Camera(_Model):
     """Seed of the camera's noise (its own stream: the other sensors' noise is unchanged)."""
 
 
+class Safety(_Model):
+    """What the closed-loop controller watches for in its own measurements, and how it reacts
+    (``[simulation.control.safety]``; :mod:`marinecdpr.control.step`). Each detection names the
+    step, its kind and the cable or sensor; with ``detect = false``, or no fault, a run is
+    what it was without them."""
+
+    detect: bool = True
+    """Watch the measurements (closed loop only)."""
+    slack_fraction: _ranged(0.0, 1.0, "", "a share of the commanded tension", above=True) = 0.25
+    """A cable is slack or broken where its load cell reads below this share of the tension
+    last commanded for it ..."""
+    slack_delay_s: _ranged(0.0, 10.0, "s", "a detection's delay, not a minute") = 0.02
+    """... for this long, s."""
+    jump_m: _ranged(0.0, 10.0, "m", "a sensor's step, not a distance across the frame", above=True) = 0.05
+    """A pose sensor's position (or an encoder's length) that moves in one exchange by this
+    much more than the plan's velocity moves it has jumped, m."""
+    frozen_m: _ranged(0.0, 10.0, "m", "a motion along the plan", above=True) = 0.02
+    """A pose sensor's position (or an encoder's length) that reads the same while the plan
+    has moved by this much is frozen, m."""
+    disagree_m: _ranged(0.0, 10.0, "m", "a length error, not a cable", above=True) = 0.05
+    """With a pose sensor, a cable whose encoder length (stretched by its load cell's tension)
+    differs from its length at the measured pose by this much ..."""
+    disagree_delay_s: _ranged(0.0, 10.0, "s", "a detection's delay, not a minute") = 0.02
+    """... for this long: the encoders and the pose sensor disagree, s."""
+    mru_timeout_s: _ranged(0.0, 60.0, "s", "a sample's age, not a sea's period", above=True) = 0.5
+    """The motion reference unit has dropped out when its last sample is older than this, s."""
+    on_cable_loss: Literal["go_on", "park"] = "go_on"
+    """Where the remaining cables still hold the wrench within their limits: go on along the
+    plan with the lost cable's tension redistributed (go_on), or hold the pose where the loss
+    was detected (park). Where they cannot, the controller stops (a wrench opposing the motion,
+    to rest) and, where even that has no tensions within limits, commands the brakes."""
+    stop_damping_hz: _ranged(1e-3, 1000.0, "Hz", "from a drifting stop to beyond any winch") = 2.0
+    """The stop's deceleration: a = -2 pi f v on the platform's velocity."""
+
+
 class Control(_Model):
     """Closed-loop computed-torque gains: a critically damped second-order error by default."""
 
     bandwidth_hz: _ranged(1e-3, 1000.0, "Hz", "from a drifting loop to beyond any winch") = 5.0
     damping_ratio: _ranged(0.01, 10.0, "", "from barely damped to heavily overdamped") = 1.0
+    safety: Safety = Safety()
+    """Fault detection and reaction (``[simulation.control.safety]``)."""
 
 
 class Simulation(_Model):

@@ -82,7 +82,11 @@ class RunFigures:
     mass): the drive's largest force along the rail over the run, ``{"peak_N", "at_s",
     "limit_N"}`` (the carriage part's record, :mod:`~marinecdpr.prototype.parts.carriage`),
     and ``carriage_tracking_error`` (any carriage) the carriage's largest deviation from its
-    trajectory (m or rad; 0 on the own plant); else None. ``within_error_bound`` is False if a position or cable-length
+    trajectory (m or rad; 0 on the own plant); else None. ``detections`` (a closed loop whose
+    controller detected a fault, ``[simulation.control.safety]``): each detection's ``step``,
+    ``t_s``, ``kind``, ``sensor`` and ``cable`` (1-based; 0: none), and ``reaction`` the
+    controller's reaction at the end; else None (and not in ``summary.json``).
+    ``within_error_bound`` is False if a position or cable-length
     error passed :func:`error_bounds`' first value or the angle error its second;
     ``beyond_error_bound`` names the quantities that did, e.g. ``("x", "rz", "cable 3")``.
     """
@@ -111,6 +115,8 @@ class RunFigures:
     winch_overspeed_steps: int | None = None
     carriage_drive: dict | None = None
     carriage_tracking_error: float | None = None
+    detections: tuple[dict, ...] | None = None
+    reaction: str | None = None
 
     @property
     def largest_position_error_m(self) -> float:
@@ -153,6 +159,9 @@ class RunFigures:
             out["carriage_tracking_error"] = self.carriage_tracking_error
         if self.carriage_drive is not None:
             out["carriage_drive"] = dict(self.carriage_drive)
+        if self.detections:
+            out["detections"] = [dict(d) for d in self.detections]
+            out["reaction"] = self.reaction
         out["plant"] = self.plant
         out["within_error_bound"] = self.within_error_bound
         out["beyond_error_bound"] = list(self.beyond_error_bound)
@@ -168,7 +177,7 @@ class RunFigures:
             A key that is not a run's figure, or a figure missing.
         """
         return cls(**_record_fields(cls, data, "a run's figures",
-                                    tuples=("max_abs_cable_length_error_m", "beyond_error_bound")))
+                                    tuples=("max_abs_cable_length_error_m", "beyond_error_bound", "detections")))
 
 
 def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None = None) -> RunFigures:
@@ -197,6 +206,10 @@ def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     if res.carriage_drive is not None:
         d = res.carriage_drive
         f["carriage_drive"] = {"peak_N": d.peak_N, "at_s": d.peak_at_s, "limit_N": d.limit_N}
+    if res.detections:
+        f["detections"] = tuple({"step": d.step, "t_s": d.t, "kind": d.kind, "sensor": d.sensor, "cable": d.cable + 1}
+                                for d in res.detections)
+        f["reaction"] = res.reaction
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     beyond = [name for name in ("x", "y", "z") if f.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
     if scenario.robot.dofs == "planar":
