@@ -89,10 +89,15 @@ def objective_label(spec) -> str:
     """The second objective as an axis or column label, with its unit."""
     if spec.objective == "power":
         return "installed winch power (kW)"
+    from marinecdpr.scenario.design import PATTERN_CABLES
+
     unit = spec.cost_unit or "the catalogue's units"
+    counts = sorted({PATTERN_CABLES[p] for p in spec.choices("pattern")})
+    gear = (f"{counts[0]} winches and {counts[0]} ropes" if len(counts) == 1
+            else f"{', '.join(str(n) for n in counts[:-1])} or {counts[-1]} winches and ropes (one a cable)")
     if spec.relocates:
-        return f"cost of each robot's 4 winches and 4 ropes, and of the moves ({unit})"
-    return f"cost of 4 winches and 4 ropes ({unit})"
+        return f"cost of each robot's {gear}, and of the moves ({unit})"
+    return f"cost of {gear} ({unit})"
 
 
 def _finite(v):

@@ -1,12 +1,14 @@
 """The design study's file (``marinecdpr design SPEC.toml``): the surface, the ship and its
 seas, the targets, the design variables and the catalogues of winches and ropes.
 
-A study designs a planar four-cable robot like the paper's (frame anchors at the corners
-of a W x H frame in the hull's plane, platform anchors at the corners of a w x h platform,
-cables uncrossed or crossed) for the ``[cleaning.surface]`` of a template scenario, which also gives
+A study designs a planar cable robot like the paper's (frame anchors at the corners of a
+W x H frame in the hull's plane, platform anchors at the corners of a w x h platform, four
+cables uncrossed or crossed; or five or six, with one or two more from the frame's sides'
+middles: :data:`PATTERNS`) for the ``[cleaning.surface]`` of a template scenario, which also gives
 the ship (its RAOs and sea-state base motion), the tool's contact (brush, friction, normal
 force band) and the frame's place in S. Each variable is a number (held) or ``[lo, hi]``
-(searched); the winch and the rope are chosen from the catalogues by name.
+(searched); the winch and the rope are chosen from the catalogues by name. ``[constraints]``
+adds optional constraints (:class:`Constraints`: every single cable's failure survived).
 """
 
 from __future__ import annotations
@@ -14,13 +16,14 @@ from __future__ import annotations
 import re
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, Field, StrictInt, StrictStr, model_validator
+from pydantic import AfterValidator, Field, StrictBool, StrictInt, StrictStr, model_validator
 
 from marinecdpr.scenario.cleaning import StandOffTolerance
 from marinecdpr.scenario.fields import _KeyedError, _Model, _num, _ranged
 from marinecdpr.scenario.relocation import ROBOTS_MAX, Relocation
 
-__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "CONTINUOUS", "PATTERNS", "POPULATION", "GENERATIONS",
+__all__ = ["DesignSpec", "Winch", "Rope", "Variables", "Constraints", "CONTINUOUS", "PATTERNS", "PATTERN_CABLES",
+           "FAILURE_HOLD_S", "POPULATION", "GENERATIONS",
            "SEED_MAX", "STUDY_NAME", "safe_stem", "RAIL_VARIABLES",
            "WINCH_INERTIA_PER_TORQUE"]
 
@@ -59,12 +62,31 @@ def _bound(lo: float, hi: float, unit: str, why: str, *, above: bool = False) ->
     return Annotated[one | tuple[one, one], AfterValidator(ordered)]
 
 
-PATTERNS = ("uncrossed", "crossed")
-"""The four cables' patterns. ``uncrossed``: each frame corner's cable to the platform's
-same corner (the paper's). ``crossed``: the upper frame corners' cables to the platform's
-opposite upper corners, the lower ones' to its opposite lower corners; the two cables of
-each crossing pair run in two planes ``limits.layer_m`` apart (y = +-layer / 2 at both
-ends), so that they pass each other."""
+PATTERNS = ("uncrossed", "crossed", "five_top", "six_top_bottom", "six_sides", "six_double_top", "eight_double")
+"""The cable patterns (their cable counts: :data:`PATTERN_CABLES`). Four cables:
+``uncrossed``, each frame corner's cable to the platform's same corner (the paper's);
+``crossed``, the upper frame corners' cables to the platform's opposite upper corners, the
+lower ones' to its opposite lower corners, the two cables of each crossing pair in two planes
+``limits.layer_m`` apart (y = +-layer / 2 at both ends), so that they pass each other.
+Five and six: the four corners uncrossed and one or two cables more from the middle of a
+frame side to the middle of the platform's same side: ``five_top`` the top side's (cable 5);
+``six_top_bottom`` the top's and the bottom's (cables 5, 6); ``six_sides`` the aft side's
+and the fore side's (cables 5, 6), halfway up the frame. ``six_double_top``: the four corners
+uncrossed and the two upper ones doubled, cables 5 and 6 from the frame's upper aft and fore
+corners to the platform's same corners beside cables 1 and 2, each pair in two planes
+``limits.layer_m`` apart (1 and 2 in y = +layer / 2, 5 and 6 in y = -layer / 2): on a frame
+standing up the hull the upper cables carry the weight, and at the panel's fore (aft) end only
+the upper fore (aft) corner pulls the platform up and towards that end, so that a cable lost
+there leaves the platform unheld unless it is doubled. ``eight_double``: every corner doubled
+(cables 1 to 4 in y = +layer / 2, 5 to 8 beside them in y = -layer / 2), still planar: the
+lower corners' cables hold the platform's turn at the panel's far corners, where a lost lower
+cable leaves it unbalanced."""
+PATTERN_CABLES = {"uncrossed": 4, "crossed": 4, "five_top": 5, "six_top_bottom": 6, "six_sides": 6,
+                  "six_double_top": 6, "eight_double": 8}
+"""Each pattern's number of cables (and winches)."""
+FAILURE_HOLD_S = 600.0
+"""``[constraints] failure_hold_s``'s default: how long the remaining cables hold the platform
+after a cable fails (to park it and take it off the hull; chosen), s."""
 
 CONTINUOUS = ("frame_width_m", "frame_height_m", "platform_width_m", "platform_height_m", "tool_width_m",
               "speed_m_s", "overlap_share")
@@ -96,7 +118,7 @@ class Variables(_Model):
     """Winch names from ``[[winches]]`` to choose from (default: every one)."""
     rope: list[StrictStr] | None = None
     """Rope names from ``[[ropes]]`` to choose from (default: every one)."""
-    pattern: list[Literal["uncrossed", "crossed"]] | None = Field(default=None, min_length=1)
+    pattern: list[StrictStr] | None = Field(default=None, min_length=1)
     """The cable patterns to choose from (:data:`PATTERNS`; default: uncrossed, the paper's)."""
     relocation: list[Literal["fixed", "crane", "rail"]] | None = Field(default=None, min_length=1)
     """How the frame moves between placements, modes to choose from (each with its figures in
@@ -107,7 +129,7 @@ class Variables(_Model):
 
 
 class Winch(_Model):
-    """``[[winches]]``: one winch of the catalogue (four are installed, one per cable)."""
+    """``[[winches]]``: one winch of the catalogue (one per cable is installed)."""
 
     name: StrictStr
     torque_N_m: _ranged(0.0, 1e6, "N m", "a winch's rated torque", above=True)
@@ -142,6 +164,22 @@ class Rope(_Model):
     breaking_N: _ranged(0.0, 1e9, "N", "a rope's breaking load", above=True)
     safety_factor: _ranged(1.0, 100.0, "", "breaking load over the largest working tension") = 5.0
     cost_per_m: _ranged(0.0, 1e9, "", "the user's cost unit per metre") = 0.0
+
+
+class Constraints(_Model):
+    """``[constraints]``: optional constraints on every candidate."""
+
+    single_cable_failure: StrictBool = False
+    """Every single cable's failure survived: with each cable removed in turn, the others
+    hold the platform within their limits at the screen's poses over the job, the tool at
+    its preload (still or sliding), with the sea's extreme over ``failure_hold_s`` in every
+    sea state the job works in (:func:`~marinecdpr.planning.redundancy.single_failure_margin`).
+    A four-cable candidate is left with three cables for three dofs: one set of tensions,
+    within the limits only where the load lets it."""
+    failure_hold_s: _ranged(0.0, 86400.0, "s", "how long the remaining cables hold the platform",
+                            above=True) = FAILURE_HOLD_S
+    """How long the remaining cables hold the platform after a failure (the sea's extreme is
+    taken over it), s."""
 
 
 class Targets(_Model):
@@ -214,6 +252,8 @@ class DesignSpec(_Model):
     sea: Sea = Sea()
     platform_mass: PlatformMass
     limits: Limits = Limits()
+    constraints: Constraints = Constraints()
+    """Optional constraints (:class:`Constraints`)."""
     relocation: Relocation | None = None
     """How the frame moves between placements and how many robots share the side
     (:class:`~marinecdpr.scenario.relocation.Relocation`, ``[cleaning.surface.relocation]``'s
@@ -240,7 +280,12 @@ class DesignSpec(_Model):
                 if name not in known:
                     raise _KeyedError(f"variables.{key}[{i + 1}]", f"{name!r} is not in the catalogue "
                                                                   f"({', '.join(known)})")
-        for key in ("relocation", "robots"):
+        known = ", ".join(f"{p} ({n} cables)" for p, n in PATTERN_CABLES.items())
+        for i, name in enumerate(self.variables.pattern or []):
+            if name not in PATTERNS:
+                raise _KeyedError(f"variables.pattern[{i + 1}]", f"{name!r} is no cable pattern (the patterns: "
+                                                                 f"{known})")
+        for key in ("pattern", "relocation", "robots"):
             chosen = getattr(self.variables, key) or []
             for i, value in enumerate(chosen):
                 if value in chosen[:i]:

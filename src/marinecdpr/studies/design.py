@@ -25,7 +25,12 @@ and judged by the toolkit's own models (:func:`evaluate`):
   L / EA against the study's limits; a panel at least as wide as the tool; no cable nearer
   another cable, or the platform's body, than the rope's diameter and ``limits.clearance_m``
   anywhere on the job's path (:func:`clearance`: crossed cables pass each other in their
-  two planes).
+  two planes); with ``[constraints] single_cable_failure``, every single cable's failure
+  survived (:data:`FAILURE_CONSTRAINT`).
+
+The cables: four (uncrossed or crossed), five or six (the corners and one or two sides'
+middles), by ``[variables] pattern`` (:func:`cable_pattern`); each cable its own winch and
+rope, in the power and the cost.
 
 The search (:func:`search`) is NSGA-II over the mixed variables (pymoo), with a seed.
 """
@@ -41,7 +46,7 @@ from scipy.fft import next_fast_len
 
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
-from marinecdpr.scenario.design import CONTINUOUS, RAIL_VARIABLES, DesignSpec
+from marinecdpr.scenario.design import CONTINUOUS, PATTERN_CABLES, RAIL_VARIABLES, DesignSpec
 from marinecdpr.scenario.schema import Scenario, validated_scenario
 from marinecdpr.studies.executor import Executor
 
@@ -49,7 +54,7 @@ __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidat
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
            "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of", "RAIL_CONSTRAINT",
-           "study_constraints", "candidate_rail", "rail_held_acceleration"]
+           "study_constraints", "candidate_rail", "rail_held_acceleration", "FAILURE_CONSTRAINT", "cable_count"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -57,7 +62,8 @@ CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretc
 CAPACITIES = {"sea_share": "the share of sea states that work", "winch_speed_m_s": "the drum's top speed",
               "winch_power_W": "the winch's rated power", "sag_m": "limits.sag_m", "stretch_m": "limits.stretch_m",
               "panel_m": "the panel's smaller side", "clearance_m": "the least gap measured",
-              "rail_accel_m_s2": "the carriage's largest acceleration the cables hold (a candidate moved by rail)"}
+              "rail_accel_m_s2": "the carriage's largest acceleration the cables hold (a candidate moved by rail)",
+              "single_cable_failure_N": "half the narrowest tension range (the margin's cap)"}
 """What each margin's slack (:attr:`Evaluation.slack`) is a share of: slack = margin / capacity."""
 RAIL_CONSTRAINT = "rail_accel_m_s2"
 """The constraint a candidate moved by rail adds (after :data:`CONSTRAINTS`): the largest
@@ -66,11 +72,27 @@ the sea states the candidate works in (:func:`~marinecdpr.studies.screen.held_ac
 less its ``accel_m_s2``; its capacity that largest acceleration."""
 
 
+FAILURE_CONSTRAINT = "single_cable_failure_N"
+"""The constraint ``[constraints] single_cable_failure`` adds: with each cable removed in turn,
+the least margin by which the remaining cables hold the platform within their limits over the
+screen's poses, in the sea states the job works in (on a ship at rest where it works in none),
+the sea's extreme over ``failure_hold_s`` (:func:`~marinecdpr.studies.screen.single_failure_cells`),
+N; its capacity half the narrowest tension range."""
+
+
 def study_constraints(spec: DesignSpec) -> tuple[str, ...]:
-    """The constraints a study's candidates report: :data:`CONSTRAINTS`, and
+    """The constraints a study's candidates report: :data:`CONSTRAINTS`,
     :data:`RAIL_CONSTRAINT` where any candidate may move by rail (a candidate moved otherwise
-    has no such margin: nothing to hold)."""
-    return CONSTRAINTS + ((RAIL_CONSTRAINT,) if "rail" in spec.choices("relocation") else ())
+    has no such margin: nothing to hold), and :data:`FAILURE_CONSTRAINT` with
+    ``[constraints] single_cable_failure``."""
+    return (CONSTRAINTS + ((RAIL_CONSTRAINT,) if "rail" in spec.choices("relocation") else ())
+            + ((FAILURE_CONSTRAINT,) if spec.constraints.single_cable_failure else ()))
+
+
+def cable_count(x: dict) -> int:
+    """How many cables (and winches) a candidate's pattern has (four where it names none, or
+    names the template's own)."""
+    return PATTERN_CABLES.get(x.get("pattern", "uncrossed"), 4)
 
 SAG_SHARE = 0.01
 """A finalist flies sagging (catenary) cables where its longest span's sag at the least
@@ -178,7 +200,7 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
         raise ScenarioError(f"the template {name!r} has no sea-state base motion: the study needs its RAOs",
                             source=src, key="scenario")
     if template.robot.dofs != "planar":
-        raise ScenarioError(f"the template {name!r} is a spatial robot: the study designs planar four-cable robots",
+        raise ScenarioError(f"the template {name!r} is a spatial robot: the study designs planar robots",
                             source=src, key="scenario")
     if template.ship.carriage is not None:
         raise ScenarioError(f"the template {name!r} carries its frame on a rail ([ship.carriage]): the study places "
@@ -263,14 +285,15 @@ class Evaluation:
     expected_hours : float
         surface_hours / sea_share (inf where no sea state works).
     power_kW : float
-        The four winches' rated power.
+        The winches' rated power (one a cable, :func:`cable_count`).
     cost : float
-        Four winches and four spans of rope (the frame's diagonal each).
+        A winch and a span of rope (the frame's diagonal) a cable.
     tension_max_N : float
     mass_kg : float
     margins : dict
-        :data:`CONSTRAINTS`' margins, and a candidate moved by rail :data:`RAIL_CONSTRAINT`'s
-        (:func:`rail_held_acceleration` less its ``accel_m_s2``).
+        :data:`CONSTRAINTS`' margins, a candidate moved by rail :data:`RAIL_CONSTRAINT`'s
+        (:func:`rail_held_acceleration` less its ``accel_m_s2``), and with ``[constraints]
+        single_cable_failure`` :data:`FAILURE_CONSTRAINT`'s.
     frame_origin_m : list of float
         The placement (C's origin in S) where the screen's share is least: where the
         finalists are flown.
@@ -362,15 +385,42 @@ def _plate_inertia(mass: float, w: float, h: float) -> list[float]:
     return [mass * h * h / 12.0, mass * (w * w + h * h) / 12.0, mass * w * w / 12.0]
 
 
+SIDE_MIDDLES = {"top": ([0.5, 1.0], [0.0, 0.5]), "bottom": ([0.5, 0.0], [0.0, -0.5]),
+                "aft": ([0.0, 0.5], [-0.5, 0.0]), "fore": ([1.0, 0.5], [0.5, 0.0])}
+"""A side's middle on the frame (x / W, z / H) and on the platform (x / w, z / h)."""
+PATTERN_SIDES = {"five_top": ("top",), "six_top_bottom": ("top", "bottom"), "six_sides": ("aft", "fore")}
+"""The sides whose middles the five- and six-cable patterns add cables from, in cable order."""
+
+
 def cable_pattern(pattern: str, W: float, H: float, w: float, h: float, layer_m: float
                   ) -> tuple[list[list[float]], list[list[float]]]:
-    """The four cables' frame anchors (in C, the frame's lower aft corner at the origin) and
+    """The cables' frame anchors (in C, the frame's lower aft corner at the origin) and
     platform anchors (in P) of a W x H frame and a w x h platform, m
     (:data:`~marinecdpr.scenario.design.PATTERNS`): cables 1 to 4 from the frame's upper aft,
     upper fore, lower fore and lower aft corners; crossed, cables 1 and 3 run in the plane
-    y = +layer / 2 and 2 and 4 in y = -layer / 2."""
+    y = +layer / 2 and 2 and 4 in y = -layer / 2; five and six cables, the corners uncrossed
+    and cables 5 (and 6) from the middle of a frame side to the middle of the platform's same
+    side (:data:`PATTERN_SIDES`: ``five_top`` the top's, ``six_top_bottom`` the top's and the
+    bottom's, ``six_sides`` the aft side's and the fore side's); ``six_double_top``, cables 5
+    and 6 beside 1 and 2 (the upper corners doubled), 1 and 2 in the plane y = +layer / 2 and
+    5 and 6 in y = -layer / 2; ``eight_double``, every corner doubled, cables 5 to 8 beside 1
+    to 4 (1 to 4 in y = +layer / 2, 5 to 8 in y = -layer / 2)."""
     frame = [[0.0, 0.0, H], [W, 0.0, H], [W, 0.0, 0.0], [0.0, 0.0, 0.0]]
     corners = [[-w / 2, 0.0, h / 2], [w / 2, 0.0, h / 2], [w / 2, 0.0, -h / 2], [-w / 2, 0.0, -h / 2]]
+    if pattern in PATTERN_SIDES:
+        for side in PATTERN_SIDES[pattern]:
+            (fx, fz), (px, pz) = SIDE_MIDDLES[side]
+            frame.append([fx * W, 0.0, fz * H])
+            corners.append([px * w, 0.0, pz * h])
+        return frame, corners
+    doubled = {"six_double_top": 2, "eight_double": 4}.get(pattern, 0)
+    if doubled:  # the first corners doubled, each pair in the planes y = +-layer / 2
+        frame += [[c[0], -0.5 * layer_m, c[2]] for c in frame[:doubled]]
+        corners += [[p[0], -0.5 * layer_m, p[2]] for p in corners[:doubled]]
+        for k in range(doubled):
+            frame[k] = [frame[k][0], 0.5 * layer_m, frame[k][2]]
+            corners[k] = [corners[k][0], 0.5 * layer_m, corners[k][2]]
+        return frame, corners
     if pattern == "uncrossed":
         return frame, corners
     platform = [corners[1], corners[0], corners[3], corners[2]]  # each to the opposite corner of its side
@@ -396,7 +446,8 @@ def clearance(sc: Scenario, *, step_s: float = 1.0) -> float:
 def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenario:
     """The template with the candidate's robot and tool: frame anchors at the corners of the
     W x H frame and platform anchors at the corners of the w x h platform, the cables
-    uncrossed (the paper's) or crossed (:func:`cable_pattern`), mass from ``[platform_mass]``
+    uncrossed (the paper's), crossed, or five or six with the sides' middles
+    (:func:`cable_pattern`), mass from ``[platform_mass]``
     and a uniform plate's inertia, T_min from ``[limits]`` and T_max the smaller of the
     rope's breaking load over its safety factor and the winch's torque over its drum's radius;
     the panel the frame's inner rectangle inset by the platform's half size and
@@ -555,22 +606,35 @@ def frame_placements(template: Scenario, width_m: float, height_m: float) -> tup
     return origins, orientations
 
 
-def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations: np.ndarray):
+def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations: np.ndarray, *,
+                   failure_hold_s: float | None = None):
     """The screen of the scenario's job with its frame at each of ``origins`` (n, 3) in S,
     turned by ``orientations`` (n, 3) deg: the job works in a sea state only where it works
     at every one of them. Returns the share that works, the works per sea state, the origin
     and orientation whose own share is the least, and why the failing sea states fail
-    (:func:`~marinecdpr.studies.screen.why_fails`, each at the first placement it fails at)."""
-    from marinecdpr.studies.screen import at_origin, screen_cells, screen_model, why_fails
+    (:func:`~marinecdpr.studies.screen.why_fails`, each at the first placement it fails at).
+
+    With ``failure_hold_s``, a sixth: each cable removed in turn at every placement
+    (:func:`~marinecdpr.studies.screen.single_failure_cells`), a
+    :class:`~marinecdpr.studies.screen.FailureScreen` holding each sea state's, pose's and
+    cable's least margin over the placements (its poses the screen's, the same at each)."""
+    from marinecdpr.studies.screen import (FailureScreen, at_origin, screen_cells, screen_model, single_failure_cells,
+                                           why_fails)
 
     works = np.ones(len(cells), dtype=bool)
     reasons = [""] * len(cells)
     worst, least = 0, np.inf
     model = None
+    failure = None
     for k, (origin, angles) in enumerate(zip(origins, orientations)):
         placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin],
                                  frame_orientation_deg=[float(v) for v in angles])
         model = screen_model(placed) if model is None else at_origin(model, placed)  # the path once
+        if failure_hold_s is not None:
+            f = single_failure_cells(placed, cells, hold_s=failure_hold_s, model=model)
+            failure = f if failure is None else FailureScreen(
+                margin_N=np.minimum(failure.margin_N, f.margin_N), still_N=np.minimum(failure.still_N, f.still_N),
+                pose=f.pose)
         r = screen_cells(placed, cells, model=model)
         for i in np.flatnonzero(works & ~r.works):
             sea, why = r.reasons[i].split(": ", 1)
@@ -580,8 +644,9 @@ def screen_surface(sc: Scenario, cells: list, origins: np.ndarray, orientations:
         if r.share < least:
             worst, least = k, r.share
     p = np.array([c.probability for c in cells], dtype=float)
-    return (float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst], orientations[worst],
-            why_fails(cells, works, reasons))
+    out = (float(p[works].sum() / p.sum()) if p.sum() > 0 else 0.0, works, origins[worst], orientations[worst],
+           why_fails(cells, works, reasons))
+    return out if failure_hold_s is None else out + (failure,)
 
 
 def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Evaluation:
@@ -600,10 +665,11 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
     rope = next(e for e in spec.ropes if e.name == x["rope"])
     W, H = x["frame_width_m"], x["frame_height_m"]
     span, sag = span_sag(rope.weight_N_m, W, H, spec.limits.tension_min_N)
-    power_kW = 4.0 * winch.power_W / 1000.0
-    cost = 4.0 * (winch.cost + rope.cost_per_m * span)
+    n_cables = float(cable_count(x))
+    power_kW = n_cables * winch.power_W / 1000.0
+    cost = n_cables * (winch.cost + rope.cost_per_m * span)
     robots = _robots(template, x)
-    if robots != 1:  # each robot its own four winches and ropes
+    if robots != 1:  # each robot its own winches and ropes
         power_kW, cost = robots * power_kW, robots * cost
     nan = float("nan")
     try:
@@ -620,7 +686,10 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         return Evaluation(x=dict(x), feasible=False, reason=str(exc), placements=0, surface_hours=nan, sea_share=0.0,
                           expected_hours=float("inf"), power_kW=power_kW, cost=cost, tension_max_N=t_max,
                           mass_kg=robot.mass_kg, margins={k: nan for k in CONSTRAINTS})
-    share, works, worst, turned, why = screen_surface(sc, cells, *frame_placements(template, W, H))
+    safety = spec.constraints
+    screened = screen_surface(sc, cells, *frame_placements(template, W, H),
+                              failure_hold_s=safety.failure_hold_s if safety.single_cable_failure else None)
+    share, works, worst, turned, why = screened[:5]
     panel = np.asarray(sc.cleaning.panel_m)
     margins = {
         "sea_share": share - spec.targets.sea_share,
@@ -644,6 +713,17 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
         said[RAIL_CONSTRAINT] = (f" (the cables hold the platform at the panel's centre while the carriage "
                                  f"accelerates along the rail at +-{held:.3g} m/s^2 at most in the seas the job "
                                  f"works in, not at the rail's accel_m_s2 {rail.accel_m_s2:.3g} m/s^2)")
+    if safety.single_cable_failure:  # each cable removed in turn, in the seas the job works in
+        least, cell, pose, cable = screened[5].least(works)
+        margins[FAILURE_CONSTRAINT] = least
+        capacity[FAILURE_CONSTRAINT] = float(np.min(robot.tension_max - robot.tension_min)) / 2.0
+        where = ("on a ship at rest (no sea state works)" if cell < 0 else
+                 f"in Hs {cells[cell].hs:g} m, Tp {cells[cell].tp:g} s, heading {cells[cell].heading_deg:g} deg")
+        said[FAILURE_CONSTRAINT] = (f" (cable {cable + 1} of {robot.n_cables} "
+                                    f"gone, the others cannot hold the platform at "
+                                    + "(" + ", ".join(f"{v:.2f}" for v in screened[5].pose[pose][[0, 2]]) + ") m in C "
+                                    + f"{where}"
+                                    + (": they lose rank)" if not np.isfinite(least) else ")"))
     short = [k for k, v in margins.items() if not v >= 0.0]
     expected = job.hours / share if share > 0 else float("inf")
     moved = _relocation_figures(job)
@@ -870,6 +950,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
                       (((scenario.get("cleaning") or {}).get("surface") or {}), "relocation")):
         if key in node and node[key] is None:
             del node[key]
+    safety = study.pop("constraints")  # [constraints]: only where it changes the candidates, as before it was known
+    if spec.constraints.single_cable_failure:
+        study["safety"] = safety
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]

@@ -75,7 +75,7 @@ from marinecdpr.scenario.schema import Scenario
 from marinecdpr.studies.operability import Cell
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
-           "HeldAcceleration", "held_acceleration",
+           "HeldAcceleration", "held_acceleration", "FailureScreen", "single_failure_cells",
            "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
@@ -604,19 +604,23 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     with np.errstate(invalid="ignore"):
         head = np.stack([ps.half_width - u, ps.half_width + u], axis=-1) / ps.per_newton[..., None]  # (n_s, F, 2)
     drop = np.zeros_like(head)
-    drop[1:] = np.maximum(head[:-1] - head[1:], 0.0)  # at the lower end of each step
+    # at the lower end of each step; none from where no facet was (two cables' generators
+    # parallel, as a six-cable pattern's opposite or doubled cables give: an infinite headroom)
+    with np.errstate(invalid="ignore"):
+        drop[1:] = np.where(np.isposinf(head[:-1]), 0.0, np.maximum(head[:-1] - head[1:], 0.0))
     start = np.zeros_like(head)
     start[0] = 1.0
     var0 = np.einsum("pfk,ipkl,pfl->ipf", nrm, C0[:, :, c][:, :, :, c], nrm)   # (n_cells, n_p, F)
     var2 = np.einsum("pfk,ipkl,pfl->ipf", nrm, C2[:, :, c][:, :, :, c], nrm)
     sd_head = np.sqrt(var0).max(axis=0) / faces.per_newton                  # (n_p, F): the sea's largest
+    twin = _twin_facets(model.J, faces.free)                                # (F,): a facet counted already
     sel = []
     for case in ps.case:  # the samples in each of their tool cases
         group = ((ps.pose * n_t + case)[:, None, None] * F + np.arange(F)[:, None]) * 2 + np.arange(2)
         nearest = np.full(n_p * n_t * F * 2, np.inf)
         np.minimum.at(nearest, group.ravel(), np.where(np.isnan(head), -np.inf, head).ravel())
         cut = nearest[group] + PRUNE_SIGMAS * sd_head[ps.pose][:, :, None]
-        keep = ~(head > cut)
+        keep = ~(head > cut) & ~np.isposinf(head) & ~twin[None, :, None]  # no facet there, or one counted
         sel.append((group[keep], head[keep], drop[keep], start[keep]))
     group, h, dr, st = (np.concatenate(x) for x in zip(*sel))
     h = np.where(np.isnan(h), -np.inf, h)
@@ -709,6 +713,24 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     return ScreenResult(cells=list(cells), works=works, tensions_ok=tensions_ok, margin_of=margin,
                         chance=np.minimum(chance_total, 1.0), in_band_pct=in_band, in_band_low_pct=in_band_low,
                         in_band_target_pct=float(in_band_target_pct), exceedance=float(exceedance), reasons=reasons)
+
+
+def _twin_facets(J: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Which facets (``free``: (F, k - 1) cables spanning each) repeat another: those spanned
+    by a cable whose J~ row is another's, earlier one's at every pose (a doubled cable, its
+    anchors beside the other's: the same generator), shape (F,) of bool. The zonotope's
+    facets are the distinct ones; the twins' repeats would count each crossing again
+    (a doubled corner's four times over), and the pair's own is no facet (half width inf)."""
+    n, m, _ = J.shape
+    scale = max(float(np.abs(J).max(initial=0.0)), 1e-300)
+    first = np.arange(m)
+    for j in range(m):
+        for i in range(j):
+            if first[i] == i and np.all(np.abs(J[:, i] - J[:, j]) <= 1e-12 * scale):
+                first[j] = i
+                break
+    repeated = first != np.arange(m)
+    return repeated[free].any(axis=1) if free.size else np.zeros(len(free), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -826,6 +848,76 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     k = extreme_factor(var0, var2, float(duration_s), exceedance)
     return HeldAcceleration(still_m_s2=still, cells_m_s2=largest(slack0[None] - k * np.sqrt(var0)),
                             per_m_s2=per, w0=w0)
+
+
+@dataclass(frozen=True)
+class FailureScreen:
+    """Each cable removed in turn at the screen's poses (:func:`single_failure_cells`).
+
+    Attributes
+    ----------
+    margin_N : ndarray, shape (n_cells, n_poses, n_cables)
+        By how much every remaining limit could be tightened with the platform still held,
+        cable i gone, in each sea state (the sea's extreme over the hold), N: negative, short
+        by that much; -inf where the remaining cables lose rank.
+    still_N : ndarray, shape (n_poses, n_cables)
+        The same on a ship at rest, N.
+    pose : ndarray, shape (n_poses, 6)
+        The poses judged (the screen's), in C.
+    """
+
+    margin_N: np.ndarray
+    still_N: np.ndarray
+    pose: np.ndarray
+
+    def least(self, rows: np.ndarray | None = None) -> tuple[float, int, int, int]:
+        """The least margin over the sea states ``rows`` (bool (n_cells,); none: a ship at
+        rest), N, and where: (margin, cell or -1, pose, cable)."""
+        if rows is None or not np.any(rows):
+            p, i = np.unravel_index(int(np.argmin(self.still_N)), self.still_N.shape)
+            return float(self.still_N[p, i]), -1, int(p), int(i)
+        cells = np.flatnonzero(rows)
+        sub = self.margin_N[cells]
+        c, p, i = np.unravel_index(int(np.argmin(sub)), sub.shape)
+        return float(sub[c, p, i]), int(cells[c]), int(p), int(i)
+
+
+def single_failure_cells(scenario: Scenario, cells: list[Cell], *, hold_s: float, model: ScreenModel | None = None,
+                         exceedance: float = EXCEEDANCE) -> FailureScreen:
+    """Each cable removed in turn, can the others hold the platform at the screen's poses
+    (:func:`~marinecdpr.planning.redundancy.single_failure_margin`)? The wrench as the screen
+    takes it: at a ship at rest (w0) with the tool at its preload, still and sliding along
+    each of the path's directions (each held), and the sea's part (with the wind's gust, as
+    :func:`screen_cells`' covariances) at its extreme over ``hold_s`` along each facet of the
+    remaining cables' wrenches (:func:`extreme_factor` at ``exceedance``). The path's own
+    accelerations are left out: after a failure the platform is stopped.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A sea-state base motion (its RAOs, spectrum); the frame where it stands.
+    cells : list of Cell
+    hold_s : float
+        How long the remaining cables hold the platform, s.
+    model : ScreenModel, optional
+        :func:`screen_model` of the scenario, if already made.
+    """
+    from marinecdpr.planning.redundancy import single_failure_margin
+
+    model = model if model is not None else screen_model(scenario)
+    P = scenario.cleaning.preload if scenario.cleaning is not None else 0.0
+    loads = model.tool_n[None] + model.friction                               # (n_t, 6): still, sliding each way
+    w = model.w0[:, None, :] - P * loads[None]                                # (n_p, n_t, 6)
+    still = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w)
+    if not cells:
+        return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
+    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
+    gust = gust_covariance(scenario, model)
+    if gust is not None:
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    margin = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
+                                   extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
+    return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
 
 
 def why_fails(cells: list, works: np.ndarray, reasons: list) -> str:
