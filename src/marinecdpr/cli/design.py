@@ -129,6 +129,10 @@ def design(
                 highlight=False, soft_wrap=True)
     else:
         console.print("no feasible candidate: see candidates.csv's margins and reasons", highlight=False)
+    if study_spec.constraints.single_cable_failure:
+        from marinecdpr.report.design import safety_text
+
+        console.print(plain(safety_text(study)), highlight=False, soft_wrap=True)
     for v in checked:
         console.print(plain(
             f"finalist {v.rank} (candidate {v.index}) in the time domain as built "

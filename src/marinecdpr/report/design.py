@@ -19,7 +19,7 @@ from marinecdpr.textfiles import atomic_path
 
 __all__ = ["write_design", "design_summary", "DrawingGeometry", "drawing_geometry",
            "pareto_figure", "convergence_figure",
-           "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN"]
+           "finalists_figure", "objective_label", "CANDIDATE_COLUMNS", "FINALIST_COLUMNS", "BREAKDOWN", "safety_text"]
 
 
 _HEAD = ["index", "generation"]
@@ -148,7 +148,8 @@ def design_summary(study, verification=None) -> dict:
                   "passes (studies.screen: frequency-domain extremes, conservative)",
         "verified": bool(verification),
         "finalists": [dataclasses.asdict(v) for v in verification or []],
-    }
+    } | ({"constraints": spec.constraints.model_dump(), "safety": safety_text(study)}
+         if spec.constraints.single_cable_failure else {})
 
 
 FINALIST_COLUMNS = ["rank", "index", "winch", "rope", "power_kW", "cost", "surface_hours", "cleaning_hours",
@@ -412,6 +413,26 @@ def _draw_finalists(study, template, path: Path) -> Path:
     return _save(finalists_figure(study, template), path)
 
 
+def safety_text(study) -> str:
+    """With ``[constraints] single_cable_failure``, what it asks and how many candidates it
+    refused (those short on it, and those short on it alone), by cable count; else ""."""
+    from marinecdpr.studies.design import FAILURE_CONSTRAINT, cable_count
+
+    spec = study.spec
+    if not spec.constraints.single_cable_failure:
+        return ""
+    short = [e for e in study.evaluations if not e.margins.get(FAILURE_CONSTRAINT, 0.0) >= 0.0]
+    alone = [e for e in short if all(v >= 0.0 for k, v in e.margins.items() if k != FAILURE_CONSTRAINT)]
+    counts = sorted({cable_count(e.x) for e in study.evaluations})
+    by = "; ".join(f"{n} cables: {sum(cable_count(e.x) == n for e in short)} of "
+                   f"{sum(cable_count(e.x) == n for e in study.evaluations)} short" for n in counts)
+    return (f"Every feasible design survives each single cable's failure: with any one cable gone, the others hold "
+            f"the platform within their limits at the screen's poses over the job, the brush at its preload, in "
+            f"every sea state the design works in, the sea's extreme taken over {spec.constraints.failure_hold_s:g} s "
+            f"(the constraint {FAILURE_CONSTRAINT}, N of tension to spare). It refused {len(short)} of "
+            f"{len(study.evaluations)} candidates ({len(alone)} on it alone; {by}).")
+
+
 def _report_html(study, verification, figures: dict, path: Path) -> Path:
     """One page: the targets, the front beside the template's robot (its second objective
     with its unit, its hours in parts, its binding constraints, the time domain's figures
@@ -474,6 +495,9 @@ def _report_html(study, verification, figures: dict, path: Path) -> Path:
     else:
         flown = ("The finalists were not flown in the time domain (--no-verify, or no finalist): every figure is "
                  "the screen's.")
+    safety = safety_text(study)
+    if safety:
+        flown = safety + " " + flown
     return render_page("design.html", path, spec=spec, candidates=_count(len(study.evaluations), "candidate"),
                        feasible=study.feasible, verdict=verdict, limits=limits or None,
                        objective=objective_label(spec), rows=rows, flown=flown, figures=embedded_figures(figures),

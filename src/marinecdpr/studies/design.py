@@ -29,8 +29,8 @@ and judged by the toolkit's own models (:func:`evaluate`):
   survived (:data:`FAILURE_CONSTRAINT`).
 
 The cables: four (uncrossed or crossed), five or six (the corners and one or two sides'
-middles), by ``[variables] pattern`` (:func:`cable_pattern`); each cable its own winch and
-rope, in the power and the cost.
+middles, or the upper corners doubled) or eight (every corner doubled), by ``[variables]
+pattern`` (:func:`cable_pattern`); each cable its own winch and rope, in the power and the cost.
 
 The search (:func:`search`) is NSGA-II over the mixed variables (pymoo), with a seed.
 """
@@ -446,8 +446,8 @@ def clearance(sc: Scenario, *, step_s: float = 1.0) -> float:
 def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenario:
     """The template with the candidate's robot and tool: frame anchors at the corners of the
     W x H frame and platform anchors at the corners of the w x h platform, the cables
-    uncrossed (the paper's), crossed, or five or six with the sides' middles
-    (:func:`cable_pattern`), mass from ``[platform_mass]``
+    uncrossed (the paper's), crossed, or five to eight with the sides' middles or doubled
+    corners (:func:`cable_pattern`), mass from ``[platform_mass]``
     and a uniform plate's inertia, T_min from ``[limits]`` and T_max the smaller of the
     rope's breaking load over its safety factor and the winch's torque over its drum's radius;
     the panel the frame's inner rectangle inset by the platform's half size and
