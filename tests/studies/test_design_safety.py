@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import csv
 import json
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -22,11 +21,10 @@ from marinecdpr.geometry.kinematics import cable_kinematics  # noqa: E402
 from marinecdpr.motion.basemotion import seen_by_frame  # noqa: E402
 from marinecdpr.motion.ship import ship_motion  # noqa: E402
 from marinecdpr.planning.planner import required_wrench  # noqa: E402
-from marinecdpr.planning.redundancy import single_failure_margin  # noqa: E402
 from marinecdpr.scenario.schema import validated_scenario  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
     FAILURE_CONSTRAINT, as_built, candidate_scenario, evaluate, frame_placements, load_design, pareto_mask,
-    screen_surface, study_cells,
+    study_cells,
 )
 from marinecdpr.studies.operability import Cell  # noqa: E402
 from marinecdpr.studies.screen import screen_cells, screen_model, single_failure_cells  # noqa: E402
@@ -139,8 +137,8 @@ def test_the_failure_constraint_leaves_only_the_doubled_corners(judged):
 def _lp_margin(Jr, w, lo, hi) -> float:
     """max h s.t. Jr^T T = w, lo + h <= T <= hi - h (HiGHS)."""
     m = Jr.shape[0]
-    res = linprog(np.r_[np.zeros(m), -1.0], A_ub=np.block([[-np.eye(m), np.ones((m, 1))], [np.eye(m), np.ones((m, 1))]]),
-                  b_ub=np.r_[-lo, hi], A_eq=np.c_[Jr.T, np.zeros((Jr.shape[1], 1))], b_eq=w,
+    A_ub = np.block([[-np.eye(m), np.ones((m, 1))], [np.eye(m), np.ones((m, 1))]])
+    res = linprog(np.r_[np.zeros(m), -1.0], A_ub=A_ub, b_ub=np.r_[-lo, hi], A_eq=np.c_[Jr.T, np.zeros((Jr.shape[1], 1))], b_eq=w,
                   bounds=[(None, None)] * m + [(-1e7, None)], method="highs")
     return float(-res.fun) if res.status == 0 else -np.inf
 
