@@ -293,3 +293,75 @@ def test_the_safe_study_runs_through_the_command(tmp_path):
     page = (out / "report.html").read_text()
     assert "Every feasible design survives each single cable&#39;s failure" in page and said in page
     assert said in res.stdout and s["constraints"]["single_cable_failure"] is True and said in s["safety"]
+
+
+RAIL = STUDY.replace("[constraints]", """[relocation]
+mode = "rail"
+frame_mass_kg = 300.0
+
+[relocation.crane]
+rig_s = 300.0
+lift_m = 3.0
+hoist_m_s = 0.2
+travel_m_s = 0.5
+retension_s = 120.0
+capacity_kg = 1000.0
+
+[relocation.rail]
+speed_m_s = 0.3
+accel_m_s2 = 1.5
+jerk_m_s3 = 5.0
+settle_s = 30.0
+
+[constraints]""")
+
+
+def test_a_cable_lost_while_the_carriage_moves_the_frame_is_judged_too(tmp_path):
+    """A candidate moved by rail (1.5 m/s^2): its failure margin is the lesser of the screen's
+    poses' and the panel's centre's while the carriage accelerates at +-1.5 m/s^2 along the
+    rail (the platform held there, the tool off the hull). The latter, on a ship at rest, is
+    HiGHS's on the planner's wrench with C accelerating at +-1.5 m/s^2 along the level rail
+    (1e-6 relative); the sea only takes from it."""
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.studies.design import rail_hold_C, rail_single_failure
+    from marinecdpr.studies.relocation import level_rail_S
+
+    path = _folder(tmp_path, RAIL)
+    spec, template = load_design(path)
+    cells = study_cells(spec, path.parent)
+    x = _x(spec, pattern="eight_double", winch="large") | {"relocation": "rail", "robots": 1}
+    e = evaluate(spec, template, x, cells)
+    sc = candidate_scenario(spec, template, x)
+    rail = spec.relocation.rail
+    works = [c for c in cells if c.hs == 1.0]  # the screen passes Hs 1 m only
+    assert e.sea_share == pytest.approx(0.6, abs=1e-12)
+    moved = rail_single_failure(sc, rail, 6.0, works, e.frame_origin_m, e.frame_orientation_deg, 600.0)
+    fixed = evaluate(spec.model_copy(update={"relocation": None}), template,
+                     {k: v for k, v in x.items() if k not in ("relocation", "robots")}, cells)
+    assert e.margins[FAILURE_CONSTRAINT] == pytest.approx(min(fixed.margins[FAILURE_CONSTRAINT],
+                                                              float(moved.margin_N.min())), rel=1e-12)
+    assert np.all(moved.margin_N <= moved.still_N[None] + 1e-9)
+    # the held pose on a ship at rest, by hand: the planner's wrench with C accelerating along the rail
+    placed = sc.with_updates("ship", frame_origin_m=list(e.frame_origin_m),
+                             frame_orientation_deg=list(e.frame_orientation_deg))
+    data = placed.model_dump(exclude_none=True)
+    data.pop("cleaning")
+    hold = rail_hold_C(sc)
+    move_s = float(scurve_move(6.0, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s)
+    data["trajectory"] = {"type": "line", "start_position_m": hold, "end_position_m": hold, "duration_s": move_s}
+    data["time"] = dict(data["time"], duration_s=move_s)
+    held = validated_scenario(data)
+    d = np.asarray(level_rail_S(e.frame_orientation_deg), dtype=float)
+    robot = held.robot
+    x_h, R_h = np.array([hold]), np.eye(3)[None]
+    J = cable_kinematics(x_h, R_h, robot.frame_anchors, robot.platform_anchors).J_tilde[0][:, [0, 2, 4]]
+    lp = np.full(robot.n_cables, np.inf)
+    for sign in (1.0, -1.0):
+        acc = np.zeros((1, 6))
+        acc[0, :3] = sign * rail.accel_m_s2 * d / np.linalg.norm(d)
+        ship = seen_by_frame(ship_motion(np.zeros((1, 6)), np.zeros((1, 6)), acc), held)
+        w = required_wrench(held, x_h, np.zeros((1, 6)), np.zeros((1, 6)), R_h, ship, np.zeros(1), 0.0).total[0]
+        for i in range(robot.n_cables):
+            keep = np.arange(robot.n_cables) != i
+            lp[i] = min(lp[i], _lp_margin(J[keep], w[[0, 2, 4]], robot.tension_min[keep], robot.tension_max[keep]))
+    np.testing.assert_allclose(moved.still_N[0], lp, rtol=1e-6, atol=1e-6)

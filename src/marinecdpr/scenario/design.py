@@ -172,7 +172,8 @@ class Constraints(_Model):
     single_cable_failure: StrictBool = False
     """Every single cable's failure survived: with each cable removed in turn, the others
     hold the platform within their limits at the screen's poses over the job, the tool at
-    its preload (still or sliding), with the sea's extreme over ``failure_hold_s`` in every
+    its preload (still or sliding), and (a candidate moved by rail) at the panel's centre while
+    the carriage accelerates the frame, with the sea's extreme over ``failure_hold_s`` in every
     sea state the job works in (:func:`~marinecdpr.planning.redundancy.single_failure_margin`).
     A four-cable candidate is left with three cables for three dofs: one set of tensions,
     within the limits only where the load lets it."""

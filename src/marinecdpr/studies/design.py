@@ -54,7 +54,8 @@ __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidat
            "frame_placements", "screen_surface", "verify", "pareto_mask", "cable_pattern", "clearance", "frame_turns",
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
            "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of", "RAIL_CONSTRAINT",
-           "study_constraints", "candidate_rail", "rail_held_acceleration", "FAILURE_CONSTRAINT", "cable_count"]
+           "study_constraints", "candidate_rail", "rail_held_acceleration", "FAILURE_CONSTRAINT", "cable_count",
+           "rail_single_failure"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -75,9 +76,11 @@ less its ``accel_m_s2``; its capacity that largest acceleration."""
 FAILURE_CONSTRAINT = "single_cable_failure_N"
 """The constraint ``[constraints] single_cable_failure`` adds: with each cable removed in turn,
 the least margin by which the remaining cables hold the platform within their limits over the
-screen's poses, in the sea states the job works in (on a ship at rest where it works in none),
-the sea's extreme over ``failure_hold_s`` (:func:`~marinecdpr.studies.screen.single_failure_cells`),
-N; its capacity half the narrowest tension range."""
+screen's poses at every placement (:func:`~marinecdpr.studies.screen.single_failure_cells`)
+and, for a candidate moved by rail, at the panel's centre while its carriage moves the frame
+(:func:`rail_single_failure`), in the sea states the job works in (on a ship at rest where it
+works in none), the sea's extreme over ``failure_hold_s``, N; its capacity half the narrowest
+tension range."""
 
 
 def study_constraints(spec: DesignSpec) -> tuple[str, ...]:
@@ -715,13 +718,23 @@ def evaluate(spec: DesignSpec, template: Scenario, x: dict, cells: list) -> Eval
                                  f"works in, not at the rail's accel_m_s2 {rail.accel_m_s2:.3g} m/s^2)")
     if safety.single_cable_failure:  # each cable removed in turn, in the seas the job works in
         least, cell, pose, cable = screened[5].least(works)
+        at, cells_at, moving = screened[5].pose[pose], cells, ""
+        if rail is not None:  # and while the carriage moves the frame, the platform held at the panel's centre
+            working = [c for c, ok in zip(cells, works) if ok]
+            moved = rail_single_failure(sc, rail, float(W), working, worst, turned, safety.failure_hold_s)
+            if moved is not None:
+                m, c_m, p_m, i_m = moved.least(np.ones(len(working), dtype=bool) if working else None)
+                if m < least:
+                    least, cell, cable, at, cells_at = m, c_m, i_m, moved.pose[p_m], working
+                    moving = f" while the carriage accelerates at +-{rail.accel_m_s2:.3g} m/s^2 along the rail"
         margins[FAILURE_CONSTRAINT] = least
         capacity[FAILURE_CONSTRAINT] = float(np.min(robot.tension_max - robot.tension_min)) / 2.0
-        where = ("on a ship at rest (no sea state works)" if cell < 0 else
-                 f"in Hs {cells[cell].hs:g} m, Tp {cells[cell].tp:g} s, heading {cells[cell].heading_deg:g} deg")
+        sea = cells_at[cell] if cell >= 0 else None
+        where = ("on a ship at rest (no sea state works)" if sea is None else
+                 f"in Hs {sea.hs:g} m, Tp {sea.tp:g} s, heading {sea.heading_deg:g} deg")
         said[FAILURE_CONSTRAINT] = (f" (cable {cable + 1} of {robot.n_cables} "
                                     f"gone, the others cannot hold the platform at "
-                                    + "(" + ", ".join(f"{v:.2f}" for v in screened[5].pose[pose][[0, 2]]) + ") m in C "
+                                    + "(" + ", ".join(f"{v:.2f}" for v in at[[0, 2]]) + f") m in C{moving} "
                                     + f"{where}"
                                     + (": they lose rank)" if not np.isfinite(least) else ")"))
     short = [k for k, v in margins.items() if not v >= 0.0]
@@ -758,6 +771,27 @@ def rail_held_acceleration(sc: Scenario, rail, width_m: float, cells: list, orig
     move_s = float(scurve_move(width_m, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s)
     held = held_acceleration(placed, cells, level, hold_C=hold, duration_s=move_s)
     return float(held.cells_m_s2.min()) if len(cells) else held.still_m_s2
+
+
+def rail_single_failure(sc: Scenario, rail, width_m: float, cells: list, origin_S, orientation_deg, hold_s: float):
+    """Each cable removed in turn while a candidate's carriage moves its frame one frame's
+    width along the rail (:func:`rail_held_acceleration`'s move, the platform held at the
+    panel's centre, the carriage accelerating at +- its ``accel_m_s2``), in each of ``cells``
+    (the sea states the candidate works in), the sea's extreme over ``hold_s``
+    (:func:`~marinecdpr.studies.screen.held_single_failure`); None where no level rail runs
+    along the frame (the rail's own margin then fails the candidate)."""
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.studies.relocation import level_rail_S
+    from marinecdpr.studies.screen import held_single_failure
+
+    level = level_rail_S(orientation_deg)
+    if level is None:
+        return None
+    placed = sc.with_updates("ship", frame_origin_m=[float(v) for v in origin_S],
+                             frame_orientation_deg=[float(v) for v in orientation_deg])
+    move_s = float(scurve_move(width_m, rail.speed_m_s, rail.accel_m_s2, rail.jerk_m_s3).duration_s)
+    return held_single_failure(placed, cells, level, hold_C=rail_hold_C(sc), accel_m_s2=rail.accel_m_s2,
+                               duration_s=move_s, hold_s=hold_s)
 
 
 def _breakdown(job) -> dict:

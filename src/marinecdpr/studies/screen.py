@@ -76,6 +76,7 @@ from marinecdpr.studies.operability import Cell
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
            "HeldAcceleration", "held_acceleration", "FailureScreen", "single_failure_cells",
+           "held_single_failure",
            "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
@@ -758,6 +759,75 @@ class HeldAcceleration:
     w0: np.ndarray
 
 
+def _held(scenario: Scenario, rail_S, hold_C, duration_s: float):
+    """The platform held at ``hold_C`` for ``duration_s``, the tool off the hull: its scenario,
+    its screen model (one pose), and the wrench it needs on a ship at rest (6,) and per m/s^2
+    of C's acceleration along ``rail_S`` (6,), in C: exact, not by differences (linear in the
+    translation's acceleration)."""
+    from marinecdpr.scenario.schema import validated_scenario
+
+    d = np.asarray(rail_S, dtype=float)
+    d = d / np.linalg.norm(d)
+    data = scenario.model_dump(exclude_none=True)
+    data.pop("cleaning", None)
+    hold = [float(v) for v in hold_C]
+    data["trajectory"] = {"type": "line", "start_position_m": hold, "end_position_m": hold,
+                          "duration_s": float(duration_s)}
+    data["time"] = dict(data["time"], duration_s=float(duration_s))
+    held = validated_scenario(data)
+    model = screen_model(held, grid=(1, 1))
+    dq = np.zeros((2, 18))
+    dq[1, 12:15] = d
+    w = _wrench(held, model.x_PC_C[[0, 0]], model.twist[[0, 0]], np.zeros((2, 6)), model.R_PC[[0, 0]],
+                _still_plus(dq, held), model.t[[0, 0]], 0.0)
+    return held, model, w[0], w[1] - w[0]
+
+
+def held_single_failure(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, accel_m_s2: float,
+                        duration_s: float, hold_s: float, exceedance: float = EXCEEDANCE) -> FailureScreen:
+    """Each cable removed in turn while a carriage moves the frame along its rail, the
+    platform held at ``hold_C`` (the tool off the hull): the wrench it needs while C
+    accelerates at +``accel_m_s2`` and at -``accel_m_s2`` along ``rail_S`` (each held; as
+    :func:`held_acceleration` takes it), the sea's extreme over ``hold_s`` in each of ``cells``
+    (:func:`single_failure_cells`' rule, :func:`~marinecdpr.planning.redundancy.single_failure_margin`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The frame standing where it is, its robot, its sea-state base motion.
+    cells : list of Cell
+    rail_S : array_like, shape (3,)
+        The rail's direction in S.
+    hold_C : array_like, shape (3,)
+        Where the platform is held in C, m.
+    accel_m_s2 : float
+        The carriage's acceleration, m/s^2.
+    duration_s : float
+        The move's duration, s (the held path's).
+    hold_s : float
+        How long the remaining cables hold the platform after a failure, s.
+
+    Returns
+    -------
+    FailureScreen
+        One pose (the held one).
+    """
+    from marinecdpr.planning.redundancy import single_failure_margin
+
+    held, model, w0, per = _held(scenario, rail_S, hold_C, duration_s)
+    w = (w0[None] + float(accel_m_s2) * np.array([1.0, -1.0])[:, None] * per[None])[None]   # (1, 2, 6)
+    still = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w)
+    if not cells:
+        return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
+    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
+    gust = gust_covariance(held, model)
+    if gust is not None:
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    margin = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
+                                   extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
+    return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
+
+
 def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, duration_s: float,
                       exceedance: float = EXCEEDANCE) -> HeldAcceleration:
     """How hard a carriage may accelerate the frame along its rail with the cables holding
@@ -803,26 +873,9 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     HeldAcceleration
     """
     from marinecdpr.model.tension import full_rank, wrench_faces
-    from marinecdpr.scenario.schema import validated_scenario
 
-    d = np.asarray(rail_S, dtype=float)
-    d = d / np.linalg.norm(d)
-    data = scenario.model_dump(exclude_none=True)
-    data.pop("cleaning", None)
-    hold = [float(v) for v in hold_C]
-    data["trajectory"] = {"type": "line", "start_position_m": hold, "end_position_m": hold,
-                          "duration_s": float(duration_s)}
-    data["time"] = dict(data["time"], duration_s=float(duration_s))
-    held = validated_scenario(data)
-    model = screen_model(held, grid=(1, 1))
+    held, model, w0, per = _held(scenario, rail_S, hold_C, duration_s)
     c = list(model.controlled)
-    # the wrench at rest and with C accelerating at 1 m/s^2 along the rail: exact, not by
-    # differences (it is linear in the translation's acceleration)
-    dq = np.zeros((2, 18))
-    dq[1, 12:15] = d
-    w = _wrench(held, model.x_PC_C[[0, 0]], model.twist[[0, 0]], np.zeros((2, 6)), model.R_PC[[0, 0]],
-                _still_plus(dq, held), model.t[[0, 0]], 0.0)
-    w0, per = w[0], w[1] - w[0]
     faces = wrench_faces(model.J[:1], held.robot.tension_min, held.robot.tension_max)
     n, h = faces.normal[0], faces.half_width[0]
     slack0 = h - np.abs(n @ (w0[c] - faces.centre[0]))                         # (F,)
