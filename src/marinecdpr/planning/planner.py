@@ -304,7 +304,7 @@ def _over_pulleys(robot, platform, twist: np.ndarray, t: np.ndarray):
 def _cable_rates(scenario: Scenario, t: np.ndarray) -> np.ndarray:
     """The cables' L' at times t (over the pulleys, if any), m/s, shape (n_steps, m)."""
     robot = scenario.robot
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     if robot.has_pulleys:
         return _over_pulleys(robot, platform, platform.twist, t).length_rates
     return cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
@@ -399,7 +399,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                 ship: ShipMotion | None = None, headroom: bool = False) -> dict:
     robot = scenario.robot
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     if base_model == "fixed":
         ship = fixed_ship_motion(scenario, t)
     elif ship is None:
@@ -469,7 +469,7 @@ def stand_in_plan(scenario: Scenario, t: np.ndarray, *, base_model: str | None =
     robot = scenario.robot
     t = np.asarray(t, dtype=float)
     n, m, k = t.size, robot.n_cables, len(robot.controlled)
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
                            platform.twist)
     middle = np.full((n, m), 0.5 * (robot.tension_min + robot.tension_max))
@@ -547,7 +547,7 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
     n_singular, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
-        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
         kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors,
                                robot.platform_anchors)
         check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
@@ -577,7 +577,7 @@ def trajectory_interference(scenario: Scenario, *, chunk_steps: int = DEFAULT_CH
     n_close, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
-        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
         gaps = pose_clearances(robot, scenario.obstacles, platform.x_PC_C, platform.R_PC)
         close = (gaps.per_cable < robot.clearance_m).any(axis=1)
         if close.any() and first is None:
