@@ -364,6 +364,22 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
     return dict(sag_lengths=sag, winch_tensions=T_A)
 
 
+def _on_the_hull(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The platform's twist relative to the hull (to S), in C, where a coverage path is held on
+    the ship while the carriage moves (``trajectory.on_hull``): the brush slides over the hull
+    with the carriage's velocity added, (v_PC + R_SC^T v_S + omega_CS x x_PC, omega_PC +
+    omega_CS); elsewhere ``twist`` (relative to C, which the brush's model takes as the hull's)."""
+    if not getattr(scenario.trajectory, "on_hull", False):
+        return twist
+    from marinecdpr.motion.carriage import carriage_motion
+
+    _, v_S, _, R_SC, omega, _ = carriage_motion(scenario.ship, t)
+    out = np.array(twist, dtype=float)
+    out[:, :3] += np.einsum("nji,nj->ni", R_SC, v_S) + np.cross(omega, x_PC)
+    out[:, 3:] += omega
+    return out
+
+
 def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray,
                     R_PC: np.ndarray, ship: ShipMotion, t: np.ndarray, F_n) -> WrenchTerms:
     """The wrench the platform needs (eqs. 9-16), with the scenario's disturbance f_r, m_r,
@@ -385,7 +401,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, R_PC)
     if scenario.cleaning is not None:
-        f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
+        f_b, m_b = cleaning_loads(scenario.cleaning, _on_the_hull(scenario, x_PC, twist, t), R_PC, F_n)
         f_C, m_C = f_C + f_b, m_C + m_b
     if scenario.wind is not None:
         f_w, m_w = scenario_wind_loads(scenario, x_PC, twist, R_PC, ship, t)
