@@ -149,7 +149,9 @@ def test_the_examples_stretch_is_faster_continuous_and_its_coverage_recounted_on
     carried to S by the carriage's pose at that time, then along C's y onto the hull) comes
     within the brush's radius of it (a k-d tree over the contact points, 2 mm apart at most):
     the cleaned share agrees with the raster's within the sampling's 3 sigma and the rasters'
-    cell (1 mm over the band's height)."""
+    cell (1 mm over the band's height); measured 97.82 % sampled (sigma 0.06 %) against 97.80 %
+    rastered. (Before the run's raster spanned its contact's discs, it clipped them to the
+    first C's panel, which the frame, turning with the rail, leaves by up to 17 mm: 97.37 %.)"""
     sc = example.with_updates("time", duration_s=571.0, step_s=0.02)
     st = rail_strip(sc, mode="fastest", resolution_m=0.001)
     (choice,) = st.choices

@@ -591,7 +591,8 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
 
     The carriage's start after the path's is the earliest at which the brush's centre never
     falls behind the panel's inset (x >= x_min + r in C), found by bisection to
-    :data:`_T0_TOL_S` over the path's corners and a 0.05 s grid (the platform's path in C
+    :data:`_T0_TOL_S` over the path's corners, a fine grid after each (where the brush, leaving
+    a corner at rest, falls furthest behind) and a 0.05 s grid (the platform's path in C
     from :func:`~marinecdpr.motion.trajectory.evaluate_trajectory`, exact on any rail in x
     and z); the run is refused where the brush's centre must then pass the panel's other
     edge or leave its heights by more than :data:`_SAWTOOTH_TOL_M`.
@@ -627,7 +628,11 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
     (x_lo, z_lo), (x_hi, z_hi) = panel.min(axis=0), panel.max(axis=0)
     r = 0.5 * cleaning.brush_diameter_m
     start = sc.trajectory.start_time_s
-    grid = start + np.union1d(path.vertex_time_s, np.arange(0.0, T, 0.05))
+    # the brush's least x in C comes just after each corner (it leaves at rest while the carriage
+    # runs on): the corners, a fine grid after each, and a 0.05 s grid
+    after = 2.0 * (cleaning.acceleration_m_s2 / cleaning.jerk_m_s3 + V / cleaning.acceleration_m_s2) + 0.05
+    fine = (path.vertex_time_s[:, None] + np.linspace(0.0, after, 151)[None, :]).ravel()
+    grid = start + np.union1d(np.union1d(path.vertex_time_s, np.arange(0.0, T, 0.05)), fine[fine <= T])
     offset = np.asarray(cleaning.brush_offset_m, dtype=float)
 
     def brush_C(t0: float) -> np.ndarray:  # the brush centre's (x, z) in C over the grid
@@ -639,7 +644,7 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
     if latest < 0.0:
         raise ContinuousError(f"the carriage's move over the stretch ({move.duration_s:.4g} s) outlasts the brush's "
                               f"path ({T:.4g} s)", key="ship.carriage.accel_max_m_s2")
-    lo_edge = x_lo + r - _SAWTOOTH_TOL_M
+    lo_edge = x_lo + r - 1e-12 * max(1.0, abs(x_lo) + r)  # the inset's edge, where the path starts
     if brush_C(0.0)[:, 0].min() >= lo_edge:
         t0 = 0.0
     else:
@@ -840,7 +845,12 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         F_hull = F * np.einsum("ni,ni->n", N, n_S)
         contact = (np.abs(t) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
         on_ship = ((pts + t[:, None] * n_S) - run.origin_S) @ run.axes_S  # the contact in the run's first C
-        maps.append(coverage_map(run.panel_m, [], on_ship[:, [0, 2]], contact, width_m=cleaning.brush_diameter_m))
+        # its raster spans the contact's discs: the brush stays in the panel of the frame that carries
+        # it, but where the rail bends, the frame turns and its discs land off the first C's panel
+        r_b = 0.5 * cleaning.brush_diameter_m
+        (x_a, z_a), (x_b, z_b) = on_ship[:, [0, 2]].min(axis=0) - r_b, on_ship[:, [0, 2]].max(axis=0) + r_b
+        box = np.array([[x_a, z_a], [x_b, z_a], [x_b, z_b], [x_a, z_b]])
+        maps.append(coverage_map(box, [], on_ship[:, [0, 2]], contact, width_m=cleaning.brush_diameter_m))
         run_touch.append(bool((np.abs(t) <= tol).any()))
         from dataclasses import replace
 
