@@ -73,11 +73,11 @@ def test_flat_straight_side_by_hand(flat):
     the hull with the preload throughout."""
     sc, st = flat
     (choice,) = st.choices
-    assert choice["mode"] == "continuous" and st.s_m.size == 0 and len(st.runs) == 1
-    assert choice["continuous_h"] * 3600.0 == pytest.approx(31 * (6.0 + 0.2 + 0.7 / 3.0) + 30 * 2.1, rel=1e-12)
-    assert choice["stepped_h"] * 3600.0 == pytest.approx(4 * cleaning_path(sc.cleaning).duration_s + 3 * 43.2,
+    assert choice.mode == "continuous" and st.s_m.size == 0 and len(st.runs) == 1
+    assert choice.continuous_h * 3600.0 == pytest.approx(31 * (6.0 + 0.2 + 0.7 / 3.0) + 30 * 2.1, rel=1e-12)
+    assert choice.stepped_h * 3600.0 == pytest.approx(4 * cleaning_path(sc.cleaning).duration_s + 3 * 43.2,
                                                          rel=1e-12)
-    assert choice["stepped_h"] * 3600.0 == pytest.approx(440.6667, abs=1e-3)
+    assert choice.stepped_h * 3600.0 == pytest.approx(440.6667, abs=1e-3)
     run = st.runs[0]
     assert run.lanes == 31 and run.spacing_m == pytest.approx(1.0 / 6.0, rel=1e-12)
     assert run.speed_m_s == pytest.approx((1.0 / 6.0) / (6.0 + 0.2 + 0.7 / 3.0 + 2.1), rel=1e-12)
@@ -162,10 +162,10 @@ def test_the_examples_stretch_is_faster_continuous_and_its_coverage_recounted_on
     steps = np.diff(np.append(1.3 * np.arange(8), rail.length_m))
     stepped = 9 * clean_s + sum(scurve_move(h, c.speed_max_m_s, c.accel_max_m_s2, c.jerk_max_m_s3).duration_s + 30.0
                                 for h in steps)
-    assert choice["stepped_h"] * 3600.0 == pytest.approx(stepped, rel=1e-12)
-    assert choice["stepped_h"] * 3600.0 == pytest.approx(988.4, abs=0.1)
-    assert choice["continuous_h"] * 3600.0 == pytest.approx(570.65, abs=0.01)
-    assert choice["mode"] == "continuous" and run.lanes == 67 and not st.partial
+    assert choice.stepped_h * 3600.0 == pytest.approx(stepped, rel=1e-12)
+    assert choice.stepped_h * 3600.0 == pytest.approx(988.4, abs=0.1)
+    assert choice.continuous_h * 3600.0 == pytest.approx(570.65, abs=0.01)
+    assert choice.mode == "continuous" and run.lanes == 67 and not st.partial
     # the brush's contact on the hull at each planned step, by the carriage's pose then
     rs = run_scenario(sc, *run.s_m, dwell_s=run.start_s, speed_m_s=run.speed_m_s)
     p = plan(rs)
@@ -257,8 +257,8 @@ def test_refusals_and_the_fallback(example, tmp_path):
         info.value.detail
     st = rail_strip(sc, mode="fastest")
     (choice,) = st.choices
-    assert choice["mode"] == "stepped" and choice["continuous_h"] is None and st.s_m.size == 4
-    assert choice["continuous_why_not"].startswith("ship.carriage.speed_max_m_s: the continuous mode runs")
+    assert choice.mode == "stepped" and choice.continuous_h is None and st.s_m.size == 4
+    assert choice.why_not.startswith("ship.carriage.speed_max_m_s: the continuous mode runs")
     narrow = _straight(example, tmp_path).with_updates("cleaning", panel_m=[[0.3, 0.3], [0.55, 0.3], [0.55, 1.1],
                                                                              [0.3, 1.1]])
     with pytest.raises(ContinuousError, match="sawtooth leaves the panel") as info:

@@ -168,7 +168,8 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
 def _print_strip(st) -> None:
     """``--rail``: the strip's coverage on the hull, its hours, its stations and its crane stretches."""
     c, parts = st.coverage, st.parts_h()
-    partial = " (a PARTIAL job: each station's coverage is the flown part's)" if st.partial else ""
+    partial = (" (a PARTIAL job: each station's and run's coverage is the flown part's)" if st.runs else
+               " (a PARTIAL job: each station's coverage is the flown part's)") if st.partial else ""
     console.print(plain(f"strip: {st.surface}: {st.s_m.size} rail stations and {len(st.crane)} crane placements, "
                         f"{c.coverage_pct:.2f} % of the strip's {c.area_m2:.4g} m2 on the hull cleaned{partial} "
                         f"({c.overlap_pct:.3g} % of it twice or more), {st.hours:.4g} h ({parts['cleaning_rail']:.4g} "
@@ -182,10 +183,10 @@ def _print_strip(st) -> None:
                             + (f"; {int(st.beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
     for ch in st.choices:
-        other = ("cannot run continuously: " + ch["continuous_why_not"] if ch["continuous_h"] is None
-                 else f"continuous {ch['continuous_h']:.4g} h at {100.0 * ch['continuous_speed_m_s']:.3g} cm/s")
-        console.print(plain(f"rail stretch s = {ch['s_m'][0]:.4g} to {ch['s_m'][1]:.4g} m: {ch['mode']} ({st.mode} asked); "
-                            f"stepped {ch['stepped_h']:.4g} h, {other}"), highlight=False, soft_wrap=True)
+        other = ("cannot run continuously: " + ch.why_not if ch.continuous_h is None
+                 else f"continuous {ch.continuous_h:.4g} h at {100.0 * ch.continuous_speed_m_s:.3g} cm/s")
+        console.print(plain(f"rail stretch s = {ch.s_m[0]:.4g} to {ch.s_m[1]:.4g} m: {ch.mode} ({st.mode} asked); "
+                            f"stepped {ch.stepped_h:.4g} h, {other}"), highlight=False, soft_wrap=True)
     for part in st.stretches:
         console.print(plain(f"by crane: stations {part.x_m[0]:.4g} to {part.x_m[1]:.4g} m ({part.why}): "
                             f"{part.placements} placements, {part.crane_moves} crane moves, {part.hours:.4g} h"),

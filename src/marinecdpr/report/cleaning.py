@@ -445,10 +445,10 @@ def write_strip(strip, folder: Path) -> list[Path]:
             rows.append([i + 1, nan, *(np.asarray(p.centre_S) * mirror), *(pose * mirror), t, move, (t + move) / 3600.0, nan, *p.offset_range_m,
                          nan, nan, nan, float(p.deviation_m > strip.tolerance_m), float(crane)])
     values = np.array(rows, dtype=float).reshape(-1, len(STRIP_COLUMNS))
-    stretches = np.array([[c["stretch"] + 1, *c["s_m"], c["stations"], c["stepped_h"],
-                           nan if c["continuous_h"] is None else c["continuous_h"],
-                           nan if c["continuous_speed_m_s"] is None else c["continuous_speed_m_s"],
-                           float(c["mode"] == "continuous")] for c in strip.choices], dtype=float)
+    stretches = np.array([[c.stretch + 1, *c.s_m, c.stations, c.stepped_h,
+                           nan if c.continuous_h is None else c.continuous_h,
+                           nan if c.continuous_speed_m_s is None else c.continuous_speed_m_s,
+                           float(c.mode == "continuous")] for c in strip.choices], dtype=float)
     tail = [_write_csv(list(STRETCH_COLUMNS), stretches.reshape(-1, len(STRETCH_COLUMNS)),
                        Path(folder) / "stretches.csv", int_last=True, int_columns=(0, 3))]
     return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,

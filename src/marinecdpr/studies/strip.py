@@ -37,6 +37,15 @@ Crane stretches
     the crane of ``[cleaning.surface.relocation]``; without one the job is refused naming the
     stretch. Their area is the placements' patches (not recounted here).
 
+Continuous runs
+    With ``mode`` "continuous" or "fastest" a followed stretch may instead be cleaned while the
+    carriage moves (:class:`ContinuousRun`, :func:`continuous_run`): the brush's path laid on
+    the ship over the stretch's footprint (``trajectory.on_hull``), the carriage running at
+    V = lane spacing / (a lane and a step) so that the platform's path in C is a sawtooth in
+    the panel; planned with the carriage moving over the horizon, the brush's contact carried
+    to the hull by the carriage's pose at each step and rastered in the run's first C. Its
+    hours are its path's; "fastest" takes, per stretch, the fewer hours.
+
 Hours
     Each rail station's cleaning is the panel's coverage path; the carriage's move to the next
     station the double-S move of ``[ship.carriage]``'s speed, acceleration and jerk limits
@@ -47,7 +56,7 @@ Hours
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -55,7 +64,8 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "ContinuousRun", "StretchChoice", "ContinuousError", "RAIL_MODES",
+           "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
 MAX_STRIP_CELLS = 10_000_000
@@ -183,7 +193,8 @@ class StripCoverage:
     weight_m2 : ndarray of float32, shape (nz, nx)
         Each cell's area on the hull, m^2.
     station_pct : ndarray, shape (n_stations,)
-        Each station's cleaned share of its own panel's footprint on the strip, %.
+        Each station's cleaned share of its own panel's footprint on the strip, %; then each
+        continuous run's, of its raster's (the box of its brush's discs in its first C).
     resolution_m : float
     """
 
@@ -374,9 +385,8 @@ class RailStrip:
         The bends not followed (:func:`rail_stations`).
     runs : tuple of ContinuousRun
         The stretches cleaned while the carriage moves; visit ``n + j`` (n = ``s_m.size``) is run j.
-    choices : tuple of dict
-        Each followed stretch of the rail: its arc lengths, its stations, the hours stepped and
-        continuous (None where the continuous mode cannot clean it, with ``why``), the mode taken.
+    choices : tuple of StretchChoice
+        Each followed stretch of the rail: the hours stepped and continuous, the mode taken.
     mode : {"stepped", "continuous", "fastest"}
         The mode asked.
     """
@@ -466,7 +476,7 @@ class RailStrip:
                 "moves": {"rail": int((~self.by_crane[1:]).sum()), "crane": int(self.by_crane.sum())},
                 "hours": self.hours, "hours_by_part": self.parts_h(),
                 "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else []),
-                "rail_mode": self.mode, "rail_stretches": [dict(c) for c in self.choices],
+                "rail_mode": self.mode, "rail_stretches": [c.as_dict() for c in self.choices],
                 "continuous_runs": [r.as_dict() for r in self.runs]}
 
 
@@ -552,6 +562,46 @@ class ContinuousRun:
                 "lanes": self.lanes, "spacing_m": self.spacing_m, "sawtooth_m": [float(v) for v in self.sawtooth_m],
                 "stand_off_m": [float(v) for v in self.stand_off_m], "normal_force_N": [float(v) for v in self.force_N],
                 "in_band_pct": float(self.in_band_pct)}
+
+
+@dataclass(frozen=True)
+class StretchChoice:
+    """How a followed stretch of the rail is cleaned, and the hours either way.
+
+    Attributes
+    ----------
+    stretch : int
+        The stretch (:func:`rail_stations`).
+    s_m : tuple of float
+        Its first and last stations' arc lengths, m.
+    stations : int
+    stepped_h : float
+        Its stations' cleaning, the carriage's moves and settles, h.
+    continuous_h : float or None
+        Its continuous run's, h; None where the continuous mode cannot clean it.
+    continuous_speed_m_s : float or None
+        The run's carriage speed V, m/s.
+    why_not : str or None
+        Why the continuous mode cannot clean it (the refusal's line).
+    mode : {"stepped", "continuous"}
+        The mode taken.
+    """
+
+    stretch: int
+    s_m: tuple
+    stations: int
+    stepped_h: float
+    continuous_h: float | None
+    continuous_speed_m_s: float | None
+    why_not: str | None
+    mode: str
+
+    def as_dict(self) -> dict:
+        """For summary.json."""
+        return {"stretch": self.stretch, "s_m": [float(v) for v in self.s_m], "stations": self.stations,
+                "stepped_h": self.stepped_h, "continuous_h": self.continuous_h,
+                "continuous_speed_m_s": self.continuous_speed_m_s, "continuous_why_not": self.why_not,
+                "mode": self.mode}
 
 
 def run_scenario(scenario: Scenario, s_a: float, s_b: float, dwell_s: float = 0.0, speed_m_s: float | None = None
@@ -789,11 +839,11 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
             mode == "fastest" and run.duration_s < stepped_s)) else "stepped"
         if take == "continuous":
             runs.append(run)
-        choices.append({"stretch": int(k), "s_m": [float(s[idx[0]]), float(s[idx[-1]])], "stations": int(idx.size),
-                        "stepped_h": stepped_s / 3600.0,
-                        "continuous_h": None if run is None else run.duration_s / 3600.0,
-                        "continuous_speed_m_s": None if run is None else run.speed_m_s,
-                        "continuous_why_not": why, "mode": take})
+        choices.append(StretchChoice(stretch=int(k), s_m=(float(s[idx[0]]), float(s[idx[-1]])), stations=int(idx.size),
+                                     stepped_h=stepped_s / 3600.0,
+                                     continuous_h=None if run is None else run.duration_s / 3600.0,
+                                     continuous_speed_m_s=None if run is None else run.speed_m_s, why_not=why,
+                                     mode=take))
     continuous_stretches = {r.stretch for r in runs}
     keep = np.flatnonzero([int(k) not in continuous_stretches for k in stretch])
     all_s, all_stretch, all_r, all_R = s, stretch, r_S, R_SC
@@ -852,8 +902,6 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         box = np.array([[x_a, z_a], [x_b, z_a], [x_b, z_b], [x_a, z_b]])
         maps.append(coverage_map(box, [], on_ship[:, [0, 2]], contact, width_m=cleaning.brush_diameter_m))
         run_touch.append(bool((np.abs(t) <= tol).any()))
-        from dataclasses import replace
-
         runs[j] = replace(run, stand_off_m=(float(t.min()), float(t.max())),
                           force_N=(float(F_hull.min()), float(F_hull.max())), in_band_pct=100.0 * float(contact.mean()))
         if progress is not None:
