@@ -278,6 +278,7 @@ def test_the_rail_strip_by_default_takes_the_faster_mode_per_stretch(tmp_path):
     assert res.exit_code == 0, res.output
     assert ("rail stretch s = 0 to 10 m: continuous (fastest asked); stepped 0.2746 h, continuous 0.1585 h at "
             "1.97 cm/s") in res.output
+    assert "continuous runs: stand-off 3.39 to 3.45 mm, normal force on the hull 59.93 to 60.24 N" in res.output
     s = json.loads((tmp_path / "cli" / "summary.json").read_text())["strip"]
     assert s["rail_mode"] == "fastest" and s["rail_stations"] == 0 and len(s["continuous_runs"]) == 1
     (stretch,) = s["rail_stretches"]

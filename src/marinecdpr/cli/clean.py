@@ -182,6 +182,13 @@ def _print_strip(st) -> None:
                             f"{st.force_N[:, 0].min():.4g} to {st.force_N[:, 1].max():.4g} N"
                             + (f"; {int(st.beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
+    if st.runs:
+        lo = min(r.stand_off_m[0] for r in st.runs)
+        hi = max(r.stand_off_m[1] for r in st.runs)
+        console.print(plain(f"continuous runs: stand-off {1e3 * lo:.3g} to {1e3 * hi:.3g} mm, normal force on the hull "
+                            f"{min(r.force_N[0] for r in st.runs):.4g} to {max(r.force_N[1] for r in st.runs):.4g} N"
+                            + (f"; {int(st.run_beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
+                               if st.run_beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
     for ch in st.choices:
         other = ("cannot run continuously: " + ch.why_not if ch.continuous_h is None
                  else f"continuous {ch.continuous_h:.4g} h at {100.0 * ch.continuous_speed_m_s:.3g} cm/s")
