@@ -214,9 +214,12 @@ def _held_on_ship(ship, t: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarr
     first station taken off along C's x (:func:`~marinecdpr.motion.carriage.carriage_travel`)."""
     from marinecdpr.motion.carriage import carriage_travel
 
-    if ship is None or ship.carriage is None:
-        raise ScenarioError("needs the carriage's motion: the path is held on the ship while [ship.carriage] carries "
-                            "the frame", key="trajectory.on_hull")
+    if ship is None:  # a model not given the ship: the controller's, the screen's, the design study's
+        raise ScenarioError("is planned only (clean --surface --rail's continuous mode): this model does not take the "
+                            "carriage's motion yet", key="trajectory.on_hull")
+    if ship.carriage is None:
+        raise ScenarioError("needs [ship.carriage]: the path is held on the ship while the carriage carries the frame",
+                            key="trajectory.on_hull")
     d, d_dot, d_ddot = carriage_travel(ship, t)
     p, v, a = p.copy(), v.copy(), a.copy()
     p[:, 0] -= d
