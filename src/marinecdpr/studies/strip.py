@@ -643,9 +643,10 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
     falls behind the panel's inset (x >= x_min + r in C), found by bisection to
     :data:`_T0_TOL_S` over the path's corners, a fine grid after each (where the brush, leaving
     a corner at rest, falls furthest behind) and a 0.05 s grid (the platform's path in C
-    from :func:`~marinecdpr.motion.trajectory.evaluate_trajectory`, exact on any rail in x
-    and z); the run is refused where the brush's centre must then pass the panel's other
-    edge or leave its heights by more than :data:`_SAWTOOTH_TOL_M`.
+    from :func:`~marinecdpr.motion.trajectory.evaluate_trajectory`: the path less the
+    carriage's travel along the rail); the run is refused where the brush's centre must then pass the panel's other
+    edge by more than :data:`_SAWTOOTH_TOL_M` (its heights are the path's own: the compensation
+    is along C's x).
 
     Raises
     ------
@@ -675,7 +676,7 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
     move = scurve_move(s_b - s_a, V, carriage.accel_max_m_s2, carriage.jerk_max_m_s3)
     T = float(path.duration_s)
     panel = np.asarray(scenario.cleaning.panel_m, dtype=float)
-    (x_lo, z_lo), (x_hi, z_hi) = panel.min(axis=0), panel.max(axis=0)
+    x_lo, x_hi = panel[:, 0].min(), panel[:, 0].max()
     r = 0.5 * cleaning.brush_diameter_m
     start = sc.trajectory.start_time_s
     # the brush's least x in C comes just after each corner (it leaves at rest while the carriage
@@ -712,10 +713,6 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
                               f"{c[:, 0].max():.4g} m in C, beyond the panel's {x_hi - r:.4g} m less the brush's "
                               f"radius (a lane of {path.spacing_m:.4g} m and the carriage's lag)",
                               key="cleaning.panel_m")
-    if c[:, 1].min() < z_lo + r - _SAWTOOTH_TOL_M or c[:, 1].max() > z_hi - r + _SAWTOOTH_TOL_M:
-        raise ContinuousError(f"the continuous mode's path leaves the panel's heights: the brush's centre spans z = "
-                              f"{c[:, 1].min():.4g} to {c[:, 1].max():.4g} m in C (the rail turns the frame)",
-                              key="ship.carriage.rail_m")
     r0, R0 = station_poses(scenario.ship, rail, np.array([s_a, s_b]))
     centre = panel.mean(axis=0)
     end = r0[1] + R0[1][:, 0] * centre[0] + R0[1][:, 2] * centre[1]
