@@ -246,7 +246,7 @@ def test_the_rail_strip_from_python_is_what_the_command_writes(tmp_path):
     from marinecdpr.studies.strip import rail_strip
 
     sc = marinecdpr.load_scenario(str(EXAMPLES / "rail_strip.toml"))
-    spec = CleanSpec(duration=0.2, plant="own", surface=True, rail=True, compare=False)
+    spec = CleanSpec(duration=0.2, plant="own", surface=True, rail=True, rail_mode="stepped", compare=False)
     est = command.estimate(spec, sc)
     placed = command.tile(spec, est.flown)
     result = command.run(spec, sc, estimated=est, placed=placed)
@@ -255,16 +255,44 @@ def test_the_rail_strip_from_python_is_what_the_command_writes(tmp_path):
     assert s == rail_strip(est.flown).summary()
     assert s["rail_stations"] == 9 and s["crane_placements"] == 4 and s["partial"]
     names = [p.name for p in result.write(tmp_path / "py")]
-    assert names[-1] == "stations.csv"
+    assert names[-2:] == ["stations.csv", "stretches.csv"]
     rows = np.genfromtxt(tmp_path / "py" / "stations.csv", delimiter=",", names=True)
     assert rows.size == 13 and rows["hours"].sum() == pytest.approx(s["hours"], rel=1e-9)
     assert int(rows["by_crane"].sum()) == s["moves"]["crane"] == 4
     res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--duration", "0.2", "--plant", "own",
+                              "--surface", "--rail", "--rail-mode", "stepped", "--no-compare", "--out",
+                              str(tmp_path / "cli")], terminal_width=4000)
+    assert res.exit_code == 0, res.output
+    assert "by crane: stations -12 to -10 m (aft of the rail's reach): 4 placements, 4 crane moves" in res.output
+    _same_files(tmp_path / "py", tmp_path / "cli", ["stations.csv", "stretches.csv", "clean.csv", "summary.json"])
+
+
+def test_the_rail_strip_by_default_takes_the_faster_mode_per_stretch(tmp_path):
+    """``--surface --rail`` without ``--rail-mode`` on examples/rail_strip.toml: its one stretch
+    of the rail (10 m) cleaned while the carriage moves, 570.65 s against 988.4 s stepped;
+    stations.csv's run row holds the run's cleaning, stretches.csv both hours and the mode,
+    and the command prints one line on it."""
+    res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--duration", "0.2", "--plant", "own",
                               "--surface", "--rail", "--no-compare", "--out", str(tmp_path / "cli")],
                         terminal_width=4000)
     assert res.exit_code == 0, res.output
-    assert "by crane: stations -12 to -10 m (aft of the rail's reach): 4 placements, 4 crane moves" in res.output
-    _same_files(tmp_path / "py", tmp_path / "cli", ["stations.csv", "clean.csv", "summary.json"])
+    assert ("rail stretch s = 0 to 10 m: continuous (fastest asked); stepped 0.2746 h, continuous 0.1585 h at "
+            "1.97 cm/s") in res.output
+    assert "continuous runs: stand-off 3.39 to 3.45 mm, normal force on the hull 59.93 to 60.24 N" in res.output
+    s = json.loads((tmp_path / "cli" / "summary.json").read_text())["strip"]
+    assert s["rail_mode"] == "fastest" and s["rail_stations"] == 0 and len(s["continuous_runs"]) == 1
+    (stretch,) = s["rail_stretches"]
+    assert stretch["mode"] == "continuous" and stretch["continuous_h"] < 0.6 * stretch["stepped_h"]
+    rows = np.genfromtxt(tmp_path / "cli" / "stations.csv", delimiter=",", names=True)
+    assert rows.size == 5 and rows["hours"].sum() == pytest.approx(s["hours"], rel=1e-9)
+    assert rows["clean_s"][-1] == pytest.approx(s["continuous_runs"][0]["duration_s"], rel=1e-9)
+    table = np.genfromtxt(tmp_path / "cli" / "stretches.csv", delimiter=",", names=True)
+    assert table["continuous"] == 1 and table["stepped_h"] == pytest.approx(stretch["stepped_h"], rel=1e-9)
+    res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--surface", "--rail", "--rail-mode",
+                              "sideways", "--out", str(tmp_path / "bad")])
+    assert res.exit_code == 2 and len(res.stderr.strip().splitlines()) == 1, res.stderr
+    assert res.stderr.strip() == "error: --rail-mode sideways: expected fastest, stepped or continuous"
+    assert not (tmp_path / "bad").exists()
 
 
 def test_rail_without_a_carriage_is_one_line_exit_2(tmp_path):

@@ -45,6 +45,9 @@ def clean(
     rail: bool = typer.Option(CleanSpec.default("rail"), "--rail", help="With --surface: clean the band as a strip "
                               "from the stations of the scenario's [ship.carriage] rail, one panel along at a time "
                               "(crane placements where the rail does not reach)."),
+    rail_mode: str = typer.Option(CleanSpec.default("rail_mode"), "--rail-mode", help="With --rail: stepped (the "
+                                  "carriage steps the frame panel by panel), continuous (it moves without stopping, "
+                                  "the platform's path compensating) or fastest (the faster on each stretch)."),
     seas: bool = typer.Option(CleanSpec.default("seas"), "--seas", help="Fly the job in every sea state of a scatter "
                               "diagram (the scenario's sea_state with each Hs, Tp and heading) and say where it works."),
     scatter: Optional[Path] = typer.Option(CleanSpec.default("scatter"), help="With --seas: the scatter diagram CSV "
@@ -72,7 +75,7 @@ def clean(
     from marinecdpr.commands import clean as command
 
     spec = spec_of(CleanSpec, plant=plant, duration=duration, guarantee=guarantee, hull_area=hull_area,
-                   move_time=move_time, surface=surface, rail=rail, seas=seas, scatter=scatter, headings=headings,
+                   move_time=move_time, surface=surface, rail=rail, rail_mode=rail_mode, seas=seas, scatter=scatter, headings=headings,
                    coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
                    scheduler=scheduler, compare=compare)
     sc = load(scenario, None, None)
@@ -165,7 +168,8 @@ def _print_job(result, spec: CleanSpec, out: Path, paths: list[Path], elapsed: f
 def _print_strip(st) -> None:
     """``--rail``: the strip's coverage on the hull, its hours, its stations and its crane stretches."""
     c, parts = st.coverage, st.parts_h()
-    partial = " (a PARTIAL job: each station's coverage is the flown part's)" if st.partial else ""
+    partial = (" (a PARTIAL job: each station's and run's coverage is the flown part's)" if st.runs else
+               " (a PARTIAL job: each station's coverage is the flown part's)") if st.partial else ""
     console.print(plain(f"strip: {st.surface}: {st.s_m.size} rail stations and {len(st.crane)} crane placements, "
                         f"{c.coverage_pct:.2f} % of the strip's {c.area_m2:.4g} m2 on the hull cleaned{partial} "
                         f"({c.overlap_pct:.3g} % of it twice or more), {st.hours:.4g} h ({parts['cleaning_rail']:.4g} "
@@ -178,6 +182,18 @@ def _print_strip(st) -> None:
                             f"{st.force_N[:, 0].min():.4g} to {st.force_N[:, 1].max():.4g} N"
                             + (f"; {int(st.beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
+    if st.runs:
+        lo = min(r.stand_off_m[0] for r in st.runs)
+        hi = max(r.stand_off_m[1] for r in st.runs)
+        console.print(plain(f"continuous runs: stand-off {1e3 * lo:.3g} to {1e3 * hi:.3g} mm, normal force on the hull "
+                            f"{min(r.force_N[0] for r in st.runs):.4g} to {max(r.force_N[1] for r in st.runs):.4g} N"
+                            + (f"; {int(st.run_beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
+                               if st.run_beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
+    for ch in st.choices:
+        other = ("cannot run continuously: " + ch.why_not if ch.continuous_h is None
+                 else f"continuous {ch.continuous_h:.4g} h at {100.0 * ch.continuous_speed_m_s:.3g} cm/s")
+        console.print(plain(f"rail stretch s = {ch.s_m[0]:.4g} to {ch.s_m[1]:.4g} m: {ch.mode} ({st.mode} asked); "
+                            f"stepped {ch.stepped_h:.4g} h, {other}"), highlight=False, soft_wrap=True)
     for part in st.stretches:
         console.print(plain(f"by crane: stations {part.x_m[0]:.4g} to {part.x_m[1]:.4g} m ({part.why}): "
                             f"{part.placements} placements, {part.crane_moves} crane moves, {part.hours:.4g} h"),

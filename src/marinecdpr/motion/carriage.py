@@ -39,7 +39,7 @@ from marinecdpr.motion.ship import ShipMotion, body_motion
 if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
-__all__ = ["carried_motion", "on_rail", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
+__all__ = ["carried_motion", "on_rail", "carriage_travel", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
            "carriage_joints", "carriage_motion_and_joints", "forget_carriage_motions", "CACHED_STEPS"]
 
 
@@ -206,6 +206,31 @@ def _compose(x0, v0, a0, R, w, al, r, v, a, Q, wq, aq, xt, vt, at, Rt, wt, alt):
         cross = (c1 * o2 - c2 * o1, c2 * o0 - c0 * o2, c0 * o1 - c1 * o0)  # (R_SC^T omega) x omega_CS
         for j in range(3):
             alt[j, k] = (Q[k, 0, j] * al[k, 0] + Q[k, 1, j] * al[k, 1] + Q[k, 2, j] * al[k, 2]) + cross[j] + aq[k, j]
+
+
+def carriage_travel(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """How far the carriage has run along its rail from its first station at times ``t``, and
+    its speed and acceleration there (:func:`~marinecdpr.motion.rail.carriage_profile`).
+
+    Parameters
+    ----------
+    ship : marinecdpr.scenario.schema.Ship
+        With ``carriage`` set.
+    t : ndarray, shape (n_steps,)
+        Times, s (from 0).
+
+    Returns
+    -------
+    travel, speed, accel : ndarray, shape (n_steps,)
+        m, m/s, m/s^2 along the rail.
+    """
+    from marinecdpr.motion.rail import carriage_profile
+
+    c = ship.carriage
+    stations = np.asarray(c.stations_m, dtype=float)
+    s, s_dot, s_ddot, _ = carriage_profile(stations, c.dwell_s, c.speed_max_m_s, c.accel_max_m_s2, c.jerk_max_m_s3,
+                                           np.asarray(t, dtype=float))
+    return s - stations[0], s_dot, s_ddot
 
 
 def rail_of(ship) -> "Rail":

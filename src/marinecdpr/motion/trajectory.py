@@ -131,7 +131,7 @@ def _cleaning_path(key: str):
 
 def evaluate_trajectory(
     config: CircleTrajectory | WaypointsTrajectory | LineTrajectory | CoverageTrajectory, t: np.ndarray,
-    cleaning: Cleaning | None = None,
+    cleaning: Cleaning | None = None, ship=None,
 ) -> PlatformMotion:
     """The planned platform motion a scenario's ``[trajectory]`` describes.
 
@@ -144,11 +144,14 @@ def evaluate_trajectory(
         The scenario's ``[cleaning]`` section, which a coverage trajectory follows: the
         brush's centre (``cleaning.brush_offset_m`` in P) runs along the coverage path in
         the plane y = ``plane_y_m``, the platform's orientation fixed.
+    ship : marinecdpr.scenario.schema.Ship, optional
+        The scenario's ``[ship]``: a coverage trajectory ``on_hull`` takes its carriage's
+        motion (:func:`~marinecdpr.motion.carriage.held_on_ship`); refused without it.
     """
     t = np.asarray(t, dtype=float)
     n = t.size
     if isinstance(config, CoverageTrajectory):
-        return _coverage_motion(config, cleaning, t)
+        return _coverage_motion(config, cleaning, t, ship)
     # time-last buffers (see geometry.vec); the (n_steps, 6) views are taken at the end
     pose = np.zeros((6, n))
     pose_dot = np.zeros((6, n))
@@ -186,10 +189,13 @@ def evaluate_trajectory(
     return platform_motion(pose.T, pose_dot.T, pose_ddot.T)
 
 
-def _coverage_motion(config: CoverageTrajectory, cleaning: Cleaning | None, t: np.ndarray) -> PlatformMotion:
+def _coverage_motion(config: CoverageTrajectory, cleaning: Cleaning | None, t: np.ndarray, ship=None
+                     ) -> PlatformMotion:
     if cleaning is None:
         raise ScenarioError("missing: a coverage trajectory cleans the [cleaning] section's panel", key="cleaning")
     p, v, a = cleaning_path(cleaning).evaluate(t - config.start_time_s)
+    if config.on_hull:
+        p, v, a = _held_on_ship(ship, t, p, v, a)
     angles = np.radians(config.orientation_deg)
     R = euler_kinematics(angles[None], np.zeros((1, 3)), np.zeros((1, 3))).R[0]
     r_C = R @ np.asarray(cleaning.brush_offset_m, dtype=float)  # brush centre from P's origin, in C
@@ -200,6 +206,26 @@ def _coverage_motion(config: CoverageTrajectory, cleaning: Cleaning | None, t: n
     pose_dot[:, [0, 2]] = v
     pose_ddot[:, [0, 2]] = a
     return platform_motion(pose, pose_dot, pose_ddot)
+
+
+def _held_on_ship(ship, t: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarray):
+    """A coverage path laid on the ship (``on_hull``): the brush's (x, z) in C, their velocity
+    and acceleration, as the carriage carries the frame: its travel along the rail from its
+    first station taken off along C's x (:func:`~marinecdpr.motion.carriage.carriage_travel`)."""
+    from marinecdpr.motion.carriage import carriage_travel
+
+    if ship is None:  # a model not given the ship: the controller's, the screen's, the design study's
+        raise ScenarioError("is planned only (clean --surface --rail's continuous mode): this model does not take the "
+                            "carriage's motion yet", key="trajectory.on_hull")
+    if ship.carriage is None:
+        raise ScenarioError("needs [ship.carriage]: the path is held on the ship while the carriage carries the frame",
+                            key="trajectory.on_hull")
+    d, d_dot, d_ddot = carriage_travel(ship, t)
+    p, v, a = p.copy(), v.copy(), a.copy()
+    p[:, 0] -= d
+    v[:, 0] -= d_dot
+    a[:, 0] -= d_ddot
+    return p, v, a
 
 
 def evaluate_disturbance(config: Disturbance, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -304,7 +304,7 @@ def _over_pulleys(robot, platform, twist: np.ndarray, t: np.ndarray):
 def _cable_rates(scenario: Scenario, t: np.ndarray) -> np.ndarray:
     """The cables' L' at times t (over the pulleys, if any), m/s, shape (n_steps, m)."""
     robot = scenario.robot
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     if robot.has_pulleys:
         return _over_pulleys(robot, platform, platform.twist, t).length_rates
     return cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
@@ -364,6 +364,22 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
     return dict(sag_lengths=sag, winch_tensions=T_A)
 
 
+def _on_the_hull(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The platform's twist relative to the hull (to S), in C, where a coverage path is held on
+    the ship while the carriage moves (``trajectory.on_hull``): the brush slides over the hull
+    with the carriage's velocity added, (v_PC + R_SC^T v_S + omega_CS x x_PC, omega_PC +
+    omega_CS); elsewhere ``twist`` (relative to C, which the brush's model takes as the hull's)."""
+    if not getattr(scenario.trajectory, "on_hull", False):
+        return twist
+    from marinecdpr.motion.carriage import carriage_motion
+
+    _, v_S, _, R_SC, omega, _ = carriage_motion(scenario.ship, t)
+    out = np.array(twist, dtype=float)
+    out[:, :3] += np.einsum("nji,nj->ni", R_SC, v_S) + np.cross(omega, x_PC)
+    out[:, 3:] += omega
+    return out
+
+
 def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twist_dot: np.ndarray,
                     R_PC: np.ndarray, ship: ShipMotion, t: np.ndarray, F_n) -> WrenchTerms:
     """The wrench the platform needs (eqs. 9-16), with the scenario's disturbance f_r, m_r,
@@ -385,7 +401,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, R_PC)
     if scenario.cleaning is not None:
-        f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, F_n)
+        f_b, m_b = cleaning_loads(scenario.cleaning, _on_the_hull(scenario, x_PC, twist, t), R_PC, F_n)
         f_C, m_C = f_C + f_b, m_C + m_b
     if scenario.wind is not None:
         f_w, m_w = scenario_wind_loads(scenario, x_PC, twist, R_PC, ship, t)
@@ -399,7 +415,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
 def _plan_chunk(scenario: Scenario, t: np.ndarray, method: str, base_model: str,
                 ship: ShipMotion | None = None, headroom: bool = False) -> dict:
     robot = scenario.robot
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     if base_model == "fixed":
         ship = fixed_ship_motion(scenario, t)
     elif ship is None:
@@ -469,7 +485,7 @@ def stand_in_plan(scenario: Scenario, t: np.ndarray, *, base_model: str | None =
     robot = scenario.robot
     t = np.asarray(t, dtype=float)
     n, m, k = t.size, robot.n_cables, len(robot.controlled)
-    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+    platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
     kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors, robot.platform_anchors,
                            platform.twist)
     middle = np.full((n, m), 0.5 * (robot.tension_min + robot.tension_max))
@@ -547,7 +563,7 @@ def check_trajectory(scenario: Scenario, *, chunk_steps: int = DEFAULT_CHUNK_STE
     n_singular, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
-        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
         kin = cable_kinematics(platform.x_PC_C, platform.R_PC, robot.frame_anchors,
                                robot.platform_anchors)
         check_in_frame(platform.x_PC_C, kin.anchors_C, robot.frame_anchors, t)
@@ -577,7 +593,7 @@ def trajectory_interference(scenario: Scenario, *, chunk_steps: int = DEFAULT_CH
     n_close, first = 0, None
     for start in range(0, n, chunk_steps):
         t = np.arange(start, min(start + chunk_steps, n)) * step
-        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning)
+        platform = evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship)
         gaps = pose_clearances(robot, scenario.obstacles, platform.x_PC_C, platform.R_PC)
         close = (gaps.per_cable < robot.clearance_m).any(axis=1)
         if close.any() and first is None:

@@ -401,6 +401,10 @@ STRIP_COLUMNS = ("visit", "s_m", "origin_x_m", "origin_y_m", "origin_z_m", "roll
                  "clean_s", "move_in_s", "hours", "coverage_pct", "stand_off_min_m", "stand_off_max_m",
                  "normal_force_min_N", "normal_force_max_N", "in_band_pct", "beyond_tolerance", "by_crane")
 """``stations.csv``'s columns (:func:`write_strip`)."""
+STRETCH_COLUMNS = ("stretch", "s_start_m", "s_end_m", "stations", "stepped_h", "continuous_h", "continuous_speed_m_s",
+                   "continuous")
+"""``stretches.csv``'s columns (:func:`write_strip`): each followed stretch of the rail, its hours
+stepped and continuous (empty where it cannot run continuously), and the mode taken (1 continuous)."""
 
 
 def write_strip(strip, folder: Path) -> list[Path]:
@@ -412,14 +416,24 @@ def write_strip(strip, folder: Path) -> list[Path]:
     on the hull it cleaned, the hull's stand-off from the frame's plane under the brush, the
     normal force on the hull, the share of the steps in band (empty for crane placements:
     they are tiled as ``clean --surface`` tiles them), whether the stand-off passes the
-    tool's tolerance, and whether a crane made the move into it."""
+    tool's tolerance, and whether a crane made the move into it; a continuous run's row is
+    its first station's, its cleaning the whole run's. ``stretches.csv``: each followed stretch
+    of the rail, its hours either way and the mode taken (:data:`STRETCH_COLUMNS`)."""
     from marinecdpr.geometry.rotations import euler_from_matrix
 
     rows = []
     beyond = strip.beyond_tolerance
     nan = float("nan")
+    n = strip.s_m.size
+    run_beyond = strip.run_beyond_tolerance
     for i, (v, move, crane) in enumerate(zip(strip.visits, strip.move_in_s, strip.by_crane)):
-        if v >= 0:
+        if v >= n:  # a continuous run: its first station, its whole run
+            r = strip.runs[v - n]
+            pose = np.degrees(euler_from_matrix(r.axes_S))
+            rows.append([i + 1, r.s_m[0], *r.origin_S, *pose, r.duration_s, move, (r.duration_s + move) / 3600.0,
+                         strip.coverage.station_pct[v], *r.stand_off_m, *r.force_N, r.in_band_pct,
+                         float(run_beyond[v - n]), float(crane)])
+        elif v >= 0:
             pose = np.degrees(euler_from_matrix(strip.axes_S[v]))
             rows.append([i + 1, strip.s_m[v], *strip.origin_S[v], *pose, strip.clean_s, move,
                          (strip.clean_s + move) / 3600.0, strip.coverage.station_pct[v], *strip.stand_off_m[v],
@@ -431,5 +445,11 @@ def write_strip(strip, folder: Path) -> list[Path]:
             rows.append([i + 1, nan, *(np.asarray(p.centre_S) * mirror), *(pose * mirror), t, move, (t + move) / 3600.0, nan, *p.offset_range_m,
                          nan, nan, nan, float(p.deviation_m > strip.tolerance_m), float(crane)])
     values = np.array(rows, dtype=float).reshape(-1, len(STRIP_COLUMNS))
+    stretches = np.array([[c.stretch + 1, *c.s_m, c.stations, c.stepped_h,
+                           nan if c.continuous_h is None else c.continuous_h,
+                           nan if c.continuous_speed_m_s is None else c.continuous_speed_m_s,
+                           float(c.mode == "continuous")] for c in strip.choices], dtype=float)
+    tail = [_write_csv(list(STRETCH_COLUMNS), stretches.reshape(-1, len(STRETCH_COLUMNS)),
+                       Path(folder) / "stretches.csv", int_last=True, int_columns=(0, 3))]
     return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,
-                       int_columns=(0, STRIP_COLUMNS.index("beyond_tolerance")))]
+                       int_columns=(0, STRIP_COLUMNS.index("beyond_tolerance")))] + tail

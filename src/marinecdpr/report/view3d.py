@@ -174,7 +174,7 @@ def _poses(scenario: Scenario, plan: Plan | None, steps: np.ndarray) -> np.ndarr
     if plan is not None:
         return np.asarray(plan.pose, dtype=float)[steps]
     t = steps * scenario.time.step_s
-    return np.asarray(evaluate_trajectory(scenario.trajectory, t, scenario.cleaning).pose, dtype=float)
+    return np.asarray(evaluate_trajectory(scenario.trajectory, t, scenario.cleaning, scenario.ship).pose, dtype=float)
 
 
 def scene_geometry(scenario: Scenario, plan: Plan | None = None, *, instants: int = INSTANTS,

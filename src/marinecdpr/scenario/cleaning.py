@@ -205,3 +205,11 @@ class CoverageTrajectory(_Model):
     """The platform's (fixed) orientation while cleaning."""
     plane_y_m: _ranged(-POSITION_MAX_M, POSITION_MAX_M, "m", "positions on a ship, in metres") = 0.0
     """y of the brush's centre in C (the panel's plane)."""
+    on_hull: StrictBool = False
+    """The path is laid on the ship, not in C: its (x, z) are in the frame's C at the carriage's
+    first station (``[ship.carriage] stations_m[0]``, where it stands at t = 0), x along the
+    rail, and as the carriage carries the frame the platform's path in C compensates: the
+    carriage's travel along the rail is taken off the path's x, holding the brush at its
+    place along the rail (exact on a straight level rail along C's x; on a bend, the frame
+    turning with the rail, the brush keeps its arc length along it). Needs
+    ``[ship.carriage]``; ``clean --surface --rail``'s continuous mode cleans so."""

@@ -573,6 +573,11 @@ class Scenario(_Model):
             raise _KeyedError("cleaning", "missing: a coverage trajectory cleans the [cleaning] section's panel")
         if self.cleaning is None:
             return self
+        if isinstance(self.trajectory, CoverageTrajectory) and self.trajectory.on_hull:
+            if self.ship.carriage is None:
+                raise _KeyedError("trajectory.on_hull", "needs [ship.carriage]: the path is held on the ship while "
+                                                        "the carriage carries the frame")
+            return self  # the panel lies on the ship, the platform's path in C is checked against the frame
         frame = self.robot.frame_anchors[:, [0, 2]]
         lo, hi = frame.min(axis=0), frame.max(axis=0)
         tol = 1e-9 * max(1.0, float(abs(frame).max()))

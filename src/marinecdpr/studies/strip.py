@@ -37,6 +37,15 @@ Crane stretches
     the crane of ``[cleaning.surface.relocation]``; without one the job is refused naming the
     stretch. Their area is the placements' patches (not recounted here).
 
+Continuous runs
+    With ``mode`` "continuous" or "fastest" a followed stretch may instead be cleaned while the
+    carriage moves (:class:`ContinuousRun`, :func:`continuous_run`): the brush's path laid on
+    the ship over the stretch's footprint (``trajectory.on_hull``), the carriage running at
+    V = lane spacing / (a lane and a step) so that the platform's path in C is a sawtooth in
+    the panel; planned with the carriage moving over the horizon, the brush's contact carried
+    to the hull by the carriage's pose at each step and rastered in the run's first C. Its
+    hours are its path's; "fastest" takes, per stretch, the fewer hours.
+
 Hours
     Each rail station's cleaning is the panel's coverage path; the carriage's move to the next
     station the double-S move of ``[ship.carriage]``'s speed, acceleration and jerk limits
@@ -47,7 +56,7 @@ Hours
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -55,7 +64,8 @@ import numpy as np
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+__all__ = ["RailStrip", "StripCoverage", "CraneStretch", "ContinuousRun", "StretchChoice", "ContinuousError", "RAIL_MODES",
+           "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
 MAX_STRIP_CELLS = 10_000_000
@@ -183,7 +193,8 @@ class StripCoverage:
     weight_m2 : ndarray of float32, shape (nz, nx)
         Each cell's area on the hull, m^2.
     station_pct : ndarray, shape (n_stations,)
-        Each station's cleaned share of its own panel's footprint on the strip, %.
+        Each station's cleaned share of its own panel's footprint on the strip, %; then each
+        continuous run's, of its raster's (the box of its brush's discs in its first C).
     resolution_m : float
     """
 
@@ -368,7 +379,16 @@ class RailStrip:
     side_sign : float
         1 port, -1 starboard (the crane placements' y and the side's).
     partial : bool
-        The flown horizon ends before the panel's path: each station's coverage is that part's.
+        The flown horizon ends before the panel's path (or a run's): each station's (run's)
+        coverage is that part's.
+    sharp : ndarray, shape (k, 2)
+        The bends not followed (:func:`rail_stations`).
+    runs : tuple of ContinuousRun
+        The stretches cleaned while the carriage moves; visit ``n + j`` (n = ``s_m.size``) is run j.
+    choices : tuple of StretchChoice
+        Each followed stretch of the rail: the hours stepped and continuous, the mode taken.
+    mode : {"stepped", "continuous", "fastest"}
+        The mode asked.
     """
 
     s_m: np.ndarray
@@ -391,6 +411,9 @@ class RailStrip:
     side_sign: float = 1.0
     partial: bool = False
     sharp: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    runs: tuple = ()
+    choices: tuple = ()
+    mode: str = "stepped"
 
     @property
     def beyond_tolerance(self) -> np.ndarray:
@@ -399,9 +422,21 @@ class RailStrip:
         return np.abs(self.stand_off_m).max(axis=1) > self.tolerance_m
 
     @property
+    def run_beyond_tolerance(self) -> np.ndarray:
+        """:attr:`beyond_tolerance` of the runs, shape (len(runs),)."""
+        return np.array([max(abs(v) for v in r.stand_off_m) > self.tolerance_m if r.stand_off_m else False
+                         for r in self.runs], dtype=bool)
+
+    @property
+    def run_seconds(self) -> float:
+        """The continuous runs' cleaning (the carriage moving within it), s."""
+        return float(sum(r.duration_s for r in self.runs))
+
+    @property
     def seconds(self) -> float:
         """All the cleaning and moves, s."""
-        return self.s_m.size * self.clean_s + float(self.crane_s.sum()) + float(self.move_in_s.sum())
+        out = self.s_m.size * self.clean_s + float(self.crane_s.sum()) + float(self.move_in_s.sum())
+        return out + self.run_seconds if self.runs else out
 
     @property
     def hours(self) -> float:
@@ -410,7 +445,7 @@ class RailStrip:
     def parts_h(self) -> dict:
         """The hours by what they are spent on: ``cleaning_rail``, ``cleaning_crane``,
         ``moves_rail``, ``moves_crane``; they sum to :attr:`hours`."""
-        return {"cleaning_rail": self.s_m.size * self.clean_s / 3600.0,
+        return {"cleaning_rail": (self.s_m.size * self.clean_s + self.run_seconds) / 3600.0,
                 "cleaning_crane": float(self.crane_s.sum()) / 3600.0,
                 "moves_rail": float(self.move_in_s[~self.by_crane].sum()) / 3600.0,
                 "moves_crane": float(self.move_in_s[self.by_crane].sum()) / 3600.0}
@@ -418,7 +453,7 @@ class RailStrip:
     def station_hours(self) -> np.ndarray:
         """Each rail station's cleaning and the move into it, h, shape (n,)."""
         out = np.full(self.s_m.size, self.clean_s)
-        rail = self.visits >= 0
+        rail = (self.visits >= 0) & (self.visits < self.s_m.size)
         out[self.visits[rail]] += self.move_in_s[rail]
         return out / 3600.0
 
@@ -440,7 +475,251 @@ class RailStrip:
                 "crane_stretches": [c.as_dict() for c in self.stretches], "crane_placements": len(self.crane),
                 "moves": {"rail": int((~self.by_crane[1:]).sum()), "crane": int(self.by_crane.sum())},
                 "hours": self.hours, "hours_by_part": self.parts_h(),
-                "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else [])}
+                "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else []),
+                "rail_mode": self.mode, "rail_stretches": [c.as_dict() for c in self.choices],
+                "continuous_runs": [r.as_dict() for r in self.runs]}
+
+
+RAIL_MODES = ("stepped", "continuous", "fastest")
+"""How a stretch of the rail is cleaned: the carriage stepping the frame panel by panel, moving
+it without stopping, or whichever of the two is the faster on each stretch."""
+_T0_TOL_S = 1e-6
+"""The carriage's start in a continuous run is found to this, s."""
+_SAWTOOTH_TOL_M = 1e-6
+"""How far the brush's centre may leave the panel's inset in a continuous run, m."""
+
+
+class ContinuousError(ScenarioError):
+    """A stretch the continuous mode cannot clean (its reason, one line, naming the key)."""
+
+
+@dataclass(frozen=True)
+class ContinuousRun:
+    """A stretch of the rail cleaned while the carriage moves (the continuous mode).
+
+    The brush's path is laid on the ship: a boustrophedon of lanes across the panel's height
+    (C's z) over the stretch's whole footprint, in the frame's C at the stretch's first station
+    (the panel's x from its least at the first station to its largest at the last); the
+    carriage runs from the first station to the last, a double-S move at the speed V = lane
+    spacing / (one lane and one step) within ``[ship.carriage]``'s acceleration and jerk,
+    starting ``start_s`` after the path, so that the platform's path in C (the brush held on
+    the ship, :func:`~marinecdpr.motion.carriage.held_on_ship`) is a sawtooth that stays within
+    the panel; after the carriage stops, the brush cleans the last station's panel.
+
+    Attributes
+    ----------
+    stretch : int
+        The rail's followed stretch (:func:`rail_stations`).
+    s_m : tuple of float
+        The carriage's first and last arc lengths, m.
+    speed_m_s : float
+        V, m/s.
+    start_s : float
+        The carriage's start after the path's, s.
+    carriage_s : float
+        Its move, s.
+    duration_s : float
+        The run: the path's, s (the carriage moves within it).
+    lanes : int
+    spacing_m : float
+    sawtooth_m : tuple of float
+        The brush centre's least and largest x in C over the run, m.
+    panel_m : ndarray, shape (4, 2)
+        The path's rectangle on the ship, (x, z) in the first station's C, m.
+    origin_S : ndarray, shape (3,)
+    axes_S : ndarray, shape (3, 3)
+        The first station's frame pose in S (C's origin, m; its axes).
+    end_S : ndarray, shape (3,)
+        The last station's panel centre in S, m (where a move out of the run starts).
+    stand_off_m, force_N : tuple of float
+        The least and largest hull offset under the brush and normal force on the hull over
+        the planned horizon (:func:`rail_strip`), m, N.
+    in_band_pct : float
+        The share of the planned steps the brush cleans, %.
+    """
+
+    stretch: int
+    s_m: tuple
+    speed_m_s: float
+    start_s: float
+    carriage_s: float
+    duration_s: float
+    lanes: int
+    spacing_m: float
+    sawtooth_m: tuple
+    panel_m: np.ndarray
+    origin_S: np.ndarray
+    axes_S: np.ndarray
+    end_S: np.ndarray
+    stand_off_m: tuple = ()
+    force_N: tuple = ()
+    in_band_pct: float = float("nan")
+
+    def as_dict(self) -> dict:
+        """For summary.json."""
+        return {"stretch": self.stretch, "s_m": [float(v) for v in self.s_m], "speed_m_s": self.speed_m_s,
+                "carriage_start_s": self.start_s, "carriage_move_s": self.carriage_s, "duration_s": self.duration_s,
+                "lanes": self.lanes, "spacing_m": self.spacing_m, "sawtooth_m": [float(v) for v in self.sawtooth_m],
+                "stand_off_m": [float(v) for v in self.stand_off_m], "normal_force_N": [float(v) for v in self.force_N],
+                "in_band_pct": float(self.in_band_pct)}
+
+
+@dataclass(frozen=True)
+class StretchChoice:
+    """How a followed stretch of the rail is cleaned, and the hours either way.
+
+    Attributes
+    ----------
+    stretch : int
+        The stretch (:func:`rail_stations`).
+    s_m : tuple of float
+        Its first and last stations' arc lengths, m.
+    stations : int
+    stepped_h : float
+        Its stations' cleaning, the carriage's moves and settles, h.
+    continuous_h : float or None
+        Its continuous run's, h; None where the continuous mode cannot clean it.
+    continuous_speed_m_s : float or None
+        The run's carriage speed V, m/s.
+    why_not : str or None
+        Why the continuous mode cannot clean it (the refusal's line).
+    mode : {"stepped", "continuous"}
+        The mode taken.
+    """
+
+    stretch: int
+    s_m: tuple
+    stations: int
+    stepped_h: float
+    continuous_h: float | None
+    continuous_speed_m_s: float | None
+    why_not: str | None
+    mode: str
+
+    def as_dict(self) -> dict:
+        """For summary.json."""
+        return {"stretch": self.stretch, "s_m": [float(v) for v in self.s_m], "stations": self.stations,
+                "stepped_h": self.stepped_h, "continuous_h": self.continuous_h,
+                "continuous_speed_m_s": self.continuous_speed_m_s, "continuous_why_not": self.why_not,
+                "mode": self.mode}
+
+
+def run_scenario(scenario: Scenario, s_a: float, s_b: float, dwell_s: float = 0.0, speed_m_s: float | None = None
+                 ) -> Scenario:
+    """The scenario of a continuous run from rail arc length ``s_a`` to ``s_b``: the carriage
+    resting ``dwell_s`` at ``s_a`` and moving to ``s_b`` at ``speed_m_s`` (default its
+    ``speed_max_m_s``), the brush's path laid on the ship (``trajectory.on_hull``) across the
+    stretch's footprint, lanes along C's z, no boundary pass.
+
+    Raises
+    ------
+    ContinuousError
+        A panel that is not a rectangle along C's axes, or one with holes.
+    """
+    cleaning = scenario.cleaning
+    panel = np.asarray(cleaning.panel_m, dtype=float)
+    (x_lo, z_lo), (x_hi, z_hi) = panel.min(axis=0), panel.max(axis=0)
+    from marinecdpr.geometry.polygons import polygon_area
+
+    if cleaning.holes_m or panel.shape[0] != 4 or \
+            abs(abs(polygon_area(panel)) - (x_hi - x_lo) * (z_hi - z_lo)) > 1e-9 * (x_hi - x_lo) * (z_hi - z_lo):
+        raise ContinuousError("the continuous mode sweeps a rectangle along C's x and z without holes: the panel "
+                              "slides under the frame", key="cleaning.panel_m")
+    L = float(s_b - s_a)
+    sc = scenario.with_updates("trajectory", on_hull=True)
+    carriage = {"stations_m": [float(s_a), float(s_b)], "dwell_s": [float(dwell_s), 0.0]}
+    if speed_m_s is not None:
+        carriage["speed_max_m_s"] = float(speed_m_s)
+    sc = sc.with_updates("ship.carriage", **carriage)
+    rect = [[x_lo, z_lo], [x_hi + L, z_lo], [x_hi + L, z_hi], [x_lo, z_hi]]
+    return sc.with_updates("cleaning", panel_m=rect, holes_m=[], direction_deg=90.0, boundary_pass=False)
+
+
+def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: int = 0) -> ContinuousRun:
+    """A stretch of the rail from ``s_a`` to ``s_b`` cleaned while the carriage moves (the
+    geometry and timing of :class:`ContinuousRun`; no plan).
+
+    The carriage's start after the path's is the earliest at which the brush's centre never
+    falls behind the panel's inset (x >= x_min + r in C), found by bisection to
+    :data:`_T0_TOL_S` over the path's corners, a fine grid after each (where the brush, leaving
+    a corner at rest, falls furthest behind) and a 0.05 s grid (the platform's path in C
+    from :func:`~marinecdpr.motion.trajectory.evaluate_trajectory`: the path less the
+    carriage's travel along the rail); the run is refused where the brush's centre must then pass the panel's other
+    edge by more than :data:`_SAWTOOTH_TOL_M` (its heights are the path's own: the compensation
+    is along C's x).
+
+    Raises
+    ------
+    ContinuousError
+        One line naming the key: a panel that is not a rectangle without holes; a stretch of
+        one station; a V above the carriage's ``speed_max_m_s``; a sawtooth the panel cannot
+        hold (a panel narrower than a lane and the carriage's lag).
+    """
+    from marinecdpr.motion.rail import scurve_move
+    from marinecdpr.motion.trajectory import cleaning_path, evaluate_trajectory
+
+    carriage = scenario.ship.carriage
+    if not s_b - s_a > 1e-9:
+        raise ContinuousError(f"the stretch at s = {s_a:.4g} m has one station: nothing to run along",
+                              key="ship.carriage.rail_m")
+    sc = run_scenario(scenario, s_a, s_b)
+    cleaning = sc.cleaning
+    path = cleaning_path(cleaning)
+    if path.lanes < 2:
+        raise ContinuousError("the continuous mode needs two lanes or more across the stretch", key="cleaning.panel_m")
+    cycle = float(path.vertex_time_s[2] - path.vertex_time_s[0])  # a lane and a step
+    V = path.spacing_m / cycle
+    if V > carriage.speed_max_m_s:
+        raise ContinuousError(f"the continuous mode runs the carriage at {V:.4g} m/s (a lane of {path.spacing_m:.4g} "
+                              f"m every {cycle:.4g} s), above its speed_max_m_s {carriage.speed_max_m_s:g} m/s",
+                              key="ship.carriage.speed_max_m_s")
+    move = scurve_move(s_b - s_a, V, carriage.accel_max_m_s2, carriage.jerk_max_m_s3)
+    T = float(path.duration_s)
+    panel = np.asarray(scenario.cleaning.panel_m, dtype=float)
+    x_lo, x_hi = panel[:, 0].min(), panel[:, 0].max()
+    r = 0.5 * cleaning.brush_diameter_m
+    start = sc.trajectory.start_time_s
+    # the brush's least x in C comes just after each corner (it leaves at rest while the carriage
+    # runs on): the corners, a fine grid after each, and a 0.05 s grid
+    after = 2.0 * (cleaning.acceleration_m_s2 / cleaning.jerk_m_s3 + V / cleaning.acceleration_m_s2) + 0.05
+    fine = (path.vertex_time_s[:, None] + np.linspace(0.0, after, 151)[None, :]).ravel()
+    grid = start + np.union1d(np.union1d(path.vertex_time_s, np.arange(0.0, T, 0.05)), fine[fine <= T])
+    offset = np.asarray(cleaning.brush_offset_m, dtype=float)
+
+    def brush_C(t0: float) -> np.ndarray:  # the brush centre's (x, z) in C over the grid
+        run = sc.with_updates("ship.carriage", dwell_s=[start + t0, 0.0], speed_max_m_s=V)
+        pose = evaluate_trajectory(run.trajectory, grid, run.cleaning, run.ship)
+        return (pose.pose[:, :3] + np.einsum("nij,j->ni", pose.R_PC, offset))[:, [0, 2]]
+
+    latest = T - move.duration_s
+    if latest < 0.0:
+        raise ContinuousError(f"the carriage's move over the stretch ({move.duration_s:.4g} s) outlasts the brush's "
+                              f"path ({T:.4g} s)", key="ship.carriage.accel_max_m_s2")
+    lo_edge = x_lo + r - 1e-12 * max(1.0, abs(x_lo) + r)  # the inset's edge, where the path starts
+    if brush_C(0.0)[:, 0].min() >= lo_edge:
+        t0 = 0.0
+    else:
+        a, b = 0.0, latest
+        if brush_C(b)[:, 0].min() < lo_edge:
+            raise ContinuousError("the brush falls behind the panel however late the carriage starts",
+                                  key="cleaning.panel_m")
+        while b - a > _T0_TOL_S:
+            mid = 0.5 * (a + b)
+            a, b = (a, mid) if brush_C(mid)[:, 0].min() >= lo_edge else (mid, b)
+        t0 = b
+    c = brush_C(t0)
+    if c[:, 0].max() > x_hi - r + _SAWTOOTH_TOL_M:
+        raise ContinuousError(f"the continuous mode's sawtooth leaves the panel: the brush's centre reaches x = "
+                              f"{c[:, 0].max():.4g} m in C, beyond the panel's {x_hi - r:.4g} m less the brush's "
+                              f"radius (a lane of {path.spacing_m:.4g} m and the carriage's lag)",
+                              key="cleaning.panel_m")
+    r0, R0 = station_poses(scenario.ship, rail, np.array([s_a, s_b]))
+    centre = panel.mean(axis=0)
+    end = r0[1] + R0[1][:, 0] * centre[0] + R0[1][:, 2] * centre[1]
+    return ContinuousRun(stretch=int(stretch), s_m=(float(s_a), float(s_b)), speed_m_s=float(V), start_s=float(t0),
+                         carriage_s=float(move.duration_s), duration_s=T, lanes=int(path.lanes),
+                         spacing_m=float(path.spacing_m), sawtooth_m=(float(c[:, 0].min()), float(c[:, 0].max())),
+                         panel_m=np.asarray(cleaning.panel_m, dtype=float), origin_S=r0[0], axes_S=R0[0], end_S=end)
 
 
 def _check_scenario(scenario: Scenario):
@@ -463,7 +742,7 @@ def _check_scenario(scenario: Scenario):
 
 
 def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None = None,
-               resolution_m: float | None = None) -> RailStrip:
+               resolution_m: float | None = None, mode: str = "stepped") -> RailStrip:
     """The strip of ``[cleaning.surface]`` cleaned from the stations of ``[ship.carriage]``'s
     rail (the module's rules), over the scenario's horizon (``time.duration_s``: each
     station's plan and coverage are of that part of the panel's path; its hours the whole
@@ -472,7 +751,14 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     Parameters
     ----------
     progress : callable(share), optional
-        The share of the stations planned, 0 to 1.
+        The share of the stations (and runs) planned, 0 to 1.
+    mode : {"stepped", "continuous", "fastest"}
+        How each followed stretch of the rail is cleaned (:data:`RAIL_MODES`): stepped from its
+        stations; while the carriage moves (:class:`ContinuousRun`, planned with the carriage
+        moving over the horizon from the stretch's start); or whichever takes the fewer
+        hours (stepped: its stations' cleaning, the carriage's moves and settles; continuous:
+        the run's path, the carriage moving within it). Either way both hours are in
+        :attr:`RailStrip.choices`.
     resolution_m : float, optional
         The cell of the coverage's raster on the hull, m (default :func:`strip_coverage`'s).
         Its worst error is where the cleaned region's edge runs along the raster (the band's
@@ -485,7 +771,8 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         robot; a rail that leaves the band (a station's panel wholly beyond its stations_m or
         its heights_m) or the mesh; a rail that stands off the hull beyond the
         tool's stand-off tolerance at every station; a crane stretch without a crane, or a frame
-        the crane cannot lift; a crane stretch that cannot be tiled.
+        the crane cannot lift; a crane stretch that cannot be tiled; with ``mode`` "continuous",
+        a stretch the continuous mode cannot clean (:func:`continuous_run`); an unknown mode.
     """
     from marinecdpr.geometry.rotations import euler_from_matrix
     from marinecdpr.geometry.surface import MIN_PATCH_M, tile_surface
@@ -499,6 +786,10 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     from marinecdpr.studies.relocation import crane_move_s, visit_order
     from marinecdpr.studies.surface import MAX_SURFACE_PATCHES, _panel_times, frame_panel, surface_function
 
+    from marinecdpr.motion.carriage import carriage_motion
+
+    if mode not in RAIL_MODES:
+        raise ScenarioError(f"unknown rail mode {mode!r}: expected stepped, continuous or fastest", key="rail_mode")
     _check_scenario(scenario)
     cleaning, ship = scenario.cleaning, scenario.ship
     surface, carriage = cleaning.surface, ship.carriage
@@ -525,13 +816,42 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
             raise ScenarioError(f"the rail leaves the [cleaning.surface] band: at s = {s[k]:.4g} m the frame's panel "
                                 f"spans {what} {lo_k[k]:.4g} to {hi_k[k]:.4g} m in S, outside its {key} "
                                 f"[{a:g}, {b:g}] m", key="ship.carriage.rail_m")
+    # each followed stretch: stepped or continuous, by the hours of each
+    path = cleaning_path(cleaning)
+    choices, runs = [], []
+    for k in np.unique(stretch):
+        idx = np.flatnonzero(stretch == k)
+        stepped_s = idx.size * float(path.duration_s) + sum(
+            scurve_move(s[i + 1] - s[i], carriage.speed_max_m_s, carriage.accel_max_m_s2,
+                        carriage.jerk_max_m_s3).duration_s + settle for i in idx[:-1])
+        run, why = None, None
+        try:
+            run = continuous_run(scenario, rail, float(s[idx[0]]), float(s[idx[-1]]), int(k))
+        except ScenarioError as exc:
+            if mode == "continuous":
+                raise ScenarioError(f"the continuous mode cannot clean the rail's stretch from s = {s[idx[0]]:.4g} to "
+                                    f"{s[idx[-1]]:.4g} m: {exc.detail}", key=exc.key) from None
+            why = f"{exc.key}: {exc.detail}" if exc.key else exc.detail
+        take = "continuous" if run is not None and (mode == "continuous" or (
+            mode == "fastest" and run.duration_s < stepped_s)) else "stepped"
+        if take == "continuous":
+            runs.append(run)
+        choices.append(StretchChoice(stretch=int(k), s_m=(float(s[idx[0]]), float(s[idx[-1]])), stations=int(idx.size),
+                                     stepped_h=stepped_s / 3600.0,
+                                     continuous_h=None if run is None else run.duration_s / 3600.0,
+                                     continuous_speed_m_s=None if run is None else run.speed_m_s, why_not=why,
+                                     mode=take))
+    continuous_stretches = {r.stretch for r in runs}
+    keep = np.flatnonzero([int(k) not in continuous_stretches for k in stretch])
+    all_s, all_stretch, all_r, all_R = s, stretch, r_S, R_SC
+    s, stretch, r_S, R_SC = s[keep], stretch[keep], r_S[keep], R_SC[keep]
     # each station: the plan with the frame standing there, the brush on the hull
     flown = scenario.with_updates("ship", carriage=None)
     n_y = float(cleaning.hull_normal[1])
     lo, hi = cleaning.band_N
-    path = cleaning_path(cleaning)
     maps, stand_off, force, in_band = [], np.zeros((s.size, 2)), np.zeros((s.size, 2)), np.zeros(s.size)
     touches = np.zeros(s.size, dtype=bool)  # the hull within the tolerance somewhere under the brush
+    planned = s.size + len(runs)
     for k in range(s.size):
         pose = np.degrees(euler_from_matrix(R_SC[k]))
         sc = flown.with_updates("ship", frame_origin_m=r_S[k].tolist(), frame_orientation_deg=pose.tolist())
@@ -552,16 +872,48 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         in_band[k] = 100.0 * contact.mean()
         maps.append(coverage_map(panel, holes, b, contact, width_m=cleaning.brush_diameter_m))
         if progress is not None:
-            progress((k + 1) / s.size)
-    if not touches.any():
-        k = int(np.argmin(np.abs(stand_off).min(axis=1)))
+            progress((k + 1) / planned)
+    # each run: the plan with the carriage moving, the brush's contact on the hull taken into the
+    # run's first C (the panel on the ship) for its raster
+    run_touch = []
+    for j, run in enumerate(runs):
+        sc = run_scenario(scenario, *run.s_m, dwell_s=scenario.trajectory.start_time_s + run.start_s,
+                          speed_m_s=run.speed_m_s)
+        p = plan(sc)
+        F = normal_force(p, sc)
+        b = brush_positions(p.pose, cleaning.brush_offset_m)[:, [0, 2]]
+        r_t, _, _, R_t, _, _ = carriage_motion(sc.ship, p.t)
+        pts = r_t + b[:, :1] * R_t[:, :, 0] + b[:, 1:] * R_t[:, :, 2]
+        n_S = n_y * R_t[:, :, 1]
+        t, N = surface_hits(f, sign, pts, n_S)
+        if not np.isfinite(t).all():
+            raise ScenarioError(f"the rail leaves the hull: in the run from s = {run.s_m[0]:.4g} m the brush's path "
+                                "meets no side of the surface", key="ship.carriage.rail_m")
+        F_hull = F * np.einsum("ni,ni->n", N, n_S)
+        contact = (np.abs(t) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
+        on_ship = ((pts + t[:, None] * n_S) - run.origin_S) @ run.axes_S  # the contact in the run's first C
+        # its raster spans the contact's discs: the brush stays in the panel of the frame that carries
+        # it, but where the rail bends, the frame turns and its discs land off the first C's panel
+        r_b = 0.5 * cleaning.brush_diameter_m
+        (x_a, z_a), (x_b, z_b) = on_ship[:, [0, 2]].min(axis=0) - r_b, on_ship[:, [0, 2]].max(axis=0) + r_b
+        box = np.array([[x_a, z_a], [x_b, z_a], [x_b, z_b], [x_a, z_b]])
+        maps.append(coverage_map(box, [], on_ship[:, [0, 2]], contact, width_m=cleaning.brush_diameter_m))
+        run_touch.append(bool((np.abs(t) <= tol).any()))
+        runs[j] = replace(run, stand_off_m=(float(t.min()), float(t.max())),
+                          force_N=(float(F_hull.min()), float(F_hull.max())), in_band_pct=100.0 * float(contact.mean()))
+        if progress is not None:
+            progress((s.size + j + 1) / planned)
+    if not touches.any() and not any(run_touch):
+        k = int(np.argmin(np.abs(stand_off).min(axis=1))) if s.size else 0
+        best, at = ((np.abs(stand_off[k]).min(), s[k]) if s.size else
+                    (min(min(abs(v) for v in r.stand_off_m) for r in runs), runs[0].s_m[0]))
         raise ScenarioError(f"the rail does not follow the hull: at every station the hull stands off the frame's "
                             f"plane under the brush by more than stand_off_tolerance_m ({tol:g} m); at best "
-                            f"{np.abs(stand_off[k]).min():.3g} m, at s = {s[k]:.4g} m", key="ship.carriage.rail_m")
+                            f"{best:.3g} m, at s = {at:.4g} m", key="ship.carriage.rail_m")
     # the band's stretches along the ship no rail station's panel reaches: by crane
     reach = []
-    for k in np.unique(stretch):
-        xs = corners_S[stretch == k][..., 0]
+    for k in np.unique(all_stretch):
+        xs = corners_S[all_stretch == k][..., 0]
         reach.append((max(float(xs.min()), X0), min(float(xs.max()), X1)))
     reach.sort()
     gaps, at = [], X0
@@ -583,8 +935,13 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
             raise ScenarioError(str(exc), key="cleaning.surface.relocation.crane.capacity_kg") from None
     cache: dict = {}
     pieces = []  # (x start, kind, items): the visits in order along the ship
-    for k in np.unique(stretch):
-        pieces.append((float(corners_S[stretch == k][..., 0].min()), "rail", np.flatnonzero(stretch == k)))
+    for k in np.unique(all_stretch):
+        x_first = float(corners_S[all_stretch == k][..., 0].min())
+        if int(k) in continuous_stretches:
+            j = [r.stretch for r in runs].index(int(k))
+            pieces.append((x_first, "run", np.array([s.size + j])))
+        else:
+            pieces.append((x_first, "rail", np.flatnonzero(stretch == k)))
     for a, b in gaps:
         try:
             placed, _ = tile_surface(f, (a, b), (Z0, Z1), width_m=width, height_m=height, tolerance_m=tol,
@@ -599,13 +956,24 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         pieces.append((a, "crane", np.arange(first, len(crane))))
         stretches.append((float(sum(times)) / 3600.0, len(placed)))
     pieces.sort(key=lambda piece: piece[0])
-    if r_S.shape[0] > 1 and r_S[-1, 0] < r_S[0, 0]:  # a rail laid from the bow aft: the visits that way
+    if all_r.shape[0] > 1 and all_r[-1, 0] < all_r[0, 0]:  # a rail laid from the bow aft: the visits that way
         pieces.reverse()
         pieces = [(x, kind, items if kind == "rail" else items[::-1]) for x, kind, items in pieces]
     centre_C = panel.mean(axis=0)
     visits, move_in, by_crane, where = [], [], [], []
     for _, kind, items in pieces:
         for i in items:
+            if kind == "run":
+                run = runs[int(i) - s.size]
+                here = run.origin_S + run.axes_S[:, 0] * centre_C[0] + run.axes_S[:, 2] * centre_C[1]
+                visits.append(int(i))
+                if not where:
+                    move_in.append(0.0), by_crane.append(False)
+                else:
+                    move_in.append(float(crane_move_s(np.linalg.norm(here - where[-1]), relocation.crane)))
+                    by_crane.append(True)
+                where.append(run.end_S)  # it leaves from the last station
+                continue
             if kind == "rail":
                 here = r_S[i] + R_SC[i][:, 0] * centre_C[0] + R_SC[i][:, 2] * centre_C[1]
                 visits.append(int(i))
@@ -614,7 +982,7 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                 visits.append(-1 - int(i))
             if not where:
                 move_in.append(0.0), by_crane.append(False)
-            elif kind == "rail" and visits[-2] >= 0 and stretch[visits[-2]] == stretch[i]:
+            elif kind == "rail" and 0 <= visits[-2] < s.size and stretch[visits[-2]] == stretch[i]:
                 move = scurve_move(s[i] - s[visits[-2]], carriage.speed_max_m_s, carriage.accel_max_m_s2,
                                    carriage.jerk_max_m_s3)
                 move_in.append(move.duration_s + settle), by_crane.append(False)
@@ -633,15 +1001,19 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
                                  cleaning_hours=hours, crane_moves=int(by_crane[mine].sum()),
                                  hours=hours + float(move_in[mine].sum()) / 3600.0))
     stretches = done
-    cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), r_S, R_SC, maps, width_m=cleaning.brush_diameter_m,
+    origins = np.concatenate([r_S, np.array([r.origin_S for r in runs]).reshape(-1, 3)])
+    axes = np.concatenate([R_SC, np.array([r.axes_S for r in runs]).reshape(-1, 3, 3)])
+    cov = strip_coverage(f, sign, (X0, X1), (Z0, Z1), origins, axes, maps, width_m=cleaning.brush_diameter_m,
                          excluded=gaps, resolution_m=resolution_m)
     horizon = scenario.time.duration_s - scenario.trajectory.start_time_s
+    partial = (s.size and horizon < path.duration_s * (1.0 - 1e-9)) or any(
+        horizon < r.duration_s * (1.0 - 1e-9) for r in runs)
     return RailStrip(s_m=s, origin_S=r_S, axes_S=R_SC, clean_s=float(path.duration_s), stand_off_m=stand_off,
                      force_N=force, in_band_pct=in_band, coverage=cov, crane=crane, crane_s=np.array(crane_s, float),
                      stretches=stretches, visits=visits, move_in_s=move_in, by_crane=by_crane,
                      surface=f"{label}, {surface.side} side, stations {X0:g} to {X1:g} m, heights {Z0:g} to {Z1:g} m",
                      band_m=((float(X0), float(X1)), (float(Z0), float(Z1))), tolerance_m=tol, side_sign=sign,
-                     partial=bool(horizon < path.duration_s * (1.0 - 1e-9)), sharp=sharp)
+                     partial=bool(partial), sharp=sharp, runs=tuple(runs), choices=tuple(choices), mode=mode)
 
 
 def _why(a: float, b: float, x0: float, x1: float) -> str:
