@@ -870,6 +870,8 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
                       (((scenario.get("cleaning") or {}).get("surface") or {}), "relocation")):
         if key in node and node[key] is None:
             del node[key]
+    if not scenario.get("faults"):  # no [[faults]]: the key as before faults were known
+        scenario.pop("faults", None)
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]
