@@ -87,6 +87,10 @@ class SimResult:
         A carriage with its mass (``ship.carriage.mass_kg``): the force its drive gives along
         the rail at each step (:class:`~marinecdpr.planning.carriage.DriveForce`, from the
         carriage part, :mod:`~marinecdpr.prototype.parts.carriage`); None otherwise.
+    faults : tuple of dict
+        The scenario's ``[[faults]]`` in order, each ``{"kind", "cable", "at_s", "acted_s"}``:
+        ``acted_s`` the time of the exchange from which the fault acted (t_k >= at_s), s, or
+        None where the run ended before it; () without faults.
     """
 
     run: str
@@ -104,6 +108,7 @@ class SimResult:
     winch_overspeed_steps: int = 0
     carriage_tracking_error: float = 0.0
     carriage_drive: Any = None
+    faults: tuple = ()
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -202,7 +207,18 @@ def simulate(
         winch_overspeed_steps=int(limited[1]), carriage_tracking_error=carriage_error,
         carriage_drive=None if drive is None else DriveForce(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
+        faults=_faults_acted(scenario, asm.get("SnappedCables"), n),
     )
+
+
+def _faults_acted(scenario: Scenario, snapped, n: int) -> tuple:
+    """Each of the scenario's faults and when it acted in a run of n steps (SimResult.faults)."""
+    h = scenario.time.step_s
+    out = []
+    for f in scenario.faults:
+        k = int(snapped.k_snap[f.cable - 1])  # a cable_snap (the one kind so far)
+        out.append({"kind": f.kind, "cable": f.cable, "at_s": f.at_s, "acted_s": k * h if k < n else None})
+    return tuple(out)
 
 
 @dataclass(frozen=True)

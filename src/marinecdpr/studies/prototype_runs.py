@@ -82,7 +82,9 @@ class RunFigures:
     mass): the drive's largest force along the rail over the run, ``{"peak_N", "at_s",
     "limit_N"}`` (the carriage part's record, :mod:`~marinecdpr.prototype.parts.carriage`),
     and ``carriage_tracking_error`` (any carriage) the carriage's largest deviation from its
-    trajectory (m or rad; 0 on the own plant); else None. ``within_error_bound`` is False if a position or cable-length
+    trajectory (m or rad; 0 on the own plant); else None. ``faults`` (a scenario with
+    ``[[faults]]``): each fault and when it acted, ``{"kind", "cable", "at_s", "acted_s"}``
+    (:attr:`~marinecdpr.prototype.simulation.SimResult.faults`); else None. ``within_error_bound`` is False if a position or cable-length
     error passed :func:`error_bounds`' first value or the angle error its second;
     ``beyond_error_bound`` names the quantities that did, e.g. ``("x", "rz", "cable 3")``.
     """
@@ -111,6 +113,7 @@ class RunFigures:
     winch_overspeed_steps: int | None = None
     carriage_drive: dict | None = None
     carriage_tracking_error: float | None = None
+    faults: list | None = None
 
     @property
     def largest_position_error_m(self) -> float:
@@ -153,6 +156,8 @@ class RunFigures:
             out["carriage_tracking_error"] = self.carriage_tracking_error
         if self.carriage_drive is not None:
             out["carriage_drive"] = dict(self.carriage_drive)
+        if self.faults is not None:
+            out["faults"] = [dict(f) for f in self.faults]
         out["plant"] = self.plant
         out["within_error_bound"] = self.within_error_bound
         out["beyond_error_bound"] = list(self.beyond_error_bound)
@@ -197,6 +202,8 @@ def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None
     if res.carriage_drive is not None:
         d = res.carriage_drive
         f["carriage_drive"] = {"peak_N": d.peak_N, "at_s": d.peak_at_s, "limit_N": d.limit_N}
+    if res.faults:  # which faults acted, and when
+        f["faults"] = [dict(x) for x in res.faults]
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     beyond = [name for name in ("x", "y", "z") if f.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
     if scenario.robot.dofs == "planar":
