@@ -89,8 +89,9 @@ class SimResult:
         carriage part, :mod:`~marinecdpr.prototype.parts.carriage`); None otherwise.
     faults : tuple of dict
         The scenario's ``[[faults]]`` in order, each ``{"kind", "cable", "at_s", "acted_s"}``:
-        ``acted_s`` the time of the exchange from which the fault acted (t_k >= at_s), s, or
-        None where the run ended before it; () without faults.
+        ``acted_s`` the time of the exchange from which the fault acted (t_k >= at_s; a
+        winch_brake's, when its brake held), s, or None where the run ended before it; a
+        motor_power_loss's also ``brake_held_s`` (None: no brake held); () without faults.
     """
 
     run: str
@@ -207,17 +208,29 @@ def simulate(
         winch_overspeed_steps=int(limited[1]), carriage_tracking_error=carriage_error,
         carriage_drive=None if drive is None else DriveForce(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
-        faults=_faults_acted(scenario, asm.get("SnappedCables"), n),
+        faults=_faults_acted(scenario, n),
     )
 
 
-def _faults_acted(scenario: Scenario, snapped, n: int) -> tuple:
-    """Each of the scenario's faults and when it acted in a run of n steps (SimResult.faults)."""
-    h = scenario.time.step_s
+def _faults_acted(scenario: Scenario, n: int) -> tuple:
+    """Each of the scenario's faults and when it acted in a run of n steps (SimResult.faults):
+    the first exchange at or after its time, as its part takes it
+    (:func:`~marinecdpr.prototype.parts.cables.snap_steps`,
+    :func:`~marinecdpr.prototype.parts.winches.fault_steps`); a brake's, when it held."""
+    from marinecdpr.prototype.parts.cables import snap_steps
+    from marinecdpr.prototype.parts.winches import fault_steps
+
+    h, m = scenario.time.step_s, scenario.robot.n_cables
+    snap = snap_steps(scenario.faults, m, h)
+    power, brake = fault_steps(scenario.faults, m, h)
     out = []
     for f in scenario.faults:
-        k = int(snapped.k_snap[f.cable - 1])  # a cable_snap (the one kind so far)
-        out.append({"kind": f.kind, "cable": f.cable, "at_s": f.at_s, "acted_s": k * h if k < n else None})
+        i = f.cable - 1
+        k = {"cable_snap": snap[i], "motor_power_loss": power[i], "winch_brake": brake[i]}[f.kind]
+        entry = {"kind": f.kind, "cable": f.cable, "at_s": f.at_s, "acted_s": float(k * h) if k < n else None}
+        if f.kind == "motor_power_loss":
+            entry["brake_held_s"] = float(brake[i] * h) if brake[i] < n else None
+        out.append(entry)
     return tuple(out)
 
 

@@ -13,6 +13,18 @@ more, on every cable model (ideal, elastic, catenary; within the plant's step to
 both plants (on MuJoCo its tendon's motor and spring stop acting). What the cable's winch
 does with no load is its own model's (a motor winch's drum runs free of the cable's pull).
 
+``winch_brake``: the cable's winch is told to brake at ``at_s``; ``brake_delay_s`` (default 0)
+later its brake holds the drum: from then the unstretched length the drum has paid out
+stays as it was (elastic or catenary cables on a length-controlled or motor winch).
+
+``motor_power_loss``: from ``at_s`` the cable's motor gives no torque (motor winches): the
+drum runs under the cable's pull against the drive's inertia and friction
+(:func:`~marinecdpr.model.winch.winch_motor_step` with no torque). With ``brake_delay_s``
+the fail-safe brake holds the drum that long after the loss; without it, nothing does.
+
+A fault acts from the first exchange at or after its time (t_k >= at_s, and for a brake
+t_k >= at_s + brake_delay_s).
+
 With no ``[[faults]]`` the prototype has exactly the parts it had before (no fault part is
 built) and every number is as without this section.
 """
@@ -21,14 +33,16 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
-from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _Model, _ranged
+from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Model, _ranged
 
-__all__ = ["Fault", "FAULT_KINDS", "MAX_FAULTS"]
+__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap",)
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss")
 """The faults a scenario may list (``kind``)."""
+WINCH_FAULTS = ("winch_brake", "motor_power_loss")
+"""The faults of a cable's winch."""
 MAX_FAULTS = 100
 """Most faults one scenario may list."""
 
@@ -37,8 +51,24 @@ class Fault(_Model):
     """One fault: its kind, which cable it strikes (from 1), and from when."""
 
     kind: Literal[FAULT_KINDS]
-    """What fails: "cable_snap" (the cable breaks; its force is zero from ``at_s``)."""
+    """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
+    drum), "motor_power_loss" (its winch's motor gives no torque)."""
     cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)]
-    """Which cable, counted from 1 in the order of ``[[robot.cables]]``."""
+    """Which cable (or its winch), counted from 1 in the order of ``[[robot.cables]]``."""
     at_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run, from its start")
     """When the fault strikes, s from the run's start (at most ``time.duration_s``)."""
+    brake_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") | None = None
+    """Winch faults: how long after ``at_s`` the brake holds the drum, s (``winch_brake``:
+    default 0; ``motor_power_loss``: none, the drum runs free)."""
+
+    @model_validator(mode="after")
+    def _check_delay(self) -> "Fault":
+        if self.kind == "cable_snap" and self.brake_delay_s is not None:
+            raise _KeyedError("brake_delay_s", "is for a winch's faults (winch_brake, motor_power_loss), not a "
+                                               "cable_snap")
+        return self
+
+    @property
+    def on_winch(self) -> bool:
+        """A winch's fault (its brake or its motor)."""
+        return self.kind in WINCH_FAULTS

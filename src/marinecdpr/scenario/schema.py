@@ -537,6 +537,7 @@ class Scenario(_Model):
     def _check_faults(self) -> "Scenario":
         m, end = self.robot.n_cables, self.time.duration_s
         snapped: set[int] = set()
+        on_winch: set[int] = set()
         for i, fault in enumerate(self.faults, start=1):
             if fault.cable > m:
                 raise _KeyedError(f"faults[{i}].cable", f"the robot has {m} cables (counted from 1), got {fault.cable}")
@@ -548,6 +549,18 @@ class Scenario(_Model):
                     raise _KeyedError(f"faults[{i}].cable", f"cable {fault.cable} snaps once: it is listed "
                                                             "twice")
                 snapped.add(fault.cable)
+                continue
+            cab = self.simulation.cables
+            if fault.kind == "motor_power_loss" and cab.winch != "motor":
+                raise _KeyedError(f"faults[{i}].kind", "a motor_power_loss needs motor winches "
+                                                       "(simulation.cables.winch = \"motor\")")
+            if cab.model == "ideal" or cab.winch == "tension":
+                raise _KeyedError(f"faults[{i}].kind", f"a {fault.kind} needs a winch that pays out the cable: "
+                                                       "elastic or catenary cables (simulation.cables.model) on "
+                                                       "a length-controlled or motor winch")
+            if fault.cable in on_winch:
+                raise _KeyedError(f"faults[{i}].cable", f"winch {fault.cable} has one fault: it is listed twice")
+            on_winch.add(fault.cable)
         return self
 
     @model_validator(mode="after")
