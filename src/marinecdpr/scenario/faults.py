@@ -22,6 +22,12 @@ drum runs under the cable's pull against the drive's inertia and friction
 (:func:`~marinecdpr.model.winch.winch_motor_step` with no torque). With ``brake_delay_s``
 the fail-safe brake holds the drum that long after the loss; without it, nothing does.
 
+``load_cell`` and ``encoder``: the cable's load cell (the controller's measured tension) or its
+winch's encoder (the measured length and its rate) goes wrong from ``at_s``, for
+``duration_s`` if given (else to the end), in one ``mode``: ``freeze`` (it repeats the reading
+it gave at at_s), ``drift`` (it adds ``drift_per_s`` times the time since at_s: N/s, or m/s on
+the length), ``dropout`` (it gives NaN: no reading) or ``non_finite`` (it gives +inf).
+
 A fault acts from the first exchange at or after its time (t_k >= at_s, and for a brake
 t_k >= at_s + brake_delay_s).
 
@@ -37,12 +43,16 @@ from pydantic import Field, model_validator
 
 from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Model, _ranged
 
-__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "MAX_FAULTS"]
+__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss")
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "load_cell", "encoder")
 """The faults a scenario may list (``kind``)."""
 WINCH_FAULTS = ("winch_brake", "motor_power_loss")
 """The faults of a cable's winch."""
+SENSOR_FAULTS = ("load_cell", "encoder")
+"""The faults of a cable's sensors."""
+SENSOR_MODES = ("freeze", "drift", "dropout", "non_finite")
+"""How a sensor goes wrong."""
 MAX_FAULTS = 100
 """Most faults one scenario may list."""
 
@@ -61,11 +71,29 @@ class Fault(_Model):
     """Winch faults: how long after ``at_s`` the brake holds the drum, s (``winch_brake``:
     default 0; ``motor_power_loss``: none, the drum runs free)."""
 
+    mode: Literal[SENSOR_MODES] | None = None
+    """Sensor faults: "freeze", "drift", "dropout" (NaN) or "non_finite" (+inf)."""
+    drift_per_s: _ranged(-1e6, 1e6, "per s", "a sensor's drift, N/s or m/s") | None = None
+    """A drifting sensor's rate: N/s on a load cell, m/s on an encoder's length."""
+    duration_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run", above=True) | None = None
+    """A sensor fault's duration, s (none: to the run's end)."""
+
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
-        if self.kind == "cable_snap" and self.brake_delay_s is not None:
-            raise _KeyedError("brake_delay_s", "is for a winch's faults (winch_brake, motor_power_loss), not a "
-                                               "cable_snap")
+        if self.kind not in WINCH_FAULTS and self.brake_delay_s is not None:
+            raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
+                                               f"{self.kind}")
+        sensor = self.kind in SENSOR_FAULTS
+        for key in ("mode", "duration_s", "drift_per_s"):
+            if not sensor and getattr(self, key) is not None:
+                raise _KeyedError(key, f"is for a sensor's faults (load_cell, encoder), not a {self.kind}")
+        if sensor and self.mode is None:
+            raise _KeyedError("mode", "missing: a sensor fault freezes, drifts, drops out or gives non-finite "
+                                      "values (\"freeze\", \"drift\", \"dropout\", \"non_finite\")")
+        if self.mode == "drift" and self.drift_per_s is None:
+            raise _KeyedError("drift_per_s", "missing: a drifting sensor's rate (N/s or m/s)")
+        if self.mode not in (None, "drift") and self.drift_per_s is not None:
+            raise _KeyedError("drift_per_s", f"is for a drifting sensor (mode = \"drift\"), not \"{self.mode}\"")
         return self
 
     @property

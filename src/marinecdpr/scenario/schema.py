@@ -550,6 +550,8 @@ class Scenario(_Model):
                                                             "twice")
                 snapped.add(fault.cable)
                 continue
+            if fault.kind in ("load_cell", "encoder"):
+                continue
             cab = self.simulation.cables
             if fault.kind == "motor_power_loss" and cab.winch != "motor":
                 raise _KeyedError(f"faults[{i}].kind", "a motor_power_loss needs motor winches "
