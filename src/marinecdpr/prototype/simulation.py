@@ -225,10 +225,12 @@ def _faults_acted(scenario: Scenario, n: int) -> tuple:
     power, brake = fault_steps(scenario.faults, m, h)
     out = []
     for f in scenario.faults:
-        i = f.cable - 1
+        i = (f.cable or 1) - 1
         k = {"cable_snap": snap[i], "motor_power_loss": power[i], "winch_brake": brake[i]}.get(
             f.kind, int(np.ceil(f.at_s / h - 1e-9)))  # a sensor's, from its first exchange at or after at_s
         entry = {"kind": f.kind, "cable": f.cable, "at_s": f.at_s, "acted_s": float(k * h) if k < n else None}
+        if f.kind == "controller_deadline":
+            entry["steps"] = f.steps
         if f.kind == "motor_power_loss":
             entry["brake_held_s"] = float(brake[i] * h) if brake[i] < n else None
         out.append(entry)

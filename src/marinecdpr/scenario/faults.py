@@ -28,6 +28,10 @@ winch's encoder (the measured length and its rate) goes wrong from ``at_s``, for
 it gave at at_s), ``drift`` (it adds ``drift_per_s`` times the time since at_s: N/s, or m/s on
 the length), ``dropout`` (it gives NaN: no reading) or ``non_finite`` (it gives +inf).
 
+``controller_deadline``: the controller misses its deadline at ``at_s`` for ``steps``
+exchanges: its commands of the exchange before are held (closed loop; it computes nothing
+in those exchanges, its own state held too). No ``cable``.
+
 A fault acts from the first exchange at or after its time (t_k >= at_s, and for a brake
 t_k >= at_s + brake_delay_s).
 
@@ -45,7 +49,7 @@ from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Mod
 
 __all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "load_cell", "encoder")
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "load_cell", "encoder", "controller_deadline")
 """The faults a scenario may list (``kind``)."""
 WINCH_FAULTS = ("winch_brake", "motor_power_loss")
 """The faults of a cable's winch."""
@@ -63,8 +67,11 @@ class Fault(_Model):
     kind: Literal[FAULT_KINDS]
     """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
     drum), "motor_power_loss" (its winch's motor gives no torque)."""
-    cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)]
-    """Which cable (or its winch), counted from 1 in the order of ``[[robot.cables]]``."""
+    cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)] | None = None
+    """Which cable (or its winch, its sensors), counted from 1 in the order of
+    ``[[robot.cables]]`` (every kind but controller_deadline)."""
+    steps: Annotated[int, Field(ge=1, le=10**7, strict=True)] | None = None
+    """controller_deadline: for how many exchanges the controller's commands are held."""
     at_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run, from its start")
     """When the fault strikes, s from the run's start (at most ``time.duration_s``)."""
     brake_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") | None = None
@@ -80,6 +87,15 @@ class Fault(_Model):
 
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
+        late = self.kind == "controller_deadline"
+        if not late and self.cable is None:
+            raise _KeyedError("cable", "missing: which cable (counted from 1) the fault strikes")
+        if late and self.cable is not None:
+            raise _KeyedError("cable", "a controller_deadline strikes the controller, not a cable: leave it out")
+        if late and self.steps is None:
+            raise _KeyedError("steps", "missing: for how many exchanges the controller's commands are held")
+        if not late and self.steps is not None:
+            raise _KeyedError("steps", f"is for a controller_deadline, not a {self.kind}")
         if self.kind not in WINCH_FAULTS and self.brake_delay_s is not None:
             raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
                                                f"{self.kind}")

@@ -539,7 +539,7 @@ class Scenario(_Model):
         snapped: set[int] = set()
         on_winch: set[int] = set()
         for i, fault in enumerate(self.faults, start=1):
-            if fault.cable > m:
+            if fault.cable is not None and fault.cable > m:
                 raise _KeyedError(f"faults[{i}].cable", f"the robot has {m} cables (counted from 1), got {fault.cable}")
             if fault.at_s > end:
                 raise _KeyedError(f"faults[{i}].at_s", f"{_num(fault.at_s)} s is beyond the run's end "
@@ -550,7 +550,7 @@ class Scenario(_Model):
                                                             "twice")
                 snapped.add(fault.cable)
                 continue
-            if fault.kind in ("load_cell", "encoder"):
+            if fault.kind in ("load_cell", "encoder", "controller_deadline"):
                 continue
             cab = self.simulation.cables
             if fault.kind == "motor_power_loss" and cab.winch != "motor":
