@@ -97,6 +97,11 @@ class SimResult:
         A carriage with its mass (``ship.carriage.mass_kg``): the force its drive gives along
         the rail at each step (:class:`~marinecdpr.planning.carriage.DriveForce`, from the
         carriage part, :mod:`~marinecdpr.prototype.parts.carriage`); None otherwise.
+    faults : tuple of dict
+        The scenario's ``[[faults]]`` in order, each ``{"kind", "cable", "at_s", "acted_s"}``:
+        ``acted_s`` the time of the exchange from which the fault acted (t_k >= at_s; a
+        winch_brake's, when its brake held), s, or None where the run ended before it; a
+        motor_power_loss's also ``brake_held_s`` (None: no brake held); () without faults.
     """
 
     run: str
@@ -117,6 +122,7 @@ class SimResult:
     detections: tuple = ()
     reaction: str = "normal"
     residual_peaks: dict = field(default_factory=dict)
+    faults: tuple = ()
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -219,7 +225,33 @@ def simulate(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
         detections=tuple(detections(watch, h)), reaction=reaction(watch),
         residual_peaks={name: float(v) for name, v in zip(RESIDUALS, watch.peak)} if watched else {},
+        faults=_faults_acted(scenario, n),
     )
+
+
+def _faults_acted(scenario: Scenario, n: int) -> tuple:
+    """Each of the scenario's faults and when it acted in a run of n steps (SimResult.faults):
+    the first exchange at or after its time, as its part takes it
+    (:func:`~marinecdpr.prototype.parts.cables.snap_steps`,
+    :func:`~marinecdpr.prototype.parts.winches.fault_steps`); a brake's, when it held."""
+    from marinecdpr.prototype.parts.cables import snap_steps
+    from marinecdpr.prototype.parts.winches import fault_steps
+
+    h, m = scenario.time.step_s, scenario.robot.n_cables
+    snap = snap_steps(scenario.faults, m, h)
+    power, brake = fault_steps(scenario.faults, m, h)
+    out = []
+    for f in scenario.faults:
+        i = (f.cable or 1) - 1
+        k = {"cable_snap": snap[i], "motor_power_loss": power[i], "winch_brake": brake[i]}.get(
+            f.kind, int(np.ceil(f.at_s / h - 1e-9)))  # a sensor's, from its first exchange at or after at_s
+        entry = {"kind": f.kind, "cable": f.cable, "at_s": f.at_s, "acted_s": float(k * h) if k < n else None}
+        if f.kind == "controller_deadline":
+            entry["steps"] = f.steps
+        if f.kind == "motor_power_loss":
+            entry["brake_held_s"] = float(brake[i] * h) if brake[i] < n else None
+        out.append(entry)
+    return tuple(out)
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ from pydantic import (
 
 from marinecdpr.scenario.carriage import Carriage
 from marinecdpr.scenario.cleaning import Cleaning, CoverageTrajectory
+from marinecdpr.scenario.faults import MAX_FAULTS, Fault
 from marinecdpr.scenario.fields import (
     MOVE_MIN_S, POSITION_MAX_M, TIME_MAX_S, Force, HullBeam, HullDraught, HullLength, Moment, Orientation, Phase,
     Position, TimeOfDay, _KeyedError, _Model, _num, _range_text, _ranged, _ranged_vec3, _resolve_file,
@@ -559,12 +560,46 @@ class Scenario(_Model):
     """What the cables must keep ``robot.clearance_m`` from, fixed to the frame, in C."""
     wind: Wind | None = None
     """The wind on the platform and the cables (:mod:`marinecdpr.scenario.wind`); none: no wind."""
+    faults: list[Fault] = Field(default=[], max_length=MAX_FAULTS)
+    """What fails during a run, and when (:mod:`marinecdpr.scenario.faults`); none by default."""
 
     @model_validator(mode="after")
     def _check_obstacles(self) -> "Scenario":
         if self.obstacles and self.robot.clearance_m is None:
             raise _KeyedError("robot.clearance_m", "missing: [[obstacles]] are checked against the cables at "
                                                    "this clearance (0 to flag contact only)")
+        return self
+
+    @model_validator(mode="after")
+    def _check_faults(self) -> "Scenario":
+        m, end = self.robot.n_cables, self.time.duration_s
+        snapped: set[int] = set()
+        on_winch: set[int] = set()
+        for i, fault in enumerate(self.faults, start=1):
+            if fault.cable is not None and fault.cable > m:
+                raise _KeyedError(f"faults[{i}].cable", f"the robot has {m} cables (counted from 1), got {fault.cable}")
+            if fault.at_s > end:
+                raise _KeyedError(f"faults[{i}].at_s", f"{_num(fault.at_s)} s is beyond the run's end "
+                                                      f"(time.duration_s = {_num(end)} s)")
+            if fault.kind == "cable_snap":
+                if fault.cable in snapped:
+                    raise _KeyedError(f"faults[{i}].cable", f"cable {fault.cable} snaps once: it is listed "
+                                                            "twice")
+                snapped.add(fault.cable)
+                continue
+            if fault.kind in ("load_cell", "encoder", "controller_deadline"):
+                continue
+            cab = self.simulation.cables
+            if fault.kind == "motor_power_loss" and cab.winch != "motor":
+                raise _KeyedError(f"faults[{i}].kind", "a motor_power_loss needs motor winches "
+                                                       "(simulation.cables.winch = \"motor\")")
+            if cab.model == "ideal" or cab.winch == "tension":
+                raise _KeyedError(f"faults[{i}].kind", f"a {fault.kind} needs a winch that pays out the cable: "
+                                                       "elastic or catenary cables (simulation.cables.model) on "
+                                                       "a length-controlled or motor winch")
+            if fault.cable in on_winch:
+                raise _KeyedError(f"faults[{i}].cable", f"winch {fault.cable} has one fault: it is listed twice")
+            on_winch.add(fault.cable)
         return self
 
     @model_validator(mode="after")

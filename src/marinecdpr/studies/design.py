@@ -987,6 +987,8 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     safety = study.pop("constraints")  # [constraints]: only where it changes the candidates, as before it was known
     if spec.constraints.single_cable_failure:
         study["safety"] = safety
+    if not scenario.get("faults"):  # no [[faults]]: the key as before faults were known
+        scenario.pop("faults", None)
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]

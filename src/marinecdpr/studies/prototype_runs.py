@@ -85,7 +85,9 @@ class RunFigures:
     trajectory (m or rad; 0 on the own plant); else None. ``detections`` (a closed loop whose
     controller detected a fault, ``[simulation.control.safety]``): each detection's ``step``,
     ``t_s``, ``kind``, ``sensor`` and ``cable`` (1-based; 0: none), and ``reaction`` the
-    controller's reaction at the end; else None (and not in ``summary.json``).
+    controller's reaction at the end; else None (and not in ``summary.json``). ``faults`` (a
+    scenario with ``[[faults]]``): each fault and when it acted, ``{"kind", "cable", "at_s",
+    "acted_s"}`` (:attr:`~marinecdpr.prototype.simulation.SimResult.faults`); else None.
     ``within_error_bound`` is False if a position or cable-length
     error passed :func:`error_bounds`' first value or the angle error its second;
     ``beyond_error_bound`` names the quantities that did, e.g. ``("x", "rz", "cable 3")``.
@@ -117,6 +119,7 @@ class RunFigures:
     carriage_tracking_error: float | None = None
     detections: tuple[dict, ...] | None = None
     reaction: str | None = None
+    faults: list | None = None
 
     @property
     def largest_position_error_m(self) -> float:
@@ -162,6 +165,8 @@ class RunFigures:
         if self.detections:
             out["detections"] = [dict(d) for d in self.detections]
             out["reaction"] = self.reaction
+        if self.faults is not None:
+            out["faults"] = [dict(f) for f in self.faults]
         out["plant"] = self.plant
         out["within_error_bound"] = self.within_error_bound
         out["beyond_error_bound"] = list(self.beyond_error_bound)
@@ -210,6 +215,8 @@ def run_figures(res: SimResult, scenario: Scenario, *, max_error_m: float | None
         f["detections"] = tuple({"step": d.step, "t_s": d.t, "kind": d.kind, "sensor": d.sensor, "cable": d.cable + 1}
                                 for d in res.detections)
         f["reaction"] = res.reaction
+    if res.faults:  # which faults acted, and when
+        f["faults"] = [dict(x) for x in res.faults]
     bound_m, bound_deg = error_bounds(scenario, max_error_m)
     beyond = [name for name in ("x", "y", "z") if f.get(f"max_abs_error_{name}_m", 0.0) > bound_m]
     if scenario.robot.dofs == "planar":

@@ -32,6 +32,12 @@ order  part (module)                       writes
 90     log (``log``)                       the run's time series
 =====  ==================================  ==========================================
 
+A scenario's ``[[faults]]`` are parts' modes, built only where it lists them (without any,
+the parts above, as they are): a cable that snaps wraps the cables' part (``SnappedCables``),
+a winch's brake or lost motor the winches' (``BrakedLagWinch``, ``FaultyMotorWinch``), a late
+controller the controller's (``LateController``); a load cell's or an encoder's faults are a
+part of their own after the sensors (``SensorFaults``, order 13.5).
+
 A new part is one new module in this package: its record (decorated with :func:`part`),
 its compiled step, and its ``build(context)``; nothing in the loop, the plants or another
 part changes. Vectors are in the robot frame C unless named otherwise; units are SI.

@@ -12,6 +12,11 @@ for the plant, at its state within the step (the part's tension law):
                     its tangent at the platform; at the exchange, over what the drum has
                     paid out now, also its tension at the winch end (``T_winch``: a motor
                     winch's load).
+``SnappedCables``   any of these with cables that snap (``[[faults]]`` of kind
+                    ``cable_snap``): from the first exchange at or after a cable's ``at_s``
+                    its tension is zero, at the exchange and within the step, and on MuJoCo
+                    its motor and spring stop acting. Built only where a scenario lists a
+                    snap: without one, the cables' part is the one above, as it was.
 """
 
 from __future__ import annotations
@@ -24,10 +29,11 @@ from numba import njit
 from marinecdpr.control.records import RobotModel
 from marinecdpr.geometry.elastic import axial_stiffness, elastic_tension
 from marinecdpr.model.catenary import N_OUT, OUT_H, OUT_TA, OUT_VB, catenary_forces
-from marinecdpr.prototype.parts import part
+from marinecdpr.prototype.parts import cable_tensions, mujoco_cables, part, part_step
 from marinecdpr.prototype.parts.geometry import length_rates
 
-__all__ = ["HeldTensions", "ElasticCables", "CatenaryCables", "catenary_cables", "build"]
+__all__ = ["HeldTensions", "ElasticCables", "CatenaryCables", "SnappedCables", "catenary_cables", "snap_steps",
+           "build"]
 
 
 # ----------------------------------------------------------------------- held tensions
@@ -201,16 +207,78 @@ def catenary_part(model: RobotModel, w: float, EA: float, damping: float, up: np
                           status=np.zeros(1, dtype=np.int64))
 
 
+# ------------------------------------------------------------------- snapped cables
+@njit(cache=True)
+def snapped_step(k, h, part, bus):
+    """The cables' own step, then each cable snapped by t_k (k >= its snap step) marked
+    broken and its tensions (at the platform and at the winch) zero."""
+    part_step(k, h, part.cables, bus)
+    for i in range(part.k_snap.shape[0]):
+        if k >= part.k_snap[i]:
+            part.broken[i] = True
+            bus.T_app[i] = 0.0
+            bus.T_winch[i] = 0.0
+
+
+@njit(cache=True)
+def snapped_tensions(part, j, x, R, v, w, L, J, bus, T):
+    T = cable_tensions(part.cables, j, x, R, v, w, L, J, bus, T)
+    for i in range(T.shape[0]):
+        if part.broken[i]:
+            T[i] = 0.0
+    return T
+
+
+@njit(cache=True)
+def snapped_mujoco(part, mj, bus):
+    mujoco_cables(part.cables, mj, bus)
+    for i in range(part.broken.shape[0]):
+        if part.broken[i]:  # its motor and its spring stop acting
+            mj.ctrl[i] = 0.0
+            mj.ten_k[i] = 0.0
+            mj.ten_c[i] = 0.0
+
+
+@part(step=snapped_step, order=40,
+      reads=("T_cmd", "T_hold", "x", "R", "J", "L", "Ldot", "L0_drum", "L0"), writes=("T_app", "T_winch"),
+      tensions=snapped_tensions, mujoco=snapped_mujoco)
+class SnappedCables(NamedTuple):
+    """Cables (``cables``: a :class:`HeldTensions`, :class:`ElasticCables` or
+    :class:`CatenaryCables`) some of which snap. k_snap (m,) int64: the exchange from which
+    each cable is broken (n_steps or more: never). broken (m,) bool: which are broken now
+    (set at the exchange, read by the plant within the step)."""
+
+    cables: object
+    k_snap: np.ndarray
+    broken: np.ndarray
+
+
+def snap_steps(faults, m: int, h: float) -> np.ndarray:
+    """The exchange k from which each of ``m`` cables is snapped (the first with t_k = k h
+    >= at_s, to 1e-9 of a step), from the scenario's ``faults``; cables that do not snap get
+    the largest int64. Shape (m,), int64."""
+    k = np.full(m, np.iinfo(np.int64).max, dtype=np.int64)
+    for f in faults:
+        if f.kind == "cable_snap":
+            k[f.cable - 1] = int(np.ceil(f.at_s / h - 1e-9))
+    return k
+
+
 def build(context) -> list:
     """The scenario's cables; ``context.cable`` is set by the builder to the last one (the
-    plant's tension law)."""
+    plant's tension law). With cables that snap, the part wrapped in :class:`SnappedCables`."""
     scenario = context.scenario
     cab = scenario.simulation.cables
     m = scenario.robot.n_cables
     EA = float(cab.stiffness_EA_N or np.inf)
     if cab.model == "ideal" or cab.winch == "tension":
-        return [HeldTensions(from_winch=cab.model != "ideal")]
-    if cab.model == "catenary":  # on a length-controlled or motor winch (the scenario's check)
-        return [catenary_part(context.model, scenario.robot.cable_weight_N_m, EA, cab.damping_N_s_m,
-                              context.ship_h.R_SO[:, 2, :])]
-    return [ElasticCables(EA=EA, damping=float(cab.damping_N_s_m), Ldot=np.zeros(m))]
+        cables = HeldTensions(from_winch=cab.model != "ideal")
+    elif cab.model == "catenary":  # on a length-controlled or motor winch (the scenario's check)
+        cables = catenary_part(context.model, scenario.robot.cable_weight_N_m, EA, cab.damping_N_s_m,
+                               context.ship_h.R_SO[:, 2, :])
+    else:
+        cables = ElasticCables(EA=EA, damping=float(cab.damping_N_s_m), Ldot=np.zeros(m))
+    if not any(f.kind == "cable_snap" for f in scenario.faults):
+        return [cables]
+    return [SnappedCables(cables=cables, k_snap=snap_steps(scenario.faults, m, scenario.time.step_s),
+                          broken=np.zeros(m, dtype=np.bool_))]

@@ -13,13 +13,14 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import NamedTuple
 
+import numpy as np
 from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
 from marinecdpr.control.step import control_step
-from marinecdpr.prototype.parts import part
+from marinecdpr.prototype.parts import part, part_step
 
-__all__ = ["ControllerPart", "build", "pointer_step", "stand_in"]
+__all__ = ["ControllerPart", "LateController", "build", "pointer_step", "stand_in"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -76,11 +77,42 @@ def stand_in():
         _standing_in.pop()
 
 
-def build(context) -> ControllerPart:
+@njit(cache=True)
+def late_controller_step(k, h, part, bus):
+    """The controller's step, but where it misses its deadline (k0 <= k < k1 for a window):
+    there it delivers nothing and the bus's commands (T_cmd, L0_cmd) stay the last ones."""
+    for f in range(part.k0.shape[0]):
+        if part.k0[f] <= k < part.k1[f]:
+            part.missed[0] += 1
+            return
+    part_step(k, h, part.controller, bus)
+
+
+@part(step=late_controller_step, order=20, reads=tuple(f"meas.{f}" for f in ("x", "R", "v", "w", "L", "Ldot", "T", "eta", "clock")), writes=("T_cmd", "L0_cmd", "fallbacks"))
+class LateController(NamedTuple):
+    """The controller (``controller``, a :class:`ControllerPart`) missing its deadline
+    (``[[faults]]`` of kind ``controller_deadline``): k0, k1 (f,) int64 the exchanges from
+    which and until which (excluded) each window's commands are held; missed (1,) int64 the
+    exchanges missed so far."""
+
+    controller: ControllerPart
+    k0: object
+    k1: object
+    missed: object
+
+
+def build(context):
     from marinecdpr.control.controller import held_records
 
     if _standing_in:  # a step that reads nothing: an empty list of the records' type (no compiling of their unboxing)
         held = List.empty_list(typeof(context.ctl))
     else:
         held = held_records(context.ctl)
-    return ControllerPart(held=held, step=pointer_step(held))
+    controller = ControllerPart(held=held, step=pointer_step(held))
+    late = [f for f in context.scenario.faults if f.kind == "controller_deadline"]
+    if not late:
+        return controller
+    h = context.scenario.time.step_s
+    k0 = np.array([int(np.ceil(f.at_s / h - 1e-9)) for f in late], dtype=np.int64)
+    return LateController(controller=controller, k0=k0, k1=k0 + np.array([f.steps for f in late], dtype=np.int64),
+                          missed=np.zeros(1, dtype=np.int64))

@@ -6,6 +6,10 @@ fixed order: a scenario's noise is the same whatever else changes): the closed l
 measures the platform (pose sensor, or the encoders through the controller's forward
 kinematics) and the ship (the MRU, ``[simulation.mru]``); the load cells measure the
 tensions in open and closed loop.
+
+A load cell's or an encoder's faults (``[[faults]]``) are one more part after them,
+:class:`SensorFaults`, built only where a scenario lists one: it turns the faulty sensors'
+readings in the measurement into what they give (frozen, drifting, lost or non-finite).
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.prototype.parts import part
 from marinecdpr.scenario.schema import MRU_UNITS
 
-__all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "sensor_parts", "build"]
+__all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "SensorFaults", "sensor_parts", "sensor_faults", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -129,8 +133,11 @@ class Mru(NamedTuple):
 
 
 def build(context) -> list:
-    """The four sensors (:func:`sensor_parts`), the load cells reading the plan's first tensions."""
-    return sensor_parts(context.scenario, context.run, context.ship_h, context.n_steps, T0=context.ctl.ref.T[0])
+    """The four sensors (:func:`sensor_parts`), the load cells reading the plan's first tensions;
+    with a sensor's faults, their part (:class:`SensorFaults`) after them."""
+    parts = sensor_parts(context.scenario, context.run, context.ship_h, context.n_steps, T0=context.ctl.ref.T[0])
+    faults = sensor_faults(context.scenario.faults, context.scenario.time.step_s)
+    return parts if faults is None else parts + [faults]
 
 
 def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
@@ -187,3 +194,90 @@ def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
         Mru(eta=np.ascontiguousarray(eta), t=np.ascontiguousarray(t_s, dtype=float),
             latest=np.ascontiguousarray(latest)),
     ]
+
+
+# ----------------------------------------------------------------- a sensor's faults
+SENSOR_CHANNELS = {"load_cell": 0, "encoder": 1}
+SENSOR_MODE_CODES = {"freeze": 0, "drift": 1, "dropout": 2, "non_finite": 3}
+NEVER = np.iinfo(np.int64).max
+
+
+@njit(cache=True, inline="always")
+def _faulty(value, f, k, h, part):
+    """A faulty sensor's reading from its sound one, fault f at exchange k (see SensorFaults)."""
+    mode = part.mode[f]
+    if mode == 0:
+        if k == part.k0[f]:
+            part.held[f] = value
+        return part.held[f]
+    if mode == 1:
+        return value + part.rate[f] * (k * h - part.at_s[f])
+    if mode == 2:
+        return np.nan
+    return np.inf
+
+
+@njit(cache=True)
+def sensor_faults_step(k, h, part, bus):
+    """Each fault that acts at t_k (k0 <= k < k1) turns its sensor's reading in the
+    measurement into the faulty one: a load cell's meas.T, an encoder's meas.L (and a frozen,
+    lost or non-finite encoder's meas.Ldot as its length: held, NaN or +inf)."""
+    meas = bus.meas
+    for f in range(part.mode.shape[0]):
+        if k < part.k0[f] or k >= part.k1[f]:
+            continue
+        i = part.cable[f]
+        if part.channel[f] == 0:
+            meas.T[i] = _faulty(meas.T[i], f, k, h, part)
+        else:
+            meas.L[i] = _faulty(meas.L[i], f, k, h, part)
+            if part.mode[f] == 0:
+                if k == part.k0[f]:
+                    part.held_rate[f] = meas.Ldot[i]
+                meas.Ldot[i] = part.held_rate[f]
+            elif part.mode[f] == 2:
+                meas.Ldot[i] = np.nan
+            elif part.mode[f] == 3:
+                meas.Ldot[i] = np.inf
+
+
+@part(step=sensor_faults_step, order=13.5, reads=("meas.T", "meas.L", "meas.Ldot"), writes=("meas.T", "meas.L", "meas.Ldot"))
+class SensorFaults(NamedTuple):
+    """The load cells' and encoders' faults (``[[faults]]`` of kind ``load_cell`` or
+    ``encoder``), after the sensors have measured: one entry per fault. channel (f,) int64:
+    0 a load cell, 1 an encoder; cable (f,) int64, from 0; mode (f,) int64: 0 freeze, 1 drift,
+    2 dropout (NaN), 3 non-finite (+inf); k0, k1 (f,) int64: the exchanges from which and
+    until which (excluded) it acts; at_s (f,), s; rate (f,): a drift's, N/s or m/s. State:
+    held, held_rate (f,): a frozen sensor's reading and (an encoder's) rate."""
+
+    channel: np.ndarray
+    cable: np.ndarray
+    mode: np.ndarray
+    k0: np.ndarray
+    k1: np.ndarray
+    at_s: np.ndarray
+    rate: np.ndarray
+    held: np.ndarray
+    held_rate: np.ndarray
+
+
+def sensor_faults(faults, h: float) -> SensorFaults | None:
+    """The :class:`SensorFaults` of a scenario's ``faults`` with steps of h (s), or None
+    without a sensor's fault. A fault acts from the first exchange at or after at_s until the
+    first at or after at_s + duration_s."""
+    fs = [f for f in faults if f.kind in SENSOR_CHANNELS]
+    if not fs:
+        return None
+
+    def step(t: float) -> int:
+        return int(np.ceil(t / h - 1e-9))
+
+    return SensorFaults(
+        channel=np.array([SENSOR_CHANNELS[f.kind] for f in fs], dtype=np.int64),
+        cable=np.array([f.cable - 1 for f in fs], dtype=np.int64),
+        mode=np.array([SENSOR_MODE_CODES[f.mode] for f in fs], dtype=np.int64),
+        k0=np.array([step(f.at_s) for f in fs], dtype=np.int64),
+        k1=np.array([NEVER if f.duration_s is None else step(f.at_s + f.duration_s) for f in fs], dtype=np.int64),
+        at_s=np.array([f.at_s for f in fs], dtype=float),
+        rate=np.array([f.drift_per_s or 0.0 for f in fs], dtype=float),
+        held=np.zeros(len(fs)), held_rate=np.zeros(len(fs)))

@@ -5,6 +5,12 @@ over the drum's length), or on sagging ones (:class:`CatenaryMotorWinch`, under 
 catenary's tension at the winch end, which the cable part computes too).
 
 Ideal cables apply the command as it is: they have no winch part.
+
+A winch's faults (``[[faults]]`` of kind ``winch_brake`` or ``motor_power_loss``) are a mode
+of these parts, built only where a scenario lists one: :class:`BrakedLagWinch` (a length-
+controlled winch whose brake holds its drum) and :class:`FaultyMotorWinch` (motor winches
+whose motor loses its power, the drum running under the cable's pull, and whose brake holds
+the drum after its delay).
 """
 
 from __future__ import annotations
@@ -16,9 +22,10 @@ from numba import njit
 
 from marinecdpr.model.catenary import catenary_drum_stiffness
 from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, winch_motor_step
-from marinecdpr.prototype.parts import part
+from marinecdpr.prototype.parts import part, part_step
 
-__all__ = ["LagWinch", "MotorWinch", "CatenaryMotorWinch", "MOTOR_LOOP_DAMPING", "build"]
+__all__ = ["LagWinch", "MotorWinch", "CatenaryMotorWinch", "BrakedLagWinch", "FaultyMotorWinch",
+           "MOTOR_LOOP_DAMPING", "fault_steps", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -125,6 +132,129 @@ class CatenaryMotorWinch(NamedTuple):
     T_drum_cmd: np.ndarray
 
 
+# ------------------------------------------------------------------ a winch's faults
+NEVER = np.iinfo(np.int64).max
+
+
+@njit(cache=True)
+def braked_lag_step(k, h, part, bus):
+    """The winches' own step; a drum whose brake holds (k >= its brake step) keeps the length
+    it had paid out when the brake took hold."""
+    part_step(k, h, part.winch, bus)
+    for i in range(part.k_brake.shape[0]):
+        if k >= part.k_brake[i]:
+            if not part.held[i]:
+                part.held[i] = True
+                part.L0_held[i] = part.L0_prev[i]
+            bus.L0[i] = part.L0_held[i]
+            bus.L0_drum[i] = part.L0_held[i]
+        part.L0_prev[i] = bus.L0[i]
+
+
+@part(step=braked_lag_step, order=30, reads=("T_cmd", "L0_cmd", "cell_noise"), writes=("L0", "L0_drum", "T_hold"))
+class BrakedLagWinch(NamedTuple):
+    """Length-controlled winches (``winch``, a :class:`LagWinch`) some of whose brakes hold
+    their drums. k_brake (m,) int64: the exchange from which each brake holds (NEVER: never).
+    held (m,) bool; L0_held (m,): the length each held drum keeps, m; L0_prev (m,): each
+    drum's length after the last exchange, m."""
+
+    winch: LagWinch
+    k_brake: np.ndarray
+    held: np.ndarray
+    L0_held: np.ndarray
+    L0_prev: np.ndarray
+
+
+@njit(cache=True)
+def faulty_motor_step(k, h, part, bus):
+    """The motor winches' own step for the sound ones; a winch whose motor has lost its power
+    (k >= k_power) steps again from where it was with no torque (its drive's copy ``free``:
+    the drum under the cable's pull against the inertia and friction); a drum whose brake
+    holds (k >= k_brake) keeps the length it had paid out when the brake took hold, at rest."""
+    drive, free = part.winch.drive, part.free
+    m = drive.omega.shape[0]
+    for i in range(m):
+        free.omega[i] = drive.omega[i]
+        free.L0[i] = drive.L0[i]
+        part.zero[i] = 0.0
+    part_step(k, h, part.winch, bus)
+    T = bus.T_winch if part.heavy else bus.T_app
+    any_free = False
+    for i in range(m):
+        any_free = any_free or (k >= part.k_power[i] and k < part.k_brake[i])
+    if any_free:
+        winch_motor_step(free, part.zero, T, h)
+    for i in range(m):
+        if k >= part.k_brake[i]:
+            if not part.held[i]:
+                part.held[i] = True
+                part.L0_held[i] = free.L0[i]  # the drum's length at the step's start
+            drive.omega[i] = 0.0
+            drive.L0[i] = part.L0_held[i]
+            drive.tau[i] = 0.0
+            bus.L0[i] = part.L0_held[i]
+            bus.L0_drum[i] = part.L0_held[i]
+        elif k >= part.k_power[i]:
+            drive.omega[i] = free.omega[i]
+            drive.L0[i] = free.L0[i]
+            drive.tau[i] = 0.0
+            bus.L0[i] = free.L0[i] + 0.5 * free.r[i] / free.G[i] * h * free.omega[i]
+            bus.L0_drum[i] = free.L0[i]
+
+
+@part(step=faulty_motor_step, order=45, reads=("T_cmd", "T_app", "cell_noise"), writes=("L0", "L0_drum"))  # heavy: T_winch too
+class FaultyMotorWinch(NamedTuple):
+    """Motor winches (``winch``: a :class:`MotorWinch` or :class:`CatenaryMotorWinch`; ``heavy``
+    for the latter, whose drums carry ``T_winch``) some of which lose their motor's power or
+    brake. k_power, k_brake (m,) int64: the exchange from which each motor has no power, and
+    each brake holds (NEVER: never). free : WinchDrive, a copy of the drive stepped with no
+    torque; zero (m,): no torque, N m; held (m,) bool; L0_held (m,), m."""
+
+    winch: object
+    heavy: bool
+    k_power: np.ndarray
+    k_brake: np.ndarray
+    free: WinchDrive
+    zero: np.ndarray
+    held: np.ndarray
+    L0_held: np.ndarray
+
+
+def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """The exchange k from which each of m winches has lost its motor's power, and from which
+    its brake holds (the first with t_k = k h >= the time, to 1e-9 of a step), from the
+    scenario's ``faults``; NEVER where not. Two (m,) int64 arrays."""
+    power, brake = np.full(m, NEVER, dtype=np.int64), np.full(m, NEVER, dtype=np.int64)
+
+    def step(t: float) -> int:
+        return int(np.ceil(t / h - 1e-9))
+
+    for f in faults:
+        if f.kind == "motor_power_loss":
+            power[f.cable - 1] = step(f.at_s)
+            if f.brake_delay_s is not None:
+                brake[f.cable - 1] = step(f.at_s + f.brake_delay_s)
+        elif f.kind == "winch_brake":
+            brake[f.cable - 1] = step(f.at_s + (f.brake_delay_s or 0.0))
+    return power, brake
+
+
+def with_faults(context, winch):
+    """``winch`` (a built part) in its faults' mode where the scenario lists a winch's fault."""
+    scenario = context.scenario
+    if not any(f.on_winch for f in scenario.faults):
+        return winch
+    m = scenario.robot.n_cables
+    power, brake = fault_steps(scenario.faults, m, scenario.time.step_s)
+    if isinstance(winch, LagWinch):
+        return BrakedLagWinch(winch=winch, k_brake=brake, held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
+                              L0_prev=context.bus.L0.copy())
+    d = winch.drive
+    free = WinchDrive(*(np.array(a, copy=True) for a in d))
+    return FaultyMotorWinch(winch=winch, heavy=isinstance(winch, CatenaryMotorWinch), k_power=power, k_brake=brake,
+                            free=free, zero=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m))
+
+
 MOTOR_LOOP_DAMPING = 0.7
 """The damping ratio of the motor winches' tension loops, on each cable's stiffness at t = 0
 (:func:`~marinecdpr.model.winch.tension_loop_damping`, tension gain k_T = 1)."""
@@ -160,9 +290,9 @@ def build(context) -> list:
                       Lddot_ref=np.ascontiguousarray(context.plan.winch.length_accelerations[:n], dtype=float),
                       T_meas=np.zeros(robot.n_cables), limited=np.zeros(2, dtype=np.int64))
         if heavy:
-            return [CatenaryMotorWinch(**common, T_drum_cmd=np.zeros(robot.n_cables))]
-        return [MotorWinch(**common)]
+            return [with_faults(context, CatenaryMotorWinch(**common, T_drum_cmd=np.zeros(robot.n_cables)))]
+        return [with_faults(context, MotorWinch(**common))]
     if cab.model == "ideal":
         return []
     lag = 1.0 if cab.winch_time_constant_s == 0 else float(-np.expm1(-h / cab.winch_time_constant_s))
-    return [LagWinch(tension_controlled=cab.winch == "tension", lag=lag)]
+    return [with_faults(context, LagWinch(tension_controlled=cab.winch == "tension", lag=lag))]

@@ -1,0 +1,118 @@
+"""``[[faults]]``: what fails on the robot during a run, and when (issue 40, item 2).
+
+Each entry is one fault of the virtual prototype, a part (or a part's mode) that acts from
+``at_s`` on; the controller is not told (detecting it is the controller's job)::
+
+    [[faults]]
+    kind = "cable_snap"   # the cable breaks: from at_s its force is zero
+    cable = 2             # which cable, counted from 1 as [[robot.cables]] lists them
+    at_s = 12.5           # from when, s from the run's start
+
+``cable_snap``: from the first exchange at or after ``at_s`` (t_k >= at_s) the cable pulls no
+more, on every cable model (ideal, elastic, catenary; within the plant's step too) and on
+both plants (on MuJoCo its tendon's motor and spring stop acting). What the cable's winch
+does with no load is its own model's (a motor winch's drum runs free of the cable's pull).
+
+``winch_brake``: the cable's winch is told to brake at ``at_s``; ``brake_delay_s`` (default 0)
+later its brake holds the drum: from then the unstretched length the drum has paid out
+stays as it was (elastic or catenary cables on a length-controlled or motor winch).
+
+``motor_power_loss``: from ``at_s`` the cable's motor gives no torque (motor winches): the
+drum runs under the cable's pull against the drive's inertia and friction
+(:func:`~marinecdpr.model.winch.winch_motor_step` with no torque). With ``brake_delay_s``
+the fail-safe brake holds the drum that long after the loss; without it, nothing does.
+
+``load_cell`` and ``encoder``: the cable's load cell (the controller's measured tension) or its
+winch's encoder (the measured length and its rate) goes wrong from ``at_s``, for
+``duration_s`` if given (else to the end), in one ``mode``: ``freeze`` (it repeats the reading
+it gave at at_s), ``drift`` (it adds ``drift_per_s`` times the time since at_s: N/s, or m/s on
+the length), ``dropout`` (it gives NaN: no reading) or ``non_finite`` (it gives +inf).
+
+``controller_deadline``: the controller misses its deadline at ``at_s`` for ``steps``
+exchanges: its commands of the exchange before are held (closed loop; it computes nothing
+in those exchanges, its own state held too). No ``cable``.
+
+A fault acts from the first exchange at or after its time (t_k >= at_s, and for a brake
+t_k >= at_s + brake_delay_s).
+
+With no ``[[faults]]`` the prototype has exactly the parts it had before (no fault part is
+built) and every number is as without this section.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Model, _ranged
+
+__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
+
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "load_cell", "encoder", "controller_deadline")
+"""The faults a scenario may list (``kind``)."""
+WINCH_FAULTS = ("winch_brake", "motor_power_loss")
+"""The faults of a cable's winch."""
+SENSOR_FAULTS = ("load_cell", "encoder")
+"""The faults of a cable's sensors."""
+SENSOR_MODES = ("freeze", "drift", "dropout", "non_finite")
+"""How a sensor goes wrong."""
+MAX_FAULTS = 100
+"""Most faults one scenario may list."""
+
+
+class Fault(_Model):
+    """One fault: its kind, which cable it strikes (from 1), and from when."""
+
+    kind: Literal[FAULT_KINDS]
+    """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
+    drum), "motor_power_loss" (its winch's motor gives no torque)."""
+    cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)] | None = None
+    """Which cable (or its winch, its sensors), counted from 1 in the order of
+    ``[[robot.cables]]`` (every kind but controller_deadline)."""
+    steps: Annotated[int, Field(ge=1, le=10**7, strict=True)] | None = None
+    """controller_deadline: for how many exchanges the controller's commands are held."""
+    at_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run, from its start")
+    """When the fault strikes, s from the run's start (at most ``time.duration_s``)."""
+    brake_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") | None = None
+    """Winch faults: how long after ``at_s`` the brake holds the drum, s (``winch_brake``:
+    default 0; ``motor_power_loss``: none, the drum runs free)."""
+
+    mode: Literal[SENSOR_MODES] | None = None
+    """Sensor faults: "freeze", "drift", "dropout" (NaN) or "non_finite" (+inf)."""
+    drift_per_s: _ranged(-1e6, 1e6, "per s", "a sensor's drift, N/s or m/s") | None = None
+    """A drifting sensor's rate: N/s on a load cell, m/s on an encoder's length."""
+    duration_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run", above=True) | None = None
+    """A sensor fault's duration, s (none: to the run's end)."""
+
+    @model_validator(mode="after")
+    def _check_delay(self) -> "Fault":
+        late = self.kind == "controller_deadline"
+        if not late and self.cable is None:
+            raise _KeyedError("cable", "missing: which cable (counted from 1) the fault strikes")
+        if late and self.cable is not None:
+            raise _KeyedError("cable", "a controller_deadline strikes the controller, not a cable: leave it out")
+        if late and self.steps is None:
+            raise _KeyedError("steps", "missing: for how many exchanges the controller's commands are held")
+        if not late and self.steps is not None:
+            raise _KeyedError("steps", f"is for a controller_deadline, not a {self.kind}")
+        if self.kind not in WINCH_FAULTS and self.brake_delay_s is not None:
+            raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
+                                               f"{self.kind}")
+        sensor = self.kind in SENSOR_FAULTS
+        for key in ("mode", "duration_s", "drift_per_s"):
+            if not sensor and getattr(self, key) is not None:
+                raise _KeyedError(key, f"is for a sensor's faults (load_cell, encoder), not a {self.kind}")
+        if sensor and self.mode is None:
+            raise _KeyedError("mode", "missing: a sensor fault freezes, drifts, drops out or gives non-finite "
+                                      "values (\"freeze\", \"drift\", \"dropout\", \"non_finite\")")
+        if self.mode == "drift" and self.drift_per_s is None:
+            raise _KeyedError("drift_per_s", "missing: a drifting sensor's rate (N/s or m/s)")
+        if self.mode not in (None, "drift") and self.drift_per_s is not None:
+            raise _KeyedError("drift_per_s", f"is for a drifting sensor (mode = \"drift\"), not \"{self.mode}\"")
+        return self
+
+    @property
+    def on_winch(self) -> bool:
+        """A winch's fault (its brake or its motor)."""
+        return self.kind in WINCH_FAULTS

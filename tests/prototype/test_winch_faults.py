@@ -1,0 +1,109 @@
+"""A winch's faults as a mode of the winch parts (issue 40, item 2): its brake holds the drum
+after the brake's delay; its motor loses its power and the drum runs under the cable's pull
+against the drive's inertia. Hand-worked: the unstretched length a held drum keeps (read back
+from each step's tension and length, L0 = L EA / (EA + T)), and a free drum's acceleration
+L0'' = (r_d / G)^2 T / J_eff."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from marinecdpr import ScenarioError
+from marinecdpr.prototype.simulation import simulate
+
+from conftest import make_scenario
+
+EA = 1.0e5
+WINCH = {"drum_radius_m": 0.05, "gear_ratio": 10.0, "torque_max_Nm": 2.0, "speed_max_rad_s": 300.0,
+         "power_max_W": 200.0, "rotor_inertia_kg_m2": 1.0e-4, "drum_inertia_kg_m2": 1.0e-3,
+         "gear_efficiency": 1.0, "coulomb_friction_Nm": 0.0, "viscous_friction_Nm_s": 0.0}
+
+
+def paper_on(winch: str, faults: list, duration_s: float = 2.0):
+    """The paper's robot and circle on its rolling ship with undamped elastic cables (EA 1e5 N)
+    on length-controlled or motor winches (a frictionless drive, eta_g = 1)."""
+    def edit(d):
+        d["simulation"]["cables"] = {"model": "elastic", "stiffness_EA_N": EA, "damping_N_s_m": 0.0, "winch": winch}
+        d["robot"]["winch"] = WINCH
+        d["time"] = {"step_s": 0.001, "duration_s": duration_s}
+        d["faults"] = faults
+    return make_scenario(edit)
+
+
+def unstretched(r):
+    """Each step's unstretched length from the logged tension and length (undamped elastic
+    cables, tension EA (L - L0) / L0 over the drum's length), m; NaN where slack."""
+    return np.where(r.tensions > 0.0, r.lengths * EA / (EA + r.tensions), np.nan)
+
+
+@pytest.mark.parametrize("plant", ["own", "mujoco"])
+def test_a_braked_length_winch_holds_its_drum_after_the_delay(plant):
+    """Cable 2's brake told at 0.8 s, holding 0.2 s later: from the exchange at 1.0 s its
+    unstretched length stays what it was (to rounding, 1e-12 m), while before it followed the
+    circle's (by mm) and the other cables' still do."""
+    r = simulate(paper_on("length", [{"kind": "winch_brake", "cable": 2, "at_s": 0.8, "brake_delay_s": 0.2}]),
+                 run="open_loop", plant=plant)
+    L0 = unstretched(r)
+    k = 1000
+    held = L0[k:, 1]
+    assert np.all(np.isfinite(held))
+    np.testing.assert_allclose(held, held[0], rtol=0.0, atol=1e-12)
+    assert np.ptp(L0[:k, 1]) > 1e-3 and np.ptp(L0[k:, 0]) > 1e-3
+    assert r.faults[0]["acted_s"] == 1.0
+
+
+def test_a_motor_without_power_lets_its_drum_run_under_the_pull():
+    """Cable 1's motor loses its power at 0.5 s (no brake): the drum accelerates under its
+    cable's pull alone, J_eff omega' = -T r_d / G, L0' = -(r_d / G) omega, so that each step's
+    second difference of L0 is (r_d / G)^2 T / J_eff (the drive's exact step without
+    friction); J_eff = J_m + J_d / G^2 = 1.1e-4 kg m^2. Measured to 9e-11 of it over the 73
+    steps until the cable runs slack; the sound winches' drums do not follow it."""
+    r = simulate(paper_on("motor", [{"kind": "motor_power_loss", "cable": 1, "at_s": 0.5}], duration_s=0.7),
+                 run="open_loop", plant="own")
+    h, k0 = 0.001, 500
+    L0 = unstretched(r)
+    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
+    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
+    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
+    by_hand = rg ** 2 * r.tensions[k0:-2, 0] / J_eff
+    taut = np.isfinite(seen)  # until the running drum has paid out the stretch (73 steps)
+    assert taut[:60].all() and by_hand[0] > 50.0  # 61 m/s^2 at first: 268 N on the drum
+    np.testing.assert_allclose(seen[taut], by_hand[taut], rtol=1e-9)
+    sound = (L0[k0 + 1:-1, 2] - 2.0 * L0[k0:-2, 2] + L0[k0 - 1:-3, 2]) / h ** 2
+    assert np.nanmin(np.abs(sound - rg ** 2 * r.tensions[k0:-2, 2] / J_eff)[:60]) > 1.0
+    assert r.faults[0] == {"kind": "motor_power_loss", "cable": 1, "at_s": 0.5, "acted_s": 0.5, "brake_held_s": None}
+
+
+def test_a_motor_without_power_is_held_by_its_brake_after_the_delay():
+    """The same loss with the fail-safe brake holding 50 ms later: the drum runs free for 50
+    steps, then keeps the length it had reached."""
+    r = simulate(paper_on("motor", [{"kind": "motor_power_loss", "cable": 1, "at_s": 0.5, "brake_delay_s": 0.05}],
+                          duration_s=0.7), run="open_loop", plant="own")
+    L0 = unstretched(r)[550:, 0]
+    taut = np.isfinite(L0)  # the platform, flown on, leaves the held cable slack at times
+    assert taut[:15].all() and taut.sum() > 100
+    np.testing.assert_allclose(L0[taut], L0[0], rtol=0.0, atol=1e-12)
+    assert abs(L0[0] - unstretched(r)[500, 0]) > 1e-3  # it ran before the brake held
+    assert r.faults[0]["brake_held_s"] == pytest.approx(0.55)
+
+
+@pytest.mark.parametrize("cables, kind, says", [
+    ({"model": "ideal"}, "winch_brake", "needs a winch that pays out the cable"),
+    ({"model": "elastic", "stiffness_EA_N": EA, "winch": "tension"}, "winch_brake", "length-controlled or motor"),
+    ({"model": "elastic", "stiffness_EA_N": EA}, "motor_power_loss", "needs motor winches"),
+])
+def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind, says):
+    def edit(d):
+        d["simulation"]["cables"] = cables
+        d["faults"] = [{"kind": kind, "cable": 1, "at_s": 1.0}]
+    with pytest.raises(ScenarioError) as err:
+        make_scenario(edit)
+    assert "\n" not in str(err.value) and "faults[1].kind" in str(err.value) and says in str(err.value)
+
+
+def test_a_cable_snap_has_no_brake_delay():
+    def edit(d):
+        d["faults"] = [{"kind": "cable_snap", "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
+    with pytest.raises(ScenarioError, match=r"faults\[1\]\.brake_delay_s: is for a winch's faults"):
+        make_scenario(edit)
