@@ -170,7 +170,8 @@ def _print_strip(st) -> None:
     c, parts = st.coverage, st.parts_h()
     partial = (" (a PARTIAL job: each station's and run's coverage is the flown part's)" if st.runs else
                " (a PARTIAL job: each station's coverage is the flown part's)") if st.partial else ""
-    console.print(plain(f"strip: {st.surface}: {st.s_m.size} rail stations and {len(st.crane)} crane placements, "
+    runs = f", {len(st.runs)} continuous run{'s' if len(st.runs) != 1 else ''}" if st.runs else ""
+    console.print(plain(f"strip: {st.surface}: {st.s_m.size} rail stations{runs} and {len(st.crane)} crane placements, "
                         f"{c.coverage_pct:.2f} % of the strip's {c.area_m2:.4g} m2 on the hull cleaned{partial} "
                         f"({c.overlap_pct:.3g} % of it twice or more), {st.hours:.4g} h ({parts['cleaning_rail']:.4g} "
                         f"h cleaning from the rail, {parts['moves_rail']:.4g} h carriage moves, "
