@@ -73,3 +73,14 @@ def test_a_sea_state_on_a_scenario_without_one_is_refused():
             as err:
         command.estimate(FaultsSpec(hs=1.0), marinecdpr.load_scenario("paper"))
     assert err.value.flag == "--hs"
+
+
+def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
+    """docs/commands/faults.md: its example flies cable 1 of paper_clean snapping at the two
+    moments of its first 2 s, each leaving the frame (four cables); its table is the spec."""
+    from command_pages import assert_table_is_the_spec, run_page
+
+    ns = run_page("faults", tmp_path, monkeypatch)
+    assert len(ns["verdicts"]) == 2 and all(v.startswith("leaves the frame") for v in ns["verdicts"])
+    assert {p.name for p in ns["files"]} == {"faults.csv", "summary.json", "faults.png", "report.html"}
+    assert_table_is_the_spec("faults", FaultsSpec)
