@@ -132,3 +132,33 @@ def test_a_snap_is_detected_after_the_watch_s_slack_delay(four, delay_s):
                       plan=four[1]).rows[0]
     assert row.detection.startswith("cable_slack") and row.detection.endswith("cable 2")
     assert row.detection_delay_s == pytest.approx(delay_s, abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def elastic():
+    """paper_elastic on length-controlled winches (drums the brakes can hold), its first 2 s."""
+    sc = marinecdpr.load_scenario("paper_elastic").with_updates("simulation.cables", winch="length")
+    sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": 2.0})
+    return sc, marinecdpr.plan(sc)
+
+
+def test_the_brakes_on_elastic_cables_hold_the_drums_and_the_snap_load_is_the_verdict(elastic):
+    """Cable 1 snaps at 1 s on four elastic cables: detected after 0.02 s, the brakes: the three
+    remaining drums held 0.2 s later (brake_delay_s), and the platform, swinging on cables that
+    no longer pay out, loads one of them beyond its breaking load (450 N): the verdict names it,
+    with the peak read back from the run's tensions. A load cell that drops out (NaN) is
+    detected at once and the pose held (park): safe."""
+    sc, plan = elastic
+    cases = [FaultCase("cable_snap", 1, 1.0, "given"), FaultCase("load_cell", 1, 1.0, "given")]
+    study = fault_study(sc, cases, after_s=1.0, plant="own", plan=plan, sensor_mode="dropout")
+    snap, cell = study.rows
+    assert snap.detected and snap.detection_delay_s == pytest.approx(0.02, abs=1e-12)
+    assert snap.reaction == "brake" and snap.brakes_held == 3
+    faulty = sc.with_changes(faults=[{"kind": "cable_snap", "cable": 1, "at_s": 1.0}])
+    r = simulate(faulty, run="closed_loop", plant="own", reference=plan, n_steps=2001)
+    assert r.brakes_held == ((2, pytest.approx(1.22)), (3, pytest.approx(1.22)), (4, pytest.approx(1.22)))
+    peak = r.tensions[1000:, 1:].max()
+    assert snap.peak_tension_N == pytest.approx(peak, rel=1e-12) and peak > 450.0
+    assert snap.verdict == (f"cable {snap.peak_cable} pulls {peak:.0f} N, beyond its breaking load 450 N")
+    assert cell.detected and cell.detection_delay_s == 0.0 and cell.detection.startswith("non_finite")
+    assert cell.reaction == "park" and cell.verdict == "safe"
