@@ -109,7 +109,7 @@ def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
              ("sea state", f"Hs {sea['hs_m']:g} m, Tp {sea['tp_s']:g} s, heading {sea['heading_deg']:g} deg"
               if sea else scenario.base_motion.type.replace("_", " ")),
              ("flown after each fault", f"{study.after_s:g} s, closed loop with the controller's watch"),
-             ("faults", f"{len(study.rows)}: {summary['safe']} safe, {summary['unsafe']} not")]
+             ("faults", f"{len(study.rows)}: {len(study.rows) - len(study.unsafe)} safe, {len(study.unsafe)} not")]
 
     def fmt(v, unit="", digits=3):
         return "–" if v is None or (isinstance(v, float) and not np.isfinite(v)) else f"{v:.{digits}g}{unit}"
