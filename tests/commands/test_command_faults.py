@@ -5,6 +5,7 @@ beyond the record), then the moments and cases it will fly."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import marinecdpr
@@ -44,7 +45,7 @@ def clean4():
     ({"after": 1.95}, "--after 1.95: leaves no moment to strike in the job's 2 s"),
     ({"kinds": "power"}, "--kinds power: a motor_power_loss needs motor winches"),
     ({"duration": 5.0}, "--duration 5: beyond the job's 2 s"),
-    ({"hs": 31.0}, "--hs 31: "),
+    ({"hs": "1,31"}, "--hs 31: "),
 ])
 def test_the_estimate_refuses_what_the_scenario_cannot_take(clean4, options, words):
     spec = FaultsSpec(**{"after": 1.0, **options})
@@ -56,16 +57,30 @@ def test_the_estimate_refuses_what_the_scenario_cannot_take(clean4, options, wor
 
 def test_the_estimate_flies_each_cable_at_each_moment_and_a_deadline_once(clean4):
     """Two kinds (snap on cables 1 and 3, the controller's deadline once) at two given times:
-    (2 + 1) x 2 cases, in the order moment, kind, cable; the sea the scenario's own."""
+    (2 + 1) x 2 cases, in the order moment, kind, cable; the sea the scenario's own. Two sea
+    states given (--hs 1,1.5 with one --tp): each flown with its own plan and moments."""
     est = command.estimate(FaultsSpec(kinds="snap,deadline", cables="1,3", at="0.2,0.6", after=1.0), clean4)
-    assert [(c.kind, c.cable, c.at_s) for c in est.cases] == [
+    [cases] = est.cases
+    assert [(c.kind, c.cable, c.at_s) for c in cases] == [
         ("cable_snap", 1, 0.2), ("cable_snap", 3, 0.2), ("controller_deadline", None, 0.2),
         ("cable_snap", 1, 0.6), ("cable_snap", 3, 0.6), ("controller_deadline", None, 0.6)]
-    assert est.sea == {"hs_m": 2.0, "tp_s": 8.0, "heading_deg": 150.0} and est.plant == "mujoco"
-    est = command.estimate(FaultsSpec(hs=1.0, tp=6.0, after=1.0, plant="own"), clean4)
-    assert est.sea == {"hs_m": 1.0, "tp_s": 6.0, "heading_deg": 150.0} and est.plant == "own"
-    assert est.flown.base_motion.hs_m == 1.0 and est.flown.faults == []
-    assert {c.moment for c in est.cases} <= {"highest tension", "highest speed"} and len(est.cases) % 4 == 0
+    assert est.seas == ({"hs_m": 2.0, "tp_s": 8.0, "heading_deg": 150.0},) and est.plant == "mujoco"
+    est = command.estimate(FaultsSpec(hs="1,1.5", tp=6.0, after=1.0, plant="own"), clean4)
+    assert est.seas == ({"hs_m": 1.0, "tp_s": 6.0, "heading_deg": 150.0},
+                        {"hs_m": 1.5, "tp_s": 6.0, "heading_deg": 150.0}) and est.plant == "own"
+    assert [sc.base_motion.hs_m for sc in est.flown] == [1.0, 1.5] and est.flown[1].faults == []
+    assert not np.array_equal(est.plans[0].tensions, est.plans[1].tensions)
+    for cases in est.cases:
+        assert {c.moment for c in cases} <= {"highest tension", "highest speed"} and len(cases) % 4 == 0
+
+
+def test_sea_states_given_as_lists_go_together_or_not_at_all():
+    with pytest.raises(SpecError) as err:
+        FaultsSpec(hs="1,2,3", tp="6,7")
+    assert (err.value.flag, err.value.value) == ("--tp", "6,7")
+    assert err.value.detail == "give one value or as many as the longest of --hs, --tp, --heading (3)"
+    assert FaultsSpec(hs="1,2", heading=90.0).seas() == [{"hs_m": 1.0, "heading_deg": 90.0},
+                                                         {"hs_m": 2.0, "heading_deg": 90.0}]
 
 
 def test_a_sea_state_on_a_scenario_without_one_is_refused():

@@ -33,10 +33,12 @@ def faults(
                                              help="The job's first seconds considered, s (default: all of it)."),
     plant: Optional[str] = typer.Option(_default("plant"), "--plant", help="mujoco or own (default: the "
                                                                            "scenario's)."),
-    hs: Optional[float] = typer.Option(_default("hs"), "--hs", help="Significant wave height, m (default: the "
-                                                                    "scenario's sea)."),
-    tp: Optional[float] = typer.Option(_default("tp"), "--tp", help="Peak period, s."),
-    heading: Optional[float] = typer.Option(_default("heading"), "--heading", help="Wave heading, deg."),
+    hs: Optional[str] = typer.Option(_list(_default("hs")), "--hs", help="Significant wave heights, m, "
+                                     "comma-separated: one sea state each (default: the scenario's sea)."),
+    tp: Optional[str] = typer.Option(_list(_default("tp")), "--tp", help="Peak periods, s: one, or one a sea "
+                                                                         "state."),
+    heading: Optional[str] = typer.Option(_list(_default("heading")), "--heading", help="Wave headings, deg: "
+                                          "one, or one a sea state."),
     sensor_mode: str = typer.Option(_default("sensor_mode"), "--sensor-mode", help="How a failing sensor fails: "
                                     "freeze, drift, dropout, non_finite."),
     drift: float = typer.Option(_default("drift"), "--drift", help="A drifting sensor's rate, N/s or m/s."),
@@ -64,7 +66,7 @@ def faults(
             fail_spec(exc)
     with output(out) as folder:
         compile_notice(est.plant)
-        with run_errors(scenario), task_progress("faults", len(est.cases), "faults") as bar:
+        with run_errors(scenario), task_progress("faults", est.n_cases, "faults") as bar:
             result = command.run(spec, sc, estimated=est, progress=bar)
         paths = result.write(folder)
     study = result.study
@@ -72,7 +74,8 @@ def faults(
                         "after each fault"), highlight=False, soft_wrap=True)
     for r in study.rows:
         det = f"detected after {r.detection_delay_s:.3g} s" if r.detected else "not detected"
+        sea = f", Hs {r.hs_m:g} m Tp {r.tp_s:g} s {r.heading_deg:g} deg" if len(study.seas) > 1 else ""
         console.print(plain(f"  {r.kind}" + (f" cable {r.cable}" if r.cable else "") + f" at {r.at_s:g} s "
-                            f"({r.moment}): {det}, {r.reaction}; {r.verdict}"), highlight=False, soft_wrap=True)
+                            f"({r.moment}{sea}): {det}, {r.reaction}; {r.verdict}"), highlight=False, soft_wrap=True)
     console.print(plain(f"{len(study.rows) - len(study.unsafe)} of {len(study.rows)} safe; written to {out}/: "
                         + ", ".join(p.name for p in paths)), highlight=False, soft_wrap=True)

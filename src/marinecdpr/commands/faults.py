@@ -3,7 +3,7 @@
 :class:`FaultsSpec` holds the options (the one source of their defaults), :func:`estimate`
 checks them against the scenario (the cables, the fault kinds its winches can have, the
 times within the record, the sea state) and sizes the runs, :func:`run` plans the job once
-and flies every fault closed loop (:func:`~marinecdpr.studies.faults.fault_study`),
+in each sea state and flies every fault closed loop (:func:`~marinecdpr.studies.faults.fault_study`),
 :class:`FaultsResult` writes ``faults.csv``, ``summary.json``, ``faults.png`` and
 ``report.html``."""
 
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator, model_validator
 
-from marinecdpr.commands.base import PLANTS, BadValue, Estimate, Spec, SpecError, finite, plant, positive
+from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, finite, plant, positive
 from marinecdpr.scenario.faults import FAULT_KINDS, SENSOR_MODES
 
 if TYPE_CHECKING:
@@ -73,8 +73,10 @@ class FaultsSpec(Spec):
         whole job.
     plant : {"mujoco", "own"}, optional
         Default the scenario's.
-    hs, tp, heading : float, optional
-        The sea state flown (m, s, deg): default the scenario's own (a sea_state base motion).
+    hs, tp, heading : tuple of float, optional
+        The sea states flown (m, s, deg; ``"1,2"`` is taken too), each list one value or as
+        many as the longest (the i-th sea state takes the i-th of each, a single value for
+        all): default the scenario's own (a sea_state base motion).
     sensor_mode : {"freeze", "drift", "dropout", "non_finite"}
         How a failing sensor fails.
     drift : float
@@ -91,9 +93,9 @@ class FaultsSpec(Spec):
     after: float = 3.0
     duration: float | None = None
     plant: str | None = None
-    hs: float | None = None
-    tp: float | None = None
-    heading: float | None = None
+    hs: tuple[float, ...] | None = None
+    tp: tuple[float, ...] | None = None
+    heading: tuple[float, ...] | None = None
     sensor_mode: str = "dropout"
     drift: float = 10.0
     brake_delay: float | None = None
@@ -127,17 +129,29 @@ class FaultsSpec(Spec):
             raise ValueError("expected times >= 0 s, separated by commas")
         return times
 
-    @field_validator("after", "duration", "hs", "tp")
+    @field_validator("after", "duration")
     @classmethod
     def _positive(cls, v):
         return positive(v)
+
+    @field_validator("hs", "tp", "heading", mode="before")
+    @classmethod
+    def _seas(cls, v, info):
+        if v is None:
+            return None
+        values = _numbers([v] if isinstance(v, (int, float)) else v, "numbers")
+        if not values or not all(math.isfinite(x) for x in values):
+            raise ValueError("expected finite numbers separated by commas")
+        if info.field_name != "heading" and min(values) <= 0:
+            raise ValueError("expected positive numbers")
+        return values
 
     @field_validator("brake_delay")
     @classmethod
     def _delay(cls, v):
         return positive(v, zero_ok=True)
 
-    @field_validator("heading", "drift")
+    @field_validator("drift")
     @classmethod
     def _finite(cls, v):
         return finite(v)
@@ -163,44 +177,80 @@ class FaultsSpec(Spec):
 
     @model_validator(mode="after")
     def _together(self):
+        n = self.n_seas
+        for name in ("hs", "tp", "heading"):
+            given = getattr(self, name)
+            if given is not None and len(given) not in (1, n):
+                raise SpecError(name, ",".join(f"{x:g}" for x in given),
+                                f"give one value or as many as the longest of --hs, --tp, --heading ({n})")
         if self.brake_delay is not None and not set(self.kinds) & {"winch_brake", "motor_power_loss"}:
             raise SpecError("brake_delay", self.brake_delay, "is for the winch faults (brake, power): add one to "
                             "--kinds")
         return self
 
 
+    @property
+    def n_seas(self) -> int:
+        """Sea states given (0: the scenario's own)."""
+        return max([len(v) for v in (self.hs, self.tp, self.heading) if v is not None], default=0)
+
+    def seas(self) -> list[dict]:
+        """The sea states given, each ``{"hs_m", "tp_s", "heading_deg"}`` with the keys given."""
+        out = []
+        for i in range(self.n_seas):
+            sea = {}
+            for key, v in (("hs_m", self.hs), ("tp_s", self.tp), ("heading_deg", self.heading)):
+                if v is not None:
+                    sea[key] = v[i] if len(v) > 1 else v[0]
+            out.append(sea)
+        return out
+
+
 @dataclass(frozen=True)
 class FaultsEstimate(Estimate):
-    """:class:`~marinecdpr.commands.base.Estimate` and what will be flown: ``flown``, the
-    scenario in the spec's sea over the job's considered part; ``plan``, its plan; ``cases``,
-    the faults (:class:`~marinecdpr.studies.faults.FaultCase`); ``plant``; ``sea``: the sea
-    state (hs_m, tp_s, heading_deg), {} without one."""
+    """:class:`~marinecdpr.commands.base.Estimate` and what will be flown, per sea state (in
+    the spec's order; one, the scenario's own, where none is given): ``seas``, each
+    (hs_m, tp_s, heading_deg), {} without a sea state; ``flown``, the scenario in that sea
+    over the job's considered part; ``plans``, its plan; ``cases``, the faults
+    (:class:`~marinecdpr.studies.faults.FaultCase`); and the ``plant``."""
 
-    flown: Any = None
-    plan: Any = None
+    seas: tuple = ()
+    flown: tuple = ()
+    plans: tuple = ()
     cases: tuple = ()
     plant: str = "mujoco"
-    sea: dict = None
+
+    @property
+    def n_cases(self) -> int:
+        """Faults flown over every sea state."""
+        return sum(len(c) for c in self.cases)
 
 
-def _sea(spec: FaultsSpec, scenario: Scenario) -> tuple[Scenario, dict]:
-    given = {k: v for k, v in (("hs_m", spec.hs), ("tp_s", spec.tp), ("heading_deg", spec.heading)) if v is not None}
-    sea = scenario.base_motion
-    if sea.type != "sea_state":
-        if given:
-            flag = {"hs_m": "hs", "tp_s": "tp", "heading_deg": "heading"}[next(iter(given))]
-            raise SpecError(flag, getattr(spec, flag), f"needs a [base_motion] of type sea_state, not {sea.type}")
-        return scenario, {}
+def _in_sea(spec: FaultsSpec, scenario: Scenario, given: dict) -> tuple[Scenario, dict]:
+    """The scenario in a sea state ``given`` (keys of its base motion) and the sea flown."""
     from marinecdpr.errors import ScenarioError
 
+    sea = scenario.base_motion
+    flags = {"hs_m": "hs", "tp_s": "tp", "heading_deg": "heading"}
+    if sea.type != "sea_state":
+        if given:
+            flag = flags[next(iter(given))]
+            raise SpecError(flag, _said(getattr(spec, flag)), f"needs a [base_motion] of type sea_state, not "
+                                                              f"{sea.type}")
+        return scenario, {}
     if given:
         try:
             scenario = scenario.with_changes(base_motion=sea.model_copy(update=given))
         except ScenarioError as exc:
-            flag = {"hs_m": "hs", "tp_s": "tp", "heading_deg": "heading"}.get(str(exc.key).rsplit(".", 1)[-1], "hs")
-            raise SpecError(flag, getattr(spec, flag), exc.detail) from None
+            key = str(exc.key).rsplit(".", 1)[-1]
+            flag = flags.get(key, "hs")
+            raise SpecError(flag, given.get(key, _said(getattr(spec, flag))), exc.detail) from None
     b = scenario.base_motion
     return scenario, {"hs_m": b.hs_m, "tp_s": b.tp_s, "heading_deg": b.heading_deg}
+
+
+def _said(values) -> str:
+    return ",".join(f"{x:g}" for x in values) if values is not None else "not given"
 
 
 def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
@@ -225,10 +275,9 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
     beyond = [c for c in cables if c > m]
     if beyond:
         raise SpecError("cables", beyond[0], f"the robot has {m} cables (1 to {m})")
-    sc, sea = _sea(spec, scenario)
-    job = sc.time.duration_s if spec.duration is None else spec.duration
-    if spec.duration is not None and spec.duration > sc.time.duration_s + 1e-9:
-        raise SpecError("duration", spec.duration, f"beyond the job's {sc.time.duration_s:g} s")
+    job = scenario.time.duration_s if spec.duration is None else spec.duration
+    if spec.duration is not None and spec.duration > scenario.time.duration_s + 1e-9:
+        raise SpecError("duration", spec.duration, f"beyond the job's {scenario.time.duration_s:g} s")
     latest = job - spec.after
     if spec.at is not None:
         for t in spec.at:
@@ -238,29 +287,37 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
     elif latest < EARLIEST_S:
         raise SpecError("after", spec.after, f"leaves no moment to strike in the job's {job:g} s (a fault from "
                                              f"{EARLIEST_S:g} s on, flown --after past it)")
-    sc = sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": job}, faults=[])
+    in_seas = [_in_sea(spec, scenario, given) for given in (spec.seas() or [{}])]
+    in_seas = [(sc.with_changes(time={"step_s": sc.time.step_s, "duration_s": job}, faults=[]), sea)
+               for sc, sea in in_seas]
+    first = in_seas[0][0]
     for kind in spec.kinds:  # what the scenario's prototype cannot have, in one line
         probe = fault_entry(FaultCase(kind=kind, cable=cables[0], at_s=0.0, moment="given"),
                             sensor_mode=spec.sensor_mode, drift_per_s=spec.drift, brake_delay_s=spec.brake_delay,
                             deadline_steps=spec.deadline_steps)
         try:
-            sc.with_changes(faults=[probe])
+            first.with_changes(faults=[probe])
         except ScenarioError as exc:
             name = next((k for k, v in KINDS.items() if v == kind), kind)
             raise SpecError("kinds", name, exc.detail) from None
-    plant_ = spec.plant or sc.simulation.plant
+    plant_ = spec.plant or first.simulation.plant
     n_cases = sum(1 if k == "controller_deadline" else len(cables) for k in spec.kinds)
+    runs = n_cases * (len(spec.at) if spec.at else 2) * len(in_seas)
     try:
-        size = check_run_size(sc, "simulate", repeat=max(1, n_cases * (len(spec.at) if spec.at else 2)))
+        size = check_run_size(first, "simulate", repeat=max(1, runs))
     except ScenarioError as exc:
         raise SpecError("duration", job, exc.detail) from None
-    plan = make_plan(sc)
-    moments = ([("given", t) for t in spec.at] if spec.at is not None
-               else hardest_moments(plan, earliest_s=EARLIEST_S, latest_s=latest))
-    cases = tuple(FaultCase(kind=k, cable=None if k == "controller_deadline" else c, at_s=t, moment=label)
-                  for label, t in moments for k in spec.kinds
-                  for c in ((None,) if k == "controller_deadline" else cables))
-    return FaultsEstimate(scenario=sc.name, size=size, flown=sc, plan=plan, cases=cases, plant=plant_, sea=sea)
+    plans, cases = [], []
+    for sc, _ in in_seas:
+        plan = make_plan(sc)
+        moments = ([("given", t) for t in spec.at] if spec.at is not None
+                   else hardest_moments(plan, earliest_s=EARLIEST_S, latest_s=latest))
+        plans.append(plan)
+        cases.append(tuple(FaultCase(kind=k, cable=None if k == "controller_deadline" else c, at_s=t, moment=label)
+                           for label, t in moments for k in spec.kinds
+                           for c in ((None,) if k == "controller_deadline" else cables)))
+    return FaultsEstimate(scenario=first.name, size=size, seas=tuple(sea for _, sea in in_seas),
+                          flown=tuple(sc for sc, _ in in_seas), plans=tuple(plans), cases=tuple(cases), plant=plant_)
 
 
 @dataclass(frozen=True)
@@ -297,11 +354,19 @@ def run(spec: FaultsSpec, scenario: Scenario, *, estimated: FaultsEstimate | Non
     progress : callable(done, total), optional
         Faults flown so far.
     """
-    from marinecdpr.studies.faults import fault_study
+    from marinecdpr.studies.faults import combined, fault_study
 
     est = estimate(spec, scenario) if estimated is None else estimated
-    study = fault_study(est.flown, list(est.cases), after_s=spec.after, plant=est.plant, plan=est.plan,
-                        sensor_mode=spec.sensor_mode, drift_per_s=spec.drift, brake_delay_s=spec.brake_delay,
-                        deadline_steps=spec.deadline_steps, sea=est.sea, progress=progress)
-    return FaultsResult(spec=spec, scenario=est.flown, study=study)
+    total, done = est.n_cases, 0
+    studies = []
+    for sea, sc, plan, cases in zip(est.seas, est.flown, est.plans, est.cases):
+        def step(d, _n, base=done):
+            if progress is not None:
+                progress(base + d, total)
 
+        studies.append(fault_study(sc, list(cases), after_s=spec.after, plant=est.plant, plan=plan,
+                                   sensor_mode=spec.sensor_mode, drift_per_s=spec.drift,
+                                   brake_delay_s=spec.brake_delay, deadline_steps=spec.deadline_steps, sea=sea,
+                                   progress=step))
+        done += len(cases)
+    return FaultsResult(spec=spec, scenario=est.flown[0], study=combined(studies))

@@ -15,20 +15,28 @@ from marinecdpr.report.page import embedded_figures, render_page
 from marinecdpr.report.writers import _write_table
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["faults_summary", "write_faults", "plot_fault_trajectories", "FAULT_COLUMNS", "fault_label"]
+__all__ = ["faults_summary", "write_faults", "plot_fault_trajectories", "FAULT_COLUMNS", "fault_label", "sea_label"]
 
 FAULT_COLUMNS = ("kind", "cable", "moment", "at_s", "acted_s", "detected", "detection_delay_s", "detection",
                  "reaction", "brakes_held", "max_deviation_m", "max_displacement_m", "max_speed_m_s", "end_deviation_m",
                  "end_speed_m_s", "within_frame",
                  "frame_time_s", "frame_speed_m_s", "frame_energy_J", "hull_speed_m_s", "hull_energy_J",
-                 "peak_tension_N", "peak_cable", "breaking_N", "static_margin_N", "verdict")
+                 "peak_tension_N", "peak_cable", "breaking_N", "static_margin_N", "verdict", "hs_m", "tp_s",
+                 "heading_deg")
 """``faults.csv``'s columns (:class:`~marinecdpr.studies.faults.FaultRow`'s fields)."""
 
 
 def fault_label(row) -> str:
-    """``"cable_snap, cable 1, at 12.3 s (highest tension)"``."""
+    """``"cable_snap, cable 1, at 12.3 s (highest tension)"``, and ``", Hs 2 m, Tp 8 s"`` where
+    flown in a sea state."""
     where = f", cable {row.cable}" if row.cable is not None else ""
-    return f"{row.kind}{where}, at {row.at_s:g} s ({row.moment})"
+    sea = f", Hs {row.hs_m:g} m, Tp {row.tp_s:g} s, {row.heading_deg:g} deg" if np.isfinite(row.hs_m) else ""
+    return f"{row.kind}{where}, at {row.at_s:g} s ({row.moment}){sea}"
+
+
+def sea_label(sea: dict) -> str:
+    """``"Hs 2 m, Tp 8 s, heading 150 deg"``."""
+    return f"Hs {sea['hs_m']:g} m, Tp {sea['tp_s']:g} s, heading {sea['heading_deg']:g} deg"
 
 
 def _cell(v):
@@ -49,7 +57,8 @@ def _json(v):
 
 def faults_summary(study, scenario: Scenario) -> dict:
     """``summary.json``'s content: the study's settings, each fault's row, and how many are safe."""
-    return {"scenario": scenario.name, "plant": study.plant, "sea_state": study.sea, "after_s": study.after_s,
+    return {"scenario": scenario.name, "plant": study.plant, "sea_states": [s or None for s in study.seas],
+            "after_s": study.after_s,
             "cables": scenario.robot.n_cables, "faults": len(study.rows),
             "safe": sum(r.verdict == "safe" for r in study.rows), "unsafe": len(study.unsafe),
             "verdict_meaning": ("safe: the platform's body stays within the frame's box, does not meet the hull, "
@@ -83,7 +92,8 @@ def plot_fault_trajectories(study, scenario: Scenario, path: Path) -> Path:
             ax.plot(x[k:, 0], x[k:, 2], color="C3", lw=1.0, label="after")
             ax.plot(x[k, 0], x[k, 2], "o", color="C3", ms=4)
             ax.plot(x[-1, 0], x[-1, 2], "x", color="k", ms=5)
-        ax.set_title(_plain(f"{row.kind}" + (f" {row.cable}" if row.cable else "") + f" @{row.at_s:g} s: "
+        sea = f", Hs {row.hs_m:g}" if len(study.seas) > 1 else ""
+        ax.set_title(_plain(f"{row.kind}" + (f" {row.cable}" if row.cable else "") + f" @{row.at_s:g} s{sea}: "
                             + ("safe" if row.verdict == "safe" else "NOT safe")), fontsize=8)
         ax.set_aspect("equal", adjustable="datalim")
         ax.tick_params(labelsize=7)
@@ -104,10 +114,9 @@ def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
     paths.append(write_json(summary, folder / "summary.json"))
     figure = plot_fault_trajectories(study, scenario, folder / "faults.png")
     paths.append(figure)
-    sea = study.sea
     facts = [("robot", f"{scenario.robot.n_cables} cables, {scenario.robot.dofs}"), ("plant", study.plant),
-             ("sea state", f"Hs {sea['hs_m']:g} m, Tp {sea['tp_s']:g} s, heading {sea['heading_deg']:g} deg"
-              if sea else scenario.base_motion.type.replace("_", " ")),
+             ("sea states", "; ".join(sea_label(sea) for sea in study.seas) if study.seas[0]
+              else scenario.base_motion.type.replace("_", " ")),
              ("flown after each fault", f"{study.after_s:g} s, closed loop with the controller's watch"),
              ("faults", f"{len(study.rows)}: {len(study.rows) - len(study.unsafe)} safe, {len(study.unsafe)} not")]
 

@@ -38,7 +38,7 @@ from marinecdpr.planning.redundancy import single_failure_margin
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["FaultCase", "FaultRow", "FaultStudy", "hardest_moments", "fault_entry", "judge_run", "verdict",
-           "fault_study", "EARLIEST_S", "HULL_CONTACT_M", "REST_M_S", "CABLE_LOST"]
+           "fault_study", "combined", "EARLIEST_S", "HULL_CONTACT_M", "REST_M_S", "CABLE_LOST"]
 
 EARLIEST_S = 0.1
 """The earliest moment a fault is flown at, s (the watch compares each reading with the one before)."""
@@ -102,6 +102,8 @@ class FaultRow:
         pose within their limits (< 0: they cannot), N.
     verdict : str
         "safe", or why not.
+    hs_m, tp_s, heading_deg : float
+        The sea state flown (NaN without one).
     """
 
     kind: str
@@ -130,18 +132,21 @@ class FaultRow:
     breaking_N: float
     static_margin_N: float
     verdict: str
+    hs_m: float = float("nan")
+    tp_s: float = float("nan")
+    heading_deg: float = float("nan")
 
 
 @dataclass(frozen=True)
 class FaultStudy:
-    """The faults flown on one scenario in one sea state.
+    """The faults flown on one scenario, in one sea state or several (:func:`combined`).
 
     Attributes
     ----------
     scenario : str
     plant : str
-    sea : dict
-        The sea state flown (hs_m, tp_s, heading_deg), or {} without one.
+    seas : tuple of dict
+        The sea states flown (hs_m, tp_s, heading_deg), ({},) without one.
     after_s : float
         Flown past each fault, s.
     rows : tuple of FaultRow
@@ -153,7 +158,7 @@ class FaultStudy:
 
     scenario: str
     plant: str
-    sea: dict
+    seas: tuple
     after_s: float
     rows: tuple
     traces: tuple = field(repr=False, default=())
@@ -350,8 +355,17 @@ def fault_study(scenario: Scenario, cases: list[FaultCase], *, after_s: float, p
             row = judge_run(faulty, case, res, plan, k_fault=k_fault)
             traces.append((res.t, res.pose[:, :3].copy()))
         rows.append(FaultRow(**{k: v for k, v in row.items() if k != "lost"},
-                             verdict=verdict(row, error_bound_m=bound_m)))
+                             verdict=verdict(row, error_bound_m=bound_m), **(sea or {})))
         if progress is not None:
             progress(i + 1, len(cases))
-    return FaultStudy(scenario=scenario.name, plant=plant, sea=dict(sea or {}), after_s=after_s, rows=tuple(rows),
-                      traces=tuple(traces), frame_box=frame_box(scenario))
+    return FaultStudy(scenario=scenario.name, plant=plant, seas=(dict(sea or {}),), after_s=after_s,
+                      rows=tuple(rows), traces=tuple(traces), frame_box=frame_box(scenario))
+
+
+def combined(studies: list[FaultStudy]) -> FaultStudy:
+    """One study of several (one scenario, plant and ``after_s``; a sea state each): their
+    sea states, rows and traces in order."""
+    first = studies[0]
+    return FaultStudy(scenario=first.scenario, plant=first.plant, seas=tuple(s for st in studies for s in st.seas),
+                      after_s=first.after_s, rows=tuple(r for st in studies for r in st.rows),
+                      traces=tuple(t for st in studies for t in st.traces), frame_box=first.frame_box)
