@@ -162,3 +162,21 @@ def test_the_brakes_on_elastic_cables_hold_the_drums_and_the_snap_load_is_the_ve
     assert snap.verdict == (f"cable {snap.peak_cable} pulls {peak:.0f} N, beyond its breaking load 450 N")
     assert cell.detected and cell.detection_delay_s == 0.0 and cell.detection.startswith("non_finite")
     assert cell.reaction == "park" and cell.verdict == "safe"
+
+
+def test_on_six_cables_the_detection_s_delay_decides_a_mid_left_break(six):
+    """Cable 5 (mid left) of the six-cable robot snaps at 0.434 s (the job's highest speed): in
+    the watch's 20 ms the platform turns about y to where the five left have (almost) no
+    static margin: the reaction finds no tensions, the brakes; the platform ends neither on its
+    plan nor at rest. Detected in 5 ms, the turn is small, the tension redistributed (go_on):
+    safe. The static margin at the fault's pose (the plan's) is the same, positive, in both."""
+    sc, plan = six
+    case = [FaultCase("cable_snap", 5, 0.434, "highest speed")]
+    slow = fault_study(sc, case, after_s=1.5, plant="mujoco", plan=plan).rows[0]
+    quick = fault_study(sc.with_updates("simulation.control.safety", slack_delay_s=0.005), case, after_s=1.5,
+                        plant="mujoco", plan=plan).rows[0]
+    assert slow.detection_delay_s == pytest.approx(0.02, abs=1e-12) and slow.reaction == "brake"
+    assert slow.verdict.startswith("neither on its plan nor at rest")
+    assert quick.detection_delay_s == pytest.approx(0.005, abs=1e-12) and quick.reaction == "go_on"
+    assert quick.verdict == "safe" and quick.end_deviation_m < 1e-3
+    assert slow.static_margin_N == quick.static_margin_N > 0
