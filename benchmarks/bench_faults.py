@@ -10,6 +10,10 @@ beforehand (``reference``): the best of a few repeats of ``simulate`` (each run 
 so that the compiling is not timed), and the fault case's ratio to the fault-free one. The
 snap adds one part's mode (the cables' part wrapped); the controller, not told, is bypassed
 where its feedback's tensions leave the limits, which it costs it to find out.
+
+Then the faults study's own case (``marinecdpr faults``: :func:`~marinecdpr.studies.faults.fault_study`
+with one case, the same snap, flown to the same 10 s and judged: detection, excursion, frame,
+tensions, static margin, verdict) against the same fault-free flight on MuJoCo.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from pathlib import Path
 
 import marinecdpr
 from marinecdpr.prototype.simulation import simulate
+from marinecdpr.studies.faults import FaultCase, fault_study
 
 from _common import machine
 
@@ -53,6 +58,16 @@ def main() -> None:
                 runs[label] = best(lambda: simulate(s, run="closed_loop", plant=plant, reference=plan), repeats)
             print(f"  {name:17s} {plant:6s} fault-free {runs['fault-free']:6.3f} s, cable {cable} snapping "
                   f"{runs['snap']:6.3f} s: {runs['snap'] / runs['fault-free']:.2f}x")
+        case = [FaultCase(kind="cable_snap", cable=cable, at_s=SNAP_S, moment="given")]
+
+        def study():
+            return fault_study(sc, case, after_s=HORIZON_S - SNAP_S, plant="mujoco", plan=plan)
+
+        study()
+        judged = best(study, repeats)
+        free = best(lambda: simulate(sc, run="closed_loop", plant="mujoco", reference=plan), repeats)
+        print(f"  {name:17s} faults study, one case (flown and judged) {judged:6.3f} s against the fault-free "
+              f"flight {free:6.3f} s: {judged / free:.2f}x ({study().rows[0].verdict})")
 
 
 if __name__ == "__main__":

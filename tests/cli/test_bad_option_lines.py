@@ -20,6 +20,7 @@ CASES = [
     (["rao", "--length", "100", "--beam", "20", "--draught", "5", "--gm", "2", "--omega", "1:0:3"], "--omega 1:0:3"),
     (["windows", "--duration-h", "6", "--hs-limit", "2", "--alpha", "2"], "--alpha 2"),
     (["control-study", "--rate", "-1"], "--rate -1"),
+    (["faults", "--kinds", "snap,magic"], "--kinds magic"),
     (["latency", "--calls", "0"], "--calls 0"),
     (["warmup", "paper", "--plant", "magic"], "'--plant'"),
     (["design", "--population", "1"], "'--population'"),

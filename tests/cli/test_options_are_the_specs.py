@@ -18,7 +18,7 @@ SPECS = {
     "scenarios": "scenarios.ScenariosSpec", "workspace": "workspace.WorkspaceSpec",
     "control-study": "control_study.ControlStudySpec", "operability": "operability.OperabilitySpec",
     "design": "design.DesignCommandSpec", "clean": "clean.CleanSpec", "rao": "rao.RaoSpec",
-    "windows": "windows.WindowsSpec",
+    "windows": "windows.WindowsSpec", "faults": "faults.FaultsSpec",
 }
 RUN_ARGUMENTS = {"scenario", "out", "spec", "source", "series", "scenarios_"}
 """Parameters that name what the run reads or writes (a scenario, a study, a model, a

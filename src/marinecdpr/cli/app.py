@@ -28,8 +28,8 @@ from contextlib import contextmanager  # noqa: E402
 import typer  # noqa: E402
 from rich.markup import escape  # noqa: E402
 
-from marinecdpr.cli import (check, clean, control_study, design, import_robot, latency, operability, plan,  # noqa: E402
-                            rao, scenarios, simulate, warmup, windows, workspace)
+from marinecdpr.cli import (check, clean, control_study, design, faults, import_robot, latency,  # noqa: E402
+                            operability, plan, rao, scenarios, simulate, warmup, windows, workspace)
 from marinecdpr.cli.common import EXIT_INTERRUPTED, console, err_console, fail, state, styled  # noqa: E402
 from marinecdpr.memory import keep_freed_memory  # noqa: E402
 
@@ -136,7 +136,7 @@ def _options(
 
 # the commands, in the order the help lists them: each a plain function of its module
 for command, name in ((plan.plan, None), (clean.clean, None), (simulate.simulate, None),
-                      (workspace.workspace, None), (operability.operability, None), (check.check, None),
+                      (workspace.workspace, None), (operability.operability, None), (faults.faults, None), (check.check, None),
                       (rao.rao, None), (windows.windows, None), (control_study.control_study, "control-study"),
                       (latency.latency, None), (warmup.warmup, None), (design.design, None),
                       (import_robot.import_, "import"), (scenarios.scenarios, None)):

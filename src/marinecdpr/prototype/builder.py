@@ -84,7 +84,7 @@ def context(scenario, run: str, n: int, *, plan, ff, ship_h, brush_h, loads: Loa
 
     cab = scenario.simulation.cables
     m = scenario.robot.n_cables
-    bus = empty_signals(ctl.meas, ctl.cmd.T_cmd, ctl.cmd.L0_cmd, ctl.ref.T[0])
+    bus = empty_signals(ctl.meas, ctl.cmd.T_cmd, ctl.cmd.L0_cmd, ctl.ref.T[0], ctl.cmd.brake)
     EA = float(cab.stiffness_EA_N or np.inf)
     L_init = np.empty(m)
     cables_at(x0, R0, ctl.model, L_init, np.empty((m, 6)))

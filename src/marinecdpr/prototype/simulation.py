@@ -102,6 +102,10 @@ class SimResult:
         ``acted_s`` the time of the exchange from which the fault acted (t_k >= at_s; a
         winch_brake's, when its brake held), s, or None where the run ended before it; a
         motor_power_loss's also ``brake_held_s`` (None: no brake held); () without faults.
+    brakes_held : tuple of (int, float)
+        Each winch brake that held its drum in the run (a fault's or the controller's
+        command's, after ``[simulation.control.safety] brake_delay_s``): (cable from 1, the
+        time from which it held, s), by cable; () where none held (and without a winch).
     """
 
     run: str
@@ -123,6 +127,7 @@ class SimResult:
     reaction: str = "normal"
     residual_peaks: dict = field(default_factory=dict)
     faults: tuple = ()
+    brakes_held: tuple = ()
 
     @property
     def pose_error(self) -> np.ndarray:
@@ -225,8 +230,16 @@ def simulate(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
         detections=tuple(detections(watch, h)), reaction=reaction(watch),
         residual_peaks={name: float(v) for name, v in zip(RESIDUALS, watch.peak)} if watched else {},
-        faults=_faults_acted(scenario, n),
+        faults=_faults_acted(scenario, n), brakes_held=_brakes_held(asm, h),
     )
+
+
+def _brakes_held(asm, h: float) -> tuple:
+    """(cable from 1, time from which its brake held, s) for each drum a brake held."""
+    braked = asm.get("BrakedLagWinch") or asm.get("FaultyMotorWinch")
+    if braked is None:
+        return ()
+    return tuple((i + 1, float(braked.k_brake[i] * h)) for i in range(braked.held.shape[0]) if braked.held[i])
 
 
 def _faults_acted(scenario: Scenario, n: int) -> tuple:

@@ -495,6 +495,10 @@ class Safety(_Model):
     to rest) and, where even that has no tensions within limits, commands the brakes."""
     stop_damping_hz: _ranged(1e-3, 1000.0, "Hz", "from a drifting stop to beyond any winch") = 2.0
     """The stop's deceleration: a = -2 pi f v on the platform's velocity."""
+    brake_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") = 0.2
+    """The winches' brakes hold their drums this long after the controller commands them
+    (its last resort), s: on length-controlled and motor winches (ideal cables have no
+    drum to hold: there the brakes' command changes nothing but the tensions it asks for)."""
 
 
 class Control(_Model):

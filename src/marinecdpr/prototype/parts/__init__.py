@@ -22,7 +22,7 @@ order  part (module)                       writes
 12     encoders (``sensors``)              meas.L, meas.Ldot
 13     motion reference unit (``sensors``) meas.eta; its time stamp
 14     camera (``camera``)                 meas.x fused with its late estimate
-20     controller (``controller``)         T_cmd, L0_cmd, fallbacks
+20     controller (``controller``)         T_cmd, L0_cmd, fallbacks, brake
 30     winch with a lag (``winches``)      L0 (held), T_hold
 40     cables (``cables``)                 T_app (held, elastic or catenary); T_winch
                                            (catenary: the tension at the winch end)
@@ -36,7 +36,10 @@ A scenario's ``[[faults]]`` are parts' modes, built only where it lists them (wi
 the parts above, as they are): a cable that snaps wraps the cables' part (``SnappedCables``),
 a winch's brake or lost motor the winches' (``BrakedLagWinch``, ``FaultyMotorWinch``), a late
 controller the controller's (``LateController``); a load cell's or an encoder's faults are a
-part of their own after the sensors (``SensorFaults``, order 13.5).
+part of their own after the sensors (``SensorFaults``, order 13.5): with any fault listed, the
+length-controlled and motor winches are built in that mode, so that the brakes the controller
+commands as its last resort (``brake``) hold their drums after
+``[simulation.control.safety] brake_delay_s``.
 
 A new part is one new module in this package: its record (decorated with :func:`part`),
 its compiled step, and its ``build(context)``; nothing in the loop, the plants or another
@@ -84,6 +87,8 @@ class Signals(NamedTuple):
     f_ext, m_ext : (3,) loads on the platform beyond the known disturbance, held over the
         step, in C about P (a brush's), N and N m.
     fallbacks : (1,) int64 the controller's fallbacks so far.
+    brake : (m,) int64 1 where the controller commands a winch's brake (its last resort,
+        :attr:`~marinecdpr.control.records.Command.brake`), else 0.
     """
 
     x: np.ndarray
@@ -105,6 +110,7 @@ class Signals(NamedTuple):
     f_ext: np.ndarray
     m_ext: np.ndarray
     fallbacks: np.ndarray
+    brake: np.ndarray
 
 
 SIGNALS = frozenset(Signals._fields) | {f"meas.{f}" for f in Measurement._fields}
@@ -116,16 +122,19 @@ STATE_SIGNALS = frozenset({"L0", "L0_drum", "T_hold", "T_app", "f_ext", "m_ext"}
 them where no part of the run writes them (e.g. no brush: f_ext stays zero)."""
 
 
-def empty_signals(meas: Measurement, T_cmd: np.ndarray, L0_cmd: np.ndarray, T_app0: np.ndarray) -> Signals:
+def empty_signals(meas: Measurement, T_cmd: np.ndarray, L0_cmd: np.ndarray, T_app0: np.ndarray,
+                  brake: np.ndarray | None = None) -> Signals:
     """A bus for len(T_cmd) cables around the controller's measurement and commands (the same
-    arrays), the applied tensions starting at ``T_app0`` (m,), N; the other signals zero."""
+    arrays; ``brake`` (m,) int64, the controller's brake flags, zeros where not given), the
+    applied tensions starting at ``T_app0`` (m,), N; the other signals zero."""
     m = T_cmd.shape[0]
     return Signals(x=np.zeros(3), R=np.eye(3), v=np.zeros(3), w=np.zeros(3), L=np.zeros(m), Ldot=np.zeros(m),
                    J=np.zeros((m, 6)), meas=meas, T_cmd=T_cmd, L0_cmd=L0_cmd, cell_noise=np.zeros(m),
                    L0=np.zeros(m), L0_drum=np.zeros(m), T_hold=np.zeros(m),
                    T_app=np.array(T_app0, dtype=float), T_winch=np.array(T_app0, dtype=float),
                    f_ext=np.zeros(3), m_ext=np.zeros(3),
-                   fallbacks=np.zeros(1, dtype=np.int64))
+                   fallbacks=np.zeros(1, dtype=np.int64),
+                   brake=np.zeros(m, dtype=np.int64) if brake is None else brake)
 
 
 # ----------------------------------------------------------------------- the registry

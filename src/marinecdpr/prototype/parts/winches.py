@@ -136,11 +136,23 @@ class CatenaryMotorWinch(NamedTuple):
 NEVER = np.iinfo(np.int64).max
 
 
+@njit(cache=True, inline="always")
+def commanded_brakes(k, part, bus):
+    """The controller's brake commands (``bus.brake``): a brake first commanded at exchange k
+    holds its drum from k + ``part.delay`` on (``part.k_brake`` moved earlier where a fault's
+    brake would hold later)."""
+    for i in range(part.k_brake.shape[0]):
+        if bus.brake[i] != 0 and part.k_brake[i] > k + part.delay:
+            part.k_brake[i] = k + part.delay
+
+
 @njit(cache=True)
 def braked_lag_step(k, h, part, bus):
-    """The winches' own step; a drum whose brake holds (k >= its brake step) keeps the length
-    it had paid out when the brake took hold."""
+    """The winches' own step; a drum whose brake holds (k >= its brake step: a fault's, or
+    the controller's command's after the brake's delay) keeps the length it had paid out when
+    the brake took hold."""
     part_step(k, h, part.winch, bus)
+    commanded_brakes(k, part, bus)
     for i in range(part.k_brake.shape[0]):
         if k >= part.k_brake[i]:
             if not part.held[i]:
@@ -151,18 +163,21 @@ def braked_lag_step(k, h, part, bus):
         part.L0_prev[i] = bus.L0[i]
 
 
-@part(step=braked_lag_step, order=30, reads=("T_cmd", "L0_cmd", "cell_noise"), writes=("L0", "L0_drum", "T_hold"))
+@part(step=braked_lag_step, order=30, reads=("T_cmd", "L0_cmd", "cell_noise", "brake"),
+      writes=("L0", "L0_drum", "T_hold"))
 class BrakedLagWinch(NamedTuple):
     """Length-controlled winches (``winch``, a :class:`LagWinch`) some of whose brakes hold
-    their drums. k_brake (m,) int64: the exchange from which each brake holds (NEVER: never).
-    held (m,) bool; L0_held (m,): the length each held drum keeps, m; L0_prev (m,): each
-    drum's length after the last exchange, m."""
+    their drums. k_brake (m,) int64: the exchange from which each brake holds (NEVER: never;
+    a brake the controller commands at k holds from k + delay). held (m,) bool; L0_held (m,):
+    the length each held drum keeps, m; L0_prev (m,): each drum's length after the last
+    exchange, m; delay : int, the brakes' delay from the controller's command, exchanges."""
 
     winch: LagWinch
     k_brake: np.ndarray
     held: np.ndarray
     L0_held: np.ndarray
     L0_prev: np.ndarray
+    delay: int
 
 
 @njit(cache=True)
@@ -170,7 +185,8 @@ def faulty_motor_step(k, h, part, bus):
     """The motor winches' own step for the sound ones; a winch whose motor has lost its power
     (k >= k_power) steps again from where it was with no torque (its drive's copy ``free``:
     the drum under the cable's pull against the inertia and friction); a drum whose brake
-    holds (k >= k_brake) keeps the length it had paid out when the brake took hold, at rest."""
+    holds (k >= k_brake: a fault's, or the controller's command's after the brake's delay)
+    keeps the length it had paid out when the brake took hold, at rest."""
     drive, free = part.winch.drive, part.free
     m = drive.omega.shape[0]
     for i in range(m):
@@ -178,6 +194,7 @@ def faulty_motor_step(k, h, part, bus):
         free.L0[i] = drive.L0[i]
         part.zero[i] = 0.0
     part_step(k, h, part.winch, bus)
+    commanded_brakes(k, part, bus)
     T = bus.T_winch if part.heavy else bus.T_app
     any_free = False
     for i in range(m):
@@ -202,13 +219,15 @@ def faulty_motor_step(k, h, part, bus):
             bus.L0_drum[i] = free.L0[i]
 
 
-@part(step=faulty_motor_step, order=45, reads=("T_cmd", "T_app", "cell_noise"), writes=("L0", "L0_drum"))  # heavy: T_winch too
+@part(step=faulty_motor_step, order=45, reads=("T_cmd", "T_app", "cell_noise", "brake"),
+      writes=("L0", "L0_drum"))  # heavy: T_winch too
 class FaultyMotorWinch(NamedTuple):
     """Motor winches (``winch``: a :class:`MotorWinch` or :class:`CatenaryMotorWinch`; ``heavy``
     for the latter, whose drums carry ``T_winch``) some of which lose their motor's power or
     brake. k_power, k_brake (m,) int64: the exchange from which each motor has no power, and
     each brake holds (NEVER: never). free : WinchDrive, a copy of the drive stepped with no
-    torque; zero (m,): no torque, N m; held (m,) bool; L0_held (m,), m."""
+    torque; zero (m,): no torque, N m; held (m,) bool; L0_held (m,), m; delay : int, the
+    brakes' delay from the controller's command (``bus.brake``), exchanges."""
 
     winch: object
     heavy: bool
@@ -218,6 +237,7 @@ class FaultyMotorWinch(NamedTuple):
     zero: np.ndarray
     held: np.ndarray
     L0_held: np.ndarray
+    delay: int
 
 
 def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -240,19 +260,26 @@ def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def with_faults(context, winch):
-    """``winch`` (a built part) in its faults' mode where the scenario lists a winch's fault."""
+    """``winch`` (a built part) in its faults' mode where the scenario lists any fault: a
+    winch's fault acts on it, and the brakes the controller may command in its reaction
+    (``bus.brake``) hold the drums ``[simulation.control.safety] brake_delay_s`` after the
+    command. Without a fault, the winch as it is (no brake is ever commanded there but on a
+    false alarm, which the watch is shown not to raise)."""
     scenario = context.scenario
-    if not any(f.on_winch for f in scenario.faults):
+    if not scenario.faults:
         return winch
     m = scenario.robot.n_cables
-    power, brake = fault_steps(scenario.faults, m, scenario.time.step_s)
+    h = scenario.time.step_s
+    power, brake = fault_steps(scenario.faults, m, h)
+    delay = int(np.ceil(scenario.simulation.control.safety.brake_delay_s / h - 1e-9))
     if isinstance(winch, LagWinch):
         return BrakedLagWinch(winch=winch, k_brake=brake, held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
-                              L0_prev=context.bus.L0.copy())
+                              L0_prev=context.bus.L0.copy(), delay=delay)
     d = winch.drive
     free = WinchDrive(*(np.array(a, copy=True) for a in d))
     return FaultyMotorWinch(winch=winch, heavy=isinstance(winch, CatenaryMotorWinch), k_power=power, k_brake=brake,
-                            free=free, zero=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m))
+                            free=free, zero=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
+                            delay=delay)
 
 
 MOTOR_LOOP_DAMPING = 0.7
