@@ -76,7 +76,7 @@ from marinecdpr.studies.operability import Cell, cell_wind, wind_scenario
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
            "HeldAcceleration", "held_acceleration", "FailureScreen", "single_failure_cells",
-           "held_single_failure", "wind_groups",
+           "held_single_failure", "wind_groups", "cell_moments",
            "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
@@ -531,6 +531,51 @@ def gust_covariance(scenario: Scenario, model: ScreenModel) -> tuple[np.ndarray,
     return GG * var0, GG * var2
 
 
+def _sea_and_gust(model: ScreenModel, scenario: Scenario, cells: list) -> tuple[np.ndarray, np.ndarray]:
+    """The wrench's covariances C0 and C2 (n_cells, n_poses, 6, 6) in each cell: the sea's
+    response (:func:`_response_moments`) and the wind's gust beside it (:func:`gust_covariance`:
+    independent, their covariances add), in the scenario's one wind."""
+    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
+    gust = gust_covariance(scenario, model)
+    if gust is not None:
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    return C0, C2
+
+
+def cell_moments(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The wrench at the screen's poses in each sea state as the screen takes it: its mean on
+    a ship at rest (the tool at no normal force) and its covariances, each cell in its own
+    wind where the wind follows the sea (:func:`wind_groups`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A sea-state base motion.
+    cells : list of Cell
+    model : ScreenModel, optional
+        :func:`screen_model` of the scenario.
+
+    Returns
+    -------
+    w0 : ndarray, shape (n_cells, n_poses, 6)
+        N, N m in C (:attr:`ScreenModel.w0` in the cell's wind).
+    C0, C2 : ndarray, shape (n_cells, n_poses, 6, 6)
+        The covariance of the wrench (the sea's response and the gust's) and of its rate.
+    """
+    model = model if model is not None else screen_model(scenario)
+    groups = wind_groups(scenario, cells)
+    if groups is None:
+        C0, C2 = _sea_and_gust(model, scenario, cells)
+        return np.broadcast_to(model.w0, (len(cells),) + model.w0.shape).copy(), C0, C2
+    parts = []
+    for sc, idx in groups:
+        m = at_origin(model, sc)
+        C0, C2 = _sea_and_gust(m, sc, [cells[i] for i in idx])
+        parts.append((np.broadcast_to(m.w0, (len(idx),) + m.w0.shape), C0, C2))
+    return tuple(_in_place(groups, [p[j] for p in parts], len(cells)) for j in range(3))
+
+
 def wind_groups(scenario: Scenario, cells: list[Cell]) -> list[tuple[Scenario, np.ndarray]] | None:
     """Where the scenario's wind follows the sea state (``[wind] with_sea``), the cells grouped
     by their wind (:func:`~marinecdpr.studies.operability.cell_wind`: equal speed and
@@ -606,10 +651,7 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
                             chance=_in_place(groups, [p.chance for p in parts], n), exceedance=float(exceedance),
                             reasons=[str(r) for r in reasons],
                             margin_of=lambda: _in_place(groups, [p.margin_N for p in parts], n))
-    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
-    gust = gust_covariance(scenario, model)
-    if gust is not None:  # the wind's gust beside the sea's response, in every sea state
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, scenario, cells)
     robot = scenario.robot
     c = list(model.controlled)
     k = len(c)
@@ -882,10 +924,7 @@ def held_single_failure(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C
     still = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w)
     if not cells:
         return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
-    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
-    gust = gust_covariance(held, model)
-    if gust is not None:
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, held, cells)
     margin = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
                                    extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
     return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
@@ -961,10 +1000,7 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     still = float(largest(slack0))
     if not cells:
         return HeldAcceleration(still_m_s2=still, cells_m_s2=np.zeros(0), per_m_s2=per, w0=w0)
-    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
-    gust = gust_covariance(held, model)
-    if gust is not None:  # the wind's gust beside the sea's, as screen_cells takes it
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, held, cells)
     var0 = np.einsum("fk,ikl,fl->if", n, C0[:, 0][:, c][:, :, c], n)              # (n_cells, F)
     var2 = np.einsum("fk,ikl,fl->if", n, C2[:, 0][:, c][:, :, c], n)
     k = extreme_factor(var0, var2, float(duration_s), exceedance)
@@ -1039,10 +1075,7 @@ def single_failure_cells(scenario: Scenario, cells: list[Cell], *, hold_s: float
     still = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w)
     if not cells:
         return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
-    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
-    gust = gust_covariance(scenario, model)
-    if gust is not None:
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, scenario, cells)
     margin = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
                                    extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
     return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
