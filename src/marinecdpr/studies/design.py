@@ -998,7 +998,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
         rail = (node or {}).get("rail") or {}
         if rail.get("drive_cost_per_kW") == 0.0:
             del rail["drive_cost_per_kW"]
-    text = json.dumps([study, by_content(scenario), [c.__dict__ for c in cells]], sort_keys=True, default=repr)
+    # a cell without a wind of its own (the scatter's columns): the key as before cells could have one
+    cells_key = [{k: v for k, v in c.__dict__.items() if not (k.startswith("wind_") and v is None)} for c in cells]
+    text = json.dumps([study, by_content(scenario), cells_key], sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
