@@ -119,3 +119,19 @@ def test_operability_with_a_scatter_wind_and_no_column_exits_2_in_one_line(tmp_p
     lines = [line for line in res.output.splitlines() if line.strip()]
     assert len(lines) == 1 and "wind.with_sea: with_sea = \"scatter\" takes each sea state's wind" in lines[0], \
         res.output
+
+
+def test_clean_seas_with_a_scatter_wind_and_no_column_exits_2_in_one_line(tmp_path):
+    """``clean --seas`` refuses before any work (the estimate) a scatter diagram that a
+    ``with_sea = "scatter"`` wind cannot follow."""
+    d = tomllib.loads((BUILTIN / "paper_clean.toml").read_text())
+    d["base_motion"]["rao"]["file"] = str(BUILTIN / d["base_motion"]["rao"]["file"])
+    d["wind"] = WIND | {"speed_m_s": 5.0, "with_sea": "scatter"}
+    path = tmp_path / "windy_clean.toml"
+    path.write_text(tomli_w.dumps(d))
+    res = CliRunner().invoke(app, ["clean", str(path), "--seas", "--duration", "1", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 2, res.output
+    lines = [line for line in res.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and "wind.with_sea: with_sea = \"scatter\" takes each sea state's wind" in lines[0], \
+        res.output
+    assert not (tmp_path / "o").exists()

@@ -216,8 +216,10 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
     if spec.sea.scatter not in BUILTIN_SCATTERS and not (path.parent / spec.sea.scatter).is_file():
         raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter} (the package's diagrams: "
                             f"{', '.join(BUILTIN_SCATTERS)})", source=src, key="sea.scatter")
-    try:  # read now: a bad diagram is one line before any work
-        study_scatter(spec, path.parent, template)
+    try:  # read now: a bad diagram (or one the template's wind cannot follow) is one line before any work
+        from marinecdpr.studies.operability import check_sea_wind
+
+        check_sea_wind(template, study_scatter(spec, path.parent, template))
     except ScenarioError as exc:
         raise ScenarioError(str(exc), source=src, key="sea.scatter") from None
     return spec, template

@@ -30,7 +30,7 @@ from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
-           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "WIND_COLUMNS",
+           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind", "WIND_COLUMNS",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -359,6 +359,15 @@ def cell_wind(template: Scenario, cell: Cell) -> tuple[float, float] | None:
                     gravity_m_s2=template.environment.gravity_m_s2,
                     speed_m_s=cell.wind_m_s if wind.with_sea == "scatter" else None,
                     misalignment_deg=cell.wind_misalignment_deg)
+
+
+def check_sea_wind(template: Scenario, scatter: ScatterDiagram) -> None:
+    """Refuse, before any work, a scatter diagram the template's wind cannot follow: with
+    ``[wind] with_sea = "scatter"`` and no ``wind_m_s`` column, or a misalignment both in
+    ``[wind]`` and in the diagram (:func:`cell_wind`'s one-line errors)."""
+    cells = scatter_cells(scatter, (0.0,))
+    if cells:
+        cell_wind(template, cells[0])
 
 
 def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float,
