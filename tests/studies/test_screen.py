@@ -456,7 +456,8 @@ def test_a_screen_of_sea_states_with_their_own_winds_is_each_wind_s_screen(paper
     """The Pierson-Moskowitz wind (``with_sea``): one screen of four sea states (three winds:
     Hs 1 and 3 m, head and beam seas) gives each sea state what the screen of the scenario with
     that wind fixed gives it alone (the chance, the margin, the normal force's share in band
-    and the reasons, to 1e-9); the held carriage's acceleration likewise. Without the wind's
+    and the reasons, to 1e-9); the held carriage's acceleration and the single cable failure's
+    margins likewise. Without the wind's
     following the sea (its speed fixed at the template's own sea state's), the margins differ."""
     from marinecdpr.studies.operability import cell_wind, wind_scenario
 
@@ -482,3 +483,9 @@ def test_a_screen_of_sea_states_with_their_own_winds_is_each_wind_s_screen(paper
     for i, (c, w) in enumerate(zip(cells, winds)):
         alone = S.held_acceleration(wind_scenario(sc, w), [c], (1.0, 0.0, 0.0), **hold)
         assert held.cells_m_s2[i] == pytest.approx(alone.cells_m_s2[0], rel=1e-12)
+    failure = S.single_failure_cells(sc, cells, hold_s=5.0, model=m)
+    for i, (c, w) in enumerate(zip(cells, winds)):
+        alone = S.single_failure_cells(wind_scenario(sc, w), [c], hold_s=5.0)
+        np.testing.assert_allclose(failure.margin_N[i], alone.margin_N[0], rtol=1e-9)
+    assert np.abs(failure.margin_N - S.single_failure_cells(wind_scenario(sc, winds[0]), cells, hold_s=5.0,
+                                                            ).margin_N).max() > 1.0
