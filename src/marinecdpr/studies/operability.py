@@ -30,7 +30,7 @@ from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
-           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind", "WIND_COLUMNS",
+           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind", "gust_seed", "WIND_COLUMNS",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -331,6 +331,19 @@ def sea_state_seed(seed: int, hs: float, tp: float, heading_deg: float, realisat
     return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
 
 
+GUST_STREAM = 1
+"""What tells a record's gust seed from its sea's (:func:`gust_seed`)."""
+
+
+def gust_seed(seed: int, hs: float, tp: float, heading_deg: float, realisation: int = 0) -> int:
+    """The gust's seed in a sea state's record where the wind follows the sea: like
+    :func:`sea_state_seed` from ``[wind] seed`` and the sea state, on a stream of its own
+    (:data:`GUST_STREAM`), so that the gust's phases are not the sea's even where both seeds
+    are equal."""
+    key = [sea_state_seed(seed, hs, tp, heading_deg, realisation), GUST_STREAM]
+    return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
+
+
 def cell_wind(template: Scenario, cell: Cell) -> tuple[float, float] | None:
     """The wind in one cell's sea state where the template's follows the sea (``[wind]
     with_sea``): its mean speed at the reference height (m/s) and where it comes from in O
@@ -375,12 +388,14 @@ def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: flo
     """The template in one cell's sea state (its ``realisation``-th record), over
     ``duration_s`` at ``step_s``; a wind that follows the sea (``[wind] with_sea``) takes the
     cell's (:func:`cell_wind`: the scatter's ``wind_m_s``, or the relation at the cell's Hs,
-    from the cell's heading)."""
+    from the cell's heading), and its gust phases of its own (:func:`gust_seed`): each record
+    meets its own gust, independent of its sea's."""
     check_sea_state(template)
     sea = template.base_motion
     changes = {}
     if cell_wind(template, cell) is not None:  # the scenario's validation sets it from the cell's sea
         wind = template.wind.model_dump(exclude_none=True)
+        wind["seed"] = gust_seed(template.wind.seed, cell.hs, cell.tp, cell.heading_deg, realisation)
         if template.wind.with_sea == "scatter":
             wind["speed_m_s"] = cell.wind_m_s
         if cell.wind_misalignment_deg is not None:
