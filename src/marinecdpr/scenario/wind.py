@@ -55,7 +55,9 @@ ship's mean heading (O is the ship's mean position and heading: the ship's frame
 O only by its motion's roll, pitch and yaw), so both are measured from the same axis, and the
 wind comes from ``direction_deg = heading_deg + 180 + misalignment_deg`` (mod 360):
 ``misalignment_deg = 0`` (the default) is a wind blowing the way the waves travel (a wind
-sea); ``direction_deg`` is then left out.
+sea); ``direction_deg`` is then left out. In a study each record meets a gust of its own
+(``seed`` with the sea state and the realisation:
+:func:`marinecdpr.studies.operability.gust_seed`).
 """
 
 from __future__ import annotations
