@@ -30,7 +30,8 @@ from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
-           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind", "gust_seed", "WIND_COLUMNS",
+           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind",
+           "gust_seed", "WIND_COLUMNS",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -211,7 +212,7 @@ def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
             period = f"Tz {tz:g} s" if in_tz else f"Tp {tp:g} s"
             raise ScenarioError(f"Hs {hs:g} m, {period} appears twice", source=src, key=f"row {i}")
         for col, (name, v) in enumerate(zip(extra, wind), start=4):
-            lo, hi, unit, words = WIND_COLUMNS[name]
+            lo, hi, _, words = WIND_COLUMNS[name]
             if not (lo < v <= hi if name == "wind_m_s" else lo <= v <= hi):   # False for NaN too
                 raise ScenarioError(f"{name} = {row[col - 1].strip()} (column {col}) must be {words}", source=src,
                                     key=f"row {i}")
