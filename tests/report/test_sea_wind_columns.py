@@ -33,3 +33,30 @@ def test_operability_csv_says_each_sea_state_s_wind(tmp_path):
     write_operability(operability(still, scatter, **kw), still, tmp_path / "still")
     header = open(tmp_path / "still" / "operability.csv").readline().strip().split(",")
     assert "wind_m_s" not in header and header[-1] == "controller_bypassed"
+
+
+def test_clean_seas_sea_states_csv_says_each_sea_state_s_wind(tmp_path):
+    """``clean --seas`` (1 s of paper_clean's job in two sea states, heading 90): sea_states.csv
+    names each sea state's Pierson-Moskowitz wind, from 270 deg."""
+    import tomllib
+
+    import tomli_w
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+    from test_sea_wind import BUILTIN, WIND
+
+    d = tomllib.loads((BUILTIN / "paper_clean.toml").read_text())
+    d["base_motion"]["rao"]["file"] = str(BUILTIN / d["base_motion"]["rao"]["file"])
+    d["wind"] = WIND | {"with_sea": "pierson_moskowitz"}
+    (tmp_path / "pm.toml").write_text(tomli_w.dumps(d))
+    (tmp_path / "s.csv").write_text("hs_m,tp_s,probability\n1,8,0.5\n3,8,0.5\n")
+    res = CliRunner().invoke(app, ["clean", str(tmp_path / "pm.toml"), "--seas", "--scatter", str(tmp_path / "s.csv"),
+                                   "--headings", "90", "--duration", "1", "--serial", "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    rows = list(csv.DictReader(open(tmp_path / "o" / "sea_states.csv")))
+    assert [float(r["hs_m"]) for r in rows] == [1.0, 3.0]
+    for r in rows:
+        assert float(r["wind_m_s"]) == pytest.approx(pierson_moskowitz_wind(float(r["hs_m"]), 9.8, 10.0, 0.12),
+                                                     rel=1e-9)
+        assert float(r["wind_direction_deg"]) == 270.0

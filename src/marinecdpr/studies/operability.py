@@ -31,7 +31,7 @@ from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
            "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind",
-           "gust_seed", "WIND_COLUMNS",
+           "gust_seed", "cell_winds", "WIND_COLUMNS",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -382,6 +382,15 @@ def check_sea_wind(template: Scenario, scatter: ScatterDiagram) -> None:
     cells = scatter_cells(scatter, (0.0,))
     if cells:
         cell_wind(template, cells[0])
+
+
+def cell_winds(template: Scenario, cells: list[Cell]) -> np.ndarray | None:
+    """Each cell's wind (:func:`cell_wind`), shape (n_cells, 2): the speed at the reference
+    height (m/s) and where it comes from in O (deg); None where the template's wind (if any)
+    does not follow the sea. What the studies' files say beside each sea state."""
+    if template.wind is None or template.wind.with_sea == "none":
+        return None
+    return np.array([cell_wind(template, c) for c in cells], dtype=float).reshape(-1, 2)
 
 
 def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float,
