@@ -412,3 +412,80 @@ def test_the_gust_s_variance_is_the_time_domain_record_s(paper_clean):
     assert np.mean((w[:, 0] - w[:, 0].mean()) * (w[:, 1] - w[:, 1].mean())) == pytest.approx(g0[0, 0, 1], rel=4e-2)
     assert S.gust_covariance(run.with_updates("wind", gust="none"), m) is None
     assert S.gust_covariance(run, m) is None  # the plan holds the series
+
+
+def test_the_gust_s_variance_in_each_sea_state_s_own_wind_is_its_record_s(paper_clean):
+    """A wind that follows the sea state (issue 40, item 1: ``[wind] with_sea = "scatter"``):
+    two sea states of one screen, Hs 1 cm with a 10 m/s and a 15 m/s wind from the scatter's
+    column, waves heading 120 deg (the wind from 300 deg: aligned). Held at the frame's centre,
+    each cell's planned wrench with its gust series in the plan against the screen's per-cell
+    moments (:func:`cell_moments`, ``plan_gust = "mean"``): the wrench at zero gust (the fit's
+    c0) is the screen's w0 in the cell's own wind (the brush at its preload) to 2e-5 (the
+    1 cm sea's motion in the drag's relative wind), the linear part's variance its
+    covariance to 1 %, the whole record's within 4 % (the drag's u^2 term); the two winds'
+    covariances differ by more than a factor 3 (the gust's variance and the drag's slope both
+    grow with the mean), so one wind for both would fail."""
+    from marinecdpr.model.wind import scenario_gust
+
+    wind = {"speed_m_s": 12.0, "with_sea": "scatter", "platform_shape_coefficient": 1.5,
+            "platform_area_m2": [0.3, 0.4, 0.2], "cable_diameter_m": 0.006, "record_s": 120.0,
+            "frequency_max_hz": 1.0, "seed": 4}
+    sc = _held(paper_clean).with_changes(wind=wind | {"plan_gust": "series"}).with_updates("base_motion", hs_m=0.01)
+    mean_plan = sc.with_updates("wind", plan_gust="mean")
+    cells = [Cell(0, 0.01, 8.0, 120.0, 0.5, wind_m_s=10.0), Cell(1, 0.01, 8.0, 120.0, 0.5, wind_m_s=15.0)]
+    m = S.screen_model(mean_plan, grid=(1, 1))
+    w0, C0, _ = S.cell_moments(mean_plan, cells, model=m)
+    for i, cell in enumerate(cells):
+        run = cell_scenario(sc, cell, 120.0, 0.01)
+        assert (run.wind.speed_m_s, run.wind.direction_deg) == (cell.wind_m_s, 300.0)
+        p = marinecdpr.plan(run)
+        u = scenario_gust(run.wind).at(p.t[:-1])
+        w = p.wrench[:-1]
+        fit = np.linalg.lstsq(np.vstack([np.ones_like(u), u, u * u]).T, w, rcond=None)[0]
+        big = np.abs(fit[1]) > 1e-3 * np.abs(fit[1]).max()
+        assert big[[0, 1]].all()
+        at_rest = w0[i, 0] - run.cleaning.preload * m.tool_n  # the brush held on the hull at its preload
+        np.testing.assert_allclose(fit[0][big], at_rest[big], rtol=2e-5)
+        for j in np.flatnonzero(big):
+            assert np.var(fit[1, j] * u) == pytest.approx(C0[i, 0, j, j], rel=1e-2), (i, j)
+            assert np.var(w[:, j]) == pytest.approx(C0[i, 0, j, j], rel=4e-2), (i, j)
+    assert C0[1, 0, 0, 0] > 3.0 * C0[0, 0, 0, 0]
+
+
+def test_a_screen_of_sea_states_with_their_own_winds_is_each_wind_s_screen(paper_clean):
+    """The Pierson-Moskowitz wind (``with_sea``): one screen of four sea states (three winds:
+    Hs 1 and 3 m, head and beam seas) gives each sea state what the screen of the scenario with
+    that wind fixed gives it alone (the chance, the margin, the normal force's share in band
+    and the reasons, to 1e-9); the held carriage's acceleration and the single cable failure's
+    margins likewise. Without the wind's
+    following the sea (its speed fixed at the template's own sea state's), the margins differ."""
+    from marinecdpr.studies.operability import cell_wind, wind_scenario
+
+    wind = {"with_sea": "pierson_moskowitz", "platform_shape_coefficient": 1.5, "platform_area_m2": [0.3, 0.4, 0.2],
+            "cable_diameter_m": 0.006}
+    sc = paper_clean.with_changes(wind=wind)
+    cells = [Cell(i, hs, tp, h, 0.25) for i, (hs, tp, h) in enumerate(
+        [(1.0, 8.0, 180.0), (3.0, 8.0, 180.0), (1.0, 10.0, 180.0), (3.0, 8.0, 90.0)])]
+    winds = [cell_wind(sc, c) for c in cells]
+    assert len(set(winds)) == 3 and len(S.wind_groups(sc, cells)) == 3
+    m = S.screen_model(sc)
+    r = S.screen_cells(sc, cells, model=m)
+    for i, (c, w) in enumerate(zip(cells, winds)):
+        alone = S.screen_cells(wind_scenario(sc, w), [c])
+        assert r.chance[i] == pytest.approx(alone.chance[0], rel=1e-9, abs=1e-300)
+        assert r.margin_N[i] == pytest.approx(alone.margin_N[0], rel=1e-9)
+        assert r.in_band_pct[i] == pytest.approx(alone.in_band_pct[0], rel=1e-9)
+        assert r.works[i] == alone.works[0] and r.reasons[i] == alone.reasons[0]
+    fixed = S.screen_cells(wind_scenario(sc, (sc.wind.speed_m_s, sc.wind.direction_deg)), cells)
+    assert np.abs(fixed.margin_N - r.margin_N).max() > 1.0
+    hold = dict(hold_C=(0.95, 0.0, 0.7), duration_s=20.0)
+    held = S.held_acceleration(sc, cells, (1.0, 0.0, 0.0), **hold)
+    for i, (c, w) in enumerate(zip(cells, winds)):
+        alone = S.held_acceleration(wind_scenario(sc, w), [c], (1.0, 0.0, 0.0), **hold)
+        assert held.cells_m_s2[i] == pytest.approx(alone.cells_m_s2[0], rel=1e-12)
+    failure = S.single_failure_cells(sc, cells, hold_s=5.0, model=m)
+    for i, (c, w) in enumerate(zip(cells, winds)):
+        alone = S.single_failure_cells(wind_scenario(sc, w), [c], hold_s=5.0)
+        np.testing.assert_allclose(failure.margin_N[i], alone.margin_N[0], rtol=1e-9)
+    assert np.abs(failure.margin_N - S.single_failure_cells(wind_scenario(sc, winds[0]), cells, hold_s=5.0,
+                                                            ).margin_N).max() > 1.0

@@ -291,12 +291,13 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
         return CleanEstimate(scenario=sc.name, size=size, flown=sc, runs=runs, asked=asked, lasts=lasts)
 
     from marinecdpr.motion.trajectory import cleaning_path
-    from marinecdpr.studies.operability import (CLOSED_LOOP_STEP_COST, check_sea_state, read_scatter_csv, scatter_path,
-                                                tz_conversion_gamma)
+    from marinecdpr.studies.operability import (CLOSED_LOOP_STEP_COST, check_sea_state, check_sea_wind,
+                                                read_scatter_csv, scatter_path, tz_conversion_gamma)
 
     path_end = sc.trajectory.start_time_s + cleaning_path(sc.cleaning).duration_s
     diagram = read_scatter_csv(scatter_path(spec.scatter), gamma=tz_conversion_gamma(sc))
     check_sea_state(sc)
+    check_sea_wind(sc, diagram)
     cells = int((diagram.probability > 0).sum()) * len(spec.headings)
     # every sea state flies the job closed loop
     size = check_run_size(sc, "operability", cells=cells, closed_loop=True, workers=spec.processes)

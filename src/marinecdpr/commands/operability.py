@@ -142,6 +142,8 @@ def estimate(spec: OperabilitySpec, scenario: Scenario) -> OperabilityEstimate:
         The executor's options against the machine: a scheduler that does not answer, Dask
         asked for but not installed.
     """
+    import numpy as np
+
     from marinecdpr.planning.budget import check_run_size
     from marinecdpr.planning.planner import check_trajectory
     from marinecdpr.studies.operability import (Cell, cell_scenario, read_scatter_csv, scatter_path, study_steps,
@@ -152,8 +154,10 @@ def estimate(spec: OperabilitySpec, scenario: Scenario) -> OperabilityEstimate:
     occurs = diagram.probability > 0
     n_cells = int(occurs.sum()) * len(spec.headings)
     tp_min = float(diagram.tp[occurs.any(axis=0)].min())  # the highest sea with the shortest period
+    wind = {} if diagram.wind_m_s is None else {"wind_m_s": float(np.nanmax(diagram.wind_m_s))}  # the strongest
     largest = cell_scenario(scenario, Cell(index=0, hs=float(diagram.hs.max()), tp=tp_min,
-                                           heading_deg=spec.headings[0], probability=1.0), spec.duration, spec.step)
+                                           heading_deg=spec.headings[0], probability=1.0, **wind),
+                            spec.duration, spec.step)
     size = check_run_size(largest, "operability", cells=n_cells * spec.realisations, grid=spec.workspace,
                           closed_loop=spec.max_error is not None, workers=spec.processes)
     steps = study_steps(n_cells * spec.realisations, duration_s=spec.duration, step_s=spec.step,

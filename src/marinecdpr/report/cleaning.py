@@ -322,14 +322,24 @@ def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
     ``sea_states.csv`` (one row per sea state: its verdict and figures; empty cells where
     the job could not be flown), ``summary.json`` (the share of sea states the job works
     in, per heading, the limiting Hs, the expected hours, and why each failing sea state
-    fails) and ``sea_states.png`` (the workable sea states, one panel per heading)."""
+    fails) and ``sea_states.png`` (the workable sea states, one panel per heading). A wind
+    that follows the sea state (``[wind] with_sea``) adds each sea state's wind to the CSV:
+    ``wind_m_s`` and ``wind_direction_deg``."""
+    from marinecdpr.studies.operability import cell_winds
+
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = [[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable), r.coverage_pct,
              r.reachable_coverage_pct, r.in_band_pct, r.tension_min_N, r.tension_max_N, r.job_time_s, r.hours]
             for r in cs.sea.results]
-    paths = [_write_csv(list(SEA_STATE_COLUMNS), np.array(rows, dtype=float).reshape(-1, len(SEA_STATE_COLUMNS)),
-                        folder / "sea_states.csv", int_last=False, int_columns=(SEA_STATE_COLUMNS.index("works"),))]
+    names = list(SEA_STATE_COLUMNS)
+    values = np.array(rows, dtype=float).reshape(-1, len(SEA_STATE_COLUMNS))
+    winds = cell_winds(scenario, [r.cell for r in cs.sea.results])
+    if winds is not None and len(rows):
+        names += ["wind_m_s", "wind_direction_deg"]
+        values = np.column_stack([values, winds])
+    paths = [_write_csv(names, values, folder / "sea_states.csv", int_last=False,
+                        int_columns=(SEA_STATE_COLUMNS.index("works"),))]
     paths.append(write_json(cleaning_seas_summary(cs, scenario), folder / "summary.json"))
     paths.append(plot_operability(cs.sea, scenario, folder / "sea_states.png", workable=(
         f"the cleaning job works: >= {cs.coverage_target_pct:g} % of reach cleaned, force in band "

@@ -240,7 +240,11 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
 
 def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``
-    (:func:`plot_operability`)."""
+    (:func:`plot_operability`). A wind that follows the sea state (``[wind] with_sea``) adds
+    each sea state's wind to the CSV: ``wind_m_s`` (at the wind's reference height) and
+    ``wind_direction_deg`` (where it comes from in O)."""
+    from marinecdpr.studies.operability import cell_winds
+
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     names = ["heading_deg", "hs_m", "tp_s", "probability", "operable", "fraction_feasible", "min_margin_N",
@@ -249,6 +253,10 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
     values = np.array([[r.cell.heading_deg, r.cell.hs, r.cell.tp, r.cell.probability, float(r.operable),
                         r.fraction_feasible, r.min_margin_N, r.max_error_m, r.realisations, r.successes,
                         r.success_probability, *r.interval, r.controller_bypassed] for r in op.results])
+    winds = cell_winds(scenario, [r.cell for r in op.results])
+    if winds is not None and op.results:
+        names += ["wind_m_s", "wind_direction_deg"]
+        values = np.column_stack([values, winds])
     paths = [_write_csv(names, values, folder / "operability.csv", int_last=False,
                         int_columns=(names.index("realisations"), names.index("successes"),
                                      names.index("controller_bypassed")))]

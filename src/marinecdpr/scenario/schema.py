@@ -25,7 +25,7 @@ from marinecdpr.scenario.fields import (
 from marinecdpr.scenario.messages import scenario_error
 from marinecdpr.scenario.obstacles import MAX_OBSTACLES, Obstacle
 from marinecdpr.scenario.robot import Robot
-from marinecdpr.scenario.wind import Wind
+from marinecdpr.scenario.wind import Wind, sea_wind
 # ---------------------------------------------------------------------- ship, sea
 class Ship(_Model):
     """Where the robot stands on the ship."""
@@ -572,6 +572,22 @@ class Scenario(_Model):
         if self.obstacles and self.robot.clearance_m is None:
             raise _KeyedError("robot.clearance_m", "missing: [[obstacles]] are checked against the cables at "
                                                    "this clearance (0 to flag contact only)")
+        return self
+
+    @model_validator(mode="after")
+    def _wind_with_sea(self) -> "Scenario":
+        """A wind that follows the sea state (``wind.with_sea``) takes its speed and direction
+        from the scenario's own ``[base_motion]`` (:func:`~marinecdpr.scenario.wind.sea_wind`)."""
+        wind = self.wind
+        if wind is None or wind.with_sea == "none":
+            return self
+        sea = self.base_motion
+        if not isinstance(sea, SeaStateMotion):
+            raise _KeyedError("wind.with_sea", f"a wind that follows the sea state needs a [base_motion] of type "
+                                               f"\"sea_state\" (its Hs and heading), got \"{sea.type}\"")
+        speed, direction = sea_wind(wind, hs_m=sea.hs_m, heading_deg=sea.heading_deg,
+                                    gravity_m_s2=self.environment.gravity_m_s2)
+        object.__setattr__(self, "wind", wind.model_copy(update={"speed_m_s": speed, "direction_deg": direction}))
         return self
 
     @model_validator(mode="after")

@@ -216,8 +216,10 @@ def load_design(path: str | Path) -> tuple[DesignSpec, Scenario]:
     if spec.sea.scatter not in BUILTIN_SCATTERS and not (path.parent / spec.sea.scatter).is_file():
         raise ScenarioError(f"no such file: {path.parent / spec.sea.scatter} (the package's diagrams: "
                             f"{', '.join(BUILTIN_SCATTERS)})", source=src, key="sea.scatter")
-    try:  # read now: a bad diagram is one line before any work
-        study_scatter(spec, path.parent, template)
+    try:  # read now: a bad diagram (or one the template's wind cannot follow) is one line before any work
+        from marinecdpr.studies.operability import check_sea_wind
+
+        check_sea_wind(template, study_scatter(spec, path.parent, template))
     except ScenarioError as exc:
         raise ScenarioError(str(exc), source=src, key="sea.scatter") from None
     return spec, template
@@ -998,7 +1000,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
         rail = (node or {}).get("rail") or {}
         if rail.get("drive_cost_per_kW") == 0.0:
             del rail["drive_cost_per_kW"]
-    text = json.dumps([study, by_content(scenario), [c.__dict__ for c in cells]], sort_keys=True, default=repr)
+    # a cell without a wind of its own (the scatter's columns): the key as before cells could have one
+    cells_key = [{k: v for k, v in c.__dict__.items() if not (k.startswith("wind_") and v is None)} for c in cells]
+    text = json.dumps([study, by_content(scenario), cells_key], sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 

@@ -30,7 +30,8 @@ from marinecdpr.studies.executor import Executor
 from marinecdpr.textfiles import MAX_FIELD_CHARS, long_field, read_csv_records
 
 __all__ = ["ScatterDiagram", "read_scatter_csv", "illustrative_scatter_path", "scatter_path", "BUILTIN_SCATTERS",
-           "tz_conversion_gamma", "Cell", "CellResult", "Operability",
+           "tz_conversion_gamma", "Cell", "CellResult", "Operability", "cell_wind", "wind_scenario", "check_sea_wind",
+           "gust_seed", "cell_winds", "WIND_COLUMNS",
            "evaluate_cell", "operability", "with_margin", "sea_state_seed", "scatter_cells", "summarise",
            "wilson_interval", "REALISATIONS", "study_steps", "CLOSED_LOOP_STEP_COST", "HS_RANGE_M", "TP_RANGE_S"]
 
@@ -62,6 +63,18 @@ class ScatterDiagram:
     hs: np.ndarray
     tp: np.ndarray
     probability: np.ndarray
+    wind_m_s: np.ndarray | None = None
+    """(n_hs, n_tp): each cell's mean wind speed at the wind's reference height, m/s (the
+    column ``wind_m_s``; NaN where no cell), None without that column."""
+    wind_misalignment_deg: np.ndarray | None = None
+    """(n_hs, n_tp): where each cell's wind comes from less where its waves come from, deg
+    (the column ``wind_misalignment_deg``; ``[wind] misalignment_deg``), None without it."""
+
+
+WIND_COLUMNS = {"wind_m_s": (0.0, 70.0, "m/s", "above 0 and at most 70 m/s (a mean wind)"),
+                "wind_misalignment_deg": (-360.0, 360.0, "deg", "within -360 to 360 deg (one turn either way)")}
+"""A scatter diagram's optional columns after ``probability``: the wind in each sea state
+(``[wind] with_sea = "scatter"``), their ranges and words."""
 
 
 BUILTIN_SCATTERS = {"illustrative": "scatter_illustrative.csv", "north_atlantic": "scatter_north_atlantic.csv"}
@@ -104,6 +117,10 @@ def tz_conversion_gamma(template: Scenario) -> float:
 def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
     """Read a scatter diagram: CSV with header ``hs_m,tp_s,probability`` (or
     ``hs_m,tz_s,probability``), one row per cell; lines starting with ``#`` are comments.
+    Optional columns after ``probability``, in any order, give each sea state's wind
+    (:data:`WIND_COLUMNS`; ``[wind] with_sea = "scatter"``): ``wind_m_s``, the mean speed at
+    the wind's reference height (m/s, > 0), and ``wind_misalignment_deg``, where the wind
+    comes from less where the waves come from (deg).
 
     Read through :func:`marinecdpr.textfiles.read_lines` (a regular UTF-8 text file of at
     most 256 MiB, no field over 100 characters). Probabilities must be finite,
@@ -146,9 +163,13 @@ def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
         fail(f"row {long[0] + 1}, field {long[1] + 1}: over {MAX_FIELD_CHARS} characters; expected {what}")
     head = next((i for i, row in enumerate(rows) if row and "".join(row).strip()), None)
     header = [h.strip() for h in rows[head]] if head is not None else []
-    if header not in (["hs_m", "tp_s", "probability"], ["hs_m", "tz_s", "probability"]):
-        raise ScenarioError("the header must be hs_m,tp_s,probability or hs_m,tz_s,probability", source=src,
+    extra = header[3:]
+    if header[:3] not in (["hs_m", "tp_s", "probability"], ["hs_m", "tz_s", "probability"]) or \
+            any(h not in WIND_COLUMNS for h in extra) or len(set(extra)) != len(extra):
+        raise ScenarioError("the header must be hs_m,tp_s,probability or hs_m,tz_s,probability, optionally "
+                            "followed by wind_m_s and wind_misalignment_deg (each once)", source=src,
                             key=f"row {1 if head is None else head + 1}")
+    winds: dict[str, dict[tuple[float, float], float]] = {h: {} for h in extra}
     in_tz = header[1] == "tz_s"
     if in_tz:
         try:
@@ -159,10 +180,11 @@ def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
     for i, row in enumerate(rows[head + 1:], start=head + 2):
         if not row or not "".join(row).strip():
             continue
-        if len(row) != 3:
-            raise ScenarioError(f"expected 3 values, got {len(row)}", source=src, key=f"row {i}")
+        if len(row) != len(header):
+            raise ScenarioError(f"expected {len(header)} values, got {len(row)}", source=src, key=f"row {i}")
         try:
-            hs, tp, p = (float(x) for x in row)
+            hs, tp, p = (float(x) for x in row[:3])
+            wind = [float(x) for x in row[3:]]
         except ValueError:
             raise ScenarioError(f"not numbers: {','.join(row)}", source=src, key=f"row {i}") from None
         (hs_lo, hs_hi), (tp_lo, tp_hi) = HS_RANGE_M, TP_RANGE_S
@@ -189,6 +211,12 @@ def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
         if (hs, tp) in cells:
             period = f"Tz {tz:g} s" if in_tz else f"Tp {tp:g} s"
             raise ScenarioError(f"Hs {hs:g} m, {period} appears twice", source=src, key=f"row {i}")
+        for col, (name, v) in enumerate(zip(extra, wind), start=4):
+            lo, hi, _, words = WIND_COLUMNS[name]
+            if not (lo < v <= hi if name == "wind_m_s" else lo <= v <= hi):   # False for NaN too
+                raise ScenarioError(f"{name} = {row[col - 1].strip()} (column {col}) must be {words}", source=src,
+                                    key=f"row {i}")
+            winds[name][(hs, tp)] = v
         cells[(hs, tp)] = p
     total = math.fsum(cells.values())
     if not cells or total <= 0:
@@ -206,7 +234,13 @@ def read_scatter_csv(path: str | Path, *, gamma: float = 1.0) -> ScatterDiagram:
     prob = np.zeros((hs_v.size, tp_v.size))
     for (hs, tp), p in cells.items():
         prob[np.searchsorted(hs_v, hs), np.searchsorted(tp_v, tp)] = p
-    return ScatterDiagram(hs_v, tp_v, prob / total)
+    columns = {}
+    for name, values in winds.items():
+        grid = np.full(prob.shape, np.nan)
+        for (hs, tp), v in values.items():
+            grid[np.searchsorted(hs_v, hs), np.searchsorted(tp_v, tp)] = v
+        columns[name] = grid
+    return ScatterDiagram(hs_v, tp_v, prob / total, **columns)
 
 
 @dataclass(frozen=True)
@@ -218,6 +252,10 @@ class Cell:
     tp: float
     heading_deg: float
     probability: float
+    wind_m_s: float | None = None
+    """The scatter diagram's wind in this sea state (its ``wind_m_s``), m/s; None without it."""
+    wind_misalignment_deg: float | None = None
+    """Its ``wind_misalignment_deg``, deg; None without it."""
 
 
 @dataclass(frozen=True)
@@ -294,19 +332,104 @@ def sea_state_seed(seed: int, hs: float, tp: float, heading_deg: float, realisat
     return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
 
 
+GUST_STREAM = 1
+"""What tells a record's gust seed from its sea's (:func:`gust_seed`)."""
+
+
+def gust_seed(seed: int, hs: float, tp: float, heading_deg: float, realisation: int = 0) -> int:
+    """The gust's seed in a sea state's record where the wind follows the sea: like
+    :func:`sea_state_seed` from ``[wind] seed`` and the sea state, on a stream of its own
+    (:data:`GUST_STREAM`), so that the gust's phases are not the sea's even where both seeds
+    are equal."""
+    key = [sea_state_seed(seed, hs, tp, heading_deg, realisation), GUST_STREAM]
+    return int(np.random.SeedSequence(key).generate_state(1, np.uint32)[0])
+
+
+def cell_wind(template: Scenario, cell: Cell) -> tuple[float, float] | None:
+    """The wind in one cell's sea state where the template's follows the sea (``[wind]
+    with_sea``): its mean speed at the reference height (m/s) and where it comes from in O
+    (deg), :func:`~marinecdpr.scenario.wind.sea_wind`; None where the wind (if any) does not
+    follow the sea.
+
+    Raises
+    ------
+    ScenarioError
+        ``with_sea = "scatter"`` and the cell has no ``wind_m_s`` (the scatter diagram lacks
+        the column); a misalignment both in ``[wind]`` and in the diagram.
+    """
+    from marinecdpr.scenario.wind import sea_wind
+
+    wind = template.wind
+    if wind is None or wind.with_sea == "none":
+        return None
+    if wind.with_sea == "scatter" and cell.wind_m_s is None:
+        raise ScenarioError("with_sea = \"scatter\" takes each sea state's wind from the scatter diagram's "
+                            "wind_m_s column, which this diagram does not have (add it, or use with_sea = "
+                            "\"pierson_moskowitz\")", key="wind.with_sea")
+    if cell.wind_misalignment_deg is not None and wind.misalignment_deg != 0.0:
+        raise ScenarioError("the misalignment is given twice: in [wind] misalignment_deg and in the scatter "
+                            "diagram's wind_misalignment_deg column: keep one", key="wind.misalignment_deg")
+    return sea_wind(wind, hs_m=cell.hs, heading_deg=cell.heading_deg,
+                    gravity_m_s2=template.environment.gravity_m_s2,
+                    speed_m_s=cell.wind_m_s if wind.with_sea == "scatter" else None,
+                    misalignment_deg=cell.wind_misalignment_deg)
+
+
+def check_sea_wind(template: Scenario, scatter: ScatterDiagram) -> None:
+    """Refuse, before any work, a scatter diagram the template's wind cannot follow: with
+    ``[wind] with_sea = "scatter"`` and no ``wind_m_s`` column, or a misalignment both in
+    ``[wind]`` and in the diagram (:func:`cell_wind`'s one-line errors)."""
+    cells = scatter_cells(scatter, (0.0,))
+    if cells:
+        cell_wind(template, cells[0])
+
+
+def cell_winds(template: Scenario, cells: list[Cell]) -> np.ndarray | None:
+    """Each cell's wind (:func:`cell_wind`), shape (n_cells, 2): the speed at the reference
+    height (m/s) and where it comes from in O (deg); None where the template's wind (if any)
+    does not follow the sea. What the studies' files say beside each sea state."""
+    if template.wind is None or template.wind.with_sea == "none":
+        return None
+    return np.array([cell_wind(template, c) for c in cells], dtype=float).reshape(-1, 2)
+
+
 def cell_scenario(template: Scenario, cell: Cell, duration_s: float, step_s: float,
                   realisation: int = 0) -> Scenario:
     """The template in one cell's sea state (its ``realisation``-th record), over
-    ``duration_s`` at ``step_s``."""
+    ``duration_s`` at ``step_s``; a wind that follows the sea (``[wind] with_sea``) takes the
+    cell's (:func:`cell_wind`: the scatter's ``wind_m_s``, or the relation at the cell's Hs,
+    from the cell's heading), and its gust phases of its own (:func:`gust_seed`): each record
+    meets its own gust, independent of its sea's."""
     check_sea_state(template)
     sea = template.base_motion
+    changes = {}
+    if cell_wind(template, cell) is not None:  # the scenario's validation sets it from the cell's sea
+        wind = template.wind.model_dump(exclude_none=True)
+        wind["seed"] = gust_seed(template.wind.seed, cell.hs, cell.tp, cell.heading_deg, realisation)
+        if template.wind.with_sea == "scatter":
+            wind["speed_m_s"] = cell.wind_m_s
+        if cell.wind_misalignment_deg is not None:
+            wind["misalignment_deg"] = cell.wind_misalignment_deg
+        changes["wind"] = wind
     return template.with_changes(
         base_motion=sea.model_copy(update={
             "hs_m": cell.hs, "tp_s": cell.tp, "heading_deg": cell.heading_deg,
             "seed": sea_state_seed(sea.seed, cell.hs, cell.tp, cell.heading_deg, realisation),
             "record_s": max(sea.record_s, duration_s)}),
         time={"step_s": step_s, "duration_s": duration_s},
+        **changes,
     )
+
+
+def wind_scenario(template: Scenario, wind: tuple[float, float]) -> Scenario:
+    """The template with its wind fixed at ``wind`` = (speed at the reference height, m/s;
+    where it comes from in O, deg), following no sea (``with_sea = "none"``): one of
+    :func:`cell_wind`'s winds, for a study that judges many sea states at once."""
+    data = template.wind.model_dump(exclude_none=True)
+    data.pop("with_sea", None)
+    data.pop("misalignment_deg", None)
+    data.update(speed_m_s=float(wind[0]), direction_deg=float(wind[1]))
+    return template.with_changes(wind=data)
 
 
 def with_margin(scenario: Scenario, margin_N: float) -> Scenario:
@@ -486,14 +609,18 @@ def study_steps(n_cells: int, *, duration_s: float, step_s: float,
 
 
 def scatter_cells(scatter: ScatterDiagram, headings: tuple[float, ...]) -> list[Cell]:
-    """One :class:`Cell` per heading and sea state of positive probability."""
+    """One :class:`Cell` per heading and sea state of positive probability (with the
+    diagram's wind in it, where it has one)."""
     cells = []
     for heading in headings:
         for i, hs in enumerate(scatter.hs):
             for j, tp in enumerate(scatter.tp):
                 if scatter.probability[i, j] > 0:
+                    wind = {name: float(grid[i, j]) for name, grid in (
+                        ("wind_m_s", scatter.wind_m_s), ("wind_misalignment_deg", scatter.wind_misalignment_deg))
+                        if grid is not None}
                     cells.append(Cell(index=len(cells), hs=float(hs), tp=float(tp), heading_deg=float(heading),
-                                      probability=float(scatter.probability[i, j])))
+                                      probability=float(scatter.probability[i, j]), **wind))
     return cells
 
 

@@ -72,11 +72,11 @@ from marinecdpr.motion.ship import ship_motion
 from marinecdpr.motion.trajectory import check_in_frame, evaluate_trajectory
 from marinecdpr.planning.planner import required_wrench
 from marinecdpr.scenario.schema import Scenario
-from marinecdpr.studies.operability import Cell
+from marinecdpr.studies.operability import Cell, cell_wind, wind_scenario
 
 __all__ = ["ScreenResult", "ScreenModel", "screen_model", "at_origin", "screen_cells", "why_fails", "extreme_factor",
            "HeldAcceleration", "held_acceleration", "FailureScreen", "single_failure_cells",
-           "held_single_failure",
+           "held_single_failure", "wind_groups", "cell_moments",
            "GRID", "COMPONENTS", "MARGIN_BISECTIONS",
            "EXCEEDANCE", "SAMPLE_S", "MAX_DIRECTIONS", "LEVEL_STEP", "LEVEL_FLOOR_N", "PRUNE_SIGMAS"]
 
@@ -415,13 +415,15 @@ def screen_model(scenario: Scenario, *, grid: tuple[int, int] = GRID) -> ScreenM
 def at_origin(model: ScreenModel, scenario: Scenario) -> ScreenModel:
     """:func:`screen_model` of the scenario from the model of the same robot and job with
     its frame elsewhere on the ship (another ``ship.frame_origin_m`` and
-    ``frame_orientation_deg``): only the wrench's sensitivity to the ship's motion (w0 and
-    D) is made again, the path, its poses and the tool being the same.
+    ``frame_orientation_deg``), or in another mean wind (``[wind]``'s speed and direction):
+    only the wrench's sensitivity to the ship's motion (w0 and D) is made again, the path,
+    its poses and the tool being the same (the path's inertia, a difference of two wrenches
+    in one wind, holds no wind).
 
     Returns
     -------
     ScreenModel
-        Equal to ``screen_model(scenario)`` (its path box to rounding).
+        Equal to ``screen_model(scenario)`` (its path box and inertia to rounding).
     """
     w0, D = _sensitivity(scenario, model.x_PC_C, model.twist, model.R_PC, model.t)
     return replace(model, w0=w0, D=D)
@@ -529,6 +531,86 @@ def gust_covariance(scenario: Scenario, model: ScreenModel) -> tuple[np.ndarray,
     return GG * var0, GG * var2
 
 
+def _sea_and_gust(model: ScreenModel, scenario: Scenario, cells: list) -> tuple[np.ndarray, np.ndarray]:
+    """The wrench's covariances C0 and C2 (n_cells, n_poses, 6, 6) in each cell: the sea's
+    response (:func:`_response_moments`) and the wind's gust beside it (:func:`gust_covariance`:
+    independent, their covariances add), in the scenario's one wind."""
+    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
+    gust = gust_covariance(scenario, model)
+    if gust is not None:
+        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    return C0, C2
+
+
+def cell_moments(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The wrench at the screen's poses in each sea state as the screen takes it: its mean on
+    a ship at rest (the tool at no normal force) and its covariances, each cell in its own
+    wind where the wind follows the sea (:func:`wind_groups`).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A sea-state base motion.
+    cells : list of Cell
+    model : ScreenModel, optional
+        :func:`screen_model` of the scenario.
+
+    Returns
+    -------
+    w0 : ndarray, shape (n_cells, n_poses, 6)
+        N, N m in C (:attr:`ScreenModel.w0` in the cell's wind).
+    C0, C2 : ndarray, shape (n_cells, n_poses, 6, 6)
+        The covariance of the wrench (the sea's response and the gust's) and of its rate.
+    """
+    model = model if model is not None else screen_model(scenario)
+    groups = wind_groups(scenario, cells)
+    if groups is None:
+        C0, C2 = _sea_and_gust(model, scenario, cells)
+        return np.broadcast_to(model.w0, (len(cells),) + model.w0.shape).copy(), C0, C2
+    parts = []
+    for sc, idx in groups:
+        m = at_origin(model, sc)
+        C0, C2 = _sea_and_gust(m, sc, [cells[i] for i in idx])
+        parts.append((np.broadcast_to(m.w0, (len(idx),) + m.w0.shape), C0, C2))
+    return tuple(_in_place(groups, [p[j] for p in parts], len(cells)) for j in range(3))
+
+
+def wind_groups(scenario: Scenario, cells: list[Cell]) -> list[tuple[Scenario, np.ndarray]] | None:
+    """Where the scenario's wind follows the sea state (``[wind] with_sea``), the cells grouped
+    by their wind (:func:`~marinecdpr.studies.operability.cell_wind`: equal speed and
+    direction), each group with the scenario whose wind is fixed at it
+    (:func:`~marinecdpr.studies.operability.wind_scenario`) and its cells' places in
+    ``cells`` (ndarray of int, increasing), in the order the winds first appear; None where the
+    wind (if any) is the same in every sea state.
+
+    The mean wind moves the wrench the platform needs at rest (w0), its sensitivity to the
+    ship's motion (D: the drag is quadratic in the wind relative to the moving platform) and
+    the gust's variance (Frøya's spectrum grows with the mean speed): a sea state is judged
+    with its own wind's linearisation. The drag's |u| u holds no exact split into a part
+    shared by every wind and a part scaled by it (the relative wind's direction moves with
+    the ship), so each distinct wind is linearised again: :func:`at_origin`'s
+    sensitivities (1 + 36 wrenches per pose) and the screen's pass over the path, per group.
+    """
+    wind = scenario.wind
+    if wind is None or wind.with_sea == "none":
+        return None
+    places: dict[tuple[float, float], list[int]] = {}
+    for i, cell in enumerate(cells):
+        places.setdefault(cell_wind(scenario, cell), []).append(i)
+    return [(wind_scenario(scenario, w), np.array(idx, dtype=int)) for w, idx in places.items()]
+
+
+def _in_place(groups: list, parts: list, n: int) -> np.ndarray:
+    """The groups' per-cell arrays ``parts`` (one per group, along their first axis) put back
+    in the cells' order, shape (n, ...)."""
+    order = np.concatenate([idx for _, idx in groups])
+    joined = np.concatenate(parts)
+    out = np.empty((n,) + joined.shape[1:], dtype=joined.dtype)
+    out[order] = joined
+    return out
+
+
 def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | None = None,
                  exceedance: float = EXCEEDANCE, in_band_target_pct: float = 95.0) -> ScreenResult:
     """The screen's verdict on the scenario's job in each sea state.
@@ -545,16 +627,31 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         The chance of the job breaking a criterion the verdict accepts (:data:`EXCEEDANCE`).
     in_band_target_pct : float
         The share of time the normal force must stay in its band, %.
+
+    A wind that follows the sea state (``[wind] with_sea``): each group of sea states with
+    one wind is judged with that wind's linearisation (:func:`wind_groups`), the path's
+    sampling made once.
     """
     from marinecdpr.model.tension import full_rank, wrench_faces
 
     if scenario.base_motion.type != "sea_state":
         raise ScenarioError("the screen needs a sea-state base motion (its RAOs and spectrum)", key="base_motion.type")
     model = model if model is not None else screen_model(scenario)
-    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
-    gust = gust_covariance(scenario, model)
-    if gust is not None:  # the wind's gust beside the sea's response, in every sea state
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    groups = wind_groups(scenario, cells)
+    if groups is not None:
+        parts = [screen_cells(sc, [cells[i] for i in idx], model=at_origin(model, sc), exceedance=exceedance,
+                              in_band_target_pct=in_band_target_pct) for sc, idx in groups]
+        n = len(cells)
+        reasons = _in_place(groups, [np.array(p.reasons, dtype=object) for p in parts], n)
+        return ScreenResult(cells=list(cells), works=_in_place(groups, [p.works for p in parts], n),
+                            tensions_ok=_in_place(groups, [p.tensions_ok for p in parts], n),
+                            in_band_pct=_in_place(groups, [p.in_band_pct for p in parts], n),
+                            in_band_low_pct=_in_place(groups, [p.in_band_low_pct for p in parts], n),
+                            in_band_target_pct=float(in_band_target_pct),
+                            chance=_in_place(groups, [p.chance for p in parts], n), exceedance=float(exceedance),
+                            reasons=[str(r) for r in reasons],
+                            margin_of=lambda: _in_place(groups, [p.margin_N for p in parts], n))
+    C0, C2 = _sea_and_gust(model, scenario, cells)
     robot = scenario.robot
     c = list(model.controlled)
     k = len(c)
@@ -814,15 +911,20 @@ def held_single_failure(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C
     """
     from marinecdpr.planning.redundancy import single_failure_margin
 
+    groups = wind_groups(scenario, cells)
+    if groups:  # a wind that follows the sea: each wind's own (its rest wrench, its gust)
+        own = held_single_failure(scenario, [], rail_S, hold_C=hold_C, accel_m_s2=accel_m_s2,
+                                  duration_s=duration_s, hold_s=hold_s, exceedance=exceedance)
+        parts = [held_single_failure(sc, [cells[i] for i in idx], rail_S, hold_C=hold_C, accel_m_s2=accel_m_s2,
+                                     duration_s=duration_s, hold_s=hold_s, exceedance=exceedance).margin_N
+                 for sc, idx in groups]
+        return replace(own, margin_N=_in_place(groups, parts, len(cells)))
     held, model, w0, per = _held(scenario, rail_S, hold_C, duration_s)
     w = (w0[None] + float(accel_m_s2) * np.array([1.0, -1.0])[:, None] * per[None])[None]   # (1, 2, 6)
     still = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w)
     if not cells:
         return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
-    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
-    gust = gust_covariance(held, model)
-    if gust is not None:
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, held, cells)
     margin = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
                                    extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
     return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
@@ -874,6 +976,12 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     """
     from marinecdpr.model.tension import full_rank, wrench_faces
 
+    groups = wind_groups(scenario, cells)
+    if groups:  # a wind that follows the sea: each wind's own rest wrench and gust
+        own = held_acceleration(scenario, [], rail_S, hold_C=hold_C, duration_s=duration_s, exceedance=exceedance)
+        parts = [held_acceleration(sc, [cells[i] for i in idx], rail_S, hold_C=hold_C, duration_s=duration_s,
+                                   exceedance=exceedance).cells_m_s2 for sc, idx in groups]
+        return replace(own, cells_m_s2=_in_place(groups, parts, len(cells)))
     held, model, w0, per = _held(scenario, rail_S, hold_C, duration_s)
     c = list(model.controlled)
     faces = wrench_faces(model.J[:1], held.robot.tension_min, held.robot.tension_max)
@@ -892,10 +1000,7 @@ def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, 
     still = float(largest(slack0))
     if not cells:
         return HeldAcceleration(still_m_s2=still, cells_m_s2=np.zeros(0), per_m_s2=per, w0=w0)
-    C0, C2 = _response_moments(model, _rao_of(held), cells, held)
-    gust = gust_covariance(held, model)
-    if gust is not None:  # the wind's gust beside the sea's, as screen_cells takes it
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, held, cells)
     var0 = np.einsum("fk,ikl,fl->if", n, C0[:, 0][:, c][:, :, c], n)              # (n_cells, F)
     var2 = np.einsum("fk,ikl,fl->if", n, C2[:, 0][:, c][:, :, c], n)
     k = extreme_factor(var0, var2, float(duration_s), exceedance)
@@ -958,16 +1063,19 @@ def single_failure_cells(scenario: Scenario, cells: list[Cell], *, hold_s: float
     from marinecdpr.planning.redundancy import single_failure_margin
 
     model = model if model is not None else screen_model(scenario)
+    groups = wind_groups(scenario, cells)
+    if groups:  # a wind that follows the sea: each wind's own linearisation
+        own = single_failure_cells(scenario, [], hold_s=hold_s, model=model, exceedance=exceedance)
+        parts = [single_failure_cells(sc, [cells[i] for i in idx], hold_s=hold_s, model=at_origin(model, sc),
+                                      exceedance=exceedance).margin_N for sc, idx in groups]
+        return replace(own, margin_N=_in_place(groups, parts, len(cells)))
     P = scenario.cleaning.preload if scenario.cleaning is not None else 0.0
     loads = model.tool_n[None] + model.friction                               # (n_t, 6): still, sliding each way
     w = model.w0[:, None, :] - P * loads[None]                                # (n_p, n_t, 6)
     still = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w)
     if not cells:
         return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
-    C0, C2 = _response_moments(model, _rao_of(scenario), cells, scenario)
-    gust = gust_covariance(scenario, model)
-    if gust is not None:
-        C0, C2 = C0 + gust[0][None], C2 + gust[1][None]
+    C0, C2 = _sea_and_gust(model, scenario, cells)
     margin = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
                                    extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
     return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
