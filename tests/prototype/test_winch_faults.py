@@ -88,10 +88,35 @@ def test_a_motor_without_power_is_held_by_its_brake_after_the_delay():
     assert r.faults[0]["brake_held_s"] == pytest.approx(0.55)
 
 
+def test_a_stalled_motor_pulls_at_its_torque_limit_until_the_cable_balances_it():
+    """Cable 1's motor stalls at its torque limit at 0.5 s (winch_stall): its drive gives
+    tau_max = 2 N m winding in whatever the loop asks, J_eff omega' = tau_max - T r_d / G, so
+    each step's second difference of L0 is ((r_d / G)^2 T - (r_d / G) tau_max) / J_eff (the
+    drive's exact step without friction, the drum below the power limit's 100 rad/s: at most
+    80 rad/s here). Measured to 1e-6 m/s^2 (values up to 30 m/s^2) over the 199 steps flown;
+    the drum reels in from 268 N until its pull balances the stall torque, T = G tau_max /
+    r_d = 400 N: the last 100 ms' mean 400.7 N (the platform still moving on the circle)."""
+    r = simulate(paper_on("motor", [{"kind": "winch_stall", "cable": 1, "at_s": 0.5}], duration_s=0.7),
+                 run="open_loop", plant="own")
+    h, k0 = 0.001, 500
+    L0 = unstretched(r)
+    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
+    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
+    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
+    by_hand = (rg ** 2 * r.tensions[k0:-2, 0] - rg * WINCH["torque_max_Nm"]) / J_eff
+    assert np.isfinite(seen).all() and np.nanmax(np.abs(np.diff(L0[k0:, 0]))) / h / rg < 100.0
+    np.testing.assert_allclose(seen, by_hand, rtol=0.0, atol=1e-6)
+    assert np.abs(by_hand).max() > 20.0
+    stall_T = WINCH["gear_ratio"] * WINCH["torque_max_Nm"] / WINCH["drum_radius_m"]
+    assert r.tensions[k0 - 1, 0] < 300.0 and abs(r.tensions[-100:, 0].mean() - stall_T) < 1.0
+    assert r.faults[0] == {"kind": "winch_stall", "cable": 1, "at_s": 0.5, "acted_s": 0.5}
+
+
 @pytest.mark.parametrize("cables, kind, says", [
     ({"model": "ideal"}, "winch_brake", "needs a winch that pays out the cable"),
     ({"model": "elastic", "stiffness_EA_N": EA, "winch": "tension"}, "winch_brake", "length-controlled or motor"),
     ({"model": "elastic", "stiffness_EA_N": EA}, "motor_power_loss", "needs motor winches"),
+    ({"model": "elastic", "stiffness_EA_N": EA}, "winch_stall", "a winch_stall needs motor winches"),
 ])
 def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind, says):
     def edit(d):
@@ -102,8 +127,9 @@ def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind,
     assert "\n" not in str(err.value) and "faults[1].kind" in str(err.value) and says in str(err.value)
 
 
-def test_a_cable_snap_has_no_brake_delay():
+@pytest.mark.parametrize("kind", ["cable_snap", "winch_stall"])
+def test_a_cable_snap_or_a_stall_has_no_brake_delay(kind):
     def edit(d):
-        d["faults"] = [{"kind": "cable_snap", "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
+        d["faults"] = [{"kind": kind, "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
     with pytest.raises(ScenarioError, match=r"faults\[1\]\.brake_delay_s: is for a winch's faults"):
         make_scenario(edit)

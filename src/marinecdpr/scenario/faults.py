@@ -22,6 +22,14 @@ drum runs under the cable's pull against the drive's inertia and friction
 (:func:`~marinecdpr.model.winch.winch_motor_step` with no torque). With ``brake_delay_s``
 the fail-safe brake holds the drum that long after the loss; without it, nothing does.
 
+``winch_stall``: from ``at_s`` the cable's motor is stalled at its torque limit (motor
+winches): its drive gives its limit ``torque_max_Nm`` (less where its power limit binds),
+winding in, whatever its tension loop commands, as a drive whose current loop has failed
+saturated. The drum reels in until the cable's pull over the drum balances that torque
+(T = G eta tau_max / r_d at rest) and pays out where the pull exceeds it; the drum under
+J_eff omega' = tau_max - tau_T(T) - friction (:func:`~marinecdpr.model.winch.winch_motor_step`
+with tau_max commanded). No brake acts unless the controller commands it.
+
 ``load_cell`` and ``encoder``: the cable's load cell (the controller's measured tension) or its
 winch's encoder (the measured length and its rate) goes wrong from ``at_s``, for
 ``duration_s`` if given (else to the end), in one ``mode``: ``freeze`` (it repeats the reading
@@ -47,12 +55,15 @@ from pydantic import Field, model_validator
 
 from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Model, _ranged
 
-__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
+__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "load_cell", "encoder", "controller_deadline")
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder",
+               "controller_deadline")
 """The faults a scenario may list (``kind``)."""
-WINCH_FAULTS = ("winch_brake", "motor_power_loss")
+WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall")
 """The faults of a cable's winch."""
+BRAKE_FAULTS = ("winch_brake", "motor_power_loss")
+"""The winch faults that take a ``brake_delay_s``."""
 SENSOR_FAULTS = ("load_cell", "encoder")
 """The faults of a cable's sensors."""
 SENSOR_MODES = ("freeze", "drift", "dropout", "non_finite")
@@ -66,7 +77,8 @@ class Fault(_Model):
 
     kind: Literal[FAULT_KINDS]
     """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
-    drum), "motor_power_loss" (its winch's motor gives no torque)."""
+    drum), "motor_power_loss" (its winch's motor gives no torque), "winch_stall" (its motor
+    stuck at its torque limit), a sensor ("load_cell", "encoder") or "controller_deadline"."""
     cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)] | None = None
     """Which cable (or its winch, its sensors), counted from 1 in the order of
     ``[[robot.cables]]`` (every kind but controller_deadline)."""
@@ -96,7 +108,7 @@ class Fault(_Model):
             raise _KeyedError("steps", "missing: for how many exchanges the controller's commands are held")
         if not late and self.steps is not None:
             raise _KeyedError("steps", f"is for a controller_deadline, not a {self.kind}")
-        if self.kind not in WINCH_FAULTS and self.brake_delay_s is not None:
+        if self.kind not in BRAKE_FAULTS and self.brake_delay_s is not None:
             raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
                                                f"{self.kind}")
         sensor = self.kind in SENSOR_FAULTS
