@@ -36,6 +36,13 @@ winch's encoder (the measured length and its rate) goes wrong from ``at_s``, for
 it gave at at_s), ``drift`` (it adds ``drift_per_s`` times the time since at_s: N/s, or m/s on
 the length), ``dropout`` (it gives NaN: no reading) or ``non_finite`` (it gives +inf).
 
+``mru``: the motion reference unit goes wrong from ``at_s`` (for ``duration_s`` if given), in
+one ``mode``: ``freeze`` (its sample eta, eta', eta'' and its time stamp as they were at
+at_s: the sample ages), ``drift`` (it adds ``drift_per_s`` times the time since at_s to each
+of eta's six displacements: m/s on surge, sway, heave, rad/s on roll, pitch, yaw; its rates
+and time stamp sound), ``dropout`` (NaN: the sample and its stamp) or ``non_finite`` (the
+sample +inf, its stamp sound). No ``cable``.
+
 ``controller_deadline``: the controller misses its deadline at ``at_s`` for ``steps``
 exchanges: its commands of the exchange before are held (closed loop; it computes nothing
 in those exchanges, its own state held too). No ``cable``.
@@ -57,14 +64,14 @@ from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Mod
 
 __all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder",
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder", "mru",
                "controller_deadline")
 """The faults a scenario may list (``kind``)."""
 WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall")
 """The faults of a cable's winch."""
 BRAKE_FAULTS = ("winch_brake", "motor_power_loss")
 """The winch faults that take a ``brake_delay_s``."""
-SENSOR_FAULTS = ("load_cell", "encoder")
+SENSOR_FAULTS = ("load_cell", "encoder", "mru")
 """The faults of a cable's sensors."""
 SENSOR_MODES = ("freeze", "drift", "dropout", "non_finite")
 """How a sensor goes wrong."""
@@ -100,10 +107,13 @@ class Fault(_Model):
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
         late = self.kind == "controller_deadline"
-        if not late and self.cable is None:
+        cableless = late or self.kind == "mru"
+        if not cableless and self.cable is None:
             raise _KeyedError("cable", "missing: which cable (counted from 1) the fault strikes")
         if late and self.cable is not None:
             raise _KeyedError("cable", "a controller_deadline strikes the controller, not a cable: leave it out")
+        if self.kind == "mru" and self.cable is not None:
+            raise _KeyedError("cable", "an mru fault strikes the motion reference unit, not a cable: leave it out")
         if late and self.steps is None:
             raise _KeyedError("steps", "missing: for how many exchanges the controller's commands are held")
         if not late and self.steps is not None:
@@ -114,12 +124,12 @@ class Fault(_Model):
         sensor = self.kind in SENSOR_FAULTS
         for key in ("mode", "duration_s", "drift_per_s"):
             if not sensor and getattr(self, key) is not None:
-                raise _KeyedError(key, f"is for a sensor's faults (load_cell, encoder), not a {self.kind}")
+                raise _KeyedError(key, f"is for a sensor's faults (load_cell, encoder, mru), not a {self.kind}")
         if sensor and self.mode is None:
             raise _KeyedError("mode", "missing: a sensor fault freezes, drifts, drops out or gives non-finite "
                                       "values (\"freeze\", \"drift\", \"dropout\", \"non_finite\")")
         if self.mode == "drift" and self.drift_per_s is None:
-            raise _KeyedError("drift_per_s", "missing: a drifting sensor's rate (N/s or m/s)")
+            raise _KeyedError("drift_per_s", "missing: a drifting sensor's rate (N/s or m/s; m/s and rad/s on the mru)")
         if self.mode not in (None, "drift") and self.drift_per_s is not None:
             raise _KeyedError("drift_per_s", f"is for a drifting sensor (mode = \"drift\"), not \"{self.mode}\"")
         return self

@@ -591,7 +591,7 @@ class Scenario(_Model):
                                                             "twice")
                 snapped.add(fault.cable)
                 continue
-            if fault.kind in ("load_cell", "encoder", "controller_deadline"):
+            if fault.kind in ("load_cell", "encoder", "mru", "controller_deadline"):
                 continue
             cab = self.simulation.cables
             if fault.kind in ("motor_power_loss", "winch_stall") and cab.winch != "motor":
