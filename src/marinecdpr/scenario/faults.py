@@ -43,6 +43,11 @@ of eta's six displacements: m/s on surge, sway, heave, rad/s on roll, pitch, yaw
 and time stamp sound), ``dropout`` (NaN: the sample and its stamp) or ``non_finite`` (the
 sample +inf, its stamp sound). No ``cable``.
 
+``brush_contact_loss``: the brush loses its contact with the hull from ``at_s`` (for
+``duration_s`` if given, else to the end): its normal contact force, and with it its drag and
+its spin's moment, is zero (a water jet's reaction, ``cleaning.jet_N``, still acts: it is not
+a contact). The scenario needs ``[cleaning]``. No ``cable``.
+
 ``controller_deadline``: the controller misses its deadline at ``at_s`` for ``steps``
 exchanges: its commands of the exchange before are held (closed loop; it computes nothing
 in those exchanges, its own state held too). No ``cable``.
@@ -65,7 +70,7 @@ from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Mod
 __all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
 FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder", "mru",
-               "controller_deadline")
+               "brush_contact_loss", "controller_deadline")
 """The faults a scenario may list (``kind``)."""
 WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall")
 """The faults of a cable's winch."""
@@ -107,13 +112,15 @@ class Fault(_Model):
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
         late = self.kind == "controller_deadline"
-        cableless = late or self.kind == "mru"
+        cableless = late or self.kind in ("mru", "brush_contact_loss")
         if not cableless and self.cable is None:
             raise _KeyedError("cable", "missing: which cable (counted from 1) the fault strikes")
         if late and self.cable is not None:
             raise _KeyedError("cable", "a controller_deadline strikes the controller, not a cable: leave it out")
         if self.kind == "mru" and self.cable is not None:
             raise _KeyedError("cable", "an mru fault strikes the motion reference unit, not a cable: leave it out")
+        if self.kind == "brush_contact_loss" and self.cable is not None:
+            raise _KeyedError("cable", "a brush_contact_loss strikes the brush, not a cable: leave it out")
         if late and self.steps is None:
             raise _KeyedError("steps", "missing: for how many exchanges the controller's commands are held")
         if not late and self.steps is not None:
@@ -123,6 +130,8 @@ class Fault(_Model):
                                                f"{self.kind}")
         sensor = self.kind in SENSOR_FAULTS
         for key in ("mode", "duration_s", "drift_per_s"):
+            if key == "duration_s" and self.kind == "brush_contact_loss":
+                continue
             if not sensor and getattr(self, key) is not None:
                 raise _KeyedError(key, f"is for a sensor's faults (load_cell, encoder, mru), not a {self.kind}")
         if sensor and self.mode is None:

@@ -591,7 +591,10 @@ class Scenario(_Model):
                                                             "twice")
                 snapped.add(fault.cable)
                 continue
-            if fault.kind in ("load_cell", "encoder", "mru", "controller_deadline"):
+            if fault.kind == "brush_contact_loss" and self.cleaning is None:
+                raise _KeyedError(f"faults[{i}].kind", "a brush_contact_loss needs a brush: the scenario has no "
+                                                       "[cleaning]")
+            if fault.kind in ("load_cell", "encoder", "mru", "brush_contact_loss", "controller_deadline"):
                 continue
             cab = self.simulation.cables
             if fault.kind in ("motor_power_loss", "winch_stall") and cab.winch != "motor":
