@@ -133,3 +133,41 @@ def test_a_cable_snap_or_a_stall_has_no_brake_delay(kind):
         d["faults"] = [{"kind": kind, "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
     with pytest.raises(ScenarioError, match=r"faults\[1\]\.brake_delay_s: is for a winch's faults"):
         make_scenario(edit)
+
+
+def test_a_failed_primary_brake_leaves_the_drum_to_the_secondary():
+    """Cables 2 and 3 told to brake at 0.8 s, each primary (0.1 s) failing: cable 2's secondary
+    holds 0.3 s after the command, from the exchange at 1.1 s, its unstretched length constant
+    from then to 1e-12 m (having moved in the 0.2 s after the primary's moment, > 1 mm); cable
+    3 has no secondary: its drum never holds, following the circle to the end (> 1 mm)."""
+    r = simulate(paper_on("length", [
+        {"kind": "winch_brake", "cable": 2, "at_s": 0.8, "brake_delay_s": 0.1, "primary_fails": True,
+         "secondary_delay_s": 0.3},
+        {"kind": "winch_brake", "cable": 3, "at_s": 0.8, "brake_delay_s": 0.1, "primary_fails": True}],
+        duration_s=1.4), run="open_loop", plant="own")
+    L0 = unstretched(r)
+    held = L0[1100:, 1]
+    assert np.all(np.isfinite(held)) and held.size == 301  # to the log's last row, at 1.4 s
+    np.testing.assert_allclose(held, held[0], rtol=0.0, atol=1e-12)
+    assert np.ptp(L0[900:1099, 1]) > 1e-3 and np.ptp(L0[900:, 2]) > 1e-3
+    assert r.faults[0]["acted_s"] == pytest.approx(1.1) and r.faults[1]["acted_s"] is None
+
+
+@pytest.mark.parametrize("fault, key, says", [
+    ({"kind": "motor_power_loss", "cable": 1, "at_s": 0.5, "secondary_delay_s": 0.3}, "faults[1].secondary_delay_s",
+     "is for a winch_brake's secondary brake"),
+    ({"kind": "cable_snap", "cable": 1, "at_s": 0.5, "primary_fails": True}, "faults[1].primary_fails",
+     "is for a winch_brake's primary brake"),
+    ({"kind": "winch_brake", "cable": 1, "at_s": 0.5, "brake_delay_s": 0.3, "secondary_delay_s": 0.1},
+     "faults[1].secondary_delay_s", "before the primary brake's brake_delay_s"),
+    ({"kind": "winch_brake", "cable": 1, "at_s": 0.5, "primary_fails": "yes"}, "faults[1].primary_fails", ""),
+])
+def test_a_brake_mistake_is_one_line(fault, key, says):
+    def edit(d):
+        d["simulation"]["cables"] = {"model": "elastic", "stiffness_EA_N": EA, "winch": "motor"}
+        d["robot"]["winch"] = WINCH
+        d["faults"] = [fault]
+    with pytest.raises(ScenarioError) as err:
+        make_scenario(edit)
+    text = str(err.value)
+    assert "\n" not in text and key in text and says in text, text

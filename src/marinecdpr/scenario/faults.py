@@ -17,6 +17,13 @@ does with no load is its own model's (a motor winch's drum runs free of the cabl
 later its brake holds the drum: from then the unstretched length the drum has paid out
 stays as it was (elastic or catenary cables on a length-controlled or motor winch).
 
+Its primary and secondary brakes: with ``primary_fails = true`` the brake named by
+``brake_delay_s`` does not hold, and the drum is held by a secondary brake, if the scenario
+gives one, ``secondary_delay_s`` after ``at_s`` (its delay includes finding the primary
+failed); without a secondary, nothing holds the drum. A secondary with a sound primary never
+acts (the primary holds first). The brakes the controller commands are not those of this
+entry (they hold after ``[simulation.control.safety] brake_delay_s``).
+
 ``motor_power_loss``: from ``at_s`` the cable's motor gives no torque (motor winches): the
 drum runs under the cable's pull against the drive's inertia and friction
 (:func:`~marinecdpr.model.winch.winch_motor_step` with no torque). With ``brake_delay_s``
@@ -102,6 +109,13 @@ class Fault(_Model):
     """Winch faults: how long after ``at_s`` the brake holds the drum, s (``winch_brake``:
     default 0; ``motor_power_loss``: none, the drum runs free)."""
 
+    secondary_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") | None = None
+    """winch_brake: how long after ``at_s`` a secondary brake holds the drum if the primary
+    fails, s (none: no secondary brake)."""
+    primary_fails: Annotated[bool, Field(strict=True)] | None = None
+    """winch_brake: true, the primary brake fails to hold (the secondary, if any, holds); none
+    or false, it holds."""
+
     mode: Literal[SENSOR_MODES] | None = None
     """Sensor faults: "freeze", "drift", "dropout" (NaN) or "non_finite" (+inf)."""
     drift_per_s: _ranged(-1e6, 1e6, "per s", "a sensor's drift, N/s or m/s") | None = None
@@ -128,6 +142,15 @@ class Fault(_Model):
         if self.kind not in BRAKE_FAULTS and self.brake_delay_s is not None:
             raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
                                                f"{self.kind}")
+        if self.kind != "winch_brake" and self.secondary_delay_s is not None:
+            raise _KeyedError("secondary_delay_s", f"is for a winch_brake's secondary brake, not a {self.kind}")
+        if self.kind != "winch_brake" and self.primary_fails is not None:
+            raise _KeyedError("primary_fails", f"is for a winch_brake's primary brake, not a {self.kind}")
+        if (self.secondary_delay_s is not None and self.brake_delay_s is not None
+                and self.secondary_delay_s < self.brake_delay_s):
+            raise _KeyedError("secondary_delay_s", f"{self.secondary_delay_s:g} s is before the primary brake's "
+                                                   f"brake_delay_s ({self.brake_delay_s:g} s): the secondary "
+                                                   "holds when the primary has failed")
         sensor = self.kind in SENSOR_FAULTS
         for key in ("mode", "duration_s", "drift_per_s"):
             if key == "duration_s" and self.kind == "brush_contact_loss":

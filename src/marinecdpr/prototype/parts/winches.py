@@ -250,8 +250,9 @@ class FaultyMotorWinch(NamedTuple):
 
 def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
     """The exchange k from which each of m winches has lost its motor's power, and from which
-    its brake holds (the first with t_k = k h >= the time, to 1e-9 of a step), from the
-    scenario's ``faults``; NEVER where not. Two (m,) int64 arrays."""
+    its brake holds (the first with t_k = k h >= the time, to 1e-9 of a step: a winch_brake's
+    primary after brake_delay_s, or where it fails its secondary after secondary_delay_s),
+    from the scenario's ``faults``; NEVER where not. Two (m,) int64 arrays."""
     power, brake = np.full(m, NEVER, dtype=np.int64), np.full(m, NEVER, dtype=np.int64)
 
     def step(t: float) -> int:
@@ -263,7 +264,10 @@ def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
             if f.brake_delay_s is not None:
                 brake[f.cable - 1] = step(f.at_s + f.brake_delay_s)
         elif f.kind == "winch_brake":
-            brake[f.cable - 1] = step(f.at_s + (f.brake_delay_s or 0.0))
+            if not f.primary_fails:
+                brake[f.cable - 1] = step(f.at_s + (f.brake_delay_s or 0.0))
+            elif f.secondary_delay_s is not None:  # the secondary brake, the primary having failed
+                brake[f.cable - 1] = step(f.at_s + f.secondary_delay_s)
     return power, brake
 
 
