@@ -97,10 +97,11 @@ class Fault(_Model):
     kind: Literal[FAULT_KINDS]
     """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
     drum), "motor_power_loss" (its winch's motor gives no torque), "winch_stall" (its motor
-    stuck at its torque limit), a sensor ("load_cell", "encoder") or "controller_deadline"."""
+    stuck at its torque limit), a sensor ("load_cell", "encoder", "mru"), "brush_contact_loss"
+    or "controller_deadline"."""
     cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)] | None = None
     """Which cable (or its winch, its sensors), counted from 1 in the order of
-    ``[[robot.cables]]`` (every kind but controller_deadline)."""
+    ``[[robot.cables]]`` (every kind but mru, brush_contact_loss and controller_deadline)."""
     steps: Annotated[int, Field(ge=1, le=10**7, strict=True)] | None = None
     """controller_deadline: for how many exchanges the controller's commands are held."""
     at_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run, from its start")
@@ -119,9 +120,10 @@ class Fault(_Model):
     mode: Literal[SENSOR_MODES] | None = None
     """Sensor faults: "freeze", "drift", "dropout" (NaN) or "non_finite" (+inf)."""
     drift_per_s: _ranged(-1e6, 1e6, "per s", "a sensor's drift, N/s or m/s") | None = None
-    """A drifting sensor's rate: N/s on a load cell, m/s on an encoder's length."""
+    """A drifting sensor's rate: N/s on a load cell, m/s on an encoder's length, m/s and rad/s
+    on the MRU's displacements."""
     duration_s: _ranged(0.0, TIME_MAX_S, "s", "a time within the run", above=True) | None = None
-    """A sensor fault's duration, s (none: to the run's end)."""
+    """A sensor fault's, or a brush_contact_loss's, duration, s (none: to the run's end)."""
 
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
