@@ -18,6 +18,10 @@ from marinecdpr.commands.faults import FaultsSpec
     ({"kinds": "snap,magic"}, "--kinds magic: no such fault kind: expected snap, brake, power, load_cell, encoder, "
                               "deadline"),
     ({"kinds": "snap,cable_snap"}, "--kinds cable_snap: a fault kind given twice"),
+    ({"kinds": "snap,mru"}, "--kinds mru: a scenario's [[faults]] may list it, this command does not fly it: "
+                            "expected snap, brake, power, load_cell, encoder, deadline"),
+    ({"kinds": "winch_stall"}, "--kinds winch_stall: a scenario's [[faults]] may list it, this command does not fly "
+                               "it: expected snap, brake, power, load_cell, encoder, deadline"),
     ({"cables": "1,0"}, "--cables 1,0: expected cable numbers from 1, separated by commas"),
     ({"cables": "2,2"}, "--cables 2,2: a cable given twice"),
     ({"at": "3,-1"}, "--at 3,-1: expected times >= 0 s, separated by commas"),

@@ -113,3 +113,106 @@ def test_a_sensor_fault_mistake_is_one_line(fault, key, says):
         with_faults(fault)
     text = str(err.value)
     assert "\n" not in text and f"{key}" in text and says in text, text
+
+
+@njit
+def _fly_mru(part, bus, eta, stamp, out, out_stamp):
+    """Feed the MRU's sound samples eta (n, 3, 6) and stamps (n,) through the faults' step;
+    the measurement's sample and stamp after it into out, out_stamp."""
+    for k in range(eta.shape[0]):
+        for d in range(3):
+            for j in range(6):
+                bus.meas.eta[d, j] = eta[k, d, j]
+        bus.meas.clock[2] = stamp[k]
+        part_step(k, H, part, bus)
+        for d in range(3):
+            for j in range(6):
+                out[k, d, j] = bus.meas.eta[d, j]
+        out_stamp[k] = bus.meas.clock[2]
+
+
+def flown_mru(fault):
+    """The MRU's samples (a ship rolling and heaving at 0.5 rad/s, a sample every 20 ms: the
+    stamp is the latest one's) through the fault's part on the compiled step."""
+    part = sensor_faults(with_faults(fault).faults, H)
+    n = 100
+    t = np.arange(n) * H
+    eta = np.zeros((n, 3, 6))
+    for j, a in ((2, 0.3), (3, 0.05)):  # heave (m) and roll (rad), and their rates
+        eta[:, 0, j] = a * np.sin(0.5 * t)
+        eta[:, 1, j] = 0.5 * a * np.cos(0.5 * t)
+        eta[:, 2, j] = -0.25 * a * np.sin(0.5 * t)
+    stamp = 0.02 * np.floor(t / 0.02 + 1e-9)
+    bus = empty_signals(empty_measurement(4), np.zeros(4), np.zeros(4), np.zeros(4))
+    out, out_stamp = np.empty((n, 3, 6)), np.empty(n)
+    _fly_mru(part, bus, eta, stamp, out, out_stamp)
+    return t, eta, stamp, out, out_stamp
+
+
+def test_a_frozen_mru_repeats_its_sample_and_its_stamp_for_its_duration():
+    """Frozen from 0.3 s for 0.4 s: the sample and its stamp (0.30 s) as at 0.3 s, so the
+    sample ages; sound before and after."""
+    t, eta, stamp, out, out_stamp = flown_mru({"kind": "mru", "at_s": 0.3, "mode": "freeze", "duration_s": 0.4})
+    np.testing.assert_array_equal(out[:30], eta[:30])
+    np.testing.assert_array_equal(out[30:70], np.broadcast_to(eta[30], (40, 3, 6)))
+    np.testing.assert_array_equal(out_stamp[30:70], 0.3)
+    np.testing.assert_array_equal(out[70:], eta[70:])
+    np.testing.assert_array_equal(out_stamp[:30], stamp[:30])
+    np.testing.assert_array_equal(out_stamp[70:], stamp[70:])
+
+
+def test_a_drifting_mru_adds_its_rate_to_each_displacement():
+    """By hand: from 0.25 s each of eta's six displacements reads eta + 0.01 (t - 0.25 s)
+    (m on the translations, rad on the angles); its rates and its stamp are sound."""
+    t, eta, stamp, out, out_stamp = flown_mru({"kind": "mru", "at_s": 0.25, "mode": "drift", "drift_per_s": 0.01})
+    np.testing.assert_array_equal(out[:25], eta[:25])
+    np.testing.assert_allclose(out[25:, 0], eta[25:, 0] + 0.01 * (t[25:, None] - 0.25), rtol=0, atol=1e-15)
+    assert out[-1, 0, 0] == pytest.approx(0.01 * 0.74, abs=1e-15)  # surge: 0 + 0.01 m/s x 0.74 s
+    np.testing.assert_array_equal(out[:, 1:], eta[:, 1:])
+    np.testing.assert_array_equal(out_stamp, stamp)
+
+
+@pytest.mark.parametrize("mode, value, stamp_lost", [("dropout", np.nan, True), ("non_finite", np.inf, False)])
+def test_a_lost_mru_says_so(mode, value, stamp_lost):
+    """Dropout: the sample and its stamp NaN; non-finite: the sample +inf, the stamp sound."""
+    t, eta, stamp, out, out_stamp = flown_mru({"kind": "mru", "at_s": 0.5, "mode": mode})
+    np.testing.assert_array_equal(out[50:], np.full((50, 3, 6), value))
+    np.testing.assert_array_equal(out[:50], eta[:50])
+    np.testing.assert_array_equal(out_stamp[:50], stamp[:50])
+    np.testing.assert_array_equal(out_stamp[50:], np.full(50, np.nan) if stamp_lost else stamp[50:])
+
+
+@pytest.mark.parametrize("mode, kind, step, reaction", [("non_finite", "non_finite", 200, None),
+                                                        ("freeze", "dropout", None, "park")])
+def test_the_watch_detects_a_frozen_or_non_finite_mru_in_a_run(mode, kind, step, reaction):
+    """The paper's closed loop (a sample every exchange, no latency) with the MRU failing at
+    0.2 s: a non-finite sample detected at that exchange; a frozen one as dropped out once its
+    stamp (0.2 s) is older than mru_timeout_s, at the first t_k with t_k - 0.2 s > that (0.701
+    s), and the controller parks; the run bit for bit the sound one (which detects nothing)
+    before the fault. (On a non-finite sample the present reaction goes to the brakes: the
+    sample reaches the state estimate; not pinned here.)"""
+    def edit(d):
+        d["time"] = {"step_s": 0.001, "duration_s": 1.0}
+    s = make_scenario(lambda d: (edit(d), d.update(faults=[{"kind": "mru", "at_s": 0.2, "mode": mode}])))
+    r = simulate(s, run="closed_loop", plant="own")
+    sound = simulate(make_scenario(edit), run="closed_loop", plant="own")
+    timeout = s.simulation.control.safety.mru_timeout_s
+    if step is None:
+        step = int(np.floor((0.2 + timeout) / 0.001 + 1e-9)) + 1
+    [d] = r.detections
+    assert (d.sensor, d.kind, d.step) == ("mru", kind, step)
+    assert sound.detections == () and (reaction is None or r.reaction == reaction)
+    np.testing.assert_array_equal(r.pose[:201], sound.pose[:201])
+    assert np.isfinite(r.pose).all()
+
+
+@pytest.mark.parametrize("fault, key, says", [
+    ({"kind": "mru", "cable": 1, "at_s": 0.5, "mode": "freeze"}, "faults[1].cable", "leave it out"),
+    ({"kind": "mru", "at_s": 0.5}, "faults[1].mode", "missing"),
+    ({"kind": "mru", "at_s": 0.5, "mode": "drift"}, "faults[1].drift_per_s", "rad/s on the mru"),
+])
+def test_an_mru_fault_mistake_is_one_line(fault, key, says):
+    with pytest.raises(ScenarioError) as err:
+        with_faults(fault)
+    text = str(err.value)
+    assert "\n" not in text and key in text and says in text, text

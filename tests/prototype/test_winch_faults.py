@@ -88,10 +88,35 @@ def test_a_motor_without_power_is_held_by_its_brake_after_the_delay():
     assert r.faults[0]["brake_held_s"] == pytest.approx(0.55)
 
 
+def test_a_stalled_motor_pulls_at_its_torque_limit_until_the_cable_balances_it():
+    """Cable 1's motor stalls at its torque limit at 0.5 s (winch_stall): its drive gives
+    tau_max = 2 N m winding in whatever the loop asks, J_eff omega' = tau_max - T r_d / G, so
+    each step's second difference of L0 is ((r_d / G)^2 T - (r_d / G) tau_max) / J_eff (the
+    drive's exact step without friction, the drum below the power limit's 100 rad/s: at most
+    80 rad/s here). Measured to 1e-6 m/s^2 (values up to 30 m/s^2) over the 199 steps flown;
+    the drum reels in from 268 N until its pull balances the stall torque, T = G tau_max /
+    r_d = 400 N: the last 100 ms' mean 400.7 N (the platform still moving on the circle)."""
+    r = simulate(paper_on("motor", [{"kind": "winch_stall", "cable": 1, "at_s": 0.5}], duration_s=0.7),
+                 run="open_loop", plant="own")
+    h, k0 = 0.001, 500
+    L0 = unstretched(r)
+    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
+    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
+    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
+    by_hand = (rg ** 2 * r.tensions[k0:-2, 0] - rg * WINCH["torque_max_Nm"]) / J_eff
+    assert np.isfinite(seen).all() and np.nanmax(np.abs(np.diff(L0[k0:, 0]))) / h / rg < 100.0
+    np.testing.assert_allclose(seen, by_hand, rtol=0.0, atol=1e-6)
+    assert np.abs(by_hand).max() > 20.0
+    stall_T = WINCH["gear_ratio"] * WINCH["torque_max_Nm"] / WINCH["drum_radius_m"]
+    assert r.tensions[k0 - 1, 0] < 300.0 and abs(r.tensions[-100:, 0].mean() - stall_T) < 1.0
+    assert r.faults[0] == {"kind": "winch_stall", "cable": 1, "at_s": 0.5, "acted_s": 0.5}
+
+
 @pytest.mark.parametrize("cables, kind, says", [
     ({"model": "ideal"}, "winch_brake", "needs a winch that pays out the cable"),
     ({"model": "elastic", "stiffness_EA_N": EA, "winch": "tension"}, "winch_brake", "length-controlled or motor"),
     ({"model": "elastic", "stiffness_EA_N": EA}, "motor_power_loss", "needs motor winches"),
+    ({"model": "elastic", "stiffness_EA_N": EA}, "winch_stall", "a winch_stall needs motor winches"),
 ])
 def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind, says):
     def edit(d):
@@ -102,8 +127,47 @@ def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind,
     assert "\n" not in str(err.value) and "faults[1].kind" in str(err.value) and says in str(err.value)
 
 
-def test_a_cable_snap_has_no_brake_delay():
+@pytest.mark.parametrize("kind", ["cable_snap", "winch_stall"])
+def test_a_cable_snap_or_a_stall_has_no_brake_delay(kind):
     def edit(d):
-        d["faults"] = [{"kind": "cable_snap", "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
+        d["faults"] = [{"kind": kind, "cable": 1, "at_s": 1.0, "brake_delay_s": 0.1}]
     with pytest.raises(ScenarioError, match=r"faults\[1\]\.brake_delay_s: is for a winch's faults"):
         make_scenario(edit)
+
+
+def test_a_failed_primary_brake_leaves_the_drum_to_the_secondary():
+    """Cables 2 and 3 told to brake at 0.8 s, each primary (0.1 s) failing: cable 2's secondary
+    holds 0.3 s after the command, from the exchange at 1.1 s, its unstretched length constant
+    from then to 1e-12 m (having moved in the 0.2 s after the primary's moment, > 1 mm); cable
+    3 has no secondary: its drum never holds, following the circle to the end (> 1 mm)."""
+    r = simulate(paper_on("length", [
+        {"kind": "winch_brake", "cable": 2, "at_s": 0.8, "brake_delay_s": 0.1, "primary_fails": True,
+         "secondary_delay_s": 0.3},
+        {"kind": "winch_brake", "cable": 3, "at_s": 0.8, "brake_delay_s": 0.1, "primary_fails": True}],
+        duration_s=1.4), run="open_loop", plant="own")
+    L0 = unstretched(r)
+    held = L0[1100:, 1]
+    assert np.all(np.isfinite(held)) and held.size == 301  # to the log's last row, at 1.4 s
+    np.testing.assert_allclose(held, held[0], rtol=0.0, atol=1e-12)
+    assert np.ptp(L0[900:1099, 1]) > 1e-3 and np.ptp(L0[900:, 2]) > 1e-3
+    assert r.faults[0]["acted_s"] == pytest.approx(1.1) and r.faults[1]["acted_s"] is None
+
+
+@pytest.mark.parametrize("fault, key, says", [
+    ({"kind": "motor_power_loss", "cable": 1, "at_s": 0.5, "secondary_delay_s": 0.3}, "faults[1].secondary_delay_s",
+     "is for a winch_brake's secondary brake"),
+    ({"kind": "cable_snap", "cable": 1, "at_s": 0.5, "primary_fails": True}, "faults[1].primary_fails",
+     "is for a winch_brake's primary brake"),
+    ({"kind": "winch_brake", "cable": 1, "at_s": 0.5, "brake_delay_s": 0.3, "secondary_delay_s": 0.1},
+     "faults[1].secondary_delay_s", "before the primary brake's brake_delay_s"),
+    ({"kind": "winch_brake", "cable": 1, "at_s": 0.5, "primary_fails": "yes"}, "faults[1].primary_fails", ""),
+])
+def test_a_brake_mistake_is_one_line(fault, key, says):
+    def edit(d):
+        d["simulation"]["cables"] = {"model": "elastic", "stiffness_EA_N": EA, "winch": "motor"}
+        d["robot"]["winch"] = WINCH
+        d["faults"] = [fault]
+    with pytest.raises(ScenarioError) as err:
+        make_scenario(edit)
+    text = str(err.value)
+    assert "\n" not in text and key in text and says in text, text

@@ -40,7 +40,7 @@ def test_faults_read_as_listed_and_default_to_none():
     ([{**SNAP, "at_s": -1.0}], "faults[1].at_s", "between 0 and 1e6 s"),
     ([{**SNAP, "at_s": math.nan}], "faults[1].at_s", "finite"),
     ([{**SNAP, "lasting_s": 3.0}], "faults[1].lasting_s", "unknown key"),
-    ([{**SNAP, "duration_s": 3.0}], "faults[1].duration_s", "is for a sensor's faults (load_cell, encoder), not a "
+    ([{**SNAP, "duration_s": 3.0}], "faults[1].duration_s", "is for a sensor's faults (load_cell, encoder, mru), not a "
                                                             "cable_snap"),
     ([{"kind": "cable_snap", "at_s": 1.0}], "faults[1].cable", "missing"),
     ([SNAP, {**SNAP, "at_s": 9.0}], "faults[2].cable", "cable 2 snaps once: it is listed twice"),

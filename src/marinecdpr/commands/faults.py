@@ -36,6 +36,9 @@ def _kinds(v: Any) -> tuple[str, ...]:
         kind = KINDS.get(x, x)
         if kind not in FAULT_KINDS:
             raise BadValue(x, f"no such fault kind: expected {', '.join(KINDS)}")
+        if kind not in KINDS.values():
+            raise BadValue(x, f"a scenario's [[faults]] may list it, this command does not fly it: expected "
+                              f"{', '.join(KINDS)}")
         if kind in out:
             raise BadValue(x, "a fault kind given twice")
         out.append(kind)

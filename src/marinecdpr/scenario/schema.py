@@ -607,11 +607,14 @@ class Scenario(_Model):
                                                             "twice")
                 snapped.add(fault.cable)
                 continue
-            if fault.kind in ("load_cell", "encoder", "controller_deadline"):
+            if fault.kind == "brush_contact_loss" and self.cleaning is None:
+                raise _KeyedError(f"faults[{i}].kind", "a brush_contact_loss needs a brush: the scenario has no "
+                                                       "[cleaning]")
+            if fault.kind in ("load_cell", "encoder", "mru", "brush_contact_loss", "controller_deadline"):
                 continue
             cab = self.simulation.cables
-            if fault.kind == "motor_power_loss" and cab.winch != "motor":
-                raise _KeyedError(f"faults[{i}].kind", "a motor_power_loss needs motor winches "
+            if fault.kind in ("motor_power_loss", "winch_stall") and cab.winch != "motor":
+                raise _KeyedError(f"faults[{i}].kind", f"a {fault.kind} needs motor winches "
                                                        "(simulation.cables.winch = \"motor\")")
             if cab.model == "ideal" or cab.winch == "tension":
                 raise _KeyedError(f"faults[{i}].kind", f"a {fault.kind} needs a winch that pays out the cable: "

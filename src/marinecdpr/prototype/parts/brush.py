@@ -1,7 +1,11 @@
 """A cleaning brush on the hull (``[cleaning]``): its loads at the platform's actual velocity
 (:mod:`marinecdpr.model.brush`), less those along the plan that the controller's load
 model already holds, onto the bus's ``f_ext``, ``m_ext`` (in C, about P; held over the
-step by the plant)."""
+step by the plant).
+
+A ``brush_contact_loss`` fault (``[[faults]]``) is the part's mode: its normal force is zero
+over the fault's window (:func:`contact_lost`), so that the brush presses and drags nothing
+there; the controller's load model still holds the plan's brush loads (it is not told)."""
 
 from __future__ import annotations
 
@@ -13,7 +17,7 @@ from numba import njit
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 from marinecdpr.prototype.parts import part
 
-__all__ = ["BrushContact", "build", "contact_force", "normal_force"]
+__all__ = ["BrushContact", "build", "contact_force", "contact_lost", "normal_force"]
 
 
 @njit(cache=True)
@@ -84,9 +88,25 @@ def contact_force(reaction_y, cleaning, *, static_y_N: float = 0.0):
     return out if static_y_N == 0.0 else out + static_y_N * n_y
 
 
+def contact_lost(F_n, faults, h: float) -> np.ndarray:
+    """The brush's normal force (n_steps,), N, with the scenario's ``brush_contact_loss``
+    faults: zero from the first exchange at or after at_s until the first at or after at_s +
+    duration_s (to the end without it); a copy, F_n itself where there is none."""
+    lost = [f for f in faults if f.kind == "brush_contact_loss"]
+    if not lost:
+        return F_n
+    out = np.array(F_n, dtype=float, copy=True)
+    for f in lost:
+        k0 = int(np.ceil(f.at_s / h - 1e-9))
+        k1 = out.shape[0] if f.duration_s is None else int(np.ceil((f.at_s + f.duration_s) / h - 1e-9))
+        out[k0:k1] = 0.0
+    return out
+
+
 def build(context) -> list:
     """The brush's contact part (none without ``[cleaning]``): its planned loads at t_k
-    (``context.brush_h``'s every other row) and the normal force (:func:`normal_force`)."""
+    (``context.brush_h``'s every other row) and the normal force (:func:`normal_force`; zero
+    where the contact is lost, :func:`contact_lost`)."""
     from marinecdpr.model.brush import cleaning_brush
 
     scenario, n = context.scenario, context.n_steps
@@ -95,6 +115,7 @@ def build(context) -> list:
         return []
     f_b, m_b = context.brush_h.f, context.brush_h.m
     return [BrushContact(params=cleaning_brush(cleaning), n_C=np.asarray(cleaning.hull_normal, dtype=float),
-                         F_n=np.ascontiguousarray(normal_force(context.plan, scenario)[:n]),
+                         F_n=np.ascontiguousarray(contact_lost(normal_force(context.plan, scenario)[:n],
+                                                               scenario.faults, scenario.time.step_s)),
                          f_plan=np.ascontiguousarray(f_b[::2][:n]), m_plan=np.ascontiguousarray(m_b[::2][:n]),
                          v=np.zeros(3))]

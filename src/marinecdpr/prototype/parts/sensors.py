@@ -7,9 +7,10 @@ measures the platform (pose sensor, or the encoders through the controller's for
 kinematics) and the ship (the MRU, ``[simulation.mru]``); the load cells measure the
 tensions in open and closed loop.
 
-A load cell's or an encoder's faults (``[[faults]]``) are one more part after them,
-:class:`SensorFaults`, built only where a scenario lists one: it turns the faulty sensors'
-readings in the measurement into what they give (frozen, drifting, lost or non-finite).
+A load cell's, an encoder's or the MRU's faults (``[[faults]]``) are one more part after
+them, :class:`SensorFaults`, built only where a scenario lists one: it turns the faulty
+sensors' readings in the measurement into what they give (frozen, drifting, lost or
+non-finite).
 """
 
 from __future__ import annotations
@@ -197,7 +198,7 @@ def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
 
 
 # ----------------------------------------------------------------- a sensor's faults
-SENSOR_CHANNELS = {"load_cell": 0, "encoder": 1}
+SENSOR_CHANNELS = {"load_cell": 0, "encoder": 1, "mru": 2}
 SENSOR_MODE_CODES = {"freeze": 0, "drift": 1, "dropout": 2, "non_finite": 3}
 NEVER = np.iinfo(np.int64).max
 
@@ -217,17 +218,49 @@ def _faulty(value, f, k, h, part):
     return np.inf
 
 
+@njit(cache=True, inline="always")
+def _faulty_mru(f, k, h, part, meas):
+    """The MRU's fault f at exchange k on its sample meas.eta (3, 6) and its time stamp
+    meas.clock[2]: frozen (both as at k0), drifting (eta's six displacements plus the rate
+    times the time since at_s, m/s or rad/s; its rates and the stamp sound), lost (NaN, the
+    stamp too) or non-finite (eta +inf; the stamp sound)."""
+    mode = part.mode[f]
+    if mode == 0:
+        if k == part.k0[f]:
+            for d in range(3):
+                for j in range(6):
+                    part.held_eta[f, d, j] = meas.eta[d, j]
+            part.held_rate[f] = meas.clock[2]
+        for d in range(3):
+            for j in range(6):
+                meas.eta[d, j] = part.held_eta[f, d, j]
+        meas.clock[2] = part.held_rate[f]
+    elif mode == 1:
+        for j in range(6):
+            meas.eta[0, j] += part.rate[f] * (k * h - part.at_s[f])
+    else:
+        bad = np.nan if mode == 2 else np.inf
+        for d in range(3):
+            for j in range(6):
+                meas.eta[d, j] = bad
+        if mode == 2:
+            meas.clock[2] = np.nan
+
+
 @njit(cache=True)
 def sensor_faults_step(k, h, part, bus):
     """Each fault that acts at t_k (k0 <= k < k1) turns its sensor's reading in the
     measurement into the faulty one: a load cell's meas.T, an encoder's meas.L (and a frozen,
-    lost or non-finite encoder's meas.Ldot as its length: held, NaN or +inf)."""
+    lost or non-finite encoder's meas.Ldot as its length: held, NaN or +inf), the MRU's
+    meas.eta and meas.clock[2] (:func:`_faulty_mru`)."""
     meas = bus.meas
     for f in range(part.mode.shape[0]):
         if k < part.k0[f] or k >= part.k1[f]:
             continue
         i = part.cable[f]
-        if part.channel[f] == 0:
+        if part.channel[f] == 2:
+            _faulty_mru(f, k, h, part, meas)
+        elif part.channel[f] == 0:
             meas.T[i] = _faulty(meas.T[i], f, k, h, part)
         else:
             meas.L[i] = _faulty(meas.L[i], f, k, h, part)
@@ -241,14 +274,17 @@ def sensor_faults_step(k, h, part, bus):
                 meas.Ldot[i] = np.inf
 
 
-@part(step=sensor_faults_step, order=13.5, reads=("meas.T", "meas.L", "meas.Ldot"), writes=("meas.T", "meas.L", "meas.Ldot"))
+@part(step=sensor_faults_step, order=13.5, reads=("meas.T", "meas.L", "meas.Ldot", "meas.eta", "meas.clock"),
+      writes=("meas.T", "meas.L", "meas.Ldot", "meas.eta", "meas.clock"))
 class SensorFaults(NamedTuple):
-    """The load cells' and encoders' faults (``[[faults]]`` of kind ``load_cell`` or
-    ``encoder``), after the sensors have measured: one entry per fault. channel (f,) int64:
-    0 a load cell, 1 an encoder; cable (f,) int64, from 0; mode (f,) int64: 0 freeze, 1 drift,
-    2 dropout (NaN), 3 non-finite (+inf); k0, k1 (f,) int64: the exchanges from which and
-    until which (excluded) it acts; at_s (f,), s; rate (f,): a drift's, N/s or m/s. State:
-    held, held_rate (f,): a frozen sensor's reading and (an encoder's) rate."""
+    """The load cells', encoders' and the MRU's faults (``[[faults]]`` of kind ``load_cell``,
+    ``encoder`` or ``mru``), after the sensors have measured: one entry per fault. channel
+    (f,) int64: 0 a load cell, 1 an encoder, 2 the MRU; cable (f,) int64, from 0 (-1: the
+    MRU); mode (f,) int64: 0 freeze, 1 drift, 2 dropout (NaN), 3 non-finite (+inf); k0, k1
+    (f,) int64: the exchanges from which and until which (excluded) it acts; at_s (f,), s;
+    rate (f,): a drift's, N/s, m/s (or on the MRU m/s and rad/s). State: held, held_rate
+    (f,): a frozen sensor's reading and (an encoder's) rate (the MRU's time stamp, s);
+    held_eta (f, 3, 6): a frozen MRU's sample."""
 
     channel: np.ndarray
     cable: np.ndarray
@@ -259,6 +295,7 @@ class SensorFaults(NamedTuple):
     rate: np.ndarray
     held: np.ndarray
     held_rate: np.ndarray
+    held_eta: np.ndarray
 
 
 def sensor_faults(faults, h: float) -> SensorFaults | None:
@@ -274,10 +311,10 @@ def sensor_faults(faults, h: float) -> SensorFaults | None:
 
     return SensorFaults(
         channel=np.array([SENSOR_CHANNELS[f.kind] for f in fs], dtype=np.int64),
-        cable=np.array([f.cable - 1 for f in fs], dtype=np.int64),
+        cable=np.array([-1 if f.cable is None else f.cable - 1 for f in fs], dtype=np.int64),
         mode=np.array([SENSOR_MODE_CODES[f.mode] for f in fs], dtype=np.int64),
         k0=np.array([step(f.at_s) for f in fs], dtype=np.int64),
         k1=np.array([NEVER if f.duration_s is None else step(f.at_s + f.duration_s) for f in fs], dtype=np.int64),
         at_s=np.array([f.at_s for f in fs], dtype=float),
         rate=np.array([f.drift_per_s or 0.0 for f in fs], dtype=float),
-        held=np.zeros(len(fs)), held_rate=np.zeros(len(fs)))
+        held=np.zeros(len(fs)), held_rate=np.zeros(len(fs)), held_eta=np.zeros((len(fs), 3, 6)))

@@ -6,11 +6,12 @@ catenary's tension at the winch end, which the cable part computes too).
 
 Ideal cables apply the command as it is: they have no winch part.
 
-A winch's faults (``[[faults]]`` of kind ``winch_brake`` or ``motor_power_loss``) are a mode
-of these parts, built only where a scenario lists one: :class:`BrakedLagWinch` (a length-
-controlled winch whose brake holds its drum) and :class:`FaultyMotorWinch` (motor winches
-whose motor loses its power, the drum running under the cable's pull, and whose brake holds
-the drum after its delay).
+A winch's faults (``[[faults]]`` of kind ``winch_brake``, ``motor_power_loss`` or
+``winch_stall``) are a mode of these parts, built only where a scenario lists one:
+:class:`BrakedLagWinch` (a length-controlled winch whose brake holds its drum) and
+:class:`FaultyMotorWinch` (motor winches whose motor loses its power, the drum running under
+the cable's pull, or stalls at its torque limit, and whose brake holds the drum after its
+delay).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, 
 from marinecdpr.prototype.parts import part, part_step
 
 __all__ = ["LagWinch", "MotorWinch", "CatenaryMotorWinch", "BrakedLagWinch", "FaultyMotorWinch",
-           "MOTOR_LOOP_DAMPING", "fault_steps", "build"]
+           "MOTOR_LOOP_DAMPING", "fault_steps", "stall_steps", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -184,7 +185,10 @@ class BrakedLagWinch(NamedTuple):
 def faulty_motor_step(k, h, part, bus):
     """The motor winches' own step for the sound ones; a winch whose motor has lost its power
     (k >= k_power) steps again from where it was with no torque (its drive's copy ``free``:
-    the drum under the cable's pull against the inertia and friction); a drum whose brake
+    the drum under the cable's pull against the inertia and friction); one whose motor has
+    stalled (k >= k_stall, its power not lost) steps so with its torque limit ``tau_max``
+    winding in, whatever its loop commands (the drum reels in until the cable's pull balances
+    the limit, and pays out where the pull exceeds it); a drum whose brake
     holds (k >= k_brake: a fault's, or the controller's command's after the brake's delay)
     keeps the length it had paid out when the brake took hold, at rest."""
     drive, free = part.winch.drive, part.free
@@ -192,15 +196,16 @@ def faulty_motor_step(k, h, part, bus):
     for i in range(m):
         free.omega[i] = drive.omega[i]
         free.L0[i] = drive.L0[i]
-        part.zero[i] = 0.0
+        stalled = k >= part.k_stall[i] and k < part.k_power[i]
+        part.tau_fault[i] = drive.tau_max[i] if stalled else 0.0
     part_step(k, h, part.winch, bus)
     commanded_brakes(k, part, bus)
     T = bus.T_winch if part.heavy else bus.T_app
     any_free = False
     for i in range(m):
-        any_free = any_free or (k >= part.k_power[i] and k < part.k_brake[i])
+        any_free = any_free or ((k >= part.k_power[i] or k >= part.k_stall[i]) and k < part.k_brake[i])
     if any_free:
-        winch_motor_step(free, part.zero, T, h)
+        winch_motor_step(free, part.tau_fault, T, h)
     for i in range(m):
         if k >= part.k_brake[i]:
             if not part.held[i]:
@@ -211,10 +216,10 @@ def faulty_motor_step(k, h, part, bus):
             drive.tau[i] = 0.0
             bus.L0[i] = part.L0_held[i]
             bus.L0_drum[i] = part.L0_held[i]
-        elif k >= part.k_power[i]:
+        elif k >= part.k_power[i] or k >= part.k_stall[i]:
             drive.omega[i] = free.omega[i]
             drive.L0[i] = free.L0[i]
-            drive.tau[i] = 0.0
+            drive.tau[i] = 0.0 if k >= part.k_power[i] else free.tau[i]
             bus.L0[i] = free.L0[i] + 0.5 * free.r[i] / free.G[i] * h * free.omega[i]
             bus.L0_drum[i] = free.L0[i]
 
@@ -224,17 +229,20 @@ def faulty_motor_step(k, h, part, bus):
 class FaultyMotorWinch(NamedTuple):
     """Motor winches (``winch``: a :class:`MotorWinch` or :class:`CatenaryMotorWinch`; ``heavy``
     for the latter, whose drums carry ``T_winch``) some of which lose their motor's power or
-    brake. k_power, k_brake (m,) int64: the exchange from which each motor has no power, and
-    each brake holds (NEVER: never). free : WinchDrive, a copy of the drive stepped with no
-    torque; zero (m,): no torque, N m; held (m,) bool; L0_held (m,), m; delay : int, the
+    brake, or whose motor stalls. k_power, k_brake, k_stall (m,) int64: the exchange from which
+    each motor has no power, each brake holds, and each motor is stalled at its torque limit
+    (NEVER: never). free : WinchDrive, a copy of the drive stepped with the faulty motors'
+    torques; tau_fault (m,): those torques (0 without power, tau_max stalled), N m (scratch);
+    held (m,) bool; L0_held (m,), m; delay : int, the
     brakes' delay from the controller's command (``bus.brake``), exchanges."""
 
     winch: object
     heavy: bool
     k_power: np.ndarray
     k_brake: np.ndarray
+    k_stall: np.ndarray
     free: WinchDrive
-    zero: np.ndarray
+    tau_fault: np.ndarray
     held: np.ndarray
     L0_held: np.ndarray
     delay: int
@@ -242,8 +250,9 @@ class FaultyMotorWinch(NamedTuple):
 
 def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
     """The exchange k from which each of m winches has lost its motor's power, and from which
-    its brake holds (the first with t_k = k h >= the time, to 1e-9 of a step), from the
-    scenario's ``faults``; NEVER where not. Two (m,) int64 arrays."""
+    its brake holds (the first with t_k = k h >= the time, to 1e-9 of a step: a winch_brake's
+    primary after brake_delay_s, or where it fails its secondary after secondary_delay_s),
+    from the scenario's ``faults``; NEVER where not. Two (m,) int64 arrays."""
     power, brake = np.full(m, NEVER, dtype=np.int64), np.full(m, NEVER, dtype=np.int64)
 
     def step(t: float) -> int:
@@ -255,8 +264,22 @@ def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
             if f.brake_delay_s is not None:
                 brake[f.cable - 1] = step(f.at_s + f.brake_delay_s)
         elif f.kind == "winch_brake":
-            brake[f.cable - 1] = step(f.at_s + (f.brake_delay_s or 0.0))
+            if not f.primary_fails:
+                brake[f.cable - 1] = step(f.at_s + (f.brake_delay_s or 0.0))
+            elif f.secondary_delay_s is not None:  # the secondary brake, the primary having failed
+                brake[f.cable - 1] = step(f.at_s + f.secondary_delay_s)
     return power, brake
+
+
+def stall_steps(faults, m: int, h: float) -> np.ndarray:
+    """The exchange k from which each of m winches' motor is stalled at its torque limit (the
+    first with t_k = k h >= at_s, to 1e-9 of a step) from the scenario's ``winch_stall``
+    faults; NEVER where not. (m,) int64."""
+    stall = np.full(m, NEVER, dtype=np.int64)
+    for f in faults:
+        if f.kind == "winch_stall":
+            stall[f.cable - 1] = int(np.ceil(f.at_s / h - 1e-9))
+    return stall
 
 
 def with_faults(context, winch):
@@ -278,7 +301,7 @@ def with_faults(context, winch):
     d = winch.drive
     free = WinchDrive(*(np.array(a, copy=True) for a in d))
     return FaultyMotorWinch(winch=winch, heavy=isinstance(winch, CatenaryMotorWinch), k_power=power, k_brake=brake,
-                            free=free, zero=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
+                            k_stall=stall_steps(scenario.faults, m, h), free=free, tau_fault=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
                             delay=delay)
 
 
