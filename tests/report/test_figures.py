@@ -296,6 +296,7 @@ def test_the_kernel_cache_is_cold_without_an_index_and_warm_once_loaded(tmp_path
 
     probe = "from marinecdpr.prototype.simulation import kernels_cached; print(kernels_cached('mujoco'), kernels_cached('own'))"
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))  # an empty cache: nothing compiled yet
+    env.pop("MARINECDPR_CACHE_DIR", None)  # (which would take precedence over NUMBA_CACHE_DIR)
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=300)
     assert out.stdout.split() == ["False", "False"], out.stderr
     marinecdpr.simulate(marinecdpr.load_scenario("paper"), run="open_loop", n_steps=10)  # compiled or loaded
