@@ -909,8 +909,6 @@ def held_single_failure(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C
     FailureScreen
         One pose (the held one).
     """
-    from marinecdpr.planning.redundancy import single_failure_margin
-
     groups = wind_groups(scenario, cells)
     if groups:  # a wind that follows the sea: each wind's own (its rest wrench, its gust)
         own = held_single_failure(scenario, [], rail_S, hold_C=hold_C, accel_m_s2=accel_m_s2,
@@ -921,13 +919,7 @@ def held_single_failure(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C
         return replace(own, margin_N=_in_place(groups, parts, len(cells)))
     held, model, w0, per = _held(scenario, rail_S, hold_C, duration_s)
     w = (w0[None] + float(accel_m_s2) * np.array([1.0, -1.0])[:, None] * per[None])[None]   # (1, 2, 6)
-    still = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w)
-    if not cells:
-        return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
-    C0, C2 = _sea_and_gust(model, held, cells)
-    margin = single_failure_margin(held.robot, model.x_PC_C, model.R_PC, w, sea=(C0, C2),
-                                   extreme=lambda m0, m2: extreme_factor(m0, m2, float(hold_s), exceedance))
-    return FailureScreen(margin_N=margin, still_N=still, pose=model.pose)
+    return _failure_screen(held, model, w, cells, hold_s, exceedance)
 
 
 def held_acceleration(scenario: Scenario, cells: list[Cell], rail_S, *, hold_C, duration_s: float,
@@ -1060,8 +1052,6 @@ def single_failure_cells(scenario: Scenario, cells: list[Cell], *, hold_s: float
     model : ScreenModel, optional
         :func:`screen_model` of the scenario, if already made.
     """
-    from marinecdpr.planning.redundancy import single_failure_margin
-
     model = model if model is not None else screen_model(scenario)
     groups = wind_groups(scenario, cells)
     if groups:  # a wind that follows the sea: each wind's own linearisation
@@ -1072,6 +1062,15 @@ def single_failure_cells(scenario: Scenario, cells: list[Cell], *, hold_s: float
     P = scenario.cleaning.preload if scenario.cleaning is not None else 0.0
     loads = model.tool_n[None] + model.friction                               # (n_t, 6): still, sliding each way
     w = model.w0[:, None, :] - P * loads[None]                                # (n_p, n_t, 6)
+    return _failure_screen(scenario, model, w, cells, hold_s, exceedance)
+
+
+def _failure_screen(scenario: Scenario, model: ScreenModel, w: np.ndarray, cells: list, hold_s: float,
+                    exceedance: float) -> "FailureScreen":
+    """The single cable failure's margins of the wrenches ``w`` at the model's poses, at rest
+    and in each sea state (the sea and the gust at their extreme over ``hold_s``)."""
+    from marinecdpr.planning.redundancy import single_failure_margin
+
     still = single_failure_margin(scenario.robot, model.x_PC_C, model.R_PC, w)
     if not cells:
         return FailureScreen(margin_N=np.zeros((0,) + still.shape), still_N=still, pose=model.pose)
