@@ -165,6 +165,7 @@ def test_park_holds_the_pose_where_the_loss_was_detected(six):
     ("nan load cell", "load_cell", "non_finite"),
     ("frozen encoder", "encoder", "frozen"),
     ("mru dropout", "mru", "dropout"),
+    ("mru nan", "mru", "non_finite"),
     ("encoders disagree", "encoder", "disagree"),
 ])
 def test_a_lying_sensor_is_detected_and_the_controller_parks(six, what, sensor, kind):
@@ -191,6 +192,9 @@ def test_a_lying_sensor_is_detected_and_the_controller_parks(six, what, sensor, 
             meas["lengths"] = held["L"].copy()
         elif what == "mru dropout":  # its last sample: K0's
             meas["t_ship"] = (K0 + 0.5) * h
+        elif what == "mru nan":  # lost, as the prototype's MRU fault reads it: no sample, no stamp
+            meas["eta"][:] = np.nan
+            meas["t_ship"] = np.nan
         elif what == "encoders disagree":  # cable 2's encoder drifts 1.1 mm an exchange
             meas["lengths"][2] += 0.0011 * (k - K0 + 1)
 
@@ -219,6 +223,11 @@ def test_a_lying_sensor_is_detected_and_the_controller_parks(six, what, sensor, 
     assert d.step == expect
     assert ctl.reaction == "park"
     assert all(o[4] == "normal" for o in out[:expect])
+    if sensor == "mru":  # parked on the last sound sample: tensions that hold the wrench, no brake
+        dofs = list(six.robot.controlled)
+        for T, brake, J, w, mode in out[expect:]:
+            assert np.isfinite(T).all() and not brake.any()
+            assert np.abs((J.T @ T)[dofs] - w[dofs]).max() < 1e-9
 
 
 def test_on_the_plan_nothing_is_detected_and_the_watch_changes_no_command(six):

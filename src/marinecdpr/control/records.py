@@ -255,7 +255,8 @@ class Safety(NamedTuple):
     is lost; bad (4,) int, 1 where a sensor is faulty; mode (1,) int, a :data:`MODES` value;
     since (1,) int, the step the reaction started; hold_x (3,), hold_R (3, 3): the pose the
     controller holds (park, stop), in C; last_x (3,), last_L (m,): the previous exchange's
-    pose sensor's and encoders' readings; moved_x (1,), moved_L (m,): how far the plan moved
+    pose sensor's and encoders' readings; last_eta (3, 6): the MRU's last sound sample (what
+    the reaction uses once the MRU is faulty; NaN before the first); moved_x (1,), moved_L (m,): how far the plan moved
     since each reading last changed, m; lo, hi (m,): the tension limits the step solves
     within (a lost cable's both 0), N; events (MAX_EVENTS, 4) int: each detection's step, kind
     (:data:`KINDS`), sensor (:data:`SENSORS`, -1 for a cable) and cable (-1 for none);
@@ -283,6 +284,7 @@ class Safety(NamedTuple):
     hold_R: np.ndarray
     last_x: np.ndarray
     last_L: np.ndarray
+    last_eta: np.ndarray
     moved_x: np.ndarray
     moved_L: np.ndarray
     lo: np.ndarray
@@ -307,7 +309,7 @@ def empty_safety(m: int, lo: np.ndarray, hi: np.ndarray, *, detect: bool = False
                   stop_kd=float(stop_kd), present=np.ones(4, dtype=np.int64), count=np.zeros((2, m), dtype=np.int64),
                   lost=np.zeros(m, dtype=np.int64), bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
                   since=np.full(1, -1, dtype=np.int64), hold_x=np.zeros(3), hold_R=np.eye(3),
-                  last_x=np.full(3, np.nan), last_L=np.full(m, np.nan), moved_x=np.zeros(1), moved_L=np.zeros(m),
+                  last_x=np.full(3, np.nan), last_L=np.full(m, np.nan), last_eta=np.full((3, 6), np.nan), moved_x=np.zeros(1), moved_L=np.zeros(m),
                   lo=np.array(lo, dtype=float), hi=np.array(hi, dtype=float),
                   events=np.full((MAX_EVENTS, 4), -1, dtype=np.int64), n_events=np.zeros(1, dtype=np.int64),
                   peak=np.zeros(len(RESIDUALS)), zero=np.zeros(3), Ls=np.zeros(m), Js=np.zeros((m, 6)))

@@ -86,8 +86,9 @@ def cables_at(x, R, model, L, J):
 
 
 @njit(cache=_cache, inline="always")
-def estimate_state(k, h, meas, ref, work, how, predictor):
-    """The platform's and the ship's state at mid-step, t_k + h/2, from the measurement.
+def estimate_state(k, h, meas, eta, ref, work, how, predictor):
+    """The platform's and the ship's state at mid-step, t_k + h/2, from the measurement and
+    the MRU's sample eta (3, 6) (the measurement's, or its last sound one: :func:`react`).
 
     Writes x, R, v, w of the platform in C and the ship's R_SO, omega and alpha in S to
     ``work``; returns the acceleration of S's origin in O (3,). Each is predicted from its
@@ -115,7 +116,7 @@ def estimate_state(k, h, meas, ref, work, how, predictor):
         w_m[i] = w_m[i] + hh * al[i]
         for j in range(3):
             R_m[i, j] = R_m[i, j] + hh * WR[i, j]
-    eta, eta_p = meas.eta, work.eta
+    eta_p = work.eta
     if how == 2:  # the autoregressive model (the kinematic extrapolation while it warms up)
         fc = work.forecast
         if ship_forecast(predictor, meas.clock[2], eta, meas.clock[0] + 0.5 * h, fc) >= 0:
@@ -213,7 +214,7 @@ def pose_from_encoders(meas, model, work, gains):
 
 
 @njit(cache=_cache, inline="always")
-def _computed_torque(gains, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, work):
+def _computed_torque(kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, work):
     """Computed torque on the error to the target (x_t, R_t, v_t, w_t, a_t, al_t) from the
     estimated state (``work.x``, R, v, w): a = a_t + kd (v_t - v) + kp (x_t - x), the rotation
     error in C; written to ``work.a_cmd``."""
@@ -242,17 +243,51 @@ def _required_wrench(k, model, loads, work, a_SO):
     cables_at(x_m, R_m, model, work.L, work.J)
 
 
+@njit(cache=_cache)
+def _tensions_for(k, h, eta, how, blind, hold_x, hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, lost, lo, hi, ref,
+                  model, loads, meas, cmd, work, predictor):
+    """The state at mid-step (:func:`estimate_state` from the MRU's sample eta (3, 6), ``how``
+    a ``Gains.prediction``; where ``blind``, the pose ``hold_x``, ``hold_R`` at rest instead),
+    computed torque with gains kp, kd on the error to the target (x_t, R_t, v_t, w_t, a_t,
+    al_t), the wrench it needs (eq. 15) and the tension method within lo, hi (m,), the cables
+    where ``lost`` (m,) is non-zero left out (their rows of J~ zeroed): T_cmd. True where
+    within the limits. The one solve of the normal step and of every reaction, compiled once
+    (inlined at each of their call sites, it cost seconds of compiling each)."""
+    a_SO = estimate_state(k, h, meas, eta, ref, work, how, predictor)
+    if blind:  # no pose to feed back: the held pose, at rest (feed-forward)
+        for i in range(3):
+            work.x[i] = hold_x[i]
+            work.v[i] = 0.0
+            work.w[i] = 0.0
+            for j in range(3):
+                work.R[i, j] = hold_R[i, j]
+    _computed_torque(kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, work)
+    _required_wrench(k, model, loads, work, a_SO)
+    for i in range(cmd.T_cmd.shape[0]):
+        if lost[i] != 0:
+            for j in range(6):
+                work.J[i, j] = 0.0
+    # every method, exact for any redundancy, compiled (the planning layer's solvers)
+    return tensions_step(work.J, work.wrench, model.controlled, lo, hi, model.method, cmd.T_cmd, work.tension)
+
+
 @njit(cache=_cache, inline="always")
-def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predictor):
+def _blind(gains, s):
+    """The pose the controller feeds back is lost (its sensor faulty): never in the normal step."""
+    return (s.bad[_POSE] != 0 and gains.pose_from == 0) or (s.bad[_ENCODER] != 0 and gains.pose_from == 1)
+
+
+@njit(cache=_cache, inline="always")
+def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
     """Computed torque on the mid-step reference, the wrench it needs (eq. 15) and the
     tension method: T_cmd. Returns 1 where the method has no solution within limits (then
-    the plan's tensions are commanded)."""
-    a_SO = estimate_state(k, h, meas, ref, work, gains.prediction, predictor)
-    _computed_torque(gains, gains.kp, gains.kd, ref.x[k], ref.R[k], ref.v[k], ref.w[k], ref.a[k], ref.al[k], work)
-    _required_wrench(k, model, loads, work, a_SO)
-    # every method, exact for any redundancy, compiled (the planning layer's solvers)
-    if tensions_step(work.J, work.wrench, model.controlled, model.lo, model.hi, model.method, cmd.T_cmd,
-                       work.tension):
+    the plan's tensions are commanded). ``s``, the safety record: in the normal step no cable
+    is lost and no sensor faulty (each argument of the solve a run-time value, as the
+    reaction's: one compiled solve for both)."""
+    x_t, R_t = ref.x[k], ref.R[k]
+    if _tensions_for(k, h, meas.eta, gains.prediction, _blind(gains, s), x_t, R_t, gains.kp, gains.kd, x_t, R_t,
+                     ref.v[k], ref.w[k], ref.a[k], ref.al[k], s.lost, model.lo, model.hi, ref, model, loads, meas, cmd,
+                     work, predictor):
         return 0
     for i in range(cmd.T_cmd.shape[0]):  # element by element: a slice copy compiles numba's shape-error text (1.4 s)
         cmd.T_cmd[i] = ref.T[k, i]
@@ -361,6 +396,10 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
             if r > 1.0:
                 s.bad[_MRU] = 1
                 _detected(s, k, _DROPOUT, _MRU, -1)
+        if s.bad[_MRU] == 0:  # kept for the reaction, should the MRU fail
+            for d in range(3):
+                for j in range(6):
+                    s.last_eta[d, j] = meas.eta[d, j]
     # a cable's load cell far below its command, for the stated time
     if s.present[_CELL] != 0 and s.bad[_CELL] == 0:
         for i in range(m):
@@ -445,49 +484,30 @@ def _hold_here(k, ref, s):
             s.hold_R[i, j] = ref.R[k, i, j]
 
 
-_SCALES = (1.0, 0.5, 0.25, 0.0)
-"""The shares of a reaction's feedback (or of the stop's deceleration) tried in turn, until
-the remaining cables have tensions within their limits for it."""
-
-
 @njit(cache=_cache, inline="always")
 def _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, work, predictor, s):
     """The tensions of a reaction ``mode`` with ``scale`` times its feedback (go on, park) or
     its deceleration (stop), within the safety record's limits (a lost cable's both 0, its row
-    of J~ zeroed), written to T_cmd; True if within them."""
-    blind = (s.bad[_POSE] != 0 and gains.pose_from == 0) or (s.bad[_ENCODER] != 0 and gains.pose_from == 1)
-    a_SO = estimate_state(k, h, meas, ref, work, 0 if s.bad[_MRU] != 0 else gains.prediction, predictor)
-    if blind:  # no pose to feed back: the held pose, at rest (feed-forward)
-        for i in range(3):
-            work.x[i] = s.hold_x[i]
-            work.v[i] = 0.0
-            work.w[i] = 0.0
-            for j in range(3):
-                work.R[i, j] = s.hold_R[i, j]
+    of J~ zeroed), written to T_cmd; True if within them. The target: the plan's (go on), the
+    held pose at rest (park), or rest where it is (the stop: a wrench opposing the motion)."""
     z = s.zero
-    if mode == _GO_ON:
-        _computed_torque(gains, scale * gains.kp, scale * gains.kd, ref.x[k], ref.R[k], ref.v[k], ref.w[k], ref.a[k],
-                         ref.al[k], work)
-    elif mode == _PARK:
-        _computed_torque(gains, scale * gains.kp, scale * gains.kd, s.hold_x, s.hold_R, z, z, z, z, work)
-    else:  # the stop: a wrench opposing the motion, to rest
-        _computed_torque(gains, 0.0, scale * s.stop_kd, work.x, work.R, z, z, z, z, work)
-    _required_wrench(k, model, loads, work, a_SO)
-    for i in range(cmd.T_cmd.shape[0]):
-        if s.lost[i] != 0:
-            for j in range(6):
-                work.J[i, j] = 0.0
-    return tensions_step(work.J, work.wrench, model.controlled, s.lo, s.hi, model.method, cmd.T_cmd, work.tension)
+    kp, kd = scale * gains.kp, scale * gains.kd
+    x_t, R_t, v_t, w_t, a_t, al_t = ref.x[k], ref.R[k], ref.v[k], ref.w[k], ref.a[k], ref.al[k]
+    if mode == _PARK:
+        x_t, R_t, v_t, w_t, a_t, al_t = s.hold_x, s.hold_R, z, z, z, z
+    elif mode != _GO_ON:  # the stop: its target is the estimate itself (written before it is read)
+        kp, kd = 0.0, scale * s.stop_kd
+        x_t, R_t, v_t, w_t, a_t, al_t = work.x, work.R, z, z, z, z
+    eta, how = meas.eta, gains.prediction
+    if s.bad[_MRU] != 0:  # the MRU's last sound sample, as it is
+        eta, how = s.last_eta, 0
+    return _tensions_for(k, h, eta, how, _blind(gains, s), s.hold_x, s.hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t,
+                         s.lost, s.lo, s.hi, ref, model, loads, meas, cmd, work, predictor)
 
 
-@njit(cache=_cache, inline="always")
-def _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s):
-    """:func:`_reaction_tensions` at the first of :data:`_SCALES` with tensions within limits;
-    False where none has."""
-    for scale in _SCALES:
-        if _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, work, predictor, s):
-            return True
-    return False
+_SCALES = (1.0, 0.5, 0.25, 0.0)
+"""The shares of a reaction's feedback (or of the stop's deceleration) tried in turn, until
+the remaining cables have tensions within their limits for it."""
 
 
 @njit(cache=_cache)
@@ -497,31 +517,35 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
     A lost cable where the rest still hold the wrench within their limits: its tension
     redistributed on the plan (go on) or, with ``park``, the pose held; a faulty sensor: the
     pose held (fed forward from the held pose where the pose itself is lost; the MRU's last
-    sample as it is where it dropped out). Each with its full feedback, or where that has no
-    tensions within limits, half, a quarter or none of it (the plan's, or the held pose's,
-    feed-forward). Where the remaining cables have no tensions within limits even for that,
-    the stop: a = -stop_kd v (a wrench opposing the motion, to rest), or the largest share of
-    that deceleration (1, 1/2, 1/4, 0: held at its velocity) within limits; where not even
-    that, the brakes (``cmd.brake``), the remaining winches holding the plan's tensions within
-    their limits. Writes T_cmd, L0_cmd (the lengths at the held pose, or the plan's when going
-    on) and brake; returns 1 once the reaction is the brakes, else 0.
+    sound sample as it is where it dropped out or read non-finite). Each with its full
+    feedback, or where that has no tensions within limits, half, a quarter or none of it (the
+    plan's, or the held pose's, feed-forward). Where the remaining cables have no tensions
+    within limits even for that, the stop: a = -stop_kd v (a wrench opposing the motion, to
+    rest), or the largest share of that deceleration (1, 1/2, 1/4, 0: held at its velocity)
+    within limits; where not even that, the brakes (``cmd.brake``), the remaining winches
+    holding the plan's tensions within their limits. Writes T_cmd, L0_cmd (the lengths at the
+    held pose, or the plan's when going on) and brake; returns 1 once the reaction is the
+    brakes, else 0.
     """
     mode = s.mode[0]
-    if mode != _BRAKE and not _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s):
+    while mode != _BRAKE:  # the mode, then the stop, then the brakes: one call site of the solve
         ok = False
+        for scale in _SCALES:
+            if _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, work, predictor, s):
+                ok = True
+                break
+        if ok:
+            break
         if mode != _STOP:  # the stop, from where it is
             mode = _STOP
-            s.mode[0] = mode
-            s.since[0] = k
             for i in range(3):
                 s.hold_x[i] = work.x[i]
                 for j in range(3):
                     s.hold_R[i, j] = work.R[i, j]
-            ok = _within_some_scale(k, h, mode, ref, model, gains, loads, meas, cmd, work, predictor, s)
-        if not ok:
+        else:
             mode = _BRAKE
-            s.mode[0] = mode
-            s.since[0] = k
+        s.mode[0] = mode
+        s.since[0] = k
     m = cmd.T_cmd.shape[0]
     if mode == _BRAKE:
         for i in range(m):
@@ -583,7 +607,7 @@ def control_step(k, h, held):
     if gains.closed:
         if gains.pose_from == 1:
             cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
-        fallback = _feedback_tensions(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor)
+        fallback = _feedback_tensions(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor, safety)
     else:
         for i in range(cmd.T_cmd.shape[0]):
             cmd.T_cmd[i] = ref.T[k, i]
