@@ -14,7 +14,7 @@ import pytest
 
 import marinecdpr
 from marinecdpr.prototype.simulation import simulate
-from marinecdpr.studies.faults import FaultCase, fault_study, hardest_moments
+from marinecdpr.studies.faults import REST_M_S, FaultCase, fault_study, hardest_moments
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 JOB_S, AFTER_S = 4.0, 1.0
@@ -180,3 +180,16 @@ def test_on_six_cables_the_detection_s_delay_decides_a_mid_left_break(six):
     assert quick.detection_delay_s == pytest.approx(0.005, abs=1e-12) and quick.reaction == "go_on"
     assert quick.verdict == "safe" and quick.end_deviation_m < 1e-3
     assert slow.static_margin_N == quick.static_margin_N > 0
+
+
+def test_an_mru_that_drops_out_is_detected_at_once_and_the_platform_parks_on_its_last_sample(four):
+    """The ship's motion reference unit gives NaN (sample and stamp) from 1 s on paper_clean: the
+    watch reads it as non-finite at that exchange, and the controller parks on the MRU's last
+    sound sample: the tensions it commands hold the platform (no brake), which ends at rest
+    (1.2 mm/s, the ship's motion it no longer measures) where it parked: safe. (Fed the NaN sample, the reaction found no tensions and braked.)"""
+    sc, plan = four
+    [row] = fault_study(sc, [FaultCase("mru", None, 1.0, "given")], after_s=AFTER_S, plant="mujoco", plan=plan,
+                        sensor_mode="dropout").rows
+    assert row.detected and row.detection_delay_s == 0.0 and row.detection == "non_finite (mru)"
+    assert row.reaction == "park" and row.brakes_held == 0 and row.within_frame
+    assert row.verdict == "safe" and row.end_speed_m_s < REST_M_S

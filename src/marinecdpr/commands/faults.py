@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 __all__ = ["FaultsSpec", "FaultsEstimate", "FaultsResult", "estimate", "run", "KINDS"]
 
 KINDS = {"snap": "cable_snap", "brake": "winch_brake", "power": "motor_power_loss", "load_cell": "load_cell",
-         "encoder": "encoder", "deadline": "controller_deadline"}
+         "encoder": "encoder", "mru": "mru", "deadline": "controller_deadline"}
 """The command line's names of the fault kinds (``[[faults]]``' kind names are taken too)."""
 
 
@@ -60,10 +60,11 @@ class FaultsSpec(Spec):
     Attributes
     ----------
     kinds : tuple of str
-        The faults flown, each on every cable of ``cables`` (``deadline``: once): snap (a cable
-        breaks), brake (its winch's brake holds the drum), power (its motor loses its power),
-        load_cell, encoder (the sensor fails in ``sensor_mode``), deadline (the controller
-        misses its deadline for ``deadline_steps`` exchanges); ``"snap,brake"`` is taken too.
+        The faults flown, each on every cable of ``cables`` (``mru``, ``deadline``: once): snap
+        (a cable breaks), brake (its winch's brake holds the drum), power (its motor loses its
+        power), load_cell, encoder, mru (the sensor fails in ``sensor_mode``; the motion
+        reference unit is the ship's, no cable's), deadline (the controller misses its deadline
+        for ``deadline_steps`` exchanges); ``"snap,brake"`` is taken too.
     cables : tuple of int, optional
         Which cables (from 1, as ``[[robot.cables]]`` lists them); default every cable.
     at : tuple of float, optional
@@ -83,7 +84,8 @@ class FaultsSpec(Spec):
     sensor_mode : {"freeze", "drift", "dropout", "non_finite"}
         How a failing sensor fails.
     drift : float
-        A drifting sensor's rate (N/s on a load cell, m/s on an encoder).
+        A drifting sensor's rate (N/s on a load cell, m/s on an encoder, m/s or rad/s on each of
+        the MRU's six displacements).
     brake_delay : float, optional
         A winch fault's brake delay, s (brake: default 0; power: none, the drum runs free).
     deadline_steps : int
@@ -271,7 +273,7 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
     from marinecdpr.errors import ScenarioError
     from marinecdpr.planning.budget import check_run_size
     from marinecdpr.planning.planner import plan as make_plan
-    from marinecdpr.studies.faults import EARLIEST_S, FaultCase, fault_entry, hardest_moments
+    from marinecdpr.studies.faults import EARLIEST_S, UNCABLED, FaultCase, fault_entry, hardest_moments
 
     m = scenario.robot.n_cables
     cables = spec.cables or tuple(range(1, m + 1))
@@ -304,7 +306,7 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
             name = next((k for k, v in KINDS.items() if v == kind), kind)
             raise SpecError("kinds", name, exc.detail) from None
     plant_ = spec.plant or first.simulation.plant
-    n_cases = sum(1 if k == "controller_deadline" else len(cables) for k in spec.kinds)
+    n_cases = sum(1 if k in UNCABLED else len(cables) for k in spec.kinds)
     runs = n_cases * (len(spec.at) if spec.at else 2) * len(in_seas)
     try:
         size = check_run_size(first, "simulate", repeat=max(1, runs))
@@ -316,9 +318,8 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
         moments = ([("given", t) for t in spec.at] if spec.at is not None
                    else hardest_moments(plan, earliest_s=EARLIEST_S, latest_s=latest))
         plans.append(plan)
-        cases.append(tuple(FaultCase(kind=k, cable=None if k == "controller_deadline" else c, at_s=t, moment=label)
-                           for label, t in moments for k in spec.kinds
-                           for c in ((None,) if k == "controller_deadline" else cables)))
+        cases.append(tuple(FaultCase(kind=k, cable=None if k in UNCABLED else c, at_s=t, moment=label)
+                           for label, t in moments for k in spec.kinds for c in ((None,) if k in UNCABLED else cables)))
     return FaultsEstimate(scenario=first.name, size=size, seas=tuple(sea for _, sea in in_seas),
                           flown=tuple(sc for sc, _ in in_seas), plans=tuple(plans), cases=tuple(cases), plant=plant_)
 

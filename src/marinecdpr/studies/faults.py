@@ -37,7 +37,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.planning.redundancy import single_failure_margin
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["FaultCase", "FaultRow", "FaultStudy", "hardest_moments", "fault_entry", "judge_run", "verdict",
+__all__ = ["FaultCase", "FaultRow", "FaultStudy", "UNCABLED", "hardest_moments", "fault_entry", "judge_run", "verdict",
            "fault_study", "combined", "EARLIEST_S", "HULL_CONTACT_M", "REST_M_S", "CABLE_LOST"]
 
 EARLIEST_S = 0.1
@@ -184,12 +184,21 @@ def hardest_moments(plan, *, earliest_s: float, latest_s: float) -> list[tuple[s
     return out
 
 
+UNCABLED = ("mru", "controller_deadline")
+"""The fault kinds that strike no cable (the ship's motion reference unit, the controller): flown once."""
+
+
 def fault_entry(case: FaultCase, *, sensor_mode: str, drift_per_s: float, brake_delay_s: float | None,
                 deadline_steps: int) -> dict:
     """The ``[[faults]]`` entry that flies ``case``."""
     f = {"kind": case.kind, "at_s": case.at_s}
     if case.kind == "controller_deadline":
         f["steps"] = deadline_steps
+        return f
+    if case.kind == "mru":
+        f["mode"] = sensor_mode
+        if sensor_mode == "drift":
+            f["drift_per_s"] = drift_per_s
         return f
     f["cable"] = case.cable
     if case.kind in ("load_cell", "encoder"):
