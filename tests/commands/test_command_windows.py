@@ -22,6 +22,7 @@ from command_pages import assert_table_is_the_spec, options_table, page, run_pag
 
 runner = CliRunner()
 HS = [1.0, 1.0, 3.0, 1.0, 1.0, 1.0, 3.0, 3.0, 1.0, 1.0]  # hourly; under 2 m at 0-2, 3-6, 8-10 h
+WIND = [5.0, 12.0, 20.0, 8.0, 15.0, 10.0, 14.0, 3.0, 9.0, 11.0]  # m/s; over 12 m/s at 4 h within the Hs window 3-6 h
 
 
 @pytest.fixture()
@@ -44,6 +45,13 @@ def series(tmp_path) -> Path:
     ({"duration_h": 2.0, "hs_limit": 2.0, "operability": "op.json"}, "hs_limit",
      "hs_limit 2 with --operability op.json: give one design limit: --hs-limit H or --operability FILE.json, not both"),
     ({"hs_limit": 2.0}, "duration_h", "duration_h not given: the option is required"),
+    ({"duration_h": 2.0, "hs_limit": 2.0, "wind_limit": 0.0}, "wind_limit", "wind_limit 0: expected a positive number"),
+    ({"duration_h": 2.0, "hs_limit": 2.0, "wind_limit": -12.0}, "wind_limit",
+     "wind_limit -12: expected a positive number"),
+    ({"duration_h": 2.0, "hs_limit": 2.0, "wind_limit": float("inf")}, "wind_limit",
+     "wind_limit inf: expected a finite number"),
+    ({"duration_h": 2.0, "hs_limit": 2.0, "wind_limit": float("nan")}, "wind_limit",
+     "wind_limit nan: expected a finite number"),
 ])
 def test_a_bad_option_is_one_error_naming_its_field(options, field, words):
     with pytest.raises(SpecError) as err:
@@ -143,3 +151,122 @@ def test_the_page_runs_as_written(tmp_path, monkeypatch):
     assert s["finish_within_days_probability"] == {f"{d:g}": p for d, p in ns["finish"].items()}
     finish = list(ns["finish"].values())
     assert finish == sorted(finish) and 0.0 < finish[-1] <= 1.0  # more days, no less likely
+
+
+# ------------------------------------------------------------------ the wind (issue 40, item 1)
+@pytest.fixture()
+def windy(tmp_path) -> Path:
+    path = tmp_path / "windy.csv"
+    path.write_text("time_h,hs_m,tp_s,wind_m_s\n" + "".join(f"{i},{h},8,{u}\n" for i, (h, u) in
+                                                            enumerate(zip(HS, WIND))))
+    return path
+
+
+def test_a_wind_limit_closes_a_window_in_the_files_and_the_line(windy, tmp_path):
+    """By hand: under Hs 2 m and 12 m/s the samples at 0, 1, 3, 5, 8, 9 h are workable (the
+    wind, 15 m/s, closes 4 h): windows 0-2, 3-4, 5-6, 8-10, of them 0-2 and 8-10 fit 2 h.
+    From t = 0..8 the waits are 0, 7, 6, 5, 4, 3, 2, 1, 0 h (mean 28/9 h), none from 9 h;
+    done within 3 h (a wait of at most 1 h) from 0, 7, 8 h: 3 of 10, within a day 9 of 10;
+    workable 60 % of the time, 70 % by Hs alone."""
+    spec = WindowsSpec(duration_h=2.0, hs_limit=2.0, days="0.125,1", wind_limit=12.0)
+    result = command.run(spec, windy)
+    w = result.windows
+    assert w.windows == [(0.0, 2.0), (3.0, 4.0), (5.0, 6.0), (8.0, 10.0)]
+    np.testing.assert_array_equal(w.wait_h[:9], [0, 7, 6, 5, 4, 3, 2, 1, 0])
+    assert np.isnan(w.wait_h[9]) and w.mean_wait_h == pytest.approx(28 / 9)
+    assert result.finish_probability() == {0.125: pytest.approx(0.3), 1.0: pytest.approx(0.9)}
+    assert [p.name for p in result.write(tmp_path / "py")] == ["windows.csv", "summary.json", "windows.png"]
+    out = tmp_path / "cli"
+    res = runner.invoke(app, ["windows", str(windy), "--duration-h", "2", "--hs-limit", "2", "--days", "0.125,1",
+                              "--wind-limit", "12", "--out", str(out)], terminal_width=4000)
+    assert res.exit_code == 0, res.output
+    for name in ("windows.csv", "summary.json"):
+        assert (tmp_path / "py" / name).read_bytes() == (out / name).read_bytes(), name
+    rows = np.genfromtxt(out / "windows.csv", delimiter=",", names=True)
+    assert rows["start_h"].tolist() == [0.0, 3.0, 5.0, 8.0] and rows["long_enough"].tolist() == [1, 0, 0, 1]
+    s = json.loads((out / "summary.json").read_text())
+    assert s["wind_limit_m_s"] == 12.0 and s["design_limit"] == "Hs 2 m"
+    assert s["workable_share"] == pytest.approx(0.6) and s["workable_share_hs_alone"] == pytest.approx(0.7)
+    assert s["windows"] == 4 and s["windows_long_enough"] == 2 and s["mean_wait_h"] == pytest.approx(28 / 9)
+    assert s["finish_within_days_probability"] == {"0.125": pytest.approx(0.3), "1": pytest.approx(0.9)}
+    line = res.output.strip().splitlines()[-1]
+    assert line.startswith("4 windows with Hs within its limit and the wind within 12 m/s (workable 60.0 % of "
+                           "the time, 70.0 % by Hs alone), 2 of them 2 h or longer; wait before the operation can "
+                           "start: 3.1 h on average"), line
+    assert "done within 0.125 days: 30.0 %, 1 day: 90.0 %" in line
+
+
+def test_without_a_wind_limit_a_series_with_the_wind_gives_the_hs_only_answer(series, windy, tmp_path):
+    """The windy series without --wind-limit: windows.csv byte for byte and every number of
+    summary.json the Hs-only series' (0-2, 3-6, 8-10 h, mean wait 1 h, 0.6 and 0.9 done); the
+    summary says the wind limit is null, the line that the wind is not judged."""
+    args = ["--duration-h", "2", "--hs-limit", "2", "--days", "0.125,1"]
+    res_hs = runner.invoke(app, ["windows", str(series), *args, "--out", str(tmp_path / "hs")], terminal_width=4000)
+    res_wind = runner.invoke(app, ["windows", str(windy), *args, "--out", str(tmp_path / "w")], terminal_width=4000)
+    assert res_hs.exit_code == 0 and res_wind.exit_code == 0, res_wind.output
+    assert (tmp_path / "hs" / "windows.csv").read_bytes() == (tmp_path / "w" / "windows.csv").read_bytes()
+    hs, wind = (json.loads((tmp_path / d / "summary.json").read_text()) for d in ("hs", "w"))
+    assert "wind_limit_m_s" not in hs and wind.pop("wind_limit_m_s") is None
+    assert "workable_share_hs_alone" not in wind
+    for key in set(hs) - {"series", "meaning"}:
+        assert wind[key] == hs[key], key
+    assert hs["mean_wait_h"] == pytest.approx(1.0) and hs["finish_within_days_probability"] == {
+        "0.125": pytest.approx(0.6), "1": pytest.approx(0.9)}
+    line_hs, line_wind = (r.output.strip().splitlines()[-1] for r in (res_hs, res_wind))
+    assert line_hs.startswith("3 windows, 3 of them 2 h or longer")
+    assert line_wind.startswith("3 windows by Hs alone (the series' wind_m_s is read, not judged: no --wind-limit), "
+                                "3 of them 2 h or longer")
+    assert line_hs.split("; written to")[0].replace("3 windows, ", "") == \
+        line_wind.split("; written to")[0].replace(
+            "3 windows by Hs alone (the series' wind_m_s is read, not judged: no --wind-limit), ", "")
+
+
+@pytest.mark.parametrize("limit, words", [
+    ("0", "--wind-limit 0: expected a positive number"),
+    ("-3", "--wind-limit -3: expected a positive number"),
+    ("inf", "--wind-limit inf: expected a finite number"),
+    ("nan", "--wind-limit nan: expected a finite number"),
+])
+def test_a_bad_wind_limit_is_one_line_and_nothing_written(limit, words, windy, tmp_path):
+    from conftest import one_line_exit_2
+
+    res = runner.invoke(app, ["windows", str(windy), "--duration-h", "2", "--hs-limit", "2", "--wind-limit", limit,
+                              "--out", str(tmp_path / "o")], terminal_width=4000)
+    assert one_line_exit_2(res) == f"error: {words}"
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_wind_limit_for_a_series_without_the_wind_is_one_line_and_nothing_written(series, tmp_path):
+    from conftest import one_line_exit_2
+
+    res = runner.invoke(app, ["windows", str(series), "--duration-h", "2", "--hs-limit", "2", "--wind-limit", "12",
+                              "--out", str(tmp_path / "o")], terminal_width=4000)
+    assert one_line_exit_2(res) == (f"error: {series}: --wind-limit 12 m/s needs each sample's wind: the series has "
+                                    "no column wind_m_s (add it: the mean wind at 10 m, m/s; or leave --wind-limit "
+                                    "out)")
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(ScenarioError, match="has no column wind_m_s"):
+        command.estimate(WindowsSpec(duration_h=2.0, hs_limit=2.0, wind_limit=12.0), series)
+    # the illustrative series has no wind either
+    with pytest.raises(ScenarioError, match="sea_states_illustrative.csv: --wind-limit 12 m/s needs"):
+        command.estimate(WindowsSpec(duration_h=2.0, hs_limit=2.0, wind_limit=12.0))
+
+
+@pytest.mark.parametrize("value, words", [
+    ("-1", "line 6, wind_m_s: expected a finite non-negative number, got -1"),
+    ("nan", "line 6, wind_m_s: expected a finite non-negative number, got nan"),
+    ("x", "line 6, wind_m_s: expected a number, got 'x'"),
+    ("71", "line 6, wind_m_s: 71 m/s is outside 0 .. 70 m/s"),
+])
+def test_a_bad_wind_in_the_series_is_one_line_naming_row_and_column(value, words, windy, tmp_path):
+    """Refused with or without --wind-limit: the column is read either way."""
+    from conftest import one_line_exit_2
+
+    lines = windy.read_text().splitlines()
+    lines[5] = lines[5].rsplit(",", 1)[0] + "," + value  # the sample at 4 h, line 6 of the file
+    windy.write_text("\n".join(lines) + "\n")
+    for extra in ([], ["--wind-limit", "12"]):
+        res = runner.invoke(app, ["windows", str(windy), "--duration-h", "2", "--hs-limit", "2", *extra,
+                                  "--out", str(tmp_path / "o")], terminal_width=4000)
+        assert one_line_exit_2(res) == f"error: {windy}: {words}"
+        assert not (tmp_path / "o").exists()

@@ -538,6 +538,32 @@ def test_the_windows_shades_are_in_the_legend(captured_figures, tmp_path):
     assert "window shorter than 12 h" in labels
 
 
+def test_the_windows_figure_draws_each_sample_s_wind_and_the_wind_limit(captured_figures, tmp_path):
+    """Issue 40, item 1: a series with the wind gets a panel below Hs's with each sample's wind
+    as given and the wind limit where judged; the windows shaded there as above (the wind
+    closes 4-5 h: windows 0-4 and 5-8 h)."""
+    from marinecdpr.studies.weather import SeaStateSeries, weather_windows
+
+    t = np.arange(8.0)
+    wind = np.array([5.0, 6.0, 7.0, 9.0, 15.0, 8.0, 4.0, 0.0])
+    series = SeaStateSeries(t_h=t, hs_m=np.ones(8), tp_s=np.full(8, 8.0), wind_m_s=wind)
+    w = weather_windows(series, duration_h=3.0, hs_limit_m=2.0, wind_limit_m_s=10.0)
+    assert w.windows == [(0.0, 4.0), (5.0, 8.0)]
+    figures.plot_windows(series, w, tmp_path / "windows.png", title="t")
+    hs_ax, wind_ax = captured_figures["windows.png"].axes[:2]
+    drawn = {ln.get_label(): ln for ln in wind_ax.get_lines()}
+    np.testing.assert_array_equal(drawn["mean wind at 10 m"].get_ydata(), wind)
+    np.testing.assert_array_equal(drawn["operational wind limit 10 m/s"].get_ydata(), [10.0, 10.0])
+    spans = [(p.get_x(), p.get_x() + p.get_width()) for p in wind_ax.patches]  # axvspan's rectangles
+    assert spans == [(0.0, 4.0), (5.0, 8.0)]
+    # without a limit: the wind drawn, no limit line, the panel says it is not judged
+    figures.plot_windows(series, weather_windows(series, duration_h=3.0, hs_limit_m=2.0), tmp_path / "windows.png",
+                         title="t")
+    wind_ax = captured_figures["windows.png"].axes[1]
+    assert [ln.get_label() for ln in wind_ax.get_lines()] == ["mean wind at 10 m"]
+    assert "not judged" in wind_ax.get_title()
+
+
 # -------------------- formerly tests/test_operability_figure.py
 
 """The operability figure's cell numbers (issue 37, item 13): sized to their cells as laid

@@ -91,3 +91,85 @@ def test_the_command_writes_what_it_found(tmp_path):
                         (["--hs-limit", "2", "--days", "x"], "--days x: expected positive numbers")):
         bad = runner.invoke(app, ["windows", str(series), "--duration-h", "2", *args, "--out", str(tmp_path / "b")])
         assert bad.exit_code == 2 and words in bad.stderr and bad.stderr.count("\n") == 1, bad.output
+
+
+# ------------------------------------------------------------------ the wind (issue 40, item 1)
+# the same hourly Hs with a mean wind at 10 m: under a 12 m/s limit the wind closes 4-5 h (15 m/s)
+# inside the Hs window 3-6 h; 12 m/s at 1 h is within (at most, as Hs); 20 and 14 m/s fall where Hs fails
+WIND = [5.0, 12.0, 20.0, 8.0, 15.0, 10.0, 14.0, 3.0, 9.0, 11.0]
+WINDY = SeaStateSeries(SERIES.t_h, SERIES.hs_m, SERIES.tp_s, np.array(WIND))
+
+
+def test_the_wind_closes_a_window_that_hs_keeps_open_by_hand():
+    w = weather_windows(WINDY, duration_h=2.0, hs_limit_m=2.0, wind_limit_m_s=12.0)
+    np.testing.assert_array_equal(w.workable, [1, 1, 0, 1, 0, 1, 0, 0, 1, 1])
+    np.testing.assert_array_equal(w.hs_workable, [1, 1, 0, 1, 1, 1, 0, 0, 1, 1])
+    assert w.windows == [(0.0, 2.0), (3.0, 4.0), (5.0, 6.0), (8.0, 10.0)] and w.long_enough == 2
+    # a 2 h operation now fits only 0-2 and 8-10: from t = 1..7 it waits for 8 h
+    np.testing.assert_array_equal(w.wait_h[:9], [0, 7, 6, 5, 4, 3, 2, 1, 0])
+    assert np.isnan(w.wait_h[9]) and w.can_start == 0.9
+    assert w.mean_wait_h == pytest.approx(28 / 9, rel=1e-15)
+    assert w.finish_probability(3 / 24) == pytest.approx(0.3)  # wait <= 1 h: t = 0, 7, 8 (Hs alone: 0.6)
+    assert w.finish_probability(1.0) == pytest.approx(0.9)
+    assert w.workable_share == pytest.approx(0.6) and w.hs_workable_share == pytest.approx(0.7)
+    assert w.wind_limit_m_s == 12.0
+    # a 1 h operation fits the two pieces the wind leaves: from 4 h it waits 1 h (Hs alone: 0)
+    one = weather_windows(WINDY, duration_h=1.0, hs_limit_m=2.0, wind_limit_m_s=12.0)
+    np.testing.assert_array_equal(one.wait_h, [0, 0, 1, 0, 1, 0, 2, 1, 0, 0])
+    assert one.long_enough == 4
+    # a limit just under 12 m/s closes 1 h too: 0-1 is too short for 2 h, so t = 0 waits 8 h
+    under = weather_windows(WINDY, duration_h=2.0, hs_limit_m=2.0, wind_limit_m_s=11.999)
+    assert under.windows == [(0.0, 1.0), (3.0, 4.0), (5.0, 6.0), (8.0, 10.0)] and under.wait_h[0] == 8.0
+    # with alpha the Hs limit scales, the wind limit does not: alpha 0.5 of 4 m with 12 m/s is the same
+    half = weather_windows(WINDY, duration_h=2.0, alpha=0.5, hs_limit_m=4.0, wind_limit_m_s=12.0)
+    assert half.windows == w.windows and half.wind_limit_m_s == 12.0
+
+
+def test_without_a_wind_limit_the_wind_is_read_not_judged():
+    """A series with the wind and no limit: every number as for the same series without the
+    wind (the Hs-only answer worked by hand above)."""
+    with_wind = weather_windows(WINDY, duration_h=2.0, hs_limit_m=2.0)
+    hs_only = weather_windows(SERIES, duration_h=2.0, hs_limit_m=2.0)
+    assert with_wind.windows == hs_only.windows == [(0.0, 2.0), (3.0, 6.0), (8.0, 10.0)]
+    np.testing.assert_array_equal(with_wind.wait_h, hs_only.wait_h)
+    np.testing.assert_array_equal(with_wind.workable, hs_only.workable)
+    assert with_wind.mean_wait_h == hs_only.mean_wait_h == pytest.approx(1.0)
+    assert with_wind.workable_share == with_wind.hs_workable_share == hs_only.workable_share == pytest.approx(0.7)
+    assert with_wind.wind_limit_m_s is None
+
+
+@pytest.mark.parametrize("limit, series, words", [
+    (0.0, WINDY, "wind_limit_m_s must be a positive number of m/s, got 0.0"),
+    (-5.0, WINDY, "got -5.0"),
+    (float("nan"), WINDY, "got nan"),
+    (float("inf"), WINDY, "got inf"),
+    (12.0, SERIES, "wind_limit_m_s needs the series' wind (its column wind_m_s)"),
+])
+def test_a_wind_limit_that_cannot_be_judged_is_refused(limit, series, words):
+    with pytest.raises(ValueError) as err:
+        weather_windows(series, duration_h=2.0, hs_limit_m=2.0, wind_limit_m_s=limit)
+    assert words in str(err.value)
+
+
+def test_the_series_wind_column_and_its_errors(tmp_path):
+    good = tmp_path / "s.csv"
+    good.write_text("time_h,wind_m_s,hs_m,tp_s\n0,0,1.0,8\n1,12.5,3.0,9\n2,70,1.0,8\n")  # any order; calm is a wind
+    s = read_sea_state_series(good)
+    assert s.wind_m_s.tolist() == [0.0, 12.5, 70.0] and s.hs_m.tolist() == [1.0, 3.0, 1.0]
+    calm_free = tmp_path / "no_wind.csv"
+    calm_free.write_text("time_h,hs_m,tp_s\n0,1,8\n1,2,8\n")
+    assert read_sea_state_series(calm_free).wind_m_s is None
+    for row, words in (("-1", "line 3, wind_m_s: expected a finite non-negative number, got -1"),
+                       ("nan", "line 3, wind_m_s: expected a finite non-negative number, got nan"),
+                       ("inf", "line 3, wind_m_s: expected a finite non-negative number, got inf"),
+                       ("x", "line 3, wind_m_s: expected a number, got 'x'"),
+                       ("70.5", "line 3, wind_m_s: 70.5 m/s is outside 0 .. 70 m/s")):
+        bad = tmp_path / "bad.csv"
+        bad.write_text(f"time_h,hs_m,tp_s,wind_m_s\n0,1,8,3\n1,2,8,{row}\n")
+        with pytest.raises(ScenarioError) as err:
+            read_sea_state_series(bad)
+        assert str(err.value) == f"{bad}: {words}"
+    short = tmp_path / "short.csv"
+    short.write_text("time_h,hs_m,tp_s,wind_m_s\n0,1,8,3\n1,2,8\n")
+    with pytest.raises(ScenarioError, match="line 3, wind_m_s: expected a number, got ''"):
+        read_sea_state_series(short)

@@ -17,8 +17,8 @@ from marinecdpr.errors import ScenarioError
 
 
 def windows(
-    series: Optional[Path] = typer.Argument(None, help="Sea-state series CSV (time_h,hs_m,tp_s); default: the "
-                                            "package's illustrative, synthetic one."),
+    series: Optional[Path] = typer.Argument(None, help="Sea-state series CSV (time_h,hs_m,tp_s, optionally "
+                                            "wind_m_s); default: the package's illustrative, synthetic one."),
     duration_h: float = typer.Option(..., "--duration-h", help="The operation's duration, h."),
     hs_limit: Optional[float] = typer.Option(WindowsSpec.default("hs_limit"), help="A constant design Hs limit, m."),
     operability: Optional[Path] = typer.Option(WindowsSpec.default("operability"), "--operability", help="An "
@@ -29,6 +29,9 @@ def windows(
                                 "duration and forecast (operational limit = alpha x design limit)."),
     days: str = typer.Option(",".join(f"{d:g}" for d in WindowsSpec.default("days")),
                              help="Report the probability of finishing within these many days."),
+    wind_limit: Optional[float] = typer.Option(WindowsSpec.default("wind_limit"), help="A constant operational limit "
+                                               "of the mean wind at 10 m, m/s: a sample is workable when its wind "
+                                               "(the series' wind_m_s) is within it too."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for windows.csv, summary.json, windows.png."),
 ) -> None:
     """Weather windows in a series of sea states: when an operation of --duration-h fits,
@@ -36,7 +39,7 @@ def windows(
     from marinecdpr.commands import windows as command
 
     spec = spec_of(WindowsSpec, duration_h=duration_h, hs_limit=hs_limit, operability=operability, heading=heading,
-                   alpha=alpha, days=days)
+                   alpha=alpha, days=days, wind_limit=wind_limit)
     try:  # the series and the operability.json read and checked: one line naming the file
         est = command.estimate(spec, series)
     except ScenarioError as exc:
@@ -47,9 +50,21 @@ def windows(
     w = result.windows
     wait = "never within the series" if w.mean_wait_h != w.mean_wait_h else f"{w.mean_wait_h:.1f} h on average"
     finish = {f"{d:g}": w.finish_probability(d) for d in spec.days}
-    console.print(plain(f"{count(len(w.windows), 'window')}, {w.long_enough} of them {spec.duration_h:g} h "
-                        f"or longer; wait before the operation can start: {wait} (it can start from "
-                        f"{100 * w.can_start:.1f} % of the start times); done within "
+    console.print(plain(f"{count(len(w.windows), 'window')}{_judged(result)}, {w.long_enough} of them "
+                        f"{spec.duration_h:g} h or longer; wait before the operation can start: {wait} (it can "
+                        f"start from {100 * w.can_start:.1f} % of the start times); done within "
                         + ", ".join(f"{count(d, 'day')}: {100 * p:.1f} %" for d, p in finish.items())
                         + f"; written to {out}/: {', '.join(p.name for p in paths)}"), highlight=False,
                   soft_wrap=True)
+
+
+def _judged(result) -> str:
+    """What the windows were judged by, where the series has a wind: by Hs and the wind (with
+    the workable share and the share by Hs alone), or by Hs alone (no --wind-limit)."""
+    w, sea = result.windows, result.series
+    if w.wind_limit_m_s is not None:
+        return (f" with Hs within its limit and the wind within {w.wind_limit_m_s:g} m/s (workable "
+                f"{100 * w.workable_share:.1f} % of the time, {100 * w.hs_workable_share:.1f} % by Hs alone)")
+    if sea.wind_m_s is not None:
+        return " by Hs alone (the series' wind_m_s is read, not judged: no --wind-limit)"
+    return ""

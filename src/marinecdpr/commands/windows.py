@@ -1,7 +1,8 @@
 """``windows``: weather windows in a series of sea states. When an operation of a given
 duration fits under the operational Hs limit (alpha times a design limit: a constant Hs, or
-an operability study's limiting Hs per Tp), the expected wait before it can start, and the
-probability it is done within some days.
+an operability study's limiting Hs per Tp) and, with ``wind_limit``, under an operational
+limit of the mean wind (the series' ``wind_m_s``), the expected wait before it can start,
+and the probability it is done within some days.
 
 :class:`WindowsSpec` holds the options (the one source of their defaults), :func:`estimate`
 reads the series and the design limit (the checks before any work), :func:`run` finds the
@@ -44,6 +45,11 @@ class WindowsSpec(Spec):
         (operational limit = alpha x design limit).
     days : tuple of float
         Say the probability of finishing within these many days (``"1,3,7"`` is taken too).
+    wind_limit : float, optional
+        A constant operational limit of the mean wind at 10 m, m/s (positive, finite; alpha
+        does not scale it): a sample is workable when its Hs is within the Hs limit and its
+        wind (the series' column ``wind_m_s``, which it then needs) within this one. None:
+        the series' wind, if it has one, is read and written out, not judged.
     """
 
     duration_h: float
@@ -52,8 +58,9 @@ class WindowsSpec(Spec):
     heading: float = 180.0
     alpha: float = 1.0
     days: tuple[float, ...] = (1.0, 3.0, 7.0)
+    wind_limit: float | None = None
 
-    @field_validator("duration_h", "hs_limit")
+    @field_validator("duration_h", "hs_limit", "wind_limit")
     @classmethod
     def _positive(cls, v):
         return positive(v)
@@ -100,7 +107,7 @@ class WindowsSpec(Spec):
 
 
 def default_series() -> Path:
-    """The package's illustrative, synthetic sea-state series (``time_h,hs_m,tp_s``)."""
+    """The package's illustrative, synthetic sea-state series (``time_h,hs_m,tp_s``, no wind)."""
     from importlib import resources
 
     return Path(str(resources.files("marinecdpr") / "data" / "sea_states_illustrative.csv"))
@@ -132,13 +139,18 @@ def estimate(spec: WindowsSpec, series: str | Path | None = None) -> WindowsEsti
     ------
     ScenarioError
         One line naming the file: a series or an operability.json that cannot be read, or
-        has no limits at the heading.
+        has no limits at the heading; a series without the column ``wind_m_s`` for a spec
+        with ``wind_limit``.
     """
     from marinecdpr.errors import ScenarioError
     from marinecdpr.studies.weather import limit_from_operability, read_operability_json, read_sea_state_series
 
     path = Path(series) if series is not None else default_series()
     sea = read_sea_state_series(path)
+    if spec.wind_limit is not None and sea.wind_m_s is None:
+        raise ScenarioError(f"--wind-limit {spec.wind_limit:g} m/s needs each sample's wind: the series has no "
+                            "column wind_m_s (add it: the mean wind at 10 m, m/s; or leave --wind-limit out)",
+                            source=str(path))
     table = None
     if spec.operability is not None:
         if spec.operability.is_dir():
@@ -200,5 +212,5 @@ def run(spec: WindowsSpec, series: str | Path | None = None, *,
 
     est = estimate(spec, series) if estimated is None else estimated
     w = weather_windows(est.series, duration_h=spec.duration_h, alpha=spec.alpha, hs_limit_m=spec.hs_limit,
-                        limit_table=est.table)
+                        limit_table=est.table, wind_limit_m_s=spec.wind_limit)
     return WindowsResult(spec=spec, series_name=est.series_name, series=est.series, windows=w)

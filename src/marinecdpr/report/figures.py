@@ -603,9 +603,15 @@ def plot_raos(rao, path: Path, *, title: str, beside=None, beside_label: str = "
 
 def plot_windows(series, windows, path: Path, *, title: str) -> Path:
     """Hs over the series, the operational limit, and the weather windows shaded (those
-    long enough for the operation darker)."""
+    long enough for the operation darker); where the series has a wind, a panel below of
+    each sample's mean wind, with the wind limit where one was judged."""
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(12, 4.2), constrained_layout=True)
+    if series.wind_m_s is None:
+        fig, ax = plt.subplots(figsize=(12, 4.2), constrained_layout=True)
+        axes = [ax]
+    else:
+        fig, axes = plt.subplots(2, 1, figsize=(12, 6.8), sharex=True, constrained_layout=True)
+        ax = axes[0]
     shades = {True: 0.35, False: 0.12}
     labels = {True: f"window of at least {windows.duration_h:g} h (the operation fits)",
               False: f"window shorter than {windows.duration_h:g} h"}
@@ -613,12 +619,25 @@ def plot_windows(series, windows, path: Path, *, title: str) -> Path:
         long_enough = b - a >= windows.duration_h - 1e-12
         # each kind of shade labelled once, for the legend
         ax.axvspan(a, b, color="#1a9850", alpha=shades[long_enough], lw=0, label=labels.pop(long_enough, None))
+        for other in axes[1:]:
+            other.axvspan(a, b, color="#1a9850", alpha=shades[long_enough], lw=0)
     ax.step(series.t_h, series.hs_m, where="post", color="k", lw=1.0, label="Hs")
     ax.step(series.t_h, windows.limit_m, where="post", color="#d73027", lw=1.0,
             label=f"operational limit (alpha {windows.alpha:g} x design)")
-    ax.set_xlabel("t (h)")
     ax.set_ylabel("Hs (m)")
-    ax.grid(alpha=0.3)
+    if series.wind_m_s is not None:
+        wind = axes[1]
+        wind.step(series.t_h, series.wind_m_s, where="post", color="#4575b4", lw=1.0, label="mean wind at 10 m")
+        if windows.wind_limit_m_s is not None:
+            wind.axhline(windows.wind_limit_m_s, color="#d73027", lw=1.0,
+                         label=f"operational wind limit {windows.wind_limit_m_s:g} m/s")
+        else:
+            wind.set_title("the wind is not judged (no wind limit): the windows are Hs's alone", fontsize=9)
+        wind.set_ylabel("wind (m/s)")
+        wind.legend(loc="upper right", fontsize=8)
+    for a in axes:
+        a.grid(alpha=0.3)
+    axes[-1].set_xlabel("t (h)")
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(_plain(title), fontsize=10)
     return _save(fig, path)

@@ -338,17 +338,24 @@ def _window_rows(w) -> np.ndarray:
 def windows_summary(series, windows, *, series_name: str, design_limit: str, days) -> dict:
     """``summary.json`` of a weather-window study (:func:`~marinecdpr.studies.weather.weather_windows`):
     the series, the limit, the workable share, the windows, the wait and the probability of
-    finishing within each of ``days``."""
+    finishing within each of ``days``; where the series has a wind, the wind limit (null: the
+    wind not judged) and, with one, the workable share by Hs alone."""
     w, d = windows, windows.duration_h
+    # the wind's keys only where the series has a wind: a series without one writes what it always did
+    wind = {} if series.wind_m_s is None else {"wind_limit_m_s": w.wind_limit_m_s}
+    alone = {} if w.wind_limit_m_s is None else {"workable_share_hs_alone": w.hs_workable_share}
     return {"series": series_name, "series_hours": float(series.t_h[-1] + series.step_h[-1]),
-            "duration_h": d, "alpha": w.alpha, "design_limit": design_limit,
-            "workable_share": float(np.sum(series.step_h * w.workable) / np.sum(series.step_h)),
+            "duration_h": d, "alpha": w.alpha, "design_limit": design_limit, **wind,
+            "workable_share": w.workable_share, **alone,
             "windows": len(w.windows), "windows_long_enough": w.long_enough,
             "mean_wait_h": None if w.mean_wait_h != w.mean_wait_h else w.mean_wait_h,
             "can_start_share": w.can_start,
             "finish_within_days_probability": {f"{x:g}": w.finish_probability(x) for x in days},
             "meaning": "over start times at each sample, equally likely; the operation needs one window "
-                       "of its whole duration"}
+                       "of its whole duration" + ("" if series.wind_m_s is None else
+                                                   "; a sample is workable when its Hs is within the limit and, "
+                                                   "with wind_limit_m_s (null: the wind not judged), its mean wind "
+                                                   "at 10 m within that")}
 
 
 def write_windows(series, windows, folder: Path, *, series_name: str, design_limit: str,

@@ -1,10 +1,12 @@
 """Weather windows: when, in a series of sea states, an operation of a given duration fits.
 
-A sea-state series (hindcast or forecast: time, Hs, Tp) is workable at a sample when its
-Hs is at most the operational limit: alpha times the design limit (DNV-ST-N001's alpha
-factor for the forecast's uncertainty, which the user takes from the standard for the
-operation's duration and forecast level: the standard's tables are not shipped). The
-design limit is a constant Hs or, per Tp, the limiting Hs of an operability study.
+A sea-state series (hindcast or forecast: time, Hs, Tp, optionally the mean wind) is
+workable at a sample when its Hs is at most the operational limit: alpha times the design
+limit (DNV-ST-N001's alpha factor for the forecast's uncertainty, which the user takes from
+the standard for the operation's duration and forecast level: the standard's tables are not
+shipped). The design limit is a constant Hs or, per Tp, the limiting Hs of an operability
+study. With an operational wind limit (DNV-ST-N001 limits operations by the mean wind too)
+a sample is workable when, as well, its mean wind is at most that limit.
 
 Each sample holds until the next one (the last one for the series' median step). A
 window is a run of workable time; an operation of ``duration_h`` can start at t if
@@ -33,12 +35,14 @@ __all__ = ["SeaStateSeries", "read_sea_state_series", "Windows", "weather_window
 
 @dataclass(frozen=True)
 class SeaStateSeries:
-    """Sea states over time: t_h (n,) hours from the series' start, increasing; hs_m,
-    tp_s (n,)."""
+    """Sea states over time: t_h (n,) hours from the series' start, increasing; hs_m (n,)
+    significant wave height, m; tp_s (n,) peak period, s; wind_m_s (n,) the mean wind speed
+    at 10 m above the sea, m/s, or None (a series without the column ``wind_m_s``)."""
 
     t_h: np.ndarray
     hs_m: np.ndarray
     tp_s: np.ndarray
+    wind_m_s: np.ndarray | None = None
 
     @property
     def step_h(self) -> np.ndarray:
@@ -53,14 +57,17 @@ decades). Beyond it, times lose the hour's resolution and their differences over
 
 
 def read_sea_state_series(path: str | Path) -> SeaStateSeries:
-    """A CSV with columns ``time_h, hs_m, tp_s`` (header row; further columns ignored;
-    ``#`` comment lines skipped). Read through :func:`marinecdpr.textfiles.read_lines`
-    (a regular UTF-8 text file of at most 256 MiB; a byte-order mark and CRLF accepted).
-    Times lie within +-:data:`SERIES_HOURS_MAX` h, Hs and Tp within the ranges of a
-    scatter diagram (:data:`~marinecdpr.studies.operability.HS_RANGE_M`,
-    :data:`~marinecdpr.studies.operability.TP_RANGE_S`). One-line errors name the file,
-    line and column, and never quote more than a field."""
-    from marinecdpr.studies.operability import HS_RANGE_M, TP_RANGE_S
+    """A CSV with columns ``time_h, hs_m, tp_s`` and optionally ``wind_m_s`` (header row;
+    further columns ignored; ``#`` comment lines skipped). Read through
+    :func:`marinecdpr.textfiles.read_lines` (a regular UTF-8 text file of at most 256 MiB;
+    a byte-order mark and CRLF accepted). Times lie within +-:data:`SERIES_HOURS_MAX` h, Hs
+    and Tp within the ranges of a scatter diagram
+    (:data:`~marinecdpr.studies.operability.HS_RANGE_M`,
+    :data:`~marinecdpr.studies.operability.TP_RANGE_S`), the wind (the mean speed at 10 m,
+    m/s) within 0 .. the scatter diagram's largest mean wind
+    (:data:`~marinecdpr.studies.operability.WIND_COLUMNS`, 70 m/s): calm (0) is a wind.
+    One-line errors name the file, line and column, and never quote more than a field."""
+    from marinecdpr.studies.operability import HS_RANGE_M, TP_RANGE_S, WIND_COLUMNS
 
     src = str(path)
     what = "a sea-state series CSV file (time_h,hs_m,tp_s)"
@@ -80,20 +87,22 @@ def read_sea_state_series(path: str | Path) -> SeaStateSeries:
     if missing:
         raise ScenarioError(f"line {rows[0][0]}: missing column(s) {', '.join(missing)} (expected time_h,hs_m,tp_s)",
                             source=src)
-    cols = [header.index(c) for c in ("time_h", "hs_m", "tp_s")]
+    names = ("time_h", "hs_m", "tp_s") + (("wind_m_s",) if "wind_m_s" in header else ())
+    cols = [header.index(c) for c in names]
     ranges = {"time_h": (-SERIES_HOURS_MAX, SERIES_HOURS_MAX, "h"), "hs_m": (*HS_RANGE_M, "m"),
-              "tp_s": (*TP_RANGE_S, "s")}
-    values = np.empty((len(rows) - 1, 3))
+              "tp_s": (*TP_RANGE_S, "s"), "wind_m_s": (0.0, WIND_COLUMNS["wind_m_s"][1], "m/s")}
+    sign = {"time_h": "", "hs_m": " positive", "tp_s": " positive", "wind_m_s": " non-negative"}
+    values = np.empty((len(rows) - 1, len(names)))
     for k, (line, r) in enumerate(rows[1:]):
-        for j, (c, name) in enumerate(zip(cols, ("time_h", "hs_m", "tp_s"))):
+        for j, (c, name) in enumerate(zip(cols, names)):
             try:
                 v = float(r[c])
             except (IndexError, ValueError):
                 raise ScenarioError(f"line {line}, {name}: expected a number, got {r[c] if c < len(r) else ''!r}",
                                     source=src) from None
-            if not math.isfinite(v) or (name != "time_h" and v <= 0):
-                raise ScenarioError(f"line {line}, {name}: expected a finite{' positive' if name != 'time_h' else ''} "
-                                    f"number, got {v:g}", source=src)
+            if not math.isfinite(v) or (name in ("hs_m", "tp_s") and v <= 0) or (name == "wind_m_s" and v < 0):
+                raise ScenarioError(f"line {line}, {name}: expected a finite{sign[name]} number, got {v:g}",
+                                    source=src)
             lo, hi, unit = ranges[name]
             if not lo <= v <= hi:
                 raise ScenarioError(f"line {line}, {name}: {v:g} {unit} is outside {lo:g} .. {hi:g} {unit}",
@@ -104,7 +113,8 @@ def read_sea_state_series(path: str | Path) -> SeaStateSeries:
     if np.any(np.diff(values[:, 0]) <= 0):
         bad = int(np.flatnonzero(np.diff(values[:, 0]) <= 0)[0]) + 2
         raise ScenarioError(f"line {rows[bad][0]}, time_h: times must increase", source=src)
-    return SeaStateSeries(values[:, 0] - values[0, 0], values[:, 1], values[:, 2])
+    return SeaStateSeries(values[:, 0] - values[0, 0], values[:, 1], values[:, 2],
+                          values[:, 3] if len(names) > 3 else None)
 
 
 OPERABILITY_JSON_MAX_BYTES = 64 * 2**20
@@ -200,7 +210,11 @@ class Windows:
     Attributes
     ----------
     workable : ndarray of bool, shape (n,)
-        Each sample's sea state within the operational limit.
+        Each sample's sea state within the operational limit (and its wind within
+        ``wind_limit_m_s`` where given).
+    hs_workable : ndarray of bool, shape (n,)
+        Each sample's Hs within the operational limit, the wind aside (``workable`` without
+        a wind limit).
     limit_m : ndarray, shape (n,)
         The operational Hs limit at each sample (alpha x the design limit), m.
     windows : list of (start_h, end_h)
@@ -213,9 +227,15 @@ class Windows:
         Mean of ``wait_h`` over the start times from which the operation can start.
     can_start : float
         Share of start times from which it can start before the series ends.
+    workable_share, hs_workable_share : float
+        The share of the series' time that is workable, and that by Hs alone (each sample
+        weighted by how long it holds).
+    wind_limit_m_s : float or None
+        The operational limit of the mean wind at 10 m, m/s; None: the wind not judged.
     """
 
     workable: np.ndarray
+    hs_workable: np.ndarray
     limit_m: np.ndarray
     windows: list
     wait_h: np.ndarray
@@ -223,6 +243,9 @@ class Windows:
     alpha: float
     mean_wait_h: float
     can_start: float
+    workable_share: float
+    hs_workable_share: float
+    wind_limit_m_s: float | None = None
 
     @property
     def long_enough(self) -> int:
@@ -238,7 +261,8 @@ class Windows:
 
 
 def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float = 1.0,
-                    hs_limit_m: float | None = None, limit_table: tuple[np.ndarray, np.ndarray] | None = None) -> Windows:
+                    hs_limit_m: float | None = None, limit_table: tuple[np.ndarray, np.ndarray] | None = None,
+                    wind_limit_m_s: float | None = None) -> Windows:
     """The weather windows of ``series`` for an operation of ``duration_h``.
 
     Parameters
@@ -253,6 +277,16 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
     limit_table : (tp (k,), hs (k,)), optional
         The design Hs limit per Tp (e.g. :func:`limit_from_operability`): a sample takes the
         limit of the nearest tabulated Tp.
+    wind_limit_m_s : float, optional
+        The operational limit of the mean wind at 10 m, m/s (> 0; alpha does not scale it): a
+        sample is workable when its Hs is within its limit and its ``series.wind_m_s`` within
+        this one (at most, as Hs). None: the wind, if the series has it, is not judged.
+
+    Raises
+    ------
+    ValueError
+        A duration, alpha or wind limit out of range, not one design limit, or a wind limit
+        for a series without the wind.
     """
     if not (math.isfinite(duration_h) and duration_h > 0):
         raise ValueError(f"duration_h must be a positive number of hours, got {duration_h}")
@@ -260,6 +294,11 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
         raise ValueError(f"alpha must be in (0, 1], got {alpha}")
     if (hs_limit_m is None) == (limit_table is None):
         raise ValueError("give exactly one of hs_limit_m and limit_table")
+    if wind_limit_m_s is not None:
+        if not (math.isfinite(wind_limit_m_s) and wind_limit_m_s > 0):
+            raise ValueError(f"wind_limit_m_s must be a positive number of m/s, got {wind_limit_m_s}")
+        if series.wind_m_s is None:
+            raise ValueError("wind_limit_m_s needs the series' wind (its column wind_m_s)")
     if hs_limit_m is not None:
         design = np.full(series.t_h.size, float(hs_limit_m))
     else:
@@ -267,7 +306,8 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
         nearest = np.abs(series.tp_s[:, None] - np.asarray(tp)[None, :]).argmin(axis=1)
         design = np.asarray(hs, dtype=float)[nearest]
     limit = alpha * design
-    ok = series.hs_m <= limit
+    hs_ok = series.hs_m <= limit
+    ok = hs_ok if wind_limit_m_s is None else hs_ok & (series.wind_m_s <= wind_limit_m_s)
     t0, step = series.t_h, series.step_h
     t1 = t0 + step
     windows, i, n = [], 0, ok.size
@@ -293,5 +333,8 @@ def weather_windows(series: SeaStateSeries, *, duration_h: float, alpha: float =
     wait[found] = np.maximum(first[k[found]], t0[found]) - t0[found]
     can = np.isfinite(wait)
     mean = float(wait[can].mean()) if can.any() else float("nan")
-    return Windows(workable=ok, limit_m=limit, windows=windows, wait_h=wait, duration_h=float(duration_h),
-                   alpha=float(alpha), mean_wait_h=mean, can_start=float(can.mean()))
+    return Windows(workable=ok, hs_workable=hs_ok, limit_m=limit, windows=windows, wait_h=wait,
+                   duration_h=float(duration_h), alpha=float(alpha), mean_wait_h=mean, can_start=float(can.mean()),
+                   workable_share=float(np.sum(step * ok) / np.sum(step)),
+                   hs_workable_share=float(np.sum(step * hs_ok) / np.sum(step)),
+                   wind_limit_m_s=None if wind_limit_m_s is None else float(wind_limit_m_s))
