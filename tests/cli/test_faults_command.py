@@ -48,7 +48,7 @@ def test_every_builtin_scenario_through_the_command(name, tmp_path):
 @pytest.mark.parametrize("args, line", [
     (["--cables", "5"], "error: --cables 5: the robot has 4 cables (1 to 4)"),
     (["--kinds", "snap,quake"], "error: --kinds quake: no such fault kind: expected snap, brake, power, load_cell, "
-                                "encoder, mru, deadline"),
+                                "encoder, mru, stall, brush, deadline"),
     (["--at", "100"], "error: --at 100: beyond the record: the job's 78 s less --after 3 s leaves faults up to 75 s"),
     (["--kinds", "brake"], "error: --kinds brake: a winch_brake needs a winch that pays out the cable"),
 ])

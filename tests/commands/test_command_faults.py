@@ -16,13 +16,8 @@ from marinecdpr.commands.faults import FaultsSpec
 
 @pytest.mark.parametrize("options, words", [
     ({"kinds": "snap,magic"}, "--kinds magic: no such fault kind: expected snap, brake, power, load_cell, encoder, "
-                              "mru, deadline"),
+                              "mru, stall, brush, deadline"),
     ({"kinds": "snap,cable_snap"}, "--kinds cable_snap: a fault kind given twice"),
-    ({"kinds": "snap,brush_contact_loss"}, "--kinds brush_contact_loss: a scenario's [[faults]] may list it, this "
-                                           "command does not fly it: expected snap, brake, power, load_cell, encoder, "
-                                           "mru, deadline"),
-    ({"kinds": "winch_stall"}, "--kinds winch_stall: a scenario's [[faults]] may list it, this command does not fly "
-                               "it: expected snap, brake, power, load_cell, encoder, mru, deadline"),
     ({"cables": "1,0"}, "--cables 1,0: expected cable numbers from 1, separated by commas"),
     ({"cables": "2,2"}, "--cables 2,2: a cable given twice"),
     ({"at": "3,-1"}, "--at 3,-1: expected times >= 0 s, separated by commas"),
@@ -49,6 +44,7 @@ def clean4():
     ({"at": (0.5, 1.5)}, "--at 1.5: beyond the record: the job's 2 s less --after 1 s leaves faults up to 1 s"),
     ({"after": 1.95}, "--after 1.95: leaves no moment to strike in the job's 2 s"),
     ({"kinds": "power"}, "--kinds power: a motor_power_loss needs motor winches"),
+    ({"kinds": "snap,stall"}, "--kinds stall: a winch_stall needs motor winches"),
     ({"duration": 5.0}, "--duration 5: beyond the job's 2 s"),
     ({"hs": "1,31"}, "--hs 31: "),
 ])
@@ -61,15 +57,17 @@ def test_the_estimate_refuses_what_the_scenario_cannot_take(clean4, options, wor
 
 
 def test_the_estimate_flies_each_cable_at_each_moment_and_a_deadline_once(clean4):
-    """Three kinds (snap on cables 1 and 3; the MRU and the controller's deadline, no cable's,
-    once) at two given times: (2 + 1 + 1) x 2 cases, in the order moment, kind, cable; the sea
+    """Four kinds (snap on cables 1 and 3; the MRU, the brush and the controller's deadline, no
+    cable's, once) at two given times: (2 + 1 + 1 + 1) x 2 cases, in the order moment, kind, cable; the sea
     the scenario's own. Two sea states given (--hs 1,1.5 with one --tp): each flown with its
     own plan and moments."""
-    est = command.estimate(FaultsSpec(kinds="snap,mru,deadline", cables="1,3", at="0.2,0.6", after=1.0), clean4)
+    est = command.estimate(FaultsSpec(kinds="snap,mru,brush,deadline", cables="1,3", at="0.2,0.6", after=1.0), clean4)
     [cases] = est.cases
     assert [(c.kind, c.cable, c.at_s) for c in cases] == [
-        ("cable_snap", 1, 0.2), ("cable_snap", 3, 0.2), ("mru", None, 0.2), ("controller_deadline", None, 0.2),
-        ("cable_snap", 1, 0.6), ("cable_snap", 3, 0.6), ("mru", None, 0.6), ("controller_deadline", None, 0.6)]
+        ("cable_snap", 1, 0.2), ("cable_snap", 3, 0.2), ("mru", None, 0.2), ("brush_contact_loss", None, 0.2),
+        ("controller_deadline", None, 0.2),
+        ("cable_snap", 1, 0.6), ("cable_snap", 3, 0.6), ("mru", None, 0.6), ("brush_contact_loss", None, 0.6),
+        ("controller_deadline", None, 0.6)]
     assert est.seas == ({"hs_m": 2.0, "tp_s": 8.0, "heading_deg": 150.0},) and est.plant == "mujoco"
     est = command.estimate(FaultsSpec(hs="1,1.5", tp=6.0, after=1.0, plant="own"), clean4)
     assert est.seas == ({"hs_m": 1.0, "tp_s": 6.0, "heading_deg": 150.0},

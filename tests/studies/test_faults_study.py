@@ -193,3 +193,23 @@ def test_an_mru_that_drops_out_is_detected_at_once_and_the_platform_parks_on_its
     assert row.detected and row.detection_delay_s == 0.0 and row.detection == "non_finite (mru)"
     assert row.reaction == "park" and row.brakes_held == 0 and row.within_frame
     assert row.verdict == "safe" and row.end_speed_m_s < REST_M_S
+
+
+def test_a_brush_that_loses_its_contact_is_flown_as_the_scenario_s_own_fault(four):
+    """The brush loses its contact from 1 s (the command's ``--kinds brush``): nothing the watch
+    reads tells it, so no detection and no reaction; the row's figures are those of the same
+    ``[[faults]]`` scenario flown by ``simulate``, read back by hand, and the loss shows: 4.86 mm
+    off the plan over the next second, the fault-free run 0.019 mm."""
+    sc, plan = four
+    [row] = fault_study(sc, [FaultCase("brush_contact_loss", None, 1.0, "given")], after_s=AFTER_S, plant="mujoco",
+                        plan=plan).rows
+    assert not row.detected and row.reaction == "normal" and row.cable is None
+    n, k0 = int(round((1.0 + AFTER_S) / sc.time.step_s)) + 1, int(round(1.0 / sc.time.step_s))
+    lost = simulate(sc.with_changes(faults=[{"kind": "brush_contact_loss", "at_s": 1.0}]), run="closed_loop",
+                    plant="mujoco", reference=plan, n_steps=n)
+    sound = simulate(sc, run="closed_loop", plant="mujoco", reference=plan, n_steps=n)
+    dev = [max(float(np.sqrt(sum((r.pose[k, i] - r.pose_planned[k, i]) ** 2 for i in range(3))))
+               for k in range(k0, n)) for r in (lost, sound)]
+    assert row.max_deviation_m == pytest.approx(dev[0], rel=1e-12)
+    assert dev[0] > 100.0 * dev[1], dev  # 4.86 mm against 0.019 mm
+    assert row.peak_tension_N == pytest.approx(lost.tensions[k0:].max(), rel=1e-12)

@@ -184,8 +184,9 @@ def hardest_moments(plan, *, earliest_s: float, latest_s: float) -> list[tuple[s
     return out
 
 
-UNCABLED = ("mru", "controller_deadline")
-"""The fault kinds that strike no cable (the ship's motion reference unit, the controller): flown once."""
+UNCABLED = ("mru", "brush_contact_loss", "controller_deadline")
+"""The fault kinds that strike no cable (the ship's motion reference unit, the brush, the controller):
+flown once."""
 
 
 def fault_entry(case: FaultCase, *, sensor_mode: str, drift_per_s: float, brake_delay_s: float | None,
@@ -194,6 +195,8 @@ def fault_entry(case: FaultCase, *, sensor_mode: str, drift_per_s: float, brake_
     f = {"kind": case.kind, "at_s": case.at_s}
     if case.kind == "controller_deadline":
         f["steps"] = deadline_steps
+        return f
+    if case.kind == "brush_contact_loss":
         return f
     if case.kind == "mru":
         f["mode"] = sensor_mode
