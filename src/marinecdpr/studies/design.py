@@ -991,6 +991,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
         study["safety"] = safety
     if not scenario.get("faults"):  # no [[faults]]: the key as before faults were known
         scenario.pop("faults", None)
+    for node in (scenario["robot"], *scenario["robot"]["cables"]):  # no breaking load: as before it was known
+        if node.get("breaking_load_N", 0) is None:
+            del node["breaking_load_N"]
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]
