@@ -53,7 +53,8 @@ def breaking_load_said(robot) -> str:
     def cables(mask):
         idx = np.flatnonzero(mask) + 1
         return ("cable " if idx.size == 1 else "cables ") + ", ".join(str(i) for i in idx)
-    return f"given for {cables(given)} (breaking_load_N); for {cables(~given)} the working limit (tension_max_N) stands in"
+    return (f"given for {cables(given)} (breaking_load_N); for {cables(~given)} the working limit (tension_max_N) "
+            "stands in")
 
 
 def _cell(v):
