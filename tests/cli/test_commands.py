@@ -50,7 +50,8 @@ def test_bad_scenario_is_one_line_exit_2(tmp_path):
     assert res.exit_code == 2
     assert res.stderr.strip().splitlines() == [
         f"error: {scen}: robot.mass: unknown key; did you mean 'mass_kg'? (expected one of: dofs, "
-        "mass_kg, inertia_kg_m2, tension_min_N, tension_max_N, cables, cable_weight_N_m, clearance_m, winch)"]
+        "mass_kg, inertia_kg_m2, tension_min_N, tension_max_N, breaking_load_N, cables, cable_weight_N_m, "
+        "clearance_m, winch)"]
     assert not (tmp_path / "o").exists()
 
 

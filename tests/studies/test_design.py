@@ -841,6 +841,21 @@ def test_the_study_key_is_the_content_of_its_files_not_their_paths(tiny, journal
         read_journal(journal, key).keys()
 
 
+SHIP_SIDE_KEY = "ed838c876f6c7535"
+"""The shipped ship_side study's key as computed before a cable's breaking load
+(``breaking_load_N``, issue 40 item 4) was a scenario key (commit ba01b22)."""
+
+
+def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was():
+    """A template without breaking loads keys as before the key existed, so an older journal
+    resumes; one given a breaking load keys anew."""
+    spec, template = load_design(study_path("ship_side"))
+    cells = study_cells(spec, study_path("ship_side").parent)
+    assert study_key(spec, template, cells) == SHIP_SIDE_KEY
+    rope = template.with_updates("robot", breaking_load_N=float(template.robot.tension_max.max()) * 5.0)
+    assert study_key(spec, rope, cells) != SHIP_SIDE_KEY
+
+
 @pytest.mark.parametrize("file, edit", [
     ("paper_sea_rao.csv", "rao"), ("template.toml", "template"), ("seas.csv", "seas"), ("study.toml", "study"),
 ])

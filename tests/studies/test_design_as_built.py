@@ -75,6 +75,29 @@ def test_a_finalist_s_file_holds_the_rope_and_winches_it_chose(small, tmp_path):
     assert sc.robot == as_built(spec, template, e).robot
 
 
+def test_a_finalist_s_cables_break_at_its_rope_s_breaking_load(small, tmp_path):
+    """The finalist's file carries its rope's breaking load (``robot.breaking_load_N``: the
+    "light" rope's 30 kN, every cable's), above its working limit T_max = min(30 000 / 5,
+    100 / 0.075) = 1 333.3 N, so that ``faults`` judges a snap load against the rope, not
+    against T_max; the "heavy" rope's finalist breaks at its 25 kN. A template's own breaking
+    load gives way to the rope's (the candidate's robot is built from its rope)."""
+    import tomllib
+
+    from marinecdpr.report.design import write_design
+
+    spec, template, study, _ = small
+    write_design(study, template, tmp_path)
+    path = tmp_path / "designs" / "small_1.toml"
+    assert tomllib.loads(path.read_text())["robot"]["breaking_load_N"] == 30000.0
+    robot = marinecdpr.load_scenario(path).robot
+    assert robot.breaking_load.tolist() == [30000.0] * robot.n_cables and robot.breaking_load_given.all()
+    assert robot.tension_max == pytest.approx([100.0 / 0.075] * robot.n_cables, rel=1e-12)
+    e = study.evaluations[0]
+    assert as_built(spec, template, _heavy(e)).robot.breaking_load_N == 25000.0
+    own = template.with_updates("robot", breaking_load_N=float(template.robot.tension_max.max()))
+    assert as_built(spec, own, e).robot.breaking_load_N == 30000.0
+
+
 def test_the_finalist_is_verified_on_its_rope_and_winches(small, monkeypatch):
     """verify flies the as-built scenario: its rope and winches are the catalogue's, and the
     run's least tension (which the cables' stretch and the winches' loop set) differs from

@@ -164,6 +164,56 @@ def test_the_brakes_on_elastic_cables_hold_the_drums_and_the_snap_load_is_the_ve
     assert cell.reaction == "park" and cell.verdict == "safe"
 
 
+def test_the_snap_load_is_judged_against_the_breaking_load_given_beside_the_working_limit(elastic):
+    """The same snap (cable 1 at 1 s, four elastic cables, brakes): its peak lies between the
+    working limit (450 N) and a breaking load given above it. Without a breaking load the
+    working limit stands in (the verdict above); with one of 1000 N, below the peak, the
+    verdict names it; with 2000 N, above the peak, it names no cable and passes to the next
+    reason (the platform swings on the held drums: neither on its plan nor at rest at the run's
+    end). With a breaking load per cable, the cable judged is the one loaded most against its
+    own (by a loop over the remaining cables and the run's steps), not the one pulled hardest.
+    The flight is the same whatever the breaking load: every figure but it bit for bit."""
+    sc, plan = elastic
+    case = [FaultCase("cable_snap", 1, 1.0, "given")]
+    faulty = sc.with_changes(faults=[{"kind": "cable_snap", "cable": 1, "at_s": 1.0}])
+    r = simulate(faulty, run="closed_loop", plant="own", reference=plan, n_steps=2001)
+    peaks = {i + 1: float(r.tensions[1000:, i].max()) for i in (1, 2, 3)}  # cables 2, 3, 4 remain
+    hardest = max(peaks, key=peaks.get)
+    peak = peaks[hardest]
+    assert 450.0 < 1000.0 < peak < 2000.0  # measured: 1750 N on cable 2
+
+    def flown(robot):
+        return fault_study(sc.with_updates("robot", **robot), case, after_s=1.0, plant="own", plan=plan).rows[0]
+
+    plain = fault_study(sc, case, after_s=1.0, plant="own", plan=plan).rows[0]
+    below, above = flown({"breaking_load_N": 1000.0}), flown({"breaking_load_N": 2000.0})
+    for row, breaking in ((plain, 450.0), (below, 1000.0), (above, 2000.0)):
+        assert row.peak_cable == hardest and row.peak_tension_N == pytest.approx(peak, rel=1e-12)
+        assert row.working_limit_N == 450.0 and row.breaking_N == breaking
+    assert plain.verdict == f"cable {hardest} pulls {peak:.0f} N, beyond its breaking load 450 N"
+    assert below.verdict == f"cable {hardest} pulls {peak:.0f} N, beyond its breaking load 1000 N"
+    assert above.verdict == (f"neither on its plan nor at rest at the run's end ({above.end_deviation_m:.2g} m off "
+                             f"it, {above.end_speed_m_s:.2g} m/s)")
+    assert above.end_speed_m_s > REST_M_S
+
+    def figures(row):  # every figure but the breaking load and the verdict, NaN as a word (NaN != NaN)
+        return {k: "NaN" if v != v else v for k, v in vars(row).items() if k not in ("breaking_N", "verdict")}
+
+    assert figures(below) == figures(above) == figures(plain)
+
+    # a breaking load per cable: the hardest-pulled cable's well above its peak, another's below its own
+    other = next(c for c in sorted(peaks, key=peaks.get, reverse=True) if c != hardest)
+    per_cable = [{}, {}, {}, {}]
+    per_cable[hardest - 1] = {"breaking_load_N": 4000.0}
+    per_cable[other - 1] = {"breaking_load_N": 460.0}
+    cables = [dict(c.model_dump(exclude_none=True), **extra) for c, extra in zip(sc.robot.cables, per_cable)]
+    row = flown({"breaking_load_N": 3000.0, "cables": cables})
+    breaking = {c: 4000.0 if c == hardest else 460.0 if c == other else 3000.0 for c in peaks}
+    judged = max(peaks, key=lambda c: max(r.tensions[k, c - 1] / breaking[c] for k in range(1000, 2001)))
+    assert judged == other and row.peak_cable == other and row.breaking_N == 460.0 and row.working_limit_N == 450.0
+    assert row.verdict == f"cable {other} pulls {peaks[other]:.0f} N, beyond its breaking load 460 N"
+
+
 def test_on_six_cables_the_detection_s_delay_decides_a_mid_left_break(six):
     """Cable 5 (mid left) of the six-cable robot snaps at 0.434 s (the job's highest speed): in
     the watch's 20 ms the platform turns about y to where the five left have (almost) no

@@ -319,7 +319,7 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                 f"{spec.name}_{rank}.toml --surface`\n# As built: the rope's weight (robot.cable_weight_N_m) and "
                 f"EA (simulation.cables), the winches' torque, speed, power and drum ([robot.winch], motor "
                 f"winches); robot.tension_max_N the smaller of the rope's breaking load over its safety factor and "
-                f"the winch's torque over its drum\n")
+                f"the winch's torque over its drum, robot.breaking_load_N the rope's breaking load\n")
         path = designs / f"{spec.name}_{rank}.toml"
         with atomic_path(path) as tmp:
             Path(tmp).write_text(head + tomli_w.dumps(toml_plain(data)), encoding="utf-8")

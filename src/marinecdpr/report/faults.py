@@ -15,14 +15,15 @@ from marinecdpr.report.page import embedded_figures, render_page
 from marinecdpr.report.writers import _write_table
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["faults_summary", "write_faults", "plot_fault_trajectories", "FAULT_COLUMNS", "fault_label", "sea_label"]
+__all__ = ["faults_summary", "write_faults", "plot_fault_trajectories", "FAULT_COLUMNS", "fault_label", "sea_label",
+           "breaking_load_said"]
 
 FAULT_COLUMNS = ("kind", "cable", "moment", "at_s", "acted_s", "detected", "detection_delay_s", "detection",
                  "reaction", "brakes_held", "max_deviation_m", "max_displacement_m", "max_speed_m_s", "end_deviation_m",
                  "end_speed_m_s", "within_frame",
                  "frame_time_s", "frame_speed_m_s", "frame_energy_J", "hull_speed_m_s", "hull_energy_J",
-                 "peak_tension_N", "peak_cable", "breaking_N", "static_margin_N", "verdict", "hs_m", "tp_s",
-                 "heading_deg")
+                 "peak_tension_N", "peak_cable", "working_limit_N", "breaking_N", "static_margin_N", "verdict", "hs_m",
+                 "tp_s", "heading_deg")
 """``faults.csv``'s columns (:class:`~marinecdpr.studies.faults.FaultRow`'s fields)."""
 
 
@@ -37,6 +38,23 @@ def fault_label(row) -> str:
 def sea_label(sea: dict) -> str:
     """``"Hs 2 m, Tp 8 s, heading 150 deg"``."""
     return f"Hs {sea['hs_m']:g} m, Tp {sea['tp_s']:g} s, heading {sea['heading_deg']:g} deg"
+
+
+def breaking_load_said(robot) -> str:
+    """Whether the robot's breaking loads (``breaking_load_N``) are given, or its working
+    limits (``tension_max_N``) stand in: "given (breaking_load_N)", "not given: each cable's
+    working limit (tension_max_N) stands in", or which cables have one."""
+    given = robot.breaking_load_given
+    if given.all():
+        return "given (breaking_load_N)"
+    if not given.any():
+        return "not given: each cable's working limit (tension_max_N) stands in"
+
+    def cables(mask):
+        idx = np.flatnonzero(mask) + 1
+        return ("cable " if idx.size == 1 else "cables ") + ", ".join(str(i) for i in idx)
+    return (f"given for {cables(given)} (breaking_load_N); for {cables(~given)} the working limit (tension_max_N) "
+            "stands in")
 
 
 def _cell(v):
@@ -61,8 +79,10 @@ def faults_summary(study, scenario: Scenario) -> dict:
             "after_s": study.after_s,
             "cables": scenario.robot.n_cables, "faults": len(study.rows),
             "safe": sum(r.verdict == "safe" for r in study.rows), "unsafe": len(study.unsafe),
+            "breaking_load": breaking_load_said(scenario.robot),
             "verdict_meaning": ("safe: the platform's body stays within the frame's box, does not meet the hull, "
-                                "no remaining cable passes its breaking load (tension_max), and a fault that acted "
+                                "no remaining cable passes its breaking load (breaking_load_N; where not given, its "
+                                "working limit tension_max_N stands in), and a fault that acted "
                                 "was detected or kept the platform within the error bound, and at the run's end the "
                                 "platform is on its plan (within the error bound) or at rest; else the first reason "
                                 "it is not"),
@@ -118,6 +138,7 @@ def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
              ("sea states", "; ".join(sea_label(sea) for sea in study.seas) if study.seas[0]
               else scenario.base_motion.type.replace("_", " ")),
              ("flown after each fault", f"{study.after_s:g} s, closed loop with the controller's watch"),
+             ("cables' breaking load", breaking_load_said(scenario.robot)),
              ("faults", f"{len(study.rows)}: {len(study.rows) - len(study.unsafe)} safe, {len(study.unsafe)} not")]
 
     def fmt(v, unit="", digits=3):
@@ -128,7 +149,8 @@ def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
               "yes" if r.within_frame else "no",
               fmt(r.frame_speed_m_s, " m/s") + " / " + fmt(r.frame_energy_J, " J"),
               fmt(r.hull_speed_m_s, " m/s") + " / " + fmt(r.hull_energy_J, " J"),
-              f"{fmt(r.peak_tension_N, ' N', 4)} (cable {r.peak_cable}) of {fmt(r.breaking_N, ' N', 4)}",
+              f"{fmt(r.peak_tension_N, ' N', 4)} (cable {r.peak_cable}) of {fmt(r.working_limit_N, ' N', 4)} / "
+              f"{fmt(r.breaking_N, ' N', 4)}",
               fmt(r.static_margin_N, " N", 4), r.verdict] for r in study.rows]
     paths.append(render_page("faults.html", folder / "report.html", name=scenario.name,
                              description=scenario.description, facts=facts, table=table,

@@ -153,6 +153,7 @@ Orientation = _ranged_vec3(180.0, "deg", "SNAME angles: at most half a turn", ("
 Phase = _ranged(-360.0, 360.0, "deg", "one turn either way")
 Tension = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN")
 TensionMax = _ranged(0.0, 1e7, "N", "a cable's tension, up to 10 MN", above=True)
+BreakingLoad = _ranged(0.0, 1e9, "N", "a rope's breaking load, up to 1 GN", above=True)
 TimeOfDay = _ranged(0.0, TIME_MAX_S, "s", "11.6 days")
 Force = _ranged_vec3(1e8, "N", "beyond what ten cables of 10 MN can hold")
 Moment = _ranged_vec3(1e9, "N m", "beyond what ten cables of 10 MN can hold")

@@ -8,7 +8,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
-from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, FLAT_FRAME_SHARE, CONTROLLED_DOFS, DEGENERATE_RELATIVE, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged, UNIT_TOLERANCE, normalised_unit
+from marinecdpr.scenario.fields import ANCHOR_TOLERANCE_M, CABLES_MAX, FLAT_FRAME_SHARE, CONTROLLED_DOFS, DEGENERATE_RELATIVE, BreakingLoad, Position, RADIUS_OF_GYRATION_RANGE_M, RANK_TOLERANCE, Tension, TensionMax, _KeyedError, _Model, _num, _ranged, UNIT_TOLERANCE, normalised_unit
 
 # --------------------------------------------------------------------------- robot
 class Cable(_Model):
@@ -22,6 +22,10 @@ class Cable(_Model):
     """Smallest allowed tension, N (default: ``robot.tension_min_N``)."""
     tension_max_N: TensionMax | None = None
     """Largest allowed tension, N (default: ``robot.tension_max_N``)."""
+    breaking_load_N: BreakingLoad | None = None
+    """The load at which this cable breaks, N, not below its ``tension_max_N`` (default:
+    ``robot.breaking_load_N``; neither given: unknown, the working limit ``tension_max_N``
+    stands in)."""
     pulley_radius_m: _ranged(0.0, 1.0, "m", "a pulley, not a drum the size of a ship") = 0.0
     """A swivelling pulley at the frame anchor (0: the cable leaves a point)."""
     pulley_axis: Any = None
@@ -76,6 +80,10 @@ class Robot(_Model):
     """About the centre of mass in P: 3 principal moments or a 3x3 matrix."""
     tension_min_N: Tension | None = None
     tension_max_N: TensionMax | None = None
+    breaking_load_N: BreakingLoad | None = None
+    """The load at which a cable breaks, N: the default for every cable (each cable's own
+    ``breaking_load_N`` overrides it), not below any cable's ``tension_max_N`` that it stands
+    for. None (the default): unknown, each cable's working limit ``tension_max_N`` stands in."""
     cables: list[Cable] = Field(min_length=1)
     cable_weight_N_m: _ranged(0.0, 1e4, "N/m", "a rope's weight per metre") = 0.0
     """The cables' weight per metre (their sag: ``marinecdpr.model.catenary``), N/m."""
@@ -145,6 +153,14 @@ class Robot(_Model):
                     f"cables[{i}]",
                     f"tension_min_N ({lo:g}) must be below tension_max_N ({hi:g})",
                 )
+            if cable.breaking_load_N is not None and cable.breaking_load_N < hi:
+                raise _KeyedError(f"cables[{i}].breaking_load_N",
+                                  f"must not be below the cable's tension_max_N ({hi:g} N), got "
+                                  f"{cable.breaking_load_N:g} N (a working limit is at most the breaking load)")
+            if cable.breaking_load_N is None and self.breaking_load_N is not None and self.breaking_load_N < hi:
+                raise _KeyedError("breaking_load_N",
+                                  f"must not be below cable {i}'s tension_max_N ({hi:g} N), got "
+                                  f"{self.breaking_load_N:g} N (a working limit is at most the breaking load)")
         # two cables may share a platform point (IPAnema 1's pairs do), not a frame anchor (each
         # leaves its own winch or pulley)
         pts = np.array([c.frame_anchor_m for c in self.cables])
@@ -241,6 +257,22 @@ class Robot(_Model):
             [c.tension_max_N if c.tension_max_N is not None else self.tension_max_N for c in self.cables],
             dtype=float,
         )
+
+    @property
+    def breaking_load(self) -> np.ndarray:
+        """Each cable's breaking load, shape (n_cables,), N: its ``breaking_load_N``, else
+        ``robot.breaking_load_N``; where neither is given (unknown) its working limit
+        T_max (:attr:`tension_max`) stands in (:attr:`breaking_load_given` says which)."""
+        given = [c.breaking_load_N if c.breaking_load_N is not None else self.breaking_load_N for c in self.cables]
+        return np.where(self.breaking_load_given, np.array([np.nan if b is None else b for b in given], dtype=float),
+                        self.tension_max)
+
+    @property
+    def breaking_load_given(self) -> np.ndarray:
+        """Whether each cable's breaking load is given (its own or the robot's
+        ``breaking_load_N``), shape (n_cables,) of bool; False: its T_max stands in."""
+        return np.array([c.breaking_load_N is not None or self.breaking_load_N is not None for c in self.cables],
+                        dtype=bool)
 
 
 DOF_NAMES = ("x", "y", "z", "theta_x", "theta_y", "theta_z")

@@ -454,7 +454,8 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
     uncrossed (the paper's), crossed, or five to eight with the sides' middles or doubled
     corners (:func:`cable_pattern`), mass from ``[platform_mass]``
     and a uniform plate's inertia, T_min from ``[limits]`` and T_max the smaller of the
-    rope's breaking load over its safety factor and the winch's torque over its drum's radius;
+    rope's breaking load over its safety factor and the winch's torque over its drum's radius,
+    each cable's breaking load (``robot.breaking_load_N``) the rope's;
     the panel the frame's inner rectangle inset by the platform's half size and
     ``limits.edge_m``; the tool's width, speed and overlap; the time the panel's coverage
     path takes; where the study sets them (:func:`relocation_of`), the frame's moves and the
@@ -480,8 +481,8 @@ def candidate_scenario(spec: DesignSpec, template: Scenario, x: dict) -> Scenari
                             f"the platform and the edge) is no wider than the tool ({x['tool_width_m']:.3g} m)")
     robot = template.robot.model_dump(exclude_none=True)
     robot.update(mass_kg=mass, inertia_kg_m2=_plate_inertia(mass, w, h), tension_min_N=spec.limits.tension_min_N,
-                 tension_max_N=t_max, cables=[{"frame_anchor_m": c, "platform_anchor_m": p}
-                                              for c, p in zip(frame, platform)])
+                 tension_max_N=t_max, breaking_load_N=rope.breaking_N,
+                 cables=[{"frame_anchor_m": c, "platform_anchor_m": p} for c, p in zip(frame, platform)])
     cleaning = template.cleaning.model_dump(exclude_none=True)
     cleaning.update(panel_m=[[x0, z0], [x1, z0], [x1, z1], [x0, z1]], holes_m=[], brush_diameter_m=x["tool_width_m"],
                     overlap_m=x["overlap_share"] * x["tool_width_m"], speed_m_s=x["speed_m_s"])
@@ -510,7 +511,9 @@ def as_built(spec: DesignSpec, template: Scenario, e: Evaluation, plant: str | N
 
     - the rope: its weight per metre (``robot.cable_weight_N_m``: the plan's sag), its EA
       (elastic cables, ``simulation.cables.stiffness_EA_N``) and its breaking load over its
-      safety factor in ``robot.tension_max_N`` (with the winch's torque over its drum);
+      safety factor in ``robot.tension_max_N`` (with the winch's torque over its drum), and
+      its breaking load in ``robot.breaking_load_N`` (what ``faults`` judges a cable's peak
+      against);
     - the winches (``[robot.winch]``, ``simulation.cables.winch = "motor"``): the catalogue's
       torque, speed and power at the drum (``gear_ratio`` 1), its drum's radius and inertia
       (:attr:`~marinecdpr.scenario.design.Winch.inertia`): the plan keeps within what each
@@ -991,6 +994,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
         study["safety"] = safety
     if not scenario.get("faults"):  # no [[faults]]: the key as before faults were known
         scenario.pop("faults", None)
+    for node in (scenario["robot"], *scenario["robot"]["cables"]):  # no breaking load: as before it was known
+        if node.get("breaking_load_N", 0) is None:
+            del node["breaking_load_N"]
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]

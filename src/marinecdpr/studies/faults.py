@@ -18,7 +18,9 @@ and translational kinetic energy there; whether it moves towards the hull (``[cl
 hull plane, through the brush's planned position, normal ``hull_normal``) beyond
 ``HULL_CONTACT_M`` of its plan, and its speed and energy along the normal there; the
 remaining cables' peak tension against each cable's breaking load (the robot's
-``tension_max``: a snap load); the static margin of the remaining cables at the fault's pose
+``breaking_load``: ``breaking_load_N`` where given, else its working limit ``tension_max``
+stands in) and against its working limit (``tension_max``), the cable the one loaded most
+against its breaking load (a snap load); the static margin of the remaining cables at the fault's pose
 (:func:`~marinecdpr.planning.redundancy.single_failure_margin`, for a cable lost); and a
 verdict: ``"safe"``, or why not in one clause (:func:`verdict`).
 
@@ -94,9 +96,14 @@ class FaultRow:
     hull_speed_m_s, hull_energy_J : float
         Where it first meets the hull: its speed towards the hull and 1/2 m v_n^2.
     peak_tension_N : float
-        The remaining cables' largest tension after the fault; ``peak_cable`` (from 1) which.
+        The largest tension after the fault of ``peak_cable`` (from 1), the remaining cable
+        loaded most against its breaking load (with one breaking load for all: the largest
+        tension of any).
+    working_limit_N : float
+        That cable's working limit (``tension_max``).
     breaking_N : float
-        That cable's breaking load.
+        That cable's breaking load (``breaking_load_N``; where not given, its working limit
+        stands in).
     static_margin_N : float
         A cable lost: the margin by which the others hold the plan's wrench at the fault's
         pose within their limits (< 0: they cannot), N.
@@ -129,6 +136,7 @@ class FaultRow:
     hull_energy_J: float
     peak_tension_N: float
     peak_cable: int
+    working_limit_N: float
     breaking_N: float
     static_margin_N: float
     verdict: str
@@ -232,8 +240,9 @@ def body_points(scenario: Scenario, pose: np.ndarray) -> np.ndarray:
 def verdict(row: dict, *, error_bound_m: float) -> str:
     """"safe", or the first reason it is not, in this order: the run lost; the platform's body
     leaving the frame (where the remaining cables cannot hold it there, said with their static
-    margin); it meeting the hull; a remaining cable beyond its breaking load; a fault that
-    acted, undetected, taking the platform off its plan beyond the error bound."""
+    margin); it meeting the hull; a remaining cable beyond its breaking load (``breaking_N``:
+    the robot's ``breaking_load_N``, or where unknown its working limit ``tension_max``); a
+    fault that acted, undetected, taking the platform off its plan beyond the error bound."""
     if row["lost"]:
         return "the platform is lost (the run diverged: more than 10 m off its plan)"
     if not row["within_frame"]:
@@ -301,12 +310,15 @@ def judge_run(scenario: Scenario, case: FaultCase, res, plan, *, k_fault: int) -
     remaining = np.ones(robot.n_cables, dtype=bool)
     if case.kind in CABLE_LOST[:1]:
         remaining[case.cable - 1] = False
-    T = res.tensions[after][:, remaining]
-    j = int(np.argmax(T.max(axis=0)))
     cables = np.flatnonzero(remaining)
-    breaking = robot.tension_max
-    row["peak_tension_N"], row["peak_cable"] = float(T[:, j].max()), int(cables[j] + 1)
-    row["breaking_N"] = float(breaking[cables[j]])
+    peaks = res.tensions[after][:, remaining].max(axis=0)
+    breaking = robot.breaking_load[cables]
+    load = peaks / breaking
+    most = np.flatnonzero(load == load.max())  # of these, the largest tension (one breaking load: the largest of all)
+    j = int(most[np.argmax(peaks[most])])
+    row["peak_tension_N"], row["peak_cable"] = float(peaks[j]), int(cables[j] + 1)
+    row["working_limit_N"] = float(robot.tension_max[cables[j]])
+    row["breaking_N"] = float(breaking[j])
     row["static_margin_N"] = np.nan
     if case.kind in CABLE_LOST:
         kp = min(k0, plan.pose.shape[0] - 1)
@@ -323,7 +335,8 @@ def lost_row(case: FaultCase, scenario: Scenario, k_fault: int) -> dict:
                 acted_s=k_fault * scenario.time.step_s, lost=True, detected=False, detection_delay_s=nan,
                 detection="", reaction="", brakes_held=0, max_deviation_m=nan, max_displacement_m=nan,
                 max_speed_m_s=nan, end_deviation_m=nan, end_speed_m_s=nan, within_frame=False, frame_time_s=nan, frame_speed_m_s=nan, frame_energy_J=nan,
-                hull_speed_m_s=nan, hull_energy_J=nan, peak_tension_N=nan, peak_cable=0, breaking_N=nan,
+                hull_speed_m_s=nan, hull_energy_J=nan, peak_tension_N=nan, peak_cable=0, working_limit_N=nan,
+                breaking_N=nan,
                 static_margin_N=nan)
 
 
