@@ -49,13 +49,27 @@ def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
     assert first.returncode == 0, first.stderr
     assert _one_complete_run(out) == "paper"
     seen = set()
-    for delay in (0.5, 1.5, 2.5, 3.5, 5.0, 8.0):
+    # one kill in each phase of a run's writing, found by watching the folder (not by the
+    # clock, which a loaded machine stretches): while it starts (no staging folder yet),
+    # while it works (its staging folder empty), while it writes its files into the staging
+    # folder (the first ones there); the last run below is the whole run to its commit
+    for phase in ("starting", "working", "writing"):
         proc = _start(["simulate", "paper_sea", "--duration", "0.3", "--out", str(out)])
-        time.sleep(delay)
+        for _ in range(60_000):  # a hang guard by count, not by clock
+            stages = list(out.glob(f".staging-{proc.pid}-*"))
+            if phase == "starting" or proc.poll() is not None:
+                break
+            if stages and (phase == "working" or any(stages[0].iterdir())):
+                break
+            time.sleep(0.005)
+        if phase == "starting":
+            time.sleep(0.5)
+            assert not list(out.glob(f".staging-{proc.pid}-*"))  # still in its imports
         proc.kill()
         proc.communicate(timeout=300)
+        assert proc.returncode == -signal.SIGKILL, phase  # killed in that phase, not finished
         seen.add(_one_complete_run(out))
-    assert seen <= {"paper", "paper_sea"}
+    assert seen == {"paper"}  # a killed run changes nothing
     again = subprocess.run([EXE, "simulate", "paper_sea", "--duration", "0.3", "--out", str(out)],
                            capture_output=True, text=True, timeout=300)
     assert again.returncode == 0, again.stderr
