@@ -3,6 +3,7 @@ complete run (the previous one, or the new one), and a rerun works."""
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -42,11 +43,20 @@ def _one_complete_run(folder: Path) -> str:
     return s["scenario"]
 
 
-def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
-    out = tmp_path / "out"
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory) -> Path:
+    """A complete run of ``simulate paper --duration 0.5``, made once: each test copies it
+    into its own output folder as the previous run there."""
+    out = tmp_path_factory.mktemp("paper_run") / "out"
     first = subprocess.run([EXE, "simulate", "paper", "--duration", "0.5", "--out", str(out)],
                            capture_output=True, text=True, timeout=300)
     assert first.returncode == 0, first.stderr
+    return out
+
+
+def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path, paper_run):
+    out = tmp_path / "out"
+    shutil.copytree(paper_run, out)
     assert _one_complete_run(out) == "paper"
     seen = set()
     # one kill in each phase of a run's writing, found by watching the folder (not by the
@@ -77,11 +87,10 @@ def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
     assert [p.name for p in out.glob(".staging-*")] == []  # the killed runs' staging folders are gone
 
 
-def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path):
+def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path, paper_run):
     out = tmp_path / "out"
-    first = subprocess.run([EXE, "simulate", "paper", "--duration", "0.5", "--out", str(out)],
-                           capture_output=True, text=True, timeout=300)
-    assert first.returncode == 0, first.stderr
+    shutil.copytree(paper_run, out)
+    assert _one_complete_run(out) == "paper"
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a long run, interrupted while it simulates (the first progress line says it has begun)
     proc = _start(["simulate", "paper_sea", "--out", str(out)])
