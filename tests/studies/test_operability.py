@@ -131,9 +131,10 @@ def test_tracking_error_criterion():
 
 
 def test_operability_over_a_workspace_grid():
-    """Judging held poses over the frame: the workable share of the frame shrinks in rough seas."""
+    """Judging held poses over the frame: the workable share of the frame shrinks in rough seas
+    (on 20 s records: 1.0 calm, 0.981 rough; 0.979 on 60 s)."""
     diagram = ScatterDiagram(np.array([0.1, 6.0]), np.array([10.0]), np.full((2, 1), 0.5))
-    kw = dict(headings_deg=(90.0,), duration_s=60.0, step_s=0.05, workspace=(12, 8))
+    kw = dict(headings_deg=(90.0,), duration_s=20.0, step_s=0.05, workspace=(12, 8))
     op = operability(sea_robot(5.0), diagram, min_area=0.0, **kw)
     calm, rough = op.results
     assert 0.0 < rough.fraction_feasible < calm.fraction_feasible <= 1.0
