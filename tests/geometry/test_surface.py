@@ -66,13 +66,15 @@ def test_a_tilted_plane_is_tiled_as_worked_by_hand():
 
 def test_every_placement_stays_within_the_stand_off_tolerance_between_its_samples(paper_clean, paper_clean_job):
     """The flared Wigley side of paper_clean, sampled 41 x 41 per placement (the tiling looks
-    at 9 x 9); and a tighter tolerance that forces splits, on a tumbling-home bilge band."""
+    at 9 x 9); and a tighter tolerance that forces splits, on a tumbling-home bilge band (6 m
+    of it along the ship, its whole 17 m of height: 509 placements in 127 sizes, the largest
+    dense deviation 1.80 mm; 30 m gave 2334 placements and 1.80 mm, in 4.6 times the time)."""
     f, _ = surface_function(paper_clean.cleaning.surface)
     tol = paper_clean.cleaning.surface.stand_off_tolerance_m
     worst = max(_dense_deviation(f, p) for p in paper_clean_job.placements)
     assert worst <= tol
     assert worst == pytest.approx(paper_clean_job.summary()["largest_stand_off_deviation_m"], rel=1e-9)
-    bilge = paper_clean.with_updates("cleaning.surface", flare=-0.5, heights_m=[-9.0, 8.0], stations_m=[-90.0, -60.0],
+    bilge = paper_clean.with_updates("cleaning.surface", flare=-0.5, heights_m=[-9.0, 8.0], stations_m=[-90.0, -84.0],
                                      stand_off_tolerance_m=0.002)
     sj = surface_job(bilge, move_time_s=600.0)
     fb, _ = surface_function(bilge.cleaning.surface)

@@ -408,6 +408,7 @@ its bottom and top edges the first and last lanes again (2 x 1.1 m of 9.5 m).
 
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from marinecdpr.motion.coverage import coverage_path
 from marinecdpr.motion.trajectory import cleaning_path
@@ -445,11 +446,12 @@ def length_over_cleaned(cells, cleaned, segs, step=0.002, h=H):
     """Length of ``segs`` along which the brush's disc (shrunk by 2 cells, against the
     raster's rounding) finds no cell the lanes left: flown over cleaned area only."""
     dirty = cells[~cleaned]
+    tree = cKDTree(dirty) if len(dirty) else None  # the nearest dirty cell of each sample
     total = 0.0
     for p, q in segs:
         n = max(2, int(np.ceil(np.linalg.norm(q - p) / step)) + 1)
         s = p + np.linspace(0, 1, n)[:, None] * (q - p)
-        new = np.array([np.any(np.linalg.norm(dirty - x, axis=1) <= R - 2 * h) for x in s])
+        new = np.zeros(n, dtype=bool) if tree is None else tree.query(s)[0] <= R - 2 * h
         total += np.linalg.norm(q - p) * float(np.mean(~new))
     return total
 

@@ -104,16 +104,19 @@ def test_single_component_moves_the_ship_with_the_rao():
     np.testing.assert_allclose(deta[:, 2], -abs(rao[2]) * a * w * np.sin(w * t + eps + np.angle(rao[2])), atol=1e-12)
 
 
-def test_long_record_has_the_target_hs_and_does_not_repeat():
-    rec = sea_record(hs=2.0, tp=8.0, heading_deg=180.0, rao=UNIT_HEAVE, record_s=3 * 3600.0, seed=4)
-    t = np.arange(0.0, 3 * 3600.0, 0.25)
+def test_a_record_has_the_target_hs_and_does_not_repeat():
+    """A 30-minute record: its components are harmonics of the record's length with fixed
+    amplitudes, so its Hs over the whole record does not depend on the length (1.99904 m at
+    30 min as at 3 h). The 3-hour record's check is benchmarks/bench_sea_record.py."""
+    rec = sea_record(hs=2.0, tp=8.0, heading_deg=180.0, rao=UNIT_HEAVE, record_s=1800.0, seed=4)
+    t = np.arange(0.0, 1800.0, 0.25)
     zeta = wave_elevation(rec, t)
     assert 4 * zeta.std() == pytest.approx(2.0, rel=0.03)
     heave = synthesize(rec, t)[0][:, 2]
     np.testing.assert_allclose(heave, zeta, atol=1e-9)  # a unit heave RAO follows the wave
     # no repetition inside the record: the first 10 minutes recur nowhere else
     n = int(600 / 0.25)
-    lag = np.arange(n, t.size - n, 97)
+    lag = np.arange(n, t.size - n + 1, 12)  # every 3 s from 10 to 20 min
     best = max(np.corrcoef(zeta[:n], zeta[k:k + n])[0, 1] for k in lag)
     assert best < 0.5
 

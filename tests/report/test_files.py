@@ -3,6 +3,7 @@ complete run (the previous one, or the new one), and a rerun works."""
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -42,20 +43,43 @@ def _one_complete_run(folder: Path) -> str:
     return s["scenario"]
 
 
-def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
-    out = tmp_path / "out"
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory) -> Path:
+    """A complete run of ``simulate paper --duration 0.5``, made once: each test copies it
+    into its own output folder as the previous run there."""
+    out = tmp_path_factory.mktemp("paper_run") / "out"
     first = subprocess.run([EXE, "simulate", "paper", "--duration", "0.5", "--out", str(out)],
                            capture_output=True, text=True, timeout=300)
     assert first.returncode == 0, first.stderr
+    return out
+
+
+def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path, paper_run):
+    out = tmp_path / "out"
+    shutil.copytree(paper_run, out)
     assert _one_complete_run(out) == "paper"
     seen = set()
-    for delay in (0.5, 1.5, 2.5, 3.5, 5.0, 8.0):
+    # one kill in each phase of a run's writing, found by watching the folder (not by the
+    # clock, which a loaded machine stretches): while it starts (no staging folder yet),
+    # while it works (its staging folder empty), while it writes its files into the staging
+    # folder (the first ones there); the last run below is the whole run to its commit
+    for phase in ("starting", "working", "writing"):
         proc = _start(["simulate", "paper_sea", "--duration", "0.3", "--out", str(out)])
-        time.sleep(delay)
+        for _ in range(60_000):  # a hang guard by count, not by clock
+            stages = list(out.glob(f".staging-{proc.pid}-*"))
+            if phase == "starting" or proc.poll() is not None:
+                break
+            if stages and (phase == "working" or any(stages[0].iterdir())):
+                break
+            time.sleep(0.005)
+        if phase == "starting":
+            time.sleep(0.5)
+            assert not list(out.glob(f".staging-{proc.pid}-*"))  # still in its imports
         proc.kill()
         proc.communicate(timeout=300)
+        assert proc.returncode == -signal.SIGKILL, phase  # killed in that phase, not finished
         seen.add(_one_complete_run(out))
-    assert seen <= {"paper", "paper_sea"}
+    assert seen == {"paper"}  # a killed run changes nothing
     again = subprocess.run([EXE, "simulate", "paper_sea", "--duration", "0.3", "--out", str(out)],
                            capture_output=True, text=True, timeout=300)
     assert again.returncode == 0, again.stderr
@@ -63,11 +87,10 @@ def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path):
     assert [p.name for p in out.glob(".staging-*")] == []  # the killed runs' staging folders are gone
 
 
-def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path):
+def test_sigint_is_one_line_exit_130_and_keeps_the_previous_run(tmp_path, paper_run):
     out = tmp_path / "out"
-    first = subprocess.run([EXE, "simulate", "paper", "--duration", "0.5", "--out", str(out)],
-                           capture_output=True, text=True, timeout=300)
-    assert first.returncode == 0, first.stderr
+    shutil.copytree(paper_run, out)
+    assert _one_complete_run(out) == "paper"
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a long run, interrupted while it simulates (the first progress line says it has begun)
     proc = _start(["simulate", "paper_sea", "--out", str(out)])

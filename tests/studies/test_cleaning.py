@@ -74,7 +74,9 @@ def test_the_brush_loads_enter_the_planned_wrench_by_hand(clean):
 
 
 def test_coverage_agrees_with_an_independent_computation_from_clean_csv(clean, tmp_path):
-    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "12", "--out", str(tmp_path)])
+    # --no-compare: the calm-water and no-drag variants add only summary.json's "comparison"
+    # (clean.csv and every other figure the same, byte for byte and to the bit)
+    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "12", "--no-compare", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output
     s = json.loads((tmp_path / "summary.json").read_text())
     rows = np.genfromtxt(tmp_path / "clean.csv", delimiter=",", names=True)

@@ -122,7 +122,7 @@ def test_operability_needs_a_sea_state(paper):
 def test_tracking_error_criterion():
     """With max_error_m, a cell also needs the closed loop to hold the platform close."""
     diagram = ScatterDiagram(np.array([0.5, 3.0]), np.array([8.0]), np.full((2, 1), 0.5))
-    kw = dict(headings_deg=(90.0,), duration_s=20.0, step_s=0.01)
+    kw = dict(headings_deg=(90.0,), duration_s=10.0, step_s=0.01)
     loose = operability(sea_robot(5.0), diagram, max_error_m=1.0, **kw)
     assert all(r.operable and 0 < r.max_error_m < 1e-3 for r in loose.results)
     tight = operability(sea_robot(5.0), diagram, max_error_m=1e-12, **kw)
@@ -131,9 +131,10 @@ def test_tracking_error_criterion():
 
 
 def test_operability_over_a_workspace_grid():
-    """Judging held poses over the frame: the workable share of the frame shrinks in rough seas."""
+    """Judging held poses over the frame: the workable share of the frame shrinks in rough seas
+    (on 20 s records: 1.0 calm, 0.981 rough; 0.979 on 60 s)."""
     diagram = ScatterDiagram(np.array([0.1, 6.0]), np.array([10.0]), np.full((2, 1), 0.5))
-    kw = dict(headings_deg=(90.0,), duration_s=60.0, step_s=0.05, workspace=(12, 8))
+    kw = dict(headings_deg=(90.0,), duration_s=20.0, step_s=0.05, workspace=(12, 8))
     op = operability(sea_robot(5.0), diagram, min_area=0.0, **kw)
     calm, rough = op.results
     assert 0.0 < rough.fraction_feasible < calm.fraction_feasible <= 1.0
@@ -183,13 +184,15 @@ def test_realisations_give_a_probability_with_its_interval():
 
 
 def test_paper_sea_with_two_template_seeds_agrees_within_its_interval():
-    """Issue 12's check, on short records: the default number of realisations, each heading."""
+    """Issue 12's check, on short records: the default number of realisations, each heading.
+    (20 s records: a flight is the first seconds of its cell's record, and every record holds
+    at 60 s as at 20 s: operability 1.0 for both seeds and both headings either way.)"""
     from marinecdpr.studies.operability import REALISATIONS
 
     diagram = read_scatter_csv(resources.files("marinecdpr") / "data" / "scatter_illustrative.csv")
     paper_sea = __import__("marinecdpr").load_scenario("paper_sea")
     other = paper_sea.with_changes(base_motion=paper_sea.base_motion.model_dump(exclude_none=True) | {"seed": 11})
-    kw = dict(headings_deg=(180.0, 90.0), duration_s=60.0, step_s=0.05)
+    kw = dict(headings_deg=(180.0, 90.0), duration_s=20.0, step_s=0.05)
     a, b = operability(paper_sea, diagram, **kw), operability(other, diagram, **kw)
     assert a.results[0].realisations == REALISATIONS
     for h in (180.0, 90.0):

@@ -110,7 +110,15 @@ def _straight_rail(example, tmp_path, slope: float = 0.0, tolerance_m: float = 0
     return sc.with_updates("cleaning.surface.relocation", crane=None, frame_mass_kg=None)
 
 
-def test_flat_straight_side_by_hand(example, tmp_path):
+@pytest.fixture(scope="module")
+def flat(example, tmp_path_factory):
+    """The flat straight side's scenario (:func:`_straight_rail`) and its strip: one run for
+    the tests that work it by hand and compare the flared side with it."""
+    sc = _straight_rail(example, tmp_path_factory.mktemp("flat"))
+    return sc, rail_strip(sc)
+
+
+def test_flat_straight_side_by_hand(flat):
     """A still ship's flat side (y = 16 m), a straight rail 3.9 m along it in the frame's
     plane, the frame upright: 4 stations 1.3 m apart whose panels abut. By hand: the strip
     is the four panels (4 x 1.3 x 0.8 = 4.16 m2), cleaned as one panel is (its coverage map
@@ -118,8 +126,7 @@ def test_flat_straight_side_by_hand(example, tmp_path):
     the preload; the hours 4 paths and 3 carriage moves of 1.3 m at 0.1 m/s, 1 m/s^2,
     10 m/s^3 (a_max^2 / j_max = v_max: the speed reached with T_j = 0.1 s and no constant
     acceleration, T = h / v + 2 T_j = 13.2 s) and a 30 s settle each."""
-    sc = _straight_rail(example, tmp_path)
-    st = rail_strip(sc)
+    sc, st = flat
     np.testing.assert_allclose(st.s_m, [0.0, 1.3, 2.6, 3.9], atol=1e-12)
     assert st.crane == [] and st.stretches == [] and not st.by_crane.any()
     cleaning = sc.cleaning
@@ -137,7 +144,7 @@ def test_flat_straight_side_by_hand(example, tmp_path):
     np.testing.assert_allclose(st.move_in_s, [0.0, 43.2, 43.2, 43.2], rtol=1e-12)
 
 
-def test_a_flared_side_under_an_upright_frame_by_hand(example, tmp_path):
+def test_a_flared_side_under_an_upright_frame_by_hand(example, flat, tmp_path):
     """The side flares, y = 16 m + 0.1 z, under the same upright frame: the hull stands off
     its plane by 0.1 z along C's y, so under the brush's path (z from 0.4 to 1.0 m) by 0.04
     to 0.10 m, beyond a tolerance of 0.075 m at every station (flagged); the brush presses
@@ -149,9 +156,7 @@ def test_a_flared_side_under_an_upright_frame_by_hand(example, tmp_path):
     np.testing.assert_allclose(st.force_N, example.cleaning.preload / np.sqrt(1.01), rtol=1e-9)
     assert st.beyond_tolerance.all() and st.summary()["stations_beyond_tolerance"] == 4
     assert st.coverage.area_m2 == pytest.approx(4.16 * np.sqrt(1.01), rel=1e-7)
-    (tmp_path / "flat").mkdir()
-    flat = rail_strip(_straight_rail(example, tmp_path / "flat"))
-    assert 0.0 < st.coverage.coverage_pct < flat.coverage.coverage_pct - 20.0
+    assert 0.0 < st.coverage.coverage_pct < flat[1].coverage.coverage_pct - 20.0
     assert np.all(st.in_band_pct < 100.0) and np.all(st.in_band_pct > 0.0)
 
 
