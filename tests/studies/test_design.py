@@ -637,31 +637,18 @@ from marinecdpr.scenario.design import GENERATIONS, POPULATION, SEED_MAX, Design
 from marinecdpr.studies.design import (  # noqa: E402
     builtin_studies, load_design, read_journal, search, study_cells, study_key, study_path, with_options,
 )
-from tests.conftest import one_line_exit_2  # noqa: E402
+from tests.conftest import TINY_SEAS, one_line_exit_2, tiny_study_folder  # noqa: E402
 
 runner = CliRunner()
-BUILTIN = Path(str(resources.files("marinecdpr") / "scenario" / "builtin"))
-
-TEMPLATE_BAND = ("stations_m = [-95.0, 95.0]", "stations_m = [-5.0, 5.0]"), ("heights_m = [0.0, 11.6]",
-                                                                             "heights_m = [0.0, 3.0]")
 
 STUDY = (Path(__file__).parents[1] / "data" / "tiny_study.toml").read_text(encoding="utf-8")
-SEAS = "hs_m,tp_s,probability\n1.0,8.0,0.5\n2.0,9.0,0.5\n"
+SEAS = TINY_SEAS
 
 
 def _folder(folder: Path, study: str = STUDY, seas: bytes | str = SEAS) -> Path:
     """A study beside its own template (paper_clean on a 10 x 3 m band), the template's RAO
     file and its scatter diagram: every file it reads in one folder."""
-    folder.mkdir(parents=True, exist_ok=True)
-    text = (BUILTIN / "paper_clean.toml").read_text()
-    for old, new in TEMPLATE_BAND:
-        assert old in text
-        text = text.replace(old, new)
-    (folder / "template.toml").write_text(text)
-    shutil.copy(BUILTIN / "paper_sea_rao.csv", folder / "paper_sea_rao.csv")
-    (folder / "seas.csv").write_bytes(seas.encode() if isinstance(seas, str) else seas)
-    (folder / "study.toml").write_text(study)
-    return folder / "study.toml"
+    return tiny_study_folder(folder, study, seas)
 
 
 @pytest.fixture(scope="module")
