@@ -437,7 +437,7 @@ def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_pa
     import sys
     import time
 
-    study = _study(tmp_path)
+    study = _small_band(tmp_path)  # the 10 x 3 m band: the journal and the resume on any surface
     args = ["design", str(study), "--no-verify", "--population", "4", "--generations", "3"]
     out = tmp_path / "cut"
     env = dict(os.environ, COLUMNS="200")
