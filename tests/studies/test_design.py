@@ -317,9 +317,10 @@ def test_a_bad_study_file_is_one_line_naming_the_key(tmp_path, edit, words):
 def test_the_finalist_is_flown_in_every_sea_state(tmp_path):
     """The best design of a one-generation search flown closed loop in the study's two sea
     states: the time domain's share and hours beside the screen's, and the screen never
-    passes a sea state the time domain fails. (The small study on a 3 x 2 m frame, a short
-    job, as the boundary's test below: the screen passes Hs 1 m and fails Hs 5 m, the time
-    domain flies both, as on the 6 x 3 m frame, in a quarter of the time.)"""
+    passes a sea state the time domain fails. (The small study on a 3 x 2 m frame over the
+    10 x 3 m band, a short job and few placements, as the boundary's test below: the screen
+    passes Hs 1 m and fails Hs 5 m and the time domain flies both, as with the 6 x 3 m frame
+    over the whole side, in a quarter of the time.)"""
     from marinecdpr.studies.design import study_scatter, verify
 
     path = _small_band(tmp_path, SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace(
@@ -343,7 +344,8 @@ def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypat
     its job first fails in each column (one Tp, one heading): on a column of six heights whose
     every sea flown ("all") works up to a height and fails above it, the boundary's flights
     give the same verdicts, share, agreement and reasons, from fewer flights (each sea's
-    record is its own whichever asks: the second run takes the first's flights)."""
+    record is its own whichever asks: the second run takes the first's flights). On the 10 x 3 m
+    band: few placements to judge, the same column of verdicts."""
     from marinecdpr.studies import cleaning
     from marinecdpr.studies.design import study_scatter, verify
 
