@@ -171,7 +171,7 @@ def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch):
         assert ns["best"].expected_hours == min(e.expected_hours for e in study.evaluations
                                                 if e.feasible and e.expected_hours == e.expected_hours)
     summary = json.loads((tmp_path / "design_out" / "summary.json").read_text())
-    assert summary["candidates"] == 4 and summary["seed"] == 1
+    assert summary["candidates"] == 4 and summary["seed"] == 14
     # the resume: every candidate taken from the journal, none judged again, the same study
     import marinecdpr.studies.design as studies_design
 
