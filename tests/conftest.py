@@ -143,3 +143,29 @@ def one_candidate_study(spec, template, cells):
     assert e.feasible, e.reason
     return DesignStudy(spec=spec, evaluations=[e], generation=np.array([0]), front=[0],
                        baseline=baseline(spec, template, cells))
+
+
+TINY_SEAS = "hs_m,tp_s,probability\n1.0,8.0,0.5\n2.0,9.0,0.5\n"
+"""tests/data/tiny_study.toml's scatter diagram: two sea states of half each."""
+
+
+def tiny_study_folder(folder: Path, study: str | None = None, seas: bytes | str = TINY_SEAS) -> Path:
+    """tests/data/tiny_study.toml (or ``study``, its text) beside its own template
+    (paper_clean on a 10 x 3 m band), the template's RAO file and its scatter diagram (two
+    sea states, one heading): every file it reads in one folder. Returns the study's path."""
+    import shutil
+
+    builtin = Path(str(resources.files("marinecdpr") / "scenario" / "builtin"))
+    if study is None:
+        study = (Path(__file__).parent / "data" / "tiny_study.toml").read_text(encoding="utf-8")
+    folder.mkdir(parents=True, exist_ok=True)
+    text = (builtin / "paper_clean.toml").read_text()
+    for old, new in (("stations_m = [-95.0, 95.0]", "stations_m = [-5.0, 5.0]"),
+                     ("heights_m = [0.0, 11.6]", "heights_m = [0.0, 3.0]")):
+        assert old in text
+        text = text.replace(old, new)
+    (folder / "template.toml").write_text(text)
+    shutil.copy(builtin / "paper_sea_rao.csv", folder / "paper_sea_rao.csv")
+    (folder / "seas.csv").write_bytes(seas.encode() if isinstance(seas, str) else seas)
+    (folder / "study.toml").write_text(study)
+    return folder / "study.toml"

@@ -23,6 +23,7 @@ from marinecdpr.commands import design as command  # noqa: E402
 from marinecdpr.commands.design import DesignCommandSpec  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
 from marinecdpr.studies.executor import Executor  # noqa: E402
+from tests.conftest import tiny_study_folder  # noqa: E402
 
 runner = CliRunner()
 DOC = Path(__file__).resolve().parents[2] / "docs" / "commands" / "design.md"
@@ -94,25 +95,29 @@ def test_the_estimate_refuses_before_any_work(tmp_path, monkeypatch):
 
 
 def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
-    """Population 4, 1 generation, seed 11, no finalists flown: the typed result, and the
-    files it writes, equal the command's to the byte (the journal too). (The search's later
-    generations are the study's tests': tests/studies/test_design.py.)"""
+    """Population 4, 1 generation, seed 11, no finalists flown, on tests/data/tiny_study.toml
+    (its two sea states at one heading: the Python run and the command's agree on any study;
+    the built-in ship_side through the command is tests/studies/test_design.py's): the typed
+    result, and the files it writes, equal the command's to the byte (the journal too). (The
+    search's later generations are the study's tests': tests/studies/test_design.py.)"""
+    study_file = tiny_study_folder(tmp_path / "study")
     spec = DesignCommandSpec(population=4, generations=1, seed=11, verify=False)
     seen = []
-    result = command.run(spec, journal=tmp_path / "py.jsonl", progress=lambda d, n, best: seen.append((d, n)))
+    result = command.run(spec, study_file, journal=tmp_path / "py.jsonl",
+                         progress=lambda d, n, best: seen.append((d, n)))
     study = result.study
     assert len(study.evaluations) == 4 and list(study.generation) == [0] * 4
-    assert seen[-1] == (4, 4) and result.verified == () and result.cells == 591
+    assert seen[-1] == (4, 4) and result.verified == () and result.cells == 2
     s = result.summary()
     assert s["candidates"] == 4 and s["seed"] == 11 and s["verified"] is False
     assert [f["index"] for f in s["front"]] == study.front
-    assert all(study.evaluations[i].feasible for i in study.front)
+    assert study.front and all(study.evaluations[i].feasible for i in study.front)
     written = result.write(tmp_path / "py")
     out = tmp_path / "cli"
-    res = runner.invoke(app, ["design", "--population", "4", "--generations", "1", "--seed", "11", "--no-verify",
-                              "--out", str(out)])
+    res = runner.invoke(app, ["design", str(study_file), "--population", "4", "--generations", "1", "--seed", "11",
+                              "--no-verify", "--out", str(out)])
     assert res.exit_code == 0, res.output
-    assert f"ship_side: 4 candidates ({s['feasible']} feasible) over 591 sea states" in res.stdout
+    assert f"tiny: 4 candidates ({s['feasible']} feasible) over 2 sea states" in res.stdout
     for path in written:
         name = path.relative_to(tmp_path / "py")
         if path.suffix in (".csv", ".json", ".toml", ".html"):
@@ -166,7 +171,7 @@ def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch):
         assert ns["best"].expected_hours == min(e.expected_hours for e in study.evaluations
                                                 if e.feasible and e.expected_hours == e.expected_hours)
     summary = json.loads((tmp_path / "design_out" / "summary.json").read_text())
-    assert summary["candidates"] == 4 and summary["seed"] == 7
+    assert summary["candidates"] == 4 and summary["seed"] == 14
     # the resume: every candidate taken from the journal, none judged again, the same study
     import marinecdpr.studies.design as studies_design
 

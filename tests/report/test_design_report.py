@@ -23,7 +23,7 @@ from marinecdpr.cli.app import app  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
     DesignStudy, Evaluation, Verification, baseline, candidate_scenario, load_design, study_cells,
 )
-from conftest import one_candidate_study  # noqa: E402
+from conftest import one_candidate_study, tiny_study_folder  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
 
 runner = CliRunner()
@@ -245,8 +245,10 @@ def test_an_interrupted_search_counts_one_candidate_as_one(tmp_path, monkeypatch
 
 def test_the_command_prints_the_best_design_s_hours_in_parts(tmp_path):
     """One generation of four: the line after the best design's gives its hours in parts,
-    as summary.json has them, summing to its expected hours; the page says nothing was flown."""
-    path = _study_file(tmp_path, SMALL)
+    as summary.json has them, summing to its expected hours; the page says nothing was flown.
+    (The small study on paper_clean's 10 x 3 m midship band: the command's words on any surface.)"""
+    path = tiny_study_folder(tmp_path, SMALL.replace('scenario = "paper_clean"', 'scenario = "template.toml"'),
+                             "hs_m,tp_s,probability\n1.0,8.0,0.6\n5.0,10.0,0.4\n")
     out = tmp_path / "o"
     res = runner.invoke(app, ["design", str(path), "--out", str(out), "--population", "4", "--generations", "1",
                               "--no-verify"])
