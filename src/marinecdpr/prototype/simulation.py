@@ -364,7 +364,7 @@ def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, block: 
     return fallbacks
 
 
-KERNEL_COMPILE_S = 60.0
+KERNEL_COMPILE_S = 40.0
 """About how long the first simulation compiles its loop on a fresh install, s (README)."""
 
 
