@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Callable
 from pydantic import field_validator, model_validator
 
 from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, finite, plant, positive
-from marinecdpr.scenario.faults import FAULT_KINDS, SENSOR_MODES
+from marinecdpr.scenario.faults import CABLELESS_FAULTS, FAULT_KINDS, SENSOR_MODES
 
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
@@ -272,7 +272,7 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
     from marinecdpr.errors import ScenarioError
     from marinecdpr.planning.budget import check_run_size
     from marinecdpr.planning.planner import plan as make_plan
-    from marinecdpr.studies.faults import EARLIEST_S, UNCABLED, FaultCase, fault_entry, hardest_moments
+    from marinecdpr.studies.faults import EARLIEST_S, FaultCase, fault_entry, hardest_moments
 
     m = scenario.robot.n_cables
     cables = spec.cables or tuple(range(1, m + 1))
@@ -305,7 +305,7 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
             name = next((k for k, v in KINDS.items() if v == kind), kind)
             raise SpecError("kinds", name, exc.detail) from None
     plant_ = spec.plant or first.simulation.plant
-    n_cases = sum(1 if k in UNCABLED else len(cables) for k in spec.kinds)
+    n_cases = sum(1 if k in CABLELESS_FAULTS else len(cables) for k in spec.kinds)  # those flown once
     runs = n_cases * (len(spec.at) if spec.at else 2) * len(in_seas)
     try:
         size = check_run_size(first, "simulate", repeat=max(1, runs))
@@ -317,8 +317,9 @@ def estimate(spec: FaultsSpec, scenario: Scenario) -> FaultsEstimate:
         moments = ([("given", t) for t in spec.at] if spec.at is not None
                    else hardest_moments(plan, earliest_s=EARLIEST_S, latest_s=latest))
         plans.append(plan)
-        cases.append(tuple(FaultCase(kind=k, cable=None if k in UNCABLED else c, at_s=t, moment=label)
-                           for label, t in moments for k in spec.kinds for c in ((None,) if k in UNCABLED else cables)))
+        cases.append(tuple(FaultCase(kind=k, cable=None if k in CABLELESS_FAULTS else c, at_s=t, moment=label)
+                           for label, t in moments for k in spec.kinds
+                           for c in ((None,) if k in CABLELESS_FAULTS else cables)))
     return FaultsEstimate(scenario=first.name, size=size, seas=tuple(sea for _, sea in in_seas),
                           flown=tuple(sc for sc, _ in in_seas), plans=tuple(plans), cases=tuple(cases), plant=plant_)
 

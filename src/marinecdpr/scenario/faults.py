@@ -74,11 +74,13 @@ from pydantic import Field, model_validator
 
 from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Model, _ranged
 
-__all__ = ["Fault", "FAULT_KINDS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
+__all__ = ["Fault", "FAULT_KINDS", "CABLELESS_FAULTS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
 FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder", "mru",
                "brush_contact_loss", "controller_deadline")
 """The faults a scenario may list (``kind``)."""
+CABLELESS_FAULTS = ("mru", "brush_contact_loss", "controller_deadline")
+"""The faults that strike no cable (the ship's motion reference unit, the brush, the controller)."""
 WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall")
 """The faults of a cable's winch."""
 BRAKE_FAULTS = ("winch_brake", "motor_power_loss")
@@ -128,7 +130,7 @@ class Fault(_Model):
     @model_validator(mode="after")
     def _check_delay(self) -> "Fault":
         late = self.kind == "controller_deadline"
-        cableless = late or self.kind in ("mru", "brush_contact_loss")
+        cableless = self.kind in CABLELESS_FAULTS
         if not cableless and self.cable is None:
             raise _KeyedError("cable", "missing: which cable (counted from 1) the fault strikes")
         if late and self.cable is not None:

@@ -39,7 +39,7 @@ from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.planning.redundancy import single_failure_margin
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["FaultCase", "FaultRow", "FaultStudy", "UNCABLED", "hardest_moments", "fault_entry", "judge_run", "verdict",
+__all__ = ["FaultCase", "FaultRow", "FaultStudy", "hardest_moments", "fault_entry", "judge_run", "verdict",
            "fault_study", "combined", "EARLIEST_S", "HULL_CONTACT_M", "REST_M_S", "CABLE_LOST"]
 
 EARLIEST_S = 0.1
@@ -190,11 +190,6 @@ def hardest_moments(plan, *, earliest_s: float, latest_s: float) -> list[tuple[s
     if k_v != k_T:
         out.append(("highest speed", float(t[k_v])))
     return out
-
-
-UNCABLED = ("mru", "brush_contact_loss", "controller_deadline")
-"""The fault kinds that strike no cable (the ship's motion reference unit, the brush, the controller):
-flown once."""
 
 
 def fault_entry(case: FaultCase, *, sensor_mode: str, drift_per_s: float, brake_delay_s: float | None,
