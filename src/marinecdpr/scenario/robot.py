@@ -263,9 +263,8 @@ class Robot(_Model):
         """Each cable's breaking load, shape (n_cables,), N: its ``breaking_load_N``, else
         ``robot.breaking_load_N``; where neither is given (unknown) its working limit
         T_max (:attr:`tension_max`) stands in (:attr:`breaking_load_given` says which)."""
-        given = [c.breaking_load_N if c.breaking_load_N is not None else self.breaking_load_N for c in self.cables]
-        return np.where(self.breaking_load_given, np.array([np.nan if b is None else b for b in given], dtype=float),
-                        self.tension_max)
+        own = [c.breaking_load_N if c.breaking_load_N is not None else self.breaking_load_N for c in self.cables]
+        return np.array([t if b is None else b for b, t in zip(own, self.tension_max)], dtype=float)
 
     @property
     def breaking_load_given(self) -> np.ndarray:
