@@ -37,6 +37,20 @@ def unstretched(r):
     return np.where(r.tensions > 0.0, r.lengths * EA / (EA + r.tensions), np.nan)
 
 
+def cable_1_drum_after(kind: str):
+    """Cable 1's motor winch struck by ``kind`` at 0.5 s, 0.7 s flown open loop on the own plant
+    (1 ms steps): the run, each step's unstretched length L0 (m), L0's second difference at
+    steps 500 .. n-3 (m/s^2), the drive's J_eff = J_m + J_d / G^2 (kg m^2) and r_d / G (m)."""
+    r = simulate(paper_on("motor", [{"kind": kind, "cable": 1, "at_s": 0.5}], duration_s=0.7),
+                 run="open_loop", plant="own")
+    h, k0 = 0.001, 500
+    L0 = unstretched(r)
+    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
+    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
+    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
+    return r, L0, seen, J_eff, rg
+
+
 @pytest.mark.parametrize("plant", ["own", "mujoco"])
 def test_a_braked_length_winch_holds_its_drum_after_the_delay(plant):
     """Cable 2's brake told at 0.8 s, holding 0.2 s later: from the exchange at 1.0 s its
@@ -59,13 +73,8 @@ def test_a_motor_without_power_lets_its_drum_run_under_the_pull():
     second difference of L0 is (r_d / G)^2 T / J_eff (the drive's exact step without
     friction); J_eff = J_m + J_d / G^2 = 1.1e-4 kg m^2. Measured to 9e-11 of it over the 73
     steps until the cable runs slack; the sound winches' drums do not follow it."""
-    r = simulate(paper_on("motor", [{"kind": "motor_power_loss", "cable": 1, "at_s": 0.5}], duration_s=0.7),
-                 run="open_loop", plant="own")
+    r, L0, seen, J_eff, rg = cable_1_drum_after("motor_power_loss")
     h, k0 = 0.001, 500
-    L0 = unstretched(r)
-    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
-    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
-    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
     by_hand = rg ** 2 * r.tensions[k0:-2, 0] / J_eff
     taut = np.isfinite(seen)  # until the running drum has paid out the stretch (73 steps)
     assert taut[:60].all() and by_hand[0] > 50.0  # 61 m/s^2 at first: 268 N on the drum
@@ -96,13 +105,8 @@ def test_a_stalled_motor_pulls_at_its_torque_limit_until_the_cable_balances_it()
     80 rad/s here). Measured to 1e-6 m/s^2 (values up to 30 m/s^2) over the 199 steps flown;
     the drum reels in from 268 N until its pull balances the stall torque, T = G tau_max /
     r_d = 400 N: the last 100 ms' mean 400.7 N (the platform still moving on the circle)."""
-    r = simulate(paper_on("motor", [{"kind": "winch_stall", "cable": 1, "at_s": 0.5}], duration_s=0.7),
-                 run="open_loop", plant="own")
+    r, L0, seen, J_eff, rg = cable_1_drum_after("winch_stall")
     h, k0 = 0.001, 500
-    L0 = unstretched(r)
-    J_eff = WINCH["rotor_inertia_kg_m2"] + WINCH["drum_inertia_kg_m2"] / WINCH["gear_ratio"] ** 2
-    rg = WINCH["drum_radius_m"] / WINCH["gear_ratio"]
-    seen = (L0[k0 + 1:-1, 0] - 2.0 * L0[k0:-2, 0] + L0[k0 - 1:-3, 0]) / h ** 2  # at steps k0 .. n-3
     by_hand = (rg ** 2 * r.tensions[k0:-2, 0] - rg * WINCH["torque_max_Nm"]) / J_eff
     assert np.isfinite(seen).all() and np.nanmax(np.abs(np.diff(L0[k0:, 0]))) / h / rg < 100.0
     np.testing.assert_allclose(seen, by_hand, rtol=0.0, atol=1e-6)
