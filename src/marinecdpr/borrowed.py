@@ -21,11 +21,12 @@ from __future__ import annotations
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-__all__ = ["borrowed", "borrowed_first"]
+__all__ = ["borrowed", "borrowed_first", "store", "load", "stored_size", "call_step"]
 
 
-def _strip(context, builder, ty, value):
-    """``value`` of numba type ``ty`` with every array's meminfo (recursively) null."""
+def _strip(context, builder, ty, value, count=True):
+    """``value`` of numba type ``ty`` with every array's meminfo (recursively) null; other
+    counted members (a typed list) given a reference (``count``) or not."""
     if isinstance(ty, types.Array):
         array = context.make_array(ty)(context, builder, value=value)
         array.meminfo = cgutils.get_null_value(array.meminfo.type)
@@ -35,11 +36,12 @@ def _strip(context, builder, ty, value):
         out = value
         for i, item_ty in enumerate(ty):
             item = builder.extract_value(value, i)
-            out = builder.insert_value(out, _strip(context, builder, item_ty, item), i)
+            out = builder.insert_value(out, _strip(context, builder, item_ty, item, count), i)
         return out
     # anything else counted (a typed list, ...) is passed on as it is: the result is a new
     # reference, which numba releases at the end of its scope, so it takes one
-    context.nrt.incref(builder, ty, value)
+    if count:
+        context.nrt.incref(builder, ty, value)
     return value
 
 
@@ -75,3 +77,61 @@ def borrowed_first(typingctx, held):
         return _strip(context, builder, item_ty, item)
 
     return item_ty(held), codegen
+
+
+# ------------------------------------------------------------------ records by address
+def stored_size(ty) -> int:
+    """Bytes a value of numba type ``ty`` takes where :func:`store` writes it."""
+    from numba.core.registry import cpu_target
+
+    ctx = cpu_target.target_context
+    return int(ctx.get_abi_sizeof(ctx.get_value_type(ty)))
+
+
+@intrinsic
+def store(typingctx, record, words):
+    """Write ``record`` (as :func:`borrowed`: arrays without their counting; a typed list's
+    pointer without a reference) into the int64 array ``words``, which must hold
+    :func:`stored_size` bytes of the record's type. What is written points into the record's
+    arrays and lists: valid while they live. Read it back with :func:`load`."""
+
+    def codegen(context, builder, signature, args):
+        ty = signature.args[0]
+        value = _strip(context, builder, ty, args[0], count=False)
+        data = context.make_array(signature.args[1])(context, builder, value=args[1]).data
+        builder.store(value, builder.bitcast(data, context.get_value_type(ty).as_pointer()))
+        return context.get_dummy_value()
+
+    return types.none(record, words), codegen
+
+
+@intrinsic
+def load(typingctx, address, record_type):
+    """The record of type ``record_type`` (a type reference) that :func:`store` wrote at
+    ``address`` (an integer), borrowed (:func:`borrowed`). The memory it points into must
+    outlive the call."""
+    ty = record_type.instance_type
+
+    def codegen(context, builder, signature, args):
+        ptr = builder.inttoptr(args[0], context.get_value_type(ty).as_pointer())
+        return _strip(context, builder, ty, builder.load(ptr))
+
+    return ty(types.intp, record_type), codegen
+
+
+@intrinsic
+def call_step(typingctx, function, k, h, part, bus):
+    """Call the C function at address ``function`` as ``int64 f(int64 k, double h, intp part,
+    intp bus, void*, void*)``: a part's step compiled for its record's type
+    (:func:`marinecdpr.prototype.parts.step_pointer`: numba's C wrapper of a compiled
+    function whose last two arguments are type references, passed as null)."""
+    from llvmlite import ir
+
+    def codegen(context, builder, signature, args):
+        i64, void_p = ir.IntType(64), cgutils.voidptr_t
+        fnty = ir.FunctionType(i64, [i64, ir.DoubleType(), cgutils.intp_t, cgutils.intp_t, void_p, void_p])
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        null = cgutils.get_null_value(void_p)
+        return builder.call(fn, [args[1], args[2], args[3], args[4], null, null])
+
+    return types.int64(types.intp, types.int64, types.float64, types.intp, types.intp), codegen

@@ -69,6 +69,31 @@ def test_numba_array_meminfo_and_intrinsics():
     assert total(a, (np.ones(3), 2.0)) == 10.0 + 6.0
 
 
+def test_numba_c_wrappers_of_compiled_functions():
+    """prototype.parts.step_pointer takes the address of numba's C wrapper of a compiled
+    function (as numba's first-class functions do): Dispatcher.get_compile_result, the
+    function descriptor's wrapper name and the library's pointer to it; called through
+    borrowed.call_step it returns what the function does."""
+    from numba import njit, types
+
+    from marinecdpr.borrowed import call_step
+
+    @njit
+    def step(k, h, part_at, bus_at, a, b):
+        return k * 1000 + int(h * 10) + part_at - bus_at
+
+    ref = types.TypeRef(types.float64)
+    cres = step.get_compile_result(types.int64(types.int64, types.float64, types.intp, types.intp, ref, ref))
+    address = cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name)
+    assert isinstance(address, int) and address > 0
+
+    @njit
+    def call(address):
+        return call_step(address, 7, 0.5, 30, 4)
+
+    assert call(address) == 7000 + 5 + 26
+
+
 def test_mujoco_private_addresses_and_library():
     """prototype.plants calls MuJoCo's C mj_step from compiled code: the library beside the
     Python package, and the models' and data's addresses."""

@@ -139,11 +139,11 @@ def heavy_motor(model="catenary", w=W, plant="own"):
 
 
 @njit
-def _hold(n, h, x, R, parts, bus):
+def _hold(n, h, x, R, wired):
     """n exchanges with the platform held at (x, R), at rest, the ship as at t = 0."""
     z = np.zeros(3)
     for _ in range(n):
-        exchange(0, h, x, R, z, z, parts, bus)
+        exchange(0, h, x, R, z, z, wired)
 
 
 def test_a_held_platform_s_drums_settle_on_the_catenaries_static_solution():
@@ -168,7 +168,7 @@ def test_a_held_platform_s_drums_settle_on_the_catenaries_static_solution():
     bus.cell_noise[:] = 0.0
     x = np.ascontiguousarray(proto.ref.pose[0, :3])  # the plan's first pose
     R = np.ascontiguousarray(matrix_from_euler(proto.ref.pose[:1, 3:])[0])
-    _hold(n, sc.time.step_s, x, R, system.parts, bus)
+    _hold(n, sc.time.step_s, x, R, proto.wired)
     drive = motor.drive
     assert np.abs(drive.omega).max() < 1e-9  # at rest
     # the catenaries by model.catenary, from the anchors in the ship's vertical at t = 0

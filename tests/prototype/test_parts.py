@@ -243,3 +243,53 @@ def test_warmup_of_a_missing_scenario_or_plant_is_one_line():
 
     one_line_exit_2(CliRunner().invoke(app, ["warmup", "no_such_robot"]), "no_such_robot")
     one_line_exit_2(CliRunner().invoke(app, ["warmup", "paper", "--plant", "steam"]), "--plant")
+
+
+@pytest.mark.parametrize("name", ["clean", "camera", "catenary_motor"])
+def test_the_wired_exchange_is_each_part_s_own_step_in_turn(name):
+    """The loops' exchange calls each part's step through a pointer on its stored record
+    (parts.wire): over 40 exchanges from the same states, it leaves the bus and every part's
+    arrays bit for bit as each part's own compiled step called in turn from Python does, on
+    a second prototype built alike (its scratch arrays' contents copied from the first's)."""
+    from marinecdpr.prototype.parts import exchange
+
+    sc = VARIANTS[name]
+    wired, by_hand = prototype(sc, "closed_loop", 40), prototype(sc, "closed_loop", 40)
+    for p, q in zip(wired.system.parts, by_hand.system.parts, strict=True):  # scratch (np.empty) alike too
+        for a, b in zip(_arrays(p), _arrays(q), strict=True):
+            b[...] = a
+    table = specs()
+    h = sc.time.step_s
+    rng = np.random.default_rng(11)
+    for k in range(40):
+        x = by_hand.ref.pose[k, :3] + rng.normal(0.0, 1e-3, 3)
+        R = np.eye(3)
+        v, w = rng.normal(0.0, 0.01, 3), rng.normal(0.0, 0.001, 3)
+        exchange(k, h, x, R, v, w, wired.wired)
+        bus = by_hand.system.bus
+        bus.x[:], bus.R[:], bus.v[:], bus.w[:] = x, R, v, w
+        for part in by_hand.system.parts:
+            table[type(part)].step(k, h, part, bus)
+    for key, a in _signals(wired.system.bus).items():
+        np.testing.assert_array_equal(a, _signals(by_hand.system.bus)[key], err_msg=key)
+    for p, q in zip(wired.system.parts, by_hand.system.parts):
+        for a, b in zip(_arrays(p), _arrays(q), strict=True):
+            np.testing.assert_array_equal(a, b, err_msg=type(p).__name__)
+    assert np.abs(wired.get("Log").T_app[:40]).max() > 10.0  # the tensions were logged: the parts ran
+
+
+def test_the_loop_s_type_is_the_cable_law_s_alone():
+    """What a plant's loop is compiled for (the wired parts' type) is the same for every
+    combination of parts on one cable law (a camera, a brush, a carriage, a late controller),
+    and another for another law: one loop compiled per law serves them all."""
+    from numba import typeof
+
+    def wired_type(sc):
+        return typeof(prototype(sc, "closed_loop", 10).wired)
+
+    paper = VARIANTS["paper"]
+    late = paper.with_changes(faults=[{"kind": "controller_deadline", "at_s": 0.001, "steps": 3}])
+    held = {wired_type(VARIANTS[n]) for n in ("paper", "camera", "carriage")} | {wired_type(late)}
+    assert len(held) == 1
+    assert wired_type(VARIANTS["elastic_length"]) not in held
+    assert len({wired_type(VARIANTS[n]) for n in ("elastic_length", "motor")}) == 1

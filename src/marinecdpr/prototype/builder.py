@@ -21,7 +21,7 @@ import numpy as np
 from marinecdpr.control.records import ControllerParts, Loads, RobotModel
 from marinecdpr.geometry.elastic import unstretched_length
 from marinecdpr.prototype import parts as parts_pkg
-from marinecdpr.prototype.parts import PLANT_WRITES, STATE_SIGNALS, Signals, empty_signals
+from marinecdpr.prototype.parts import PLANT_WRITES, STATE_SIGNALS, Signals, Wired, empty_signals, wire
 
 __all__ = ["Context", "System", "Assembly", "context", "assemble", "WiringError"]
 
@@ -64,10 +64,13 @@ class System(NamedTuple):
 
 @dataclass(frozen=True)
 class Assembly:
-    """An assembled prototype: the :class:`System` and each part by its record's class name."""
+    """An assembled prototype: the :class:`System`, each part by its record's class name, and
+    the parts as the plants' loops take them (:class:`~marinecdpr.prototype.parts.Wired`,
+    valid while this lives)."""
 
     system: System
     by_name: dict
+    wired: Wired
 
     def get(self, name: str):
         """The part whose record class is ``name`` (e.g. ``"MotorWinch"``), or None."""
@@ -126,9 +129,9 @@ def assemble(ctx: Context, *, include=None, given: tuple[str, ...] = ()) -> Asse
     if not cables:
         from marinecdpr.prototype.parts.cables import HeldTensions
         cables = [HeldTensions(from_winch=False)]
-    return Assembly(system=System(bus=ctx.bus, parts=tuple(built), cable=cables[-1], model=ctx.model,
-                                  ref_x=ctx.ctl.ref.x),
-                    by_name={type(p).__name__: p for p in built})
+    system = System(bus=ctx.bus, parts=tuple(built), cable=cables[-1], model=ctx.model, ref_x=ctx.ctl.ref.x)
+    return Assembly(system=system, by_name={type(p).__name__: p for p in built},
+                    wired=wire(system.bus, system.parts, system.cable, system.model, system.ref_x))
 
 
 def check_wiring(specs: list, *, given: tuple[str, ...] = ()) -> None:

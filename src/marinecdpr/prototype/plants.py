@@ -8,8 +8,8 @@
 
 Each plant is a record (:class:`OwnPlant`, :class:`MujocoPlant` with :class:`ShipDrive`)
 and a loop over a block of steps that reads the plant's state, calls
-:func:`~marinecdpr.prototype.parts.exchange` on the assembled parts (a
-:class:`~marinecdpr.prototype.builder.System`), and advances the plant with what is on the
+:func:`~marinecdpr.prototype.parts.exchange` on the assembled parts (wired:
+:class:`~marinecdpr.prototype.parts.Wired`), and advances the plant with what is on the
 bus: the applied tensions (or the cable part's law within the step) and the extra loads.
 A plant reads no part's record. A loop returns ``(fallbacks, k)`` with ``k`` the step
 where the platform diverged, or -1.
@@ -104,7 +104,7 @@ def own_loop(k0, k1, h, plant, system):
         x, v, w = y[0:3], y[7:10], y[10:13]
         if diverged(x, system.ref_x[k]):
             return system.bus.fallbacks[0] - fallbacks0, k
-        exchange(k, h, x, R, v, w, system.parts, system.bus)
+        exchange(k, h, x, R, v, w, system)
         j = 2 * k
         _own_rhs(y, j, plant, system, k1_)
         _own_rhs(y + 0.5 * h * k1_, j + 1, plant, system, k2_)
@@ -240,7 +240,7 @@ def mujoco_exchange(k, h, mj, drive, system):
     if diverged(x, system.ref_x[k]):
         return -1
     before = system.bus.fallbacks[0]
-    exchange(k, h, x, R, v, w, system.parts, system.bus)
+    exchange(k, h, x, R, v, w, system)
     _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
     return system.bus.fallbacks[0] - before
 
@@ -275,7 +275,7 @@ def mujoco_loop(k0, k1, addresses, h, mj, drive, system):
         x, R, v, w = _mujoco_state(mj)
         if diverged(x, system.ref_x[k]):
             return system.bus.fallbacks[0] - fallbacks0, k
-        exchange(k, h, x, R, v, w, system.parts, system.bus)
+        exchange(k, h, x, R, v, w, system)
         _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
         _c_mj_step(addresses[0], addresses[1])
     return system.bus.fallbacks[0] - fallbacks0, -1

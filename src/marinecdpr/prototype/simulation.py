@@ -201,7 +201,7 @@ def simulate(
     asm = prototype(scenario, run, n, reference=reference, stand_in=stand_in)
     ship_h, ref = asm.ship_h, asm.ref
     x0, R0, v0, w0 = _initial_state(scenario, ref)
-    system = asm.system
+    system = asm.wired
     if plant == "own":
         y = np.concatenate([x0, quaternion_from_matrix(R0), v0, w0])
         loads = asm.loads_h
@@ -328,7 +328,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     ctx = builder.context(scenario, run, n, plan=ref, ff=ff, ship_h=ship_h, brush_h=brush_h, loads=loads, ctl=ctl,
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
-    return Prototype(system=asm.system, by_name=asm.by_name, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
+    return Prototype(system=asm.system, by_name=asm.by_name, wired=asm.wired, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
                      known=loads, held=held, carried_h=carried, ctl=ctl)
 
 
@@ -505,7 +505,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     model = mm.model
     data = mujoco.MjData(model)
     drive = _ship_drive(ship_h, asm.held, n, asm.carried_h, mm.carriage_coords, mm.ship_inertia_kg_m2)
-    system = asm.system
+    system = asm.wired
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
     compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system) if addresses is not None else None

@@ -11,6 +11,12 @@ and loads on the bus; a plant never reads a part's record, only the bus and, whe
 tensions follow the plant's state within the step, the cable part's law
 (:func:`cable_tensions`, :func:`mujoco_cables`).
 
+The plants' loops take the parts wired (:func:`wire`, :class:`Wired`): each part's step a C
+function compiled once for its record's type (:func:`step_pointer`), its record stored at an
+address, and only the cable part typed. A loop is then compiled once per cable law, not once
+per combination of parts: a run that adds a camera or a fault compiles its new part's step
+(about a second), not the loop (10-30 s each time it was specialised on the parts' tuple).
+
 The parts, in the order of an exchange (``order``):
 
 =====  ==================================  ==========================================
@@ -54,14 +60,15 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import literal_unroll, njit
+from numba import njit, typeof, types
 from numba.extending import overload
 
-from marinecdpr.borrowed import borrowed
+from marinecdpr.borrowed import borrowed, call_step, load, store, stored_size
 from marinecdpr.control.records import Measurement
 
 __all__ = ["Signals", "PartSpec", "part", "specs", "part_step", "exchange", "cable_tensions", "mujoco_cables",
-           "empty_signals", "SIGNALS", "STATE_SIGNALS", "PLANT_WRITES", "DIVERGENCE_M", "diverged"]
+           "empty_signals", "Wired", "wire", "step_pointer", "SIGNALS", "STATE_SIGNALS",
+           "PLANT_WRITES", "DIVERGENCE_M", "diverged"]
 
 DIVERGENCE_M = 10.0
 """A run stops as diverged when the platform is this far from its plan."""
@@ -251,19 +258,95 @@ def _mujoco_cables(cable, mj, bus):
     return impl
 
 
-@njit(cache=True)  # (not IR-inlined: numba unrolls the parts only in a function of its own)
-def exchange(k, h, x, R, v, w, parts, bus):
+# ------------------------------------------------ the parts behind pointers: one loop for all
+class Wired(NamedTuple):
+    """The assembled parts as a plant's compiled loop takes them, whatever they are: each
+    part's step a C function (``steps``, (p,) intp addresses, :func:`step_pointer`) and its
+    record stored in ``store`` (``records``, (p,) intp addresses; :func:`~marinecdpr.borrowed.store`),
+    the bus likewise (``bus_at``), in the exchange's order. Only the cable part, whose law the
+    plant applies within the step, is typed (``cable``), with the bus, the robot's cables
+    (``model``) and the reference positions (n_steps, 3) a divergence is measured from, m:
+    a loop compiled once per cable law serves every combination of the other parts.
+
+    ``store`` (int64 words) holds the stored records and the bus, which point into the
+    parts' arrays: a Wired is valid while the parts it was made from live
+    (:class:`~marinecdpr.prototype.builder.Assembly` keeps both)."""
+
+    bus: Signals
+    steps: np.ndarray
+    records: np.ndarray
+    bus_at: int
+    cable: object
+    model: object
+    ref_x: np.ndarray
+    store: np.ndarray
+
+
+@njit(cache=True)
+def _step_at(k, h, part_at, bus_at, record, bus):
+    """A part's step on the record and the bus stored at ``part_at`` and ``bus_at``, of the
+    types ``record`` and ``bus`` (type references): compiled once per part type, called
+    through its C wrapper (:func:`step_pointer`)."""
+    part_step(k, h, load(part_at, record), load(bus_at, bus))
+    return 0
+
+
+@njit(cache=True)
+def _store(record, words):
+    store(record, words)
+
+
+_STEP_POINTERS: dict = {}
+
+
+def step_pointer(record_type, bus_type) -> int:
+    """The address of the C function that steps a part of numba type ``record_type`` on a
+    bus of ``bus_type``, both stored (:func:`~marinecdpr.borrowed.call_step`): numba's C
+    wrapper of :func:`_step_at` compiled for the two types (cached on disk like every
+    kernel), found once per type."""
+    key = (record_type, bus_type)
+    if key not in _STEP_POINTERS:
+        sig = types.int64(types.int64, types.float64, types.intp, types.intp, types.TypeRef(record_type),
+                          types.TypeRef(bus_type))
+        cres = _step_at.get_compile_result(sig)
+        _STEP_POINTERS[key] = (cres, cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name))
+    return _STEP_POINTERS[key][1]
+
+
+def _words(ty) -> int:
+    return -(-stored_size(ty) // 8)
+
+
+def wire(bus: Signals, parts: tuple, cable, model, ref_x: np.ndarray) -> Wired:
+    """The :class:`Wired` form of ``parts`` (a tuple of part records, in the exchange's
+    order) on ``bus``; ``cable`` the part whose law the plant applies (typed)."""
+    bus_ty = typeof(bus)
+    tys = [typeof(p) for p in parts]
+    sizes = [_words(ty) for ty in [bus_ty] + tys]
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    words = np.zeros(int(offsets[-1]), dtype=np.int64)
+    base = words.ctypes.data
+    for value, a, b in zip((bus, *parts), offsets[:-1], offsets[1:]):
+        _store(value, words[a:b])
+    steps = np.array([step_pointer(ty, bus_ty) for ty in tys], dtype=np.intp)
+    records = np.array([base + 8 * int(a) for a in offsets[1:-1]], dtype=np.intp)
+    return Wired(bus=bus, steps=steps, records=records, bus_at=base, cable=cable, model=model,
+                 ref_x=ref_x, store=words)
+
+
+@njit(cache=True)
+def exchange(k, h, x, R, v, w, wired):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: the state onto the bus,
-    then every part's step in order (``parts``, a tuple of part records)."""
-    parts, bus = borrowed(parts), borrowed(bus)
+    then every part's step in order, each through its pointer (``wired``, :class:`Wired`)."""
+    bus = borrowed(wired.bus)
     for i in range(3):
         bus.x[i] = x[i]
         bus.v[i] = v[i]
         bus.w[i] = w[i]
         for j in range(3):
             bus.R[i, j] = R[i, j]
-    for p in literal_unroll(parts):
-        part_step(k, h, p, bus)
+    for i in range(wired.steps.shape[0]):
+        call_step(wired.steps[i], k, h, wired.records[i], wired.bus_at)
 
 
 @njit(cache=True)
