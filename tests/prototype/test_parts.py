@@ -293,3 +293,16 @@ def test_the_loop_s_type_is_the_cable_law_s_alone():
     assert len(held) == 1
     assert wired_type(VARIANTS["elastic_length"]) not in held
     assert len({wired_type(VARIANTS[n]) for n in ("elastic_length", "motor")}) == 1
+
+
+def test_the_loop_and_the_controller_api_call_one_compiled_step():
+    """The prototype's controller part and the deployable Controller (its Python entry point)
+    call the same C function for records of one type (control.controller.step_function):
+    the controller's step is compiled once for both, and for a second controller of that type."""
+    from marinecdpr.control.controller import Controller
+
+    paper = VARIANTS["paper"]
+    api = Controller(paper, n_steps=10)
+    part = prototype(paper, "closed_loop", 10).get("ControllerPart")
+    assert part.step is api._step and part.step is Controller(paper, n_steps=5)._step
+    assert part.step.address == api._step.address > 0

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
 from marinecdpr.borrowed import borrowed_first
@@ -48,7 +48,7 @@ from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 __all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety",
            "controller_parts", "controller_records", "plans", "stand_in_plans",
            "planned_brush_loads", "planned_wind_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
-           "step_from_arrays", "step_entry_point"]
+           "step_from_arrays", "step_entry_point", "step_function"]
 
 
 @dataclass(frozen=True)
@@ -328,10 +328,30 @@ def held_records(parts):
     return held
 
 
+def _control_step(k, h, held):
+    return control_step(k, h, held)
+
+
+_STEP_FUNCTIONS: dict = {}
+
+
+def step_function(held):
+    """:func:`~marinecdpr.control.step.control_step` for ``held``'s type as a C function
+    (``int64(int64, float64, held)``, a numba ``cfunc``), compiled once per type and cached
+    on disk: what :func:`step_from_arrays` and the prototype's loop
+    (:mod:`~marinecdpr.prototype.parts.controller`) both call, so that the controller's
+    machine code is compiled once for both and linked into neither."""
+    sig = types.int64(types.int64, types.float64, typeof(held))
+    if sig not in _STEP_FUNCTIONS:
+        _STEP_FUNCTIONS[sig] = cfunc(sig, cache=True)(_control_step)
+    return _STEP_FUNCTIONS[sig]
+
+
 @njit(cache=True)
-def step_from_arrays(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
+def step_from_arrays(k, h, held, step, x, R, v, w, eta, clock, L, Ldot, T):
     """:func:`control_step` on a measurement given as arrays (copied into the measurement
-    record); ``held``: :func:`held_records`'s list of the controller's records.
+    record); ``held``: :func:`held_records`'s list of the controller's records; ``step``:
+    :func:`step_function` of their type.
 
     Parameters
     ----------
@@ -341,6 +361,8 @@ def step_from_arrays(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
         The step, s.
     held : numba.typed.List
         :func:`held_records` of the controller's records.
+    step : numba cfunc
+        :func:`step_function` for ``held``'s type (what is called).
     x, R, v, w : ndarray, shapes (3,), (3, 3), (3,), (3,)
         The measured pose and twist of the platform in C (m, rotation R_PC, m/s, rad/s).
     eta : ndarray, shape (3, 6)
@@ -372,7 +394,7 @@ def step_from_arrays(k, h, held, x, R, v, w, eta, clock, L, Ldot, T):
     for j in range(3):
         for i in range(6):
             meas.eta[j, i] = eta[j, i]
-    return control_step(k, h, held)
+    return step(k, h, held)
 
 
 def _array(a, name: str, shape: tuple) -> np.ndarray:
@@ -392,7 +414,8 @@ def step_entry_point(held, m: int):
     without running a step); a measurement of another dtype or layout would not be
     converted, so :meth:`Controller.step` converts its arguments first."""
     z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
-    return entry_point(step_from_arrays, (0, 1.0, held, z3, eye, z3, z3, np.zeros((3, 6)), z3, zm, zm, zm))
+    return entry_point(step_from_arrays, (0, 1.0, held, step_function(held), z3, eye, z3, z3, np.zeros((3, 6)), z3,
+                                          zm, zm, zm))
 
 
 class Controller:
@@ -432,6 +455,7 @@ class Controller:
         self._z3, self._eye, self._zm = np.zeros(3), np.eye(3), np.zeros(self._m)
         self._held = held_records(self.parts)
         self._call = step_entry_point(self._held, self._m)  # m given: a typed list read from Python compiles its getitem
+        self._step = step_function(self._held)
 
     @property
     def held(self):
@@ -517,5 +541,5 @@ class Controller:
         clock[0] = t
         clock[1] = t if t_pose is None else t_pose
         clock[2] = t if t_ship is None else t_ship
-        self._call(k, self.step_s, self._held, x, R, v, w, eta, clock, lengths, length_rates, tensions)
+        self._call(k, self.step_s, self._held, self._step, x, R, v, w, eta, clock, lengths, length_rates, tensions)
         return self.parts.cmd

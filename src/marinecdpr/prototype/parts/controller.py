@@ -17,7 +17,7 @@ import numpy as np
 from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
-from marinecdpr.control.step import control_step
+from marinecdpr.control.controller import step_function
 from marinecdpr.prototype.parts import part, part_step
 
 __all__ = ["ControllerPart", "LateController", "build", "pointer_step", "stand_in"]
@@ -40,28 +40,25 @@ class ControllerPart(NamedTuple):
     step: object
 
 
-def _control_step(k, h, held):
-    return control_step(k, h, held)
-
-
 def _no_step(k, h, held):
     return 0
 
 
-_POINTER_STEPS: dict = {}
 _STAND_INS: dict = {}
 _standing_in: list = []
 
 
 def pointer_step(held):
     """:func:`~marinecdpr.control.step.control_step` for ``held``'s type as a C function
-    (``int64(int64, float64, held)``), compiled once per type and cached on disk; within
-    :func:`stand_in`, a step of that type that does nothing."""
+    (``int64(int64, float64, held)``: :func:`~marinecdpr.control.controller.step_function`,
+    compiled once per type and cached on disk); within :func:`stand_in`, a step of that type
+    that does nothing."""
+    if not _standing_in:
+        return step_function(held)
     sig = types.int64(types.int64, types.float64, typeof(held))
-    fn, made = (_no_step, _STAND_INS) if _standing_in else (_control_step, _POINTER_STEPS)
-    if sig not in made:
-        made[sig] = cfunc(sig, cache=True)(fn)
-    return made[sig]
+    if sig not in _STAND_INS:
+        _STAND_INS[sig] = cfunc(sig, cache=True)(_no_step)
+    return _STAND_INS[sig]
 
 
 @contextmanager
