@@ -77,8 +77,9 @@ def paper_plan(paper):
 
 
 @pytest.fixture()
-def captured_figures(monkeypatch) -> dict:
-    """The figures the report functions draw, by file name, kept open instead of saved."""
+def captured_figures(monkeypatch):
+    """The figures the report functions draw, by file name, kept open instead of saved (closed
+    after the test)."""
     import marinecdpr.report.figures as figures
 
     figs = {}
@@ -88,7 +89,11 @@ def captured_figures(monkeypatch) -> dict:
         return Path(path)
 
     monkeypatch.setattr(figures, "_save", keep)
-    return figs
+    yield figs
+    import matplotlib.pyplot as plt
+
+    for fig in figs.values():  # kept open for the test only: closed as _save would
+        plt.close(fig)
 
 
 def one_line_exit_2(res, *words) -> str:
