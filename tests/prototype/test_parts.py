@@ -306,3 +306,45 @@ def test_the_loop_and_the_controller_api_call_one_compiled_step():
     part = prototype(paper, "closed_loop", 10).get("ControllerPart")
     assert part.step is api._step and part.step is Controller(paper, n_steps=5)._step
     assert part.step.address == api._step.address > 0
+
+
+@pytest.mark.parametrize("plant", ["own", "mujoco"])
+def test_a_part_whose_step_raises_stops_the_run_naming_it(plant, monkeypatch):
+    """A part's step that raises in compiled code (here a camera of delay -1: k % (d + 1)
+    divides by zero) is caught where the exchange calls it through its pointer: the exchange
+    stops there (the parts after it not stepped) and the run says which part failed at which
+    time, where numba's C wrapper alone would have printed the error and flown on."""
+    from marinecdpr.errors import SimulationDivergedError
+    from marinecdpr.prototype.parts import camera
+
+    def bad_camera(context):
+        return [camera.Camera(delay=-1, weight=0.5, noise=np.zeros((context.n_steps, 3)), history=np.zeros((1, 3)))]
+
+    monkeypatch.setattr(camera, "build", bad_camera)
+    with pytest.raises(SimulationDivergedError,
+                       match=r"^paper: closed_loop stopped at t = 0\.000 s: the prototype's Camera part failed in its step"):
+        simulate(VARIANTS["paper"], run="closed_loop", plant=plant, n_steps=20)
+
+
+def test_the_exchange_stops_at_the_part_that_raised():
+    from marinecdpr.control.controller import robot_model
+    from marinecdpr.control.records import empty_measurement
+    from marinecdpr.prototype.parts import empty_signals, exchange, wire
+    from marinecdpr.prototype.parts.camera import Camera
+    from marinecdpr.prototype.parts.cables import HeldTensions
+
+    def run(delay):
+        T_cmd = np.array([10.0, 20.0, 30.0, 40.0])
+        bus = empty_signals(empty_measurement(4), T_cmd, np.zeros(4), np.zeros(4))
+        held = HeldTensions(from_winch=False)
+        cam = Camera(delay=delay, weight=0.5, noise=np.zeros((5, 3)), history=np.zeros((max(delay + 1, 1), 3)))
+        wired = wire(bus, (cam, held), held, robot_model(VARIANTS["paper"]), np.zeros((5, 3)))
+        z = np.zeros(3)
+        return exchange(3, 0.001, z, np.eye(3), z, z, wired), wired
+
+    failed, wired = run(-1)
+    assert failed and list(wired.failed) == [4, 1]  # exchange 3 (+1), the first part (+1)
+    np.testing.assert_array_equal(wired.bus.T_app, 0.0)  # the held tensions after it not stepped
+    failed, wired = run(0)
+    assert not failed and list(wired.failed) == [0, 0]
+    np.testing.assert_array_equal(wired.bus.T_app, [10.0, 20.0, 30.0, 40.0])

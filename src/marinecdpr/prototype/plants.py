@@ -12,7 +12,7 @@ and a loop over a block of steps that reads the plant's state, calls
 :class:`~marinecdpr.prototype.parts.Wired`), and advances the plant with what is on the
 bus: the applied tensions (or the cable part's law within the step) and the extra loads.
 A plant reads no part's record. A loop returns ``(fallbacks, k)`` with ``k`` the step
-where the platform diverged, or -1.
+where the platform diverged or a part's step failed (``Wired.failed``), or -1.
 """
 
 from __future__ import annotations
@@ -102,9 +102,8 @@ def own_loop(k0, k1, h, plant, system):
     for k in range(k0, k1):
         matrix_from_quaternion_step(y[3:7], R)
         x, v, w = y[0:3], y[7:10], y[10:13]
-        if diverged(x, system.ref_x[k]):
+        if diverged(x, system.ref_x[k]) or exchange(k, h, x, R, v, w, system):
             return system.bus.fallbacks[0] - fallbacks0, k
-        exchange(k, h, x, R, v, w, system)
         j = 2 * k
         _own_rhs(y, j, plant, system, k1_)
         _own_rhs(y + 0.5 * h * k1_, j + 1, plant, system, k2_)
@@ -240,7 +239,8 @@ def mujoco_exchange(k, h, mj, drive, system):
     if diverged(x, system.ref_x[k]):
         return -1
     before = system.bus.fallbacks[0]
-    exchange(k, h, x, R, v, w, system)
+    if exchange(k, h, x, R, v, w, system):
+        return -1
     _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
     return system.bus.fallbacks[0] - before
 
@@ -273,9 +273,8 @@ def mujoco_loop(k0, k1, addresses, h, mj, drive, system):
     fallbacks0 = system.bus.fallbacks[0]
     for k in range(k0, k1):
         x, R, v, w = _mujoco_state(mj)
-        if diverged(x, system.ref_x[k]):
+        if diverged(x, system.ref_x[k]) or exchange(k, h, x, R, v, w, system):
             return system.bus.fallbacks[0] - fallbacks0, k
-        exchange(k, h, x, R, v, w, system)
         _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
         _c_mj_step(addresses[0], addresses[1])
     return system.bus.fallbacks[0] - fallbacks0, -1

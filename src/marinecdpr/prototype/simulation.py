@@ -208,7 +208,7 @@ def simulate(
         own = OwnPlant(y=y, R_SO=np.ascontiguousarray(ship_h.R_SO), w_s=np.ascontiguousarray(ship_h.omega_SO_S),
                        al_s=np.ascontiguousarray(ship_h.alpha_SO_S), a_SO=np.ascontiguousarray(ship_h.a_SO_O),
                        f=loads.f, m=loads.m, in_P=loads.in_P)
-        fallbacks = _blocks(scenario, run, t, progress, bound(own_loop, h, own, system))
+        fallbacks = _blocks(scenario, run, t, progress, bound(own_loop, h, own, system), asm)
         ship_error = carriage_error = 0.0  # the own plant moves the ship (and C) exactly
     else:
         fallbacks, ship_error, carriage_error = _run_mujoco(scenario, run, t, ship_h, (x0, R0, v0, w0), asm,
@@ -349,14 +349,20 @@ def _initial_state(scenario: Scenario, ref: Plan):
     return x0, R0, ref.twist[0, :3].copy(), ref.twist[0, 3:].copy()
 
 
-def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, block: int = 500) -> int:
-    """Run ``loop(k0, k1)`` over blocks of steps; the fallbacks. Raises on divergence."""
+def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, asm, block: int = 500) -> int:
+    """Run ``loop(k0, k1)`` over blocks of steps; the fallbacks. Raises on divergence, or
+    where a part's step failed (``asm.wired.failed``)."""
     n = len(t)
     fallbacks = 0
     for k0 in range(0, n, block):
         k1 = min(n, k0 + block)
         fb, bad = loop(k0, k1)
         fallbacks += fb
+        if bad >= 0 and asm.wired.failed[0] > 0:
+            name = type(asm.system.parts[asm.wired.failed[1] - 1]).__name__
+            raise SimulationDivergedError(
+                f"{scenario.name}: {run} stopped at t = {t[asm.wired.failed[0] - 1]:.3f} s: the prototype's "
+                f"{name} part failed in its step (a division by zero or a value out of its range)")
         if bad >= 0:
             raise SimulationDivergedError(_diverged_message(scenario, run, t[bad]))
         if progress is not None:
@@ -530,5 +536,5 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
                 "met a non-finite or huge acceleration")
         return fb, bad
 
-    fallbacks = _blocks(scenario, run, t, progress, loop)
+    fallbacks = _blocks(scenario, run, t, progress, loop, asm)
     return fallbacks, float(mj.ship_err[0]), float(mj.ship_err[1])

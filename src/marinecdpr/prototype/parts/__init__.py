@@ -270,7 +270,9 @@ class Wired(NamedTuple):
 
     ``store`` (int64 words) holds the stored records and the bus, which point into the
     parts' arrays: a Wired is valid while the parts it was made from live
-    (:class:`~marinecdpr.prototype.builder.Assembly` keeps both)."""
+    (:class:`~marinecdpr.prototype.builder.Assembly` keeps both). ``failed`` (2,) int64: the
+    exchange k + 1 at which a part's step first raised (a division by zero, ...) and that
+    part's place in ``steps`` + 1; zeros while none has."""
 
     bus: Signals
     steps: np.ndarray
@@ -280,14 +282,19 @@ class Wired(NamedTuple):
     model: object
     ref_x: np.ndarray
     store: np.ndarray
+    failed: np.ndarray
 
 
 @njit(cache=True)
 def _step_at(k, h, part_at, bus_at, record, bus):
     """A part's step on the record and the bus stored at ``part_at`` and ``bus_at``, of the
     types ``record`` and ``bus`` (type references): compiled once per part type, called
-    through its C wrapper (:func:`step_pointer`)."""
-    part_step(k, h, load(part_at, record), load(bus_at, bus))
+    through its C wrapper (:func:`step_pointer`). Returns 1 where the step raised (caught
+    here: a C wrapper would only print it), else 0."""
+    try:
+        part_step(k, h, load(part_at, record), load(bus_at, bus))
+    except Exception:  # noqa: BLE001 - compiled code: the loop stops and says which part
+        return 1
     return 0
 
 
@@ -331,13 +338,15 @@ def wire(bus: Signals, parts: tuple, cable, model, ref_x: np.ndarray) -> Wired:
     steps = np.array([step_pointer(ty, bus_ty) for ty in tys], dtype=np.intp)
     records = np.array([base + 8 * int(a) for a in offsets[1:-1]], dtype=np.intp)
     return Wired(bus=bus, steps=steps, records=records, bus_at=base, cable=cable, model=model,
-                 ref_x=ref_x, store=words)
+                 ref_x=ref_x, store=words, failed=np.zeros(2, dtype=np.int64))
 
 
 @njit(cache=True)
 def exchange(k, h, x, R, v, w, wired):
     """One exchange at t_k from the plant's state (x, R, v, w) in C: the state onto the bus,
-    then every part's step in order, each through its pointer (``wired``, :class:`Wired`)."""
+    then every part's step in order, each through its pointer (``wired``, :class:`Wired`).
+    Returns False, or True where a part's step raised (``wired.failed`` says which; the
+    parts after it not stepped)."""
     bus = borrowed(wired.bus)
     for i in range(3):
         bus.x[i] = x[i]
@@ -346,7 +355,12 @@ def exchange(k, h, x, R, v, w, wired):
         for j in range(3):
             bus.R[i, j] = R[i, j]
     for i in range(wired.steps.shape[0]):
-        call_step(wired.steps[i], k, h, wired.records[i], wired.bus_at)
+        if call_step(wired.steps[i], k, h, wired.records[i], wired.bus_at) != 0:
+            if wired.failed[0] == 0:
+                wired.failed[0] = k + 1
+                wired.failed[1] = i + 1
+            return True
+    return False
 
 
 @njit(cache=True)
