@@ -319,14 +319,14 @@ def test_a_bad_study_file_is_one_line_naming_the_key(tmp_path, edit, words):
 def test_the_finalist_is_flown_in_every_sea_state(tmp_path):
     """The best design of a one-generation search flown closed loop in the study's two sea
     states: the time domain's share and hours beside the screen's, and the screen never
-    passes a sea state the time domain fails. (The small study on a 3 x 2 m frame over the
+    passes a sea state the time domain fails. (The small study on a 2 x 1.5 m frame over the
     10 x 3 m band, a short job and few placements, as the boundary's test below: the screen
     passes Hs 1 m and fails Hs 5 m and the time domain flies both, as with the 6 x 3 m frame
-    over the whole side, in a quarter of the time.)"""
+    over the whole side, in a fraction of the time.)"""
     from marinecdpr.studies.design import study_scatter, verify
 
-    path = _small_band(tmp_path, SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace(
-        "frame_height_m = 3.0", "frame_height_m = 2.0"))
+    path = _small_band(tmp_path, SMALL.replace("frame_width_m = 6.0", "frame_width_m = 2.0").replace(
+        "frame_height_m = 3.0", "frame_height_m = 1.5"))
     spec, template = load_design(path)
     cells = study_cells(spec, tmp_path)
     spec = spec.model_copy(update={"generations": 1, "finalists": 1, "plant": "own"})  # the study's plant
@@ -347,15 +347,16 @@ def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypat
     every sea flown ("all") works up to a height and fails above it, the boundary's flights
     give the same verdicts, share, agreement and reasons, from fewer flights (each sea's
     record is its own whichever asks: the second run takes the first's flights). On the 10 x 3 m
-    band: few placements to judge, the same column of verdicts; the finalist a study of one
-    candidate (the small study's medium winch and light rope): the claim is the flights', not
-    the search's, which the tests above and test_the_finalist_is_flown_in_every_sea_state hold."""
+    band, a 2 x 1.5 m frame (a short job): few placements to judge, the same column of
+    verdicts; the finalist a study of one candidate (the small study's medium winch and light
+    rope): the claim is the flights', not the search's, which the tests above and
+    test_the_finalist_is_flown_in_every_sea_state hold."""
     from marinecdpr.studies import cleaning
     from marinecdpr.studies.design import study_scatter, verify
 
     path = _small_band(tmp_path, SMALL.replace("generations = 3", "generations = 1").replace("finalists = 2", "finalists = 1")
-                  .replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("frame_height_m = 3.0",
-                                                                                  "frame_height_m = 2.0"))
+                  .replace("frame_width_m = 6.0", "frame_width_m = 2.0").replace("frame_height_m = 3.0",
+                                                                                  "frame_height_m = 1.5"))
     heights = (2.0, 4.0, 6.0, 8.0, 10.0, 12.0)
     (tmp_path / "seas.csv").write_text("hs_m,tp_s,probability\n" + "".join(f"{hs},10.0,{p}\n" for hs, p in zip(
         heights, (0.3, 0.3, 0.2, 0.1, 0.05, 0.05))))
