@@ -131,6 +131,14 @@ def _x(spec, **kw):
     return x | {"winch": "medium", "rope": "light", "pattern": "uncrossed"} | kw
 
 
+@pytest.fixture(scope="module")
+def small_judged(small):
+    """The small study's candidate at its lower bounds (medium winch, light rope, uncrossed),
+    judged once for the tests that read its figures."""
+    spec, template, cells = small
+    return evaluate(spec, template, _x(spec), cells)
+
+
 def test_a_candidate_is_built_as_worked_by_hand(small):
     """Frame 6 x 3 m, platform 0.5 x 0.5 m, tool 0.5 m: mass 5 + 10 x 0.5 = 10 kg, a plate's
     inertia, T_max = min(30 000 / 5, 100 / 0.075) = 1 333.3 N, the panel inset by 0.25 + 0.15 m."""
@@ -161,13 +169,13 @@ def test_a_candidate_is_built_as_worked_by_hand(small):
     assert 0 <= sc.base_motion.record_s - sc.time.duration_s < 0.01 * sc.time.duration_s
 
 
-def test_expected_hours_are_the_placements_moves_and_the_sea_s_share_by_hand(small):
+def test_expected_hours_are_the_placements_moves_and_the_sea_s_share_by_hand(small, small_judged):
     """The hours on the surface are the placements' coverage paths (to the centimetre) and
     (n - 1) moves of 300 s; the share is the working sea states' probability (0.6 and 0.4
     in the study's diagram); the expected hours are their quotient; margins by hand."""
     spec, template, cells = small
     x = _x(spec)
-    e = evaluate(spec, template, x, cells)
+    e = small_judged
     sc = candidate_scenario(spec, template, x)
     job = surface_job(sc, move_time_s=300.0, digits=2)
     assert e.placements == len(job.placements)
@@ -621,7 +629,7 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says(monkeypatch):
     assert len(screened) == 2  # the best robot's placements once, the previous study's once
 
 
-def test_the_frames_turn_is_reported_as_the_surface_turns_them(small):
+def test_the_frames_turn_is_reported_as_the_surface_turns_them(small, small_judged):
     """Each placement's frame turn is the angle of the rotation from S's axes to its axes
     (scipy's Rotation's magnitude, a second way); on the flared Wigley band of the small
     study a 6 x 3 m frame leans by up to atan(0.064 z) at the top (z = 11.6 m: 36.6 deg),
@@ -632,7 +640,7 @@ def test_the_frames_turn_is_reported_as_the_surface_turns_them(small):
 
     spec, template, cells = small
     x = _x(spec)
-    e = evaluate(spec, template, x, cells)
+    e = small_judged
     job = surface_job(candidate_scenario(spec, template, x), move_time_s=300.0, digits=2)
     turns = frame_turns(job.placements)
     ref = np.degrees(Rotation.from_matrix(np.array([p.axes_S for p in job.placements])).magnitude())
