@@ -231,15 +231,28 @@ def test_pareto_mask_is_the_sorted_sweep_s_front():
         assert {tuple(r) for r in f[mask]} == front
 
 
-def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(tmp_path):
+def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(tmp_path, monkeypatch):
     """Only the winch (3) and the rope (2) are free: NSGA-II's front over 3 generations of 6 is
     the front of all six combinations judged one by one; the same seed gives the same
-    candidates in the same order (on the 10 x 3 m band: the search's mechanics, any surface)."""
+    candidates in the same order (on the 10 x 3 m band: the search's mechanics, any surface).
+    (Each combination judged once: evaluate, a pure function, keyed by its whole inputs, its
+    answer handed to the enumeration and the second search when they ask the same again.)"""
+    import marinecdpr.studies.design as design
+
+    real, judged = design.evaluate, {}
+
+    def once(spec, template, x, cells):
+        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
+        if key not in judged:
+            judged[key] = real(spec, template, x, cells)
+        return judged[key]
+
+    monkeypatch.setattr(design, "evaluate", once)
     path = _small_band(tmp_path)
     spec, template = load_design(path)
     cells = study_cells(spec, tmp_path)
     study = search(spec, template, cells)
-    every = [evaluate(spec, template, _x(spec, winch=w, rope=r), cells) for w in ("small", "medium", "large")
+    every = [once(spec, template, _x(spec, winch=w, rope=r), cells) for w in ("small", "medium", "large")
              for r in ("light", "heavy")]
     ok = [e for e in every if e.feasible]
     f = np.array([[e.expected_hours, e.power_kW] for e in ok])
@@ -248,6 +261,7 @@ def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(tmp_pat
     assert brute and found == brute
     again = search(spec, template, cells)
     assert [e.x for e in again.evaluations] == [e.x for e in study.evaluations]
+    assert len(judged) == 6  # each combination judged once, by the search, the enumeration or both
 
 
 def test_design_writes_its_files_and_the_finalists_run(tmp_path):
