@@ -29,6 +29,35 @@ runner = CliRunner()
 DOC = Path(__file__).resolve().parents[2] / "docs" / "commands" / "design.md"
 
 
+@pytest.fixture(scope="module")
+def ship_side_judged_once():
+    """ship_side's short search (seed 14's four candidates, no finalists), which the page's
+    Python and the command line both run: its baseline and each candidate judged once in this
+    module, each a pure function of its whole spec, template, candidate and seas (the key:
+    their content), the answer handed to whichever asks the same again. The memos, by name."""
+    import marinecdpr.studies.design as studies_design
+
+    memo: dict[str, dict] = {"baseline": {}, "evaluate": {}}
+    real_baseline, real_evaluate = studies_design.baseline, studies_design.evaluate
+
+    def baseline_once(spec, template, cells):
+        key = (spec.model_dump_json(), template.model_dump_json(), tuple(cells))
+        if key not in memo["baseline"]:
+            memo["baseline"][key] = real_baseline(spec, template, cells)
+        return memo["baseline"][key]
+
+    def evaluate_once(spec, template, x, cells):
+        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
+        if key not in memo["evaluate"]:
+            memo["evaluate"][key] = real_evaluate(spec, template, x, cells)
+        return memo["evaluate"][key]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(studies_design, "baseline", baseline_once)
+        mp.setattr(studies_design, "evaluate", evaluate_once)
+        yield memo
+
+
 @pytest.mark.parametrize("options, field, words", [
     ({"population": 3}, "population", "population 3: input should be greater than or equal to 4"),
     ({"population": 1001}, "population", "population 1001: input should be less than or equal to 1000"),
@@ -97,7 +126,8 @@ def test_the_estimate_refuses_before_any_work(tmp_path, monkeypatch):
 def test_a_tiny_seeded_search_from_python_is_what_the_command_writes(tmp_path):
     """Population 4, 1 generation, seed 11, no finalists flown, on tests/data/tiny_study.toml
     (its two sea states at one heading: the Python run and the command's agree on any study;
-    the built-in ship_side through the command is tests/studies/test_design.py's): the typed
+    the built-in ship_side through the command is
+    test_the_built_in_study_runs_through_the_command's): the typed
     result, and the files it writes, equal the command's to the byte (the journal too). (The
     search's later generations are the study's tests': tests/studies/test_design.py.)"""
     study_file = tiny_study_folder(tmp_path / "study")
@@ -158,7 +188,27 @@ def test_the_page_lists_the_spec_s_options_with_its_defaults():
         assert value == DesignCommandSpec.default(field), field
 
 
-def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch):
+def test_the_built_in_study_runs_through_the_command(tmp_path, ship_side_judged_once):
+    """`marinecdpr design` with no study runs ship_side (a short search, no finalists flown;
+    seed 14's four candidates, as docs/commands/design.md's, are judged in a third of the time
+    of the study's own seed's): its baseline is the paper robot on the surface, 2 660
+    placements moved by the study's first relocation choice, the crane: 385.8 h
+    (docs/cleaning.md's table). (Its candidates and baseline judged once with the page's
+    Python below, the same search.)"""
+    out = tmp_path / "o"
+    res = runner.invoke(app, ["design", "--population", "4", "--generations", "1", "--seed", "14", "--no-verify",
+                              "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    s = json.loads((out / "summary.json").read_text())
+    assert s["study"] == "ship_side" and s["candidates"] == 4
+    assert s["baseline"]["placements"] == 2660 and round(s["baseline"]["surface_hours"], 1) == 385.8
+    assert "baseline (the template's robot): 2660 placements, 385.8 h on the surface" in res.stdout
+
+
+def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch, ship_side_judged_once):
+    """The page's two blocks as written: the run, then its resume from the journal (the
+    search's baseline and candidates judged once with the command line's run above, the same
+    search; the resume's baseline so too: its claim is the candidates it takes from the journal)."""
     blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
     assert len(blocks) == 2
     monkeypatch.chdir(tmp_path)
@@ -181,3 +231,6 @@ def test_the_page_s_python_runs_as_written(tmp_path, monkeypatch):
     again = ns["again"].study
     assert judged == [] and [e.x for e in again.evaluations] == [e.x for e in study.evaluations]
     assert [e.expected_hours for e in again.evaluations] == ns["hours"]
+    memo = ship_side_judged_once  # one study asked: one baseline, its four candidates each once
+    assert len(memo["baseline"]) == 1 and len(memo["evaluate"]) == len({json.dumps(e.x, sort_keys=True)
+                                                                          for e in study.evaluations})

@@ -44,8 +44,19 @@ def _study_file(folder: Path, text: str) -> Path:
 @pytest.fixture(scope="module")
 def priced(tmp_path_factory):
     """The small study's medium winch and light rope on its 6 x 3 m frame, judged, as a
-    one-candidate study."""
-    path = _study_file(tmp_path_factory.mktemp("priced"), PRICED)
+    one-candidate study: on paper_clean's top 3 m of side over 10 m amidships (heights 8.6 to
+    11.6 m, stations -5 to 5 m; four placements, the template's baseline judged in a fraction
+    of the whole side's time), where, as over the whole side, the screen passes the Hs 1 m sea
+    state and not the 5 m one (share 0.6, the least slack, then the sag's)."""
+    import tomli_w
+
+    from marinecdpr.scenario.importing.common import toml_plain
+
+    folder = tmp_path_factory.mktemp("priced")
+    band = toml_plain(marinecdpr.load_scenario("paper_clean").model_dump(exclude_none=True))
+    band["cleaning"]["surface"].update(stations_m=[-5.0, 5.0], heights_m=[8.6, 11.6])
+    (folder / "band.toml").write_text(tomli_w.dumps(band))
+    path = _study_file(folder, PRICED.replace('scenario = "paper_clean"', 'scenario = "band.toml"'))
     spec, template = load_design(path)
     spec = spec.model_copy(update={"finalists": 1})
     cells = study_cells(spec, path.parent)

@@ -21,11 +21,13 @@ from marinecdpr.prototype.simulation import simulate  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
     SAG_SHARE, as_built, candidate_scenario, load_design, span_sag, study_cells, study_path, study_scatter, verify,
 )
-from conftest import one_candidate_study  # noqa: E402
+from conftest import one_candidate_study, tiny_study_folder  # noqa: E402
 
 HERE = Path(__file__).parents[1] / "studies"
-# the design tests' small study (test_issue24_design.SMALL) on a 3 x 2 m frame (a short job),
-# one sea state
+# the design tests' small study (test_design.SMALL) on a 3 x 2 m frame (a short job), one sea
+# state, on paper_clean's 10 x 3 m midship band (tiny_study_folder's template: the finalist's
+# rope and winches, its flights and its sag on any surface, its baseline judged in a fraction
+# of the whole side's time)
 SMALL = re.search(r'SMALL = """(.*?)"""', (HERE / "test_design.py").read_text(), re.S).group(1)
 TEXT = SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("frame_height_m = 3.0",
                                                                          "frame_height_m = 2.0")
@@ -34,8 +36,8 @@ TEXT = SMALL.replace("frame_width_m = 6.0", "frame_width_m = 3.0").replace("fram
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
     folder = tmp_path_factory.mktemp("as_built")
-    (folder / "seas.csv").write_text("hs_m,tp_s,probability\n1.0,8.0,1.0\n")
-    (folder / "study.toml").write_text(TEXT)
+    tiny_study_folder(folder, TEXT.replace('scenario = "paper_clean"', 'scenario = "template.toml"'),
+                      "hs_m,tp_s,probability\n1.0,8.0,1.0\n")
     spec, template = load_design(folder / "study.toml")
     spec = spec.model_copy(update={"plant": "own", "finalists": 1})
     cells = study_cells(spec, folder)
@@ -126,7 +128,8 @@ def test_the_finalist_is_verified_on_its_rope_and_winches(small, monkeypatch):
     other = real(ideal, scatter, headings_deg=(90.0,), plant="own").sea.results[0]
     mine = built.sea.results[0]
     assert mine.operable and other.operable
-    # measured: 160.02 N as built, 158.01 N on ideal cables (T_min 50 N)
+    # measured: 160.14 N as built, 158.14 N on ideal cables (T_min 50 N; over the whole side's
+    # worst placement, 160.02 and 158.01 N)
     assert abs(mine.tension_min_N - other.tension_min_N) > 0.5
 
 
@@ -177,9 +180,10 @@ def test_ship_side_s_finalists_stay_straight():
 
 def test_a_sagging_finalist_flies_near_its_plan(small):
     """The heavy-rope finalist as built (catenary cables, motor winches, own plant) flies 2 s
-    of its job closed loop: its least tension 2.09 N from the plan's (195.2 N against
-    197.2 N, measured), within the half of a cable's weight w L / 2 = 2.52 N that the
-    plan's straight cables leave out of the pull's direction; no motor at a limit."""
+    of its job closed loop: its least tension 2.12 N from the plan's (197.3 N against
+    199.4 N, measured; at the whole side's worst placement, 2.09 N), within the half of a
+    cable's weight w L / 2 = 2.52 N that the plan's straight cables leave out of the pull's
+    direction; no motor at a limit."""
     spec, template, study, _ = small
     sc = as_built(spec, template, _heavy(study.evaluations[0])).with_updates("time", duration_s=2.0)
     plan = marinecdpr.plan(sc)
@@ -188,4 +192,4 @@ def test_a_sagging_finalist_flies_near_its_plan(small):
     assert run.winch_limited_steps == 0
     gap = abs(run.tensions.min() - plan.tensions.min())
     assert gap < 1.4 * math.hypot(3.0, 2.0) / 2.0
-    assert np.abs(run.pose_error[:, :3]).max() < 3e-4  # measured 1.75e-4 m
+    assert np.abs(run.pose_error[:, :3]).max() < 3e-4  # measured 1.88e-4 m (the whole side's: 1.75e-4 m)

@@ -56,10 +56,32 @@ def _x(spec, **kw):
 
 
 @pytest.fixture(scope="module")
-def judged(safe):
+def evaluate_once():
+    """The design study's evaluate, each candidate judged once in this module: a pure
+    function of its whole spec, template, candidate and seas (the key: their content), its
+    answer handed to whichever asks the same again (the safe study's command judges the
+    candidates ``judged`` holds). The memo wrapped about it, in the library's place."""
+    import marinecdpr.studies.design as studies_design
+
+    real, memo = studies_design.evaluate, {}
+
+    def once(spec, template, x, cells):
+        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
+        if key not in memo:
+            memo[key] = real(spec, template, x, cells)
+        return memo[key]
+
+    once.memo = memo
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(studies_design, "evaluate", once)
+        yield once
+
+
+@pytest.fixture(scope="module")
+def judged(safe, evaluate_once):
     """Every pattern with both winches, judged with the constraint."""
     spec, template, cells = safe
-    return {(p, w): evaluate(spec, template, _x(spec, pattern=p, winch=w), cells)
+    return {(p, w): evaluate_once(spec, template, _x(spec, pattern=p, winch=w), cells)
             for p in ("uncrossed", "crossed", "five_top", "six_top_bottom", "six_sides", "six_double_top",
                       "eight_double") for w in ("medium", "large")}
 
@@ -271,12 +293,12 @@ def test_a_bad_safety_input_is_one_line_naming_the_key(tmp_path, edit, words):
     assert not (tmp_path / "o").exists()
 
 
-def test_the_safe_study_runs_through_the_command(tmp_path):
+def test_the_safe_study_runs_through_the_command(tmp_path, judged, evaluate_once):
     """`design` with the constraint: the candidates' files carry its margin, every feasible one
     has every corner doubled, the report says the constraint; the summary's best is the
-    eight large winches' 40 kW."""
-    path = _folder(tmp_path / "s", STUDY.replace("population = 4", "population = 6").replace(
-        "generations = 1", "generations = 2"))
+    eight large winches' 40 kW. (The study as written, seed 2's four candidates: both
+    patterns with both winches, each judged once in this module, as ``judged`` has them.)"""
+    path = _folder(tmp_path / "s")
     out = tmp_path / "o"
     res = runner.invoke(app, ["design", str(path), "--out", str(out), "--no-verify"])
     assert res.exit_code == 0, res.output
@@ -294,6 +316,7 @@ def test_the_safe_study_runs_through_the_command(tmp_path):
     page = (out / "report.html").read_text()
     assert "Every feasible design survives each single cable&#39;s failure" in page and said in page
     assert said in res.stdout and s["constraints"]["single_cable_failure"] is True and said in s["safety"]
+    assert len(rows) == 4 and len(evaluate_once.memo) == len(judged)  # the search asked what judged had judged
 
 
 RAIL = STUDY.replace("[constraints]", """[relocation]
