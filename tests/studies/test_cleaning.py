@@ -158,7 +158,7 @@ def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
 def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path):
     from marinecdpr.studies.cleaning import guaranteed_job
 
-    short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 15.0})
+    short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 8.0})
     first = cleaning_job(short)
     job = guaranteed_job(short)
     g = job.summary["guarantee"]
