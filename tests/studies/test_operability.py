@@ -333,8 +333,9 @@ def test_operability_is_exact_when_everything_works(paper_sea_default):
     share and their mean.)"""
     _, _, op = paper_sea_default
     for h in (180.0, 90.0):
-        assert sum(r.cell.probability for r in op.results if r.cell.heading_deg == h) != 1.0  # the float sum is not exact...
-        assert op.per_heading[h] == 1.0                                                    # ...the operability is
+        probabilities = [r.cell.probability for r in op.results if r.cell.heading_deg == h]
+        assert sum(probabilities) != 1.0      # the float sum is not exact...
+        assert op.per_heading[h] == 1.0       # ...the operability is
     assert op.operability == 1.0
 
 
