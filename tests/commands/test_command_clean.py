@@ -183,16 +183,34 @@ def test_a_run_from_python_writes_what_the_command_writes(paper_clean, tmp_path)
         assert sentence in res.stdout
 
 
-def test_the_surface_from_python_is_what_the_command_writes(paper_clean, tmp_path):
+def _short_band(tmp_path: Path) -> Path:
+    """paper_clean.toml with its band cut to the 15 m at the stern (of its 190 m: the tiling's
+    time is the band's), beside the files it reads."""
+    import shutil
+
+    builtin = Path(marinecdpr.__file__).parent / "scenario" / "builtin"
+    for data in builtin.glob("*.csv"):
+        shutil.copy(data, tmp_path / data.name)
+    text = (builtin / "paper_clean.toml").read_text()
+    assert text.count("stations_m = [-95.0, 95.0]") == 1
+    path = tmp_path / "short_band.toml"
+    path.write_text(text.replace("stations_m = [-95.0, 95.0]", "stations_m = [-95.0, -80.0]"))
+    return path
+
+
+def test_the_surface_from_python_is_what_the_command_writes(tmp_path):
+    """On a short band (the stern's 15 m: the curved end, placements cut to its flare), the
+    command's files are the run's from Python byte for byte."""
+    scenario = _short_band(tmp_path)
     spec = CleanSpec(duration=0.2, plant="own", surface=True, compare=False)
     shares = []
-    placed = command.tile(spec, paper_clean, progress=shares.append)
+    placed = command.tile(spec, marinecdpr.load_scenario(str(scenario)), progress=shares.append)
     assert shares[-1] == pytest.approx(1.0, abs=1e-12) and placed.move_time_s == 600.0
-    result = command.run(spec, paper_clean, placed=placed)
+    result = command.run(spec, marinecdpr.load_scenario(str(scenario)), placed=placed)
     assert result.summary()["surface"] == placed.summary() and result.comparison is None
     names = [p.name for p in result.write(tmp_path / "py")]
     assert names[-2:] == ["placements.csv", "surface.png"]
-    res = runner.invoke(app, ["clean", "paper_clean", "--duration", "0.2", "--plant", "own", "--surface",
+    res = runner.invoke(app, ["clean", str(scenario), "--duration", "0.2", "--plant", "own", "--surface",
                               "--no-compare", "--out", str(tmp_path / "cli")], terminal_width=4000)
     assert res.exit_code == 0, res.output
     _same_files(tmp_path / "py", tmp_path / "cli", ["placements.csv", "clean.csv", "summary.json"])

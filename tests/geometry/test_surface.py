@@ -110,7 +110,8 @@ def test_the_placements_partition_the_band_and_sum_to_its_curved_area(paper_clea
 
 def test_hours_are_the_sum_of_the_placements_and_the_moves(paper_clean, paper_clean_job):
     """Each placement's time is the coverage path's over a rectangle of its extent; the job's
-    seconds are their sum and (n - 1) moves."""
+    seconds are their sum and (n - 1) moves (another move time moves the hours by exactly
+    that: on the band's 15 m at the stern, tiled twice)."""
     sj = paper_clean_job
     data = paper_clean.cleaning.model_dump(exclude_none=True)
     data.pop("surface")
@@ -121,8 +122,11 @@ def test_hours_are_the_sum_of_the_placements_and_the_moves(paper_clean, paper_cl
         assert sj.job_s[i] == cleaning_path(panel).duration_s
     n = len(sj.placements)
     assert sj.hours * 3600.0 == pytest.approx(float(sum(sj.job_s)) + (n - 1) * 600.0, rel=1e-14)
-    moves = surface_job(paper_clean, move_time_s=300.0)
-    assert (sj.hours - moves.hours) * 3600.0 == pytest.approx((n - 1) * 300.0, rel=1e-12)
+    stern = paper_clean.with_updates("cleaning.surface", stations_m=[-95.0, -80.0])
+    slow, moves = surface_job(stern, move_time_s=600.0), surface_job(stern, move_time_s=300.0)
+    m = len(slow.placements)
+    assert m == len(moves.placements) > 100 and np.array_equal(slow.job_s, moves.job_s)
+    assert (slow.hours - moves.hours) * 3600.0 == pytest.approx((m - 1) * 300.0, rel=1e-12)
 
 
 def test_hours_fall_as_the_frame_grows_until_the_curvature_limits_it(paper_clean, paper_clean_job):

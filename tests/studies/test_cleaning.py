@@ -91,9 +91,11 @@ def test_coverage_agrees_with_an_independent_computation_from_clean_csv(clean, t
     gx = np.linspace(panel[:, 0].min(), panel[:, 0].max(), 1301)
     gz = np.linspace(panel[:, 1].min(), panel[:, 1].max(), 801)
     X, Z = np.meshgrid(gx, gz)
-    hit = cKDTree(dense).query_ball_point(np.column_stack([X.ravel(), Z.ravel()]), r=s["brush_width_m"] / 2,
-                                          return_length=True)
-    independent = 100.0 * np.count_nonzero(hit) / hit.size
+    # each grid point's nearest sample (not every sample within the radius: the same test, 10 times sooner)
+    radius = s["brush_width_m"] / 2
+    nearest, _ = cKDTree(dense).query(np.column_stack([X.ravel(), Z.ravel()]),
+                                      distance_upper_bound=np.nextafter(radius, np.inf))
+    independent = 100.0 * np.count_nonzero(nearest <= radius) / nearest.size
     assert abs(s["coverage_pct"] - independent) < 0.2
     assert 10.0 < s["coverage_pct"] < 60.0  # a part of the panel in 12 s: the numbers are not trivial
 
@@ -156,7 +158,7 @@ def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
 def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path):
     from marinecdpr.studies.cleaning import guaranteed_job
 
-    short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 15.0})
+    short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 8.0})
     first = cleaning_job(short)
     job = guaranteed_job(short)
     g = job.summary["guarantee"]
@@ -348,9 +350,10 @@ from marinecdpr.studies.cleaning import cleaning_job, cleaning_seas, evaluate_cl
 from marinecdpr.studies.operability import Cell, ScatterDiagram, cell_scenario
 
 runner = CliRunner()
-# calm seas work; in 14 m, 10 s beam seas the ship's motion pushes the brush out of its force band
+# calm seas work; in 14 m, 10 s beam seas the ship's motion pushes the brush out of its force band;
+# three sea states of positive probability a heading (each is a whole cleaning job flown)
 DIAGRAM = ScatterDiagram(np.array([0.1, 1.0, 14.0]), np.array([8.0, 10.0]),
-                         np.array([[0.2, 0.1], [0.3, 0.2], [0.0, 0.2]]))
+                         np.array([[0.3, 0.0], [0.0, 0.4], [0.0, 0.3]]))
 
 
 @pytest.fixture(scope="module")
@@ -386,7 +389,7 @@ def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
 def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
     cs = cleaning_seas(small, DIAGRAM, headings_deg=(180.0, 90.0), coverage_target_pct=90.0)
     rs = cs.sea.results
-    assert len(rs) == 2 * 5  # the cell of probability 0 is not flown
+    assert len(rs) == 2 * 3  # the cells of probability 0 are not flown
     works = [r for r in rs if r.operable]
     assert all(r.operable for r in rs if r.cell.hs == 0.1)  # calm works
     assert not [r for r in rs if (r.cell.hs, r.cell.heading_deg) == (14.0, 90.0)][0].operable
