@@ -96,11 +96,15 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
                               "--step", "0.1", "--out", str(tmp_path / "ws")])
     assert res.exit_code == 0, res.output
     assert np.genfromtxt(tmp_path / "ws" / "workspace.csv", delimiter=",", names=True).size == 6
-    # two records per sea state (the default ten is a study's, not a run's: 5x the work here)
-    res = runner.invoke(app, ["operability", src, "--serial", "--duration", "2", "--step", "0.1", "--realisations",
-                              "2", "--out", str(tmp_path / "op")])
+    # three sea states of two records each (the package's diagram of 102 with ten records is
+    # a study's, not a run's: 170x the cells here)
+    scatter = tmp_path / "scatter.csv"
+    scatter.write_text("hs_m,tp_s,probability\n0.5,6.0,0.5\n1.0,8.0,0.3\n2.0,10.0,0.2\n")
+    res = runner.invoke(app, ["operability", src, "--serial", "--duration", "2", "--step", "0.1", "--scatter",
+                              str(scatter), "--realisations", "2", "--out", str(tmp_path / "op")])
     if sc.base_motion.type == "sea_state":
         assert res.exit_code == 0, res.output
+        assert json.loads((tmp_path / "op" / "operability.json").read_text())["cells"] == 3
     else:
         assert res.exit_code == 2 and "needs a [base_motion] of type sea_state" in res.stderr
         assert "Traceback" not in res.output
