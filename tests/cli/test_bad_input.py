@@ -461,8 +461,6 @@ def test_a_folder_for_the_rao_table_is_called_a_folder(tmp_path):
 ``assert`` statements, which -O removes: bad input ran on, or failed with a traceback)."""
 
 import ast
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
