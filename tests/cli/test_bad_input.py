@@ -80,7 +80,10 @@ def test_a_bounded_but_meaningless_closed_loop_fails(tmp_path):
 @pytest.mark.parametrize("name", ["[/]", "[link=https://example.com]x[/link]", "[bold red]loud", r"$\foo$",
                                   "x\x1b[31mred\x1b[0m", "a$b"])
 def test_names_are_plain_text_everywhere(name, tmp_path):
+    # a 1 s job (the plan's 15 000 steps and its figure are not what this is about)
     text = (EXAMPLES / "paper.toml").read_text().replace('name = "paper"', f"name = {json.dumps(name)}")
+    assert "duration_s = 15.0" in text
+    text = text.replace("duration_s = 15.0", "duration_s = 1.0")
     sc = tmp_path / "named.toml"
     sc.write_text(text)
     res = runner.invoke(app, ["simulate", str(sc), "--duration", "0.1", "--out", str(tmp_path / "o")])
@@ -458,8 +461,6 @@ def test_a_folder_for_the_rao_table_is_called_a_folder(tmp_path):
 ``assert`` statements, which -O removes: bad input ran on, or failed with a traceback)."""
 
 import ast
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -467,20 +468,48 @@ import pytest
 SRC = Path(__file__).resolve().parents[2] / "src" / "marinecdpr"
 
 
-@pytest.mark.parametrize("args, message", [
+UNDER_O = [
     (["workspace", "paper", "--points", "0x3"], "--points 0x3: expected two positive integers like 30x20"),
     (["workspace", "paper", "--points", "30x20x2"], "--points 30x20x2: expected two positive integers like 30x20"),
     (["operability", "paper_sea", "--workspace", "-1x4"], "--workspace -1x4: expected two positive integers like 12x8"),
     (["windows", "--duration-h", "2", "--hs-limit", "2", "--days", "1,-3"],
      "--days 1,-3: expected positive numbers separated by commas, e.g. 1,3,7"),
-])
-def test_bad_input_under_python_O_is_one_line_exit_2(args, message, tmp_path):
-    out = tmp_path / "o"
-    res = subprocess.run([sys.executable, "-O", "-m", "marinecdpr", *args, "--out", str(out)], capture_output=True,
-                         text=True, timeout=300)
-    assert res.returncode == 2, res.stderr
-    assert res.stderr.strip().splitlines() == [f"error: {message}"]
+]
+
+
+ASSERTS_GONE = "import sys; sys.stderr.write(f'debug={__debug__}\\n'); assert False, 'asserts are on'"
+"""A child's set-up that fails unless the interpreter runs with -O."""
+
+
+@pytest.fixture(scope="module")
+def under_python_O(tmp_path_factory):
+    """Each command line of UNDER_O as a process of its own under ``python -O`` (forked from
+    one interpreter started with -O: one start and one import of the command line for all),
+    and last ``--version`` after :data:`ASSERTS_GONE`: each one's output folder and (exit
+    code, stdout, stderr)."""
+    from forked import run_forked
+
+    outs = [tmp_path_factory.mktemp("under_O") / "o" for _ in UNDER_O]
+    runs = run_forked([("", [*args, "--out", str(out)]) for (args, _), out in zip(UNDER_O, outs)]
+                      + [(ASSERTS_GONE, ["--version"])], flags=("-O",))
+    return list(zip([*outs, None], runs, strict=True))
+
+
+@pytest.mark.parametrize("case", range(len(UNDER_O)), ids=[" ".join(args) for args, _ in UNDER_O])
+def test_bad_input_under_python_O_is_one_line_exit_2(case, under_python_O):
+    message = UNDER_O[case][1]
+    out, (code, _, err) = under_python_O[case]
+    assert code == 2, err
+    assert err.strip().splitlines() == [f"error: {message}"]
     assert not out.exists()
+
+
+def test_the_commands_above_ran_under_python_O(under_python_O):
+    """Their processes ran with the interpreter's -O: an assert in one's set-up did not stop
+    it (``__debug__`` false), and the command after it ran."""
+    _, (code, out, err) = under_python_O[-1]
+    assert code == 0 and err == "debug=False\n", err
+    assert out.startswith("marinecdpr ")
 
 
 def test_no_assert_in_the_package():

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import re
+import shutil
 import stat
 from pathlib import Path
 
@@ -95,10 +96,15 @@ def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
                               "--step", "0.1", "--out", str(tmp_path / "ws")])
     assert res.exit_code == 0, res.output
     assert np.genfromtxt(tmp_path / "ws" / "workspace.csv", delimiter=",", names=True).size == 6
-    res = runner.invoke(app, ["operability", src, "--serial", "--duration", "2", "--step", "0.1",
-                              "--out", str(tmp_path / "op")])
+    # three sea states of two records each (the package's diagram of 102 with ten records is
+    # a study's, not a run's: 170x the cells here)
+    scatter = tmp_path / "scatter.csv"
+    scatter.write_text("hs_m,tp_s,probability\n0.5,6.0,0.5\n1.0,8.0,0.3\n2.0,10.0,0.2\n")
+    res = runner.invoke(app, ["operability", src, "--serial", "--duration", "2", "--step", "0.1", "--scatter",
+                              str(scatter), "--realisations", "2", "--out", str(tmp_path / "op")])
     if sc.base_motion.type == "sea_state":
         assert res.exit_code == 0, res.output
+        assert json.loads((tmp_path / "op" / "operability.json").read_text())["cells"] == 3
     else:
         assert res.exit_code == 2 and "needs a [base_motion] of type sea_state" in res.stderr
         assert "Traceback" not in res.output
@@ -174,17 +180,27 @@ def test_the_error_bound_comes_from_the_frame_the_scenario_or_the_option(paper, 
     assert "warning: closed_loop leaves its plan beyond the error bound" in res.stderr
 
 
-def test_paper_open_loop_is_called_exact_only_because_its_numbers_are(tmp_path):
-    res = runner.invoke(app, ["simulate", "--duration", "0.3", "--out", str(tmp_path)])
-    html = (tmp_path / "report.html").read_text()
-    s = json.loads((tmp_path / "summary.json").read_text())
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory):
+    """``simulate`` of the paper scenario (the default) for 0.3 s, made once: its result and
+    its folder, which the tests read, or copy as the previous run in a folder of their own."""
+    out = tmp_path_factory.mktemp("paper_run") / "out"
+    res = runner.invoke(app, ["simulate", "--duration", "0.3", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    return res, out
+
+
+def test_paper_open_loop_is_called_exact_only_because_its_numbers_are(paper_run):
+    res, out = paper_run
+    html = (out / "report.html").read_text()
+    s = json.loads((out / "summary.json").read_text())
     assert s["open_loop"]["max_abs_error_x_m"] < 1e-6
     assert "follows the plan but for the hold" in html and "within the bound" in html
     assert "warning" not in res.stderr
 
 
 # -------------------------------------------------- item 3: the paper only for the paper
-def test_the_paper_column_only_for_the_papers_experiment(cube8_runs, tmp_path):
+def test_the_paper_column_only_for_the_papers_experiment(cube8_runs, paper_run):
     assert is_paper_scenario(marinecdpr.load_scenario("paper"))
     assert is_paper_scenario(marinecdpr.load_scenario("paper_elastic"))   # other cables, same experiment
     assert not is_paper_scenario(marinecdpr.load_scenario("paper_sea"))  # another sea
@@ -195,11 +211,11 @@ def test_the_paper_column_only_for_the_papers_experiment(cube8_runs, tmp_path):
     # every controlled DOF of the spatial robot has its row, and the rotation angle is named
     for row in ("x (", "y (", "z (", "rx (deg)", "ry (deg)", "rz (deg)", "rotation angle (deg)"):
         assert f"<th>{row}" in html, row
-    res = runner.invoke(app, ["simulate", "paper", "--duration", "0.2", "--out", str(tmp_path)])
-    s = json.loads((tmp_path / "summary.json").read_text())
-    assert s["paper_reported"]["max_abs_cable_length_error_m"] == 0.15
+    res, out = paper_run
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"] == "paper" and s["paper_reported"]["max_abs_cable_length_error_m"] == 0.15
     assert "max_cable_length_error_m" not in s["paper_reported"]  # one name for one quantity
-    assert "paper (Adams, open loop)" in (tmp_path / "report.html").read_text()
+    assert "paper (Adams, open loop)" in (out / "report.html").read_text()
     assert "theta_y (deg)" in res.stdout and "paper (Adams" in res.stdout
 
 
@@ -236,9 +252,9 @@ def _main_job(tmp_path, scenario="paper", duration="0.2"):
     return runner.invoke(app, ["simulate", scenario, "--duration", duration, "--out", str(tmp_path)])
 
 
-def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
+def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch, paper_run):
     out = tmp_path / "out"
-    assert _main_job(out).exit_code == 0
+    shutil.copytree(paper_run[1], out)  # the previous run
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     # a crash while writing the report (a full disk, say): one line, exit 2, nothing changed
     import marinecdpr.report.writers as writers
@@ -255,9 +271,9 @@ def test_a_failed_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
-def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch):
+def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch, paper_run):
     out = tmp_path / "out"
-    assert _main_job(out).exit_code == 0
+    shutil.copytree(paper_run[1], out)  # the previous run
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     import marinecdpr.studies.prototype_runs as analysis
 
@@ -277,11 +293,10 @@ def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch)
     assert json.loads((out / "summary.json").read_text())["scenario"] == "paper"
 
 
-def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_path):
+def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_path, paper_run):
     out = tmp_path / "out"
-    out.mkdir()
+    shutil.copytree(paper_run[1], out)  # the previous run, beside a file of the user's
     (out / "notes.txt").write_text("mine")
-    assert _main_job(out).exit_code == 0
     main_job = {p.name: p.read_bytes() for p in out.iterdir()}
     # another command into the main job's folder is refused, its files kept (issue 37, item 5: the
     # plan's files replaced the main job's, the report gone without a word)
@@ -392,12 +407,12 @@ def test_version_and_scenario_descriptions():
         assert ln[len(name):].strip() == marinecdpr.load_scenario(name).description
 
 
-def test_the_title_says_wall_time_and_progress_shows_when_piped(tmp_path):
-    res = runner.invoke(app, ["simulate", "--duration", "0.1", "--out", str(tmp_path)])
+def test_the_title_says_wall_time_and_progress_shows_when_piped(paper_run):
+    res, _ = paper_run
     assert re.search(r"\d+\.\d s wall time\)", res.stdout)
     # not a terminal: plain progress lines, the last of each run saying it is done
     for title in ("open loop (plan fed forward)", "closed loop (computed torque)", "fixed-base plan, open loop"):
-        assert re.search(rf"{re.escape(title)}: 101 of 101 steps in ", res.stderr), res.stderr
+        assert re.search(rf"{re.escape(title)}: 301 of 301 steps in ", res.stderr), res.stderr
 
 
 def test_leaving_the_frame_prints_enough_digits(tmp_path):

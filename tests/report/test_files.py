@@ -45,12 +45,16 @@ def _one_complete_run(folder: Path) -> str:
 
 @pytest.fixture(scope="module")
 def paper_run(tmp_path_factory) -> Path:
-    """A complete run of ``simulate paper --duration 0.5``, made once: each test copies it
-    into its own output folder as the previous run there."""
+    """A complete run of ``simulate paper --duration 0.5``, made once (in this process: the
+    run is the tests' starting point, not what they are about): each test copies it into its
+    own output folder as the previous run there."""
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+
     out = tmp_path_factory.mktemp("paper_run") / "out"
-    first = subprocess.run([EXE, "simulate", "paper", "--duration", "0.5", "--out", str(out)],
-                           capture_output=True, text=True, timeout=300)
-    assert first.returncode == 0, first.stderr
+    first = CliRunner().invoke(app, ["simulate", "paper", "--duration", "0.5", "--out", str(out)])
+    assert first.exit_code == 0, first.output
     return out
 
 
@@ -145,18 +149,25 @@ def _used(folder: Path) -> str:
 
 @pytest.mark.parametrize("args", [
     ["plan", "paper"],
-    ["simulate", "paper", "--duration", "1"],
-    ["workspace", "paper", "--points", "40x30", "--duration", "0.5", "--step", "0.05"],
-    ["operability", "paper_sea", "--serial", "--duration", "60", "--step", "0.1"],
+    ["simulate", "paper", "--duration", "0.3"],
+    ["workspace", "paper", "--points", "12x8", "--duration", "0.5", "--step", "0.05"],
+    ["operability", "paper_sea", "--serial", "--duration", "10", "--step", "0.1", "--realisations", "2"],
 ])
 def test_a_full_disk_is_one_line_and_leaves_the_folder_as_it_was(args, small_disk):
+    """Each command's files outgrow the 16 KiB left (a figure alone does), whatever the size
+    of its job; run in this process (the disk is the point here, not the process)."""
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+
     out = small_disk / "out"
     out.mkdir()
     (out / "keep.txt").write_text("a previous file")
     used = _used(small_disk)
-    res = subprocess.run([EXE, *args, "--out", str(out)], capture_output=True, text=True, timeout=300)
-    assert res.returncode == 2, res.stderr
-    assert "Traceback" not in res.stderr
+    res = CliRunner().invoke(app, [*args, "--out", str(out)])
+    assert res.exit_code == 2, res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception  # no traceback
+    assert "Traceback" not in res.output
     last = res.stderr.strip().splitlines()[-1]
     assert last == f"error: --out {out}: could not write the files (No space left on device); the folder keeps what it held"
     assert sorted(p.name for p in out.iterdir()) == ["keep.txt"]
