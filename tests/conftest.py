@@ -174,3 +174,25 @@ def tiny_study_folder(folder: Path, study: str | None = None, seas: bytes | str 
     (folder / "seas.csv").write_bytes(seas.encode() if isinstance(seas, str) else seas)
     (folder / "study.toml").write_text(study)
     return folder / "study.toml"
+
+
+def judged_once(function, memo: dict):
+    """``function`` (the design study's ``evaluate`` or ``baseline``: pure in its arguments)
+    answering each set of arguments once: the key is their content (a pydantic model's JSON,
+    a dict's sorted JSON, a list's items), the answer kept in ``memo`` for whichever asks the
+    same again."""
+    import json
+
+    def content(a):
+        if hasattr(a, "model_dump_json"):
+            return a.model_dump_json()
+        if isinstance(a, dict):
+            return json.dumps(a, sort_keys=True)
+        return tuple(a) if isinstance(a, list | tuple) else a
+
+    def once(*args):
+        key = tuple(content(a) for a in args)
+        if key not in memo:
+            memo[key] = function(*args)
+        return memo[key]
+    return once

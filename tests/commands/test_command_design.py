@@ -23,7 +23,7 @@ from marinecdpr.commands import design as command  # noqa: E402
 from marinecdpr.commands.design import DesignCommandSpec  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
 from marinecdpr.studies.executor import Executor  # noqa: E402
-from tests.conftest import tiny_study_folder  # noqa: E402
+from tests.conftest import judged_once, tiny_study_folder  # noqa: E402
 
 runner = CliRunner()
 DOC = Path(__file__).resolve().parents[2] / "docs" / "commands" / "design.md"
@@ -38,23 +38,9 @@ def ship_side_judged_once():
     import marinecdpr.studies.design as studies_design
 
     memo: dict[str, dict] = {"baseline": {}, "evaluate": {}}
-    real_baseline, real_evaluate = studies_design.baseline, studies_design.evaluate
-
-    def baseline_once(spec, template, cells):
-        key = (spec.model_dump_json(), template.model_dump_json(), tuple(cells))
-        if key not in memo["baseline"]:
-            memo["baseline"][key] = real_baseline(spec, template, cells)
-        return memo["baseline"][key]
-
-    def evaluate_once(spec, template, x, cells):
-        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
-        if key not in memo["evaluate"]:
-            memo["evaluate"][key] = real_evaluate(spec, template, x, cells)
-        return memo["evaluate"][key]
-
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(studies_design, "baseline", baseline_once)
-        mp.setattr(studies_design, "evaluate", evaluate_once)
+        mp.setattr(studies_design, "baseline", judged_once(studies_design.baseline, memo["baseline"]))
+        mp.setattr(studies_design, "evaluate", judged_once(studies_design.evaluate, memo["evaluate"]))
         yield memo
 
 

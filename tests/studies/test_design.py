@@ -26,7 +26,7 @@ from marinecdpr.studies.design import (  # noqa: E402
 )
 from marinecdpr.studies.screen import screen_cells  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
-from tests.conftest import one_candidate_study, one_line_exit_2, tiny_study_folder  # noqa: E402
+from tests.conftest import judged_once, one_candidate_study, one_line_exit_2, tiny_study_folder  # noqa: E402
 
 runner = CliRunner()
 SHIP_SIDE = Path(str(resources.files("marinecdpr") / "data" / "designs" / "ship_side.toml"))
@@ -239,14 +239,8 @@ def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(tmp_pat
     answer handed to the enumeration and the second search when they ask the same again.)"""
     import marinecdpr.studies.design as design
 
-    real, judged = design.evaluate, {}
-
-    def once(spec, template, x, cells):
-        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
-        if key not in judged:
-            judged[key] = real(spec, template, x, cells)
-        return judged[key]
-
+    judged = {}
+    once = judged_once(design.evaluate, judged)
     monkeypatch.setattr(design, "evaluate", once)
     path = _small_band(tmp_path)
     spec, template = load_design(path)

@@ -28,7 +28,7 @@ from marinecdpr.studies.design import (  # noqa: E402
 )
 from marinecdpr.studies.operability import Cell  # noqa: E402
 from marinecdpr.studies.screen import screen_cells, screen_model, single_failure_cells  # noqa: E402
-from tests.conftest import one_line_exit_2  # noqa: E402
+from tests.conftest import judged_once, one_line_exit_2  # noqa: E402
 
 runner = CliRunner()
 STUDY = (Path(__file__).parents[1] / "data" / "safe_study.toml").read_text(encoding="utf-8")
@@ -63,14 +63,8 @@ def evaluate_once():
     candidates ``judged`` holds). The memo wrapped about it, in the library's place."""
     import marinecdpr.studies.design as studies_design
 
-    real, memo = studies_design.evaluate, {}
-
-    def once(spec, template, x, cells):
-        key = (spec.model_dump_json(), template.model_dump_json(), json.dumps(x, sort_keys=True), tuple(cells))
-        if key not in memo:
-            memo[key] = real(spec, template, x, cells)
-        return memo[key]
-
+    memo = {}
+    once = judged_once(studies_design.evaluate, memo)
     once.memo = memo
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(studies_design, "evaluate", once)
