@@ -18,10 +18,12 @@ are not arrays (a typed list) keep their counting: the record returned holds a r
 
 from __future__ import annotations
 
+from numba import njit
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-__all__ = ["borrowed", "borrowed_first", "store", "load", "stored_size", "call_step"]
+__all__ = ["borrowed", "borrowed_first", "store", "load", "stored_size", "call_step", "call_stored", "data_address",
+           "float64_pointer", "c_function", "kept_words", "stored"]
 
 
 def _strip(context, builder, ty, value, count=True):
@@ -135,3 +137,98 @@ def call_step(typingctx, function, k, h, part, bus):
         return builder.call(fn, [args[1], args[2], args[3], args[4], null, null])
 
     return types.int64(types.intp, types.int64, types.float64, types.intp, types.intp), codegen
+
+
+# ------------------------------------------------------------------ functions by address
+@intrinsic
+def call_stored(typingctx, function, args):
+    """Call the C function at address ``function`` as ``int64 f(*args, void*)``: numba's C
+    wrapper of a compiled function (:func:`c_function`) whose arguments are ``args`` (a tuple
+    of integers and floats: addresses, indices, times) and one type reference last, passed
+    as null."""
+    from llvmlite import ir
+
+    if not isinstance(args, types.BaseTuple) or not all(isinstance(a, (types.Integer, types.Float)) for a in args):
+        return None
+
+    def codegen(context, builder, signature, llargs):
+        arg_tys = [context.get_value_type(t) for t in signature.args[1]]
+        fnty = ir.FunctionType(ir.IntType(64), arg_tys + [cgutils.voidptr_t])
+        fn = builder.inttoptr(llargs[0], fnty.as_pointer())
+        values = [builder.extract_value(llargs[1], i) for i in range(len(arg_tys))]
+        return builder.call(fn, values + [cgutils.get_null_value(cgutils.voidptr_t)])
+
+    return types.int64(types.intp, args), codegen
+
+
+@intrinsic
+def data_address(typingctx, array):
+    """The address of ``array``'s first element, as an integer (intp)."""
+    if not isinstance(array, types.Array):
+        return None
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, value=args[0]).data
+        return builder.ptrtoint(data, cgutils.intp_t)
+
+    return types.intp(array), codegen
+
+
+@intrinsic
+def float64_pointer(typingctx, address):
+    """The address ``address`` (an integer) as a pointer to float64, for ``numba.carray``."""
+
+    def codegen(context, builder, signature, args):
+        from llvmlite import ir
+
+        return builder.inttoptr(args[0], ir.DoubleType().as_pointer())
+
+    return types.CPointer(types.float64)(types.intp), codegen
+
+
+_C_FUNCTIONS: dict = {}
+
+
+def c_function(dispatcher, sig) -> int:
+    """The address of numba's C wrapper of ``dispatcher`` compiled for ``sig`` (compiled, or
+    loaded from the disk cache, once; its code kept alive here): what :func:`call_stored`
+    and :func:`call_step` call."""
+    key = (dispatcher, sig)
+    if key not in _C_FUNCTIONS:
+        cres = dispatcher.get_compile_result(sig)
+        _C_FUNCTIONS[key] = (cres, cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name))
+    return _C_FUNCTIONS[key][1]
+
+
+class _Keeping(bytearray):
+    """A buffer that holds a reference to ``owner``: an array over it keeps the owner alive."""
+
+    owner: object = None
+
+
+def kept_words(n: int, owner: object):
+    """n int64 words (zeros) whose memory keeps ``owner`` (the records a stored record points
+    into) alive for as long as the array, or an array or record that holds it, lives: a
+    compiled record that holds the words keeps what they point to. ``owner`` must not hold
+    the words (an array's reference to its buffer is outside Python's cycle collector)."""
+    import numpy as np
+
+    buffer = _Keeping(8 * n)
+    buffer.owner = owner
+    return np.frombuffer(buffer, dtype=np.int64)
+
+
+def stored(record, *, lead: int = 0):
+    """``record`` written (:func:`store`) into :func:`kept_words` after ``lead`` zero words:
+    the words keep the record's arrays alive; the record is at the words' address plus 8
+    ``lead`` bytes (:func:`load`)."""
+    from numba import typeof
+
+    words = kept_words(lead + -(-stored_size(typeof(record)) // 8), record)
+    _store_into(record, words[lead:])
+    return words
+
+
+@njit(cache=True)
+def _store_into(record, words):
+    store(record, words)

@@ -5,11 +5,16 @@ that same step."""
 
 import numpy as np
 import pytest
+from numba import njit, typeof
 
 import marinecdpr
+from marinecdpr.borrowed import data_address, load
 from marinecdpr.errors import InfeasibleError
 from marinecdpr.control import Controller
-from marinecdpr.control.controller import plans
+from marinecdpr.control.controller import controller_records, plans
+from marinecdpr.control.records import encoders_record
+from marinecdpr.control.step import encoders_pose, pose_from_encoders, ship_forecast
+from marinecdpr.motion.prediction import make_predictor, predictor_forecast, predictor_update
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.tension_solver import METHOD_CODES
 from marinecdpr.motion.basemotion import evaluate_base_motion
@@ -167,3 +172,95 @@ def test_the_examples_python_loop_flies_as_the_prototypes_compiled_loop():
     res = simulate(sc, run="closed_loop", plant="mujoco")
     np.testing.assert_allclose(poses, res.pose[:, :3], rtol=0, atol=1e-12)
     assert np.abs(poses - res.pose_planned[:, :3]).max() < 1e-5
+
+
+def _variant(encoders=False, ar=False, pulleys=False, heavy=False):
+    def edit(d):
+        if encoders:
+            d["simulation"]["sensors"] = {"pose_from": "encoders"}
+        if ar:
+            d["simulation"]["mru"] = {"prediction": "ar", "latency_s": 0.05}
+        if pulleys:
+            for cable in d["robot"]["cables"]:
+                cable["pulley_radius_m"] = 0.05
+                cable["pulley_axis"] = [0.0, 0.0, 1.0]
+        if heavy:
+            d["robot"]["cable_weight_N_m"] = 3.5
+            d["simulation"]["plant"] = "own"
+            d["simulation"]["cables"] = {"model": "catenary", "stiffness_EA_N": 1.0e5}
+    return make_scenario(edit)
+
+
+VARIANTS = {"paper": {}, "encoders": dict(encoders=True), "ar": dict(ar=True),
+            "encoders, ar, pulleys": dict(encoders=True, ar=True, pulleys=True), "catenary": dict(heavy=True)}
+
+
+@njit
+def _by_address(slot, t_s, eta, t, fc):
+    return ship_forecast(slot, t_s, eta, t, fc)
+
+
+@njit
+def _forecast_directly(slot, t_s, eta, t, fc, ty):
+    pred = load(data_address(slot.words) + 8, ty)
+    predictor_update(pred, t_s, eta[0], eta[1], eta[2])
+    return predictor_forecast(pred, t, fc)
+
+
+@njit
+def _encoders_by_address(slot):
+    return encoders_pose(slot)
+
+
+@njit
+def _encoders_directly(slot, ty):
+    return pose_from_encoders(load(data_address(slot.words) + 8, ty))
+
+
+def test_every_controller_is_one_type_its_slots_holding_what_it_has():
+    """The ship-motion predictor and the encoders' forward kinematics sit in slots by address
+    (issue 37, the suite on a cold cache: the step compiled once, not once per combination):
+    every controller's records are of one numba type; a slot holds a function where the
+    scenario asks for it, and that function called by address does what it does called
+    directly, bit for bit (two controllers fed the same samples)."""
+    n = 40
+    records = {}
+    for name, options in VARIANTS.items():
+        sc = _variant(**options)
+        records[name] = [controller_records(sc, plans(sc, n), n, closed=True) for _ in range(2)] + [plans(sc, n)]
+    assert len({typeof(r[0]) for r in records.values()}) == 1
+    for name, (a, b, p) in records.items():
+        assert (a.predictor.words[0] != 0) == VARIANTS[name].get("ar", False)
+        assert (a.encoders.words[0] != 0) == VARIANTS[name].get("encoders", False)
+
+    # the AR predictor: a ship rolling and heaving, sampled at 20 Hz, forecast 0.1 s ahead
+    a, b, _ = records["ar"]
+    ty = typeof(make_predictor(step_s=0.1, order=4, forgetting=0.99))
+    fa, fb = np.zeros((3, 6)), np.zeros((3, 6))
+    statuses, errors = [], []
+    for i in range(400):
+        t = 0.05 * i
+        w = np.array([0.5, 0.6, 0.7, 0.8, 0.9, 1.0])
+        eta = np.stack([0.3 * np.sin(w * t), 0.3 * w * np.cos(w * t), -0.3 * w**2 * np.sin(w * t)])
+        s_a = _by_address(a.predictor, t, eta, t + 0.1, fa)
+        s_b = _forecast_directly(b.predictor, t, eta, t + 0.1, fb, ty)
+        assert s_a == s_b
+        np.testing.assert_array_equal(fa, fb)
+        statuses.append(s_a)
+        if s_a >= 0:
+            errors.append(np.abs(fa[0] - 0.3 * np.sin(w * (t + 0.1))).max())
+    assert len(errors) > 300 and max(errors[-100:]) < 1e-3  # it forecasts, and well
+
+    # the encoders: the planned lengths and tensions give the planned pose, both ways
+    for name in ("encoders", "encoders, ar, pulleys"):
+        a, b, p = records[name]
+        ty = typeof(encoders_record(b.meas, b.model, b.gains, b.work))
+        for k in (0, n // 2, n - 1):
+            for r in (a, b):
+                r.meas.L[:] = p.ff.lengths[k]
+                r.meas.Ldot[:] = p.ff.length_rates[k]
+                r.meas.T[:] = p.ff.tensions[k]
+            assert _encoders_by_address(a.encoders) == _encoders_directly(b.encoders, ty) == 0
+            for f in ("x", "v", "w", "R"):
+                np.testing.assert_array_equal(getattr(a.meas, f), getattr(b.meas, f))
+            np.testing.assert_allclose(a.meas.x, p.ff.pose[k, :3], rtol=0, atol=1e-6)

@@ -4,9 +4,11 @@ stored at an address and loaded there."""
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, typeof
+from numba import carray, njit, typeof, types
 
-from marinecdpr.borrowed import borrowed, load, store, stored_size
+from marinecdpr.borrowed import (
+    borrowed, c_function, call_stored, data_address, float64_pointer, load, store, stored, stored_size,
+)
 
 
 class Inner(NamedTuple):
@@ -117,3 +119,69 @@ def test_a_stored_typed_list_is_neither_freed_nor_kept():
     for _ in range(1000):
         assert first_sum(words.ctypes.data, ty) == 6.0
     assert held[0].sum() == 6.0 and held._opaque is refs
+
+
+def test_kept_words_keep_the_stored_record_alive_and_then_let_it_go():
+    """stored(): the record at the words' address plus the lead, readable after every other
+    reference to it is gone; once the words go, so does the record (no cycle, no leak)."""
+    import gc
+    import weakref
+
+    rng = np.random.default_rng(8)
+    a = rng.normal(size=(5, 4))
+    expected = [2.5 * a[:, k].sum() for k in range(4)]
+    rec = Outer(Inner(a, 2.5), np.zeros(4), True)
+    alive = weakref.ref(a)
+    words = stored(rec, lead=1)
+    assert words.shape == (19,) and words[0] == 0
+    del rec, a
+    gc.collect()
+    assert alive() is not None
+    for k in range(4):
+        total, flag = _loaded_sum_and_write(words.ctypes.data + 8, k)
+        assert flag is True and abs(total - expected[k]) < 1e-12
+
+    @njit
+    def address(w):
+        return data_address(w)
+
+    assert address(words) == words.ctypes.data
+    del words
+    gc.collect()
+    assert alive() is None
+
+
+@njit
+def _weighted_at(at, scale, data_at, n, record):
+    """sum_i scale * rec.inner.a[i, 0] * data[i] (data: n floats at data_at) + rec.b[0]."""
+    rec = load(at, record)
+    data = carray(float64_pointer(data_at), (n,))
+    total = rec.b[0]
+    for i in range(n):
+        total += scale * rec.inner.a[i, 0] * data[i]
+    rec.b[1] = total  # a write through the stored record reaches the caller's array
+    return np.int64(total * 1000.0)
+
+
+def test_a_function_called_by_its_address_gives_its_direct_result():
+    """c_function + call_stored: numba's C wrapper of a compiled function, called from compiled
+    code with an address, a float, an address and an integer, returns what the function
+    called directly returns, and writes where it writes."""
+
+    a = np.arange(1.0, 6.0).reshape(5, 1)
+    rec = Outer(Inner(a, 1.0), np.array([0.25, 0.0]), False)
+    words = stored(rec, lead=1)
+    ty = typeof(rec)
+    words[0] = c_function(_weighted_at, types.int64(types.intp, types.float64, types.intp, types.intp,
+                                                    types.TypeRef(ty)))
+    data = np.array([1.0, -2.0, 0.5, 3.0, 0.125])
+
+    @njit
+    def call(w, scale, d):
+        return call_stored(w[0], (data_address(w) + 8, scale, data_address(d), d.shape[0]))
+
+    by_hand = 0.25 + 1.5 * (1.0 - 4.0 + 1.5 + 12.0 + 0.625)  # 16.9375
+    assert call(words, 1.5, data) == 16937
+    assert rec.b[1] == by_hand
+    rec.b[1] = 0.0
+    assert _weighted_at(words.ctypes.data + 8, 1.5, data.ctypes.data, 5, ty) == 16937 and rec.b[1] == by_hand

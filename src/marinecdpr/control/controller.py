@@ -19,6 +19,7 @@ Example (a plain Python loop; ``read_*`` and ``send`` are the robot's own)::
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,13 +27,13 @@ import numpy as np
 from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
-from marinecdpr.borrowed import borrowed_first
+from marinecdpr.borrowed import borrowed_first, c_function, stored
 from marinecdpr.compiled_cache import entry_point
 from marinecdpr.control.records import (
     ENCODERS, KINDS, MODES, POSE_SENSOR, PREDICTIONS, SENSORS, ControllerParts, Gains, Loads, Reference, RobotModel,
-    Safety, empty_command, empty_measurement, empty_safety, empty_work, unused_predictor,
+    Safety, Slot, empty_command, empty_measurement, empty_safety, empty_slot, empty_work, encoders_record,
 )
-from marinecdpr.control.step import control_step
+from marinecdpr.control.step import control_step, encoders_at, forecast_at
 from marinecdpr.errors import InfeasibleError
 from marinecdpr.geometry.rotations import matrix_from_euler
 from marinecdpr.model.brush import cleaning_loads
@@ -48,7 +49,7 @@ from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 __all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety",
            "controller_parts", "controller_records", "plans", "stand_in_plans",
            "planned_brush_loads", "planned_wind_loads", "known_loads", "step_loads", "reference", "predictor_options", "held_records",
-           "step_from_arrays", "step_entry_point", "step_function"]
+           "step_from_arrays", "step_entry_point", "step_function", "slot", "predictor", "types_only"]
 
 
 @dataclass(frozen=True)
@@ -163,13 +164,42 @@ def predictor_options(mru) -> dict:
                 warmup_fits=max(1, math.ceil(mru.ar_warmup_s / mru.ar_step_s - 1e-9)))
 
 
-def predictor(scenario: Scenario):
-    """The ship-motion predictor ``[simulation.mru]`` asks for (a minimal unused one if none)."""
+_TYPES_ONLY: list = []
+
+
+@contextmanager
+def types_only():
+    """Within this, controller records are built for their type only, as a stand-in
+    controller's: their slots (:func:`slot`) empty, nothing compiled for them."""
+    _TYPES_ONLY.append(True)
+    try:
+        yield
+    finally:
+        _TYPES_ONLY.pop()
+
+
+def slot(function, record, arg_types: tuple) -> Slot:
+    """A :class:`~marinecdpr.control.records.Slot` holding ``record`` and the address of
+    ``function``'s C wrapper compiled for ``arg_types`` and the record's type (its last
+    argument, a type reference): compiled, or read from the disk cache, where a controller
+    first holds such a record, never into the step; within :func:`types_only`, empty."""
+    if _TYPES_ONLY:
+        return empty_slot()
+    words = stored(record, lead=1)
+    words[0] = c_function(function, types.int64(*arg_types, types.TypeRef(typeof(record))))
+    return Slot(words=words)
+
+
+def predictor(scenario: Scenario) -> Slot:
+    """The ship-motion predictor ``[simulation.mru]`` asks for, in its slot (empty if none):
+    :func:`~marinecdpr.control.step.forecast_at` on a
+    :func:`~marinecdpr.motion.prediction.make_predictor`."""
     mru = scenario.simulation.mru
     if mru.prediction != "ar":
-        return unused_predictor()
-    return make_predictor(max_horizon_s=max(1.0, 2.0 * mru.latency_s + scenario.time.step_s),
+        return empty_slot()
+    pred = make_predictor(max_horizon_s=max(1.0, 2.0 * mru.latency_s + scenario.time.step_s),
                           **predictor_options(mru))
+    return slot(forecast_at, pred, (types.intp, types.float64, types.intp, types.float64, types.intp))
 
 
 def _half_step_path(scenario: Scenario, ref: Plan, ff: Plan, n: int):
@@ -291,12 +321,15 @@ def controller_parts(scenario: Scenario, ff: Plan, loads: Loads, *, closed: bool
     known ``loads`` at t_k."""
     m, k = scenario.robot.n_cables, len(scenario.robot.controlled)
     res = scenario.simulation.sensors.encoder_resolution_m
-    work = empty_work(m, k, fk_atol_m=1e-4 + 3.0 * res, encoders=scenario.simulation.sensors.pose_from == "encoders")
+    work = empty_work(m, k)
     work.q[:] = ff.pose[0]  # the encoders' first warm start: the plan's first pose
     ref = reference(ff, sag=scenario.simulation.cables.model == "catenary")
-    return ControllerParts(ref=ref, model=robot_model(scenario), gains=gains(scenario, closed=closed), loads=loads,
-                           meas=empty_measurement(m), cmd=empty_command(m), work=work, predictor=predictor(scenario),
-                           safety=safety(scenario))
+    model, meas, g = robot_model(scenario), empty_measurement(m), gains(scenario, closed=closed)
+    encoders = empty_slot()
+    if g.pose_from == ENCODERS:
+        encoders = slot(encoders_at, encoders_record(meas, model, g, work, fk_atol_m=1e-4 + 3.0 * res), (types.intp,))
+    return ControllerParts(ref=ref, model=model, gains=g, loads=loads, meas=meas, cmd=empty_command(m), work=work,
+                           predictor=predictor(scenario), encoders=encoders, safety=safety(scenario))
 
 
 def controller_records(scenario: Scenario, p: Plans, n: int, *, closed: bool) -> ControllerParts:

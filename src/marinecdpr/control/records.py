@@ -17,11 +17,10 @@ import numpy as np
 
 from marinecdpr.geometry.forward import ForwardWork, forward_work
 from marinecdpr.model.tension_solver import TensionWork, tension_work
-from marinecdpr.motion.prediction import Predictor
 
 __all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "Safety", "ControllerParts",
-           "empty_measurement", "empty_command", "empty_work", "empty_safety", "unused_predictor", "NoPredictor",
-           "NoForwardWork", "POSE_SENSOR", "ENCODERS", "PREDICTIONS", "SENSORS", "KINDS", "MODES", "RESIDUALS",
+           "Slot", "Encoders",
+           "empty_measurement", "empty_command", "empty_work", "empty_safety", "empty_slot", "encoders_record", "POSE_SENSOR", "ENCODERS", "PREDICTIONS", "SENSORS", "KINDS", "MODES", "RESIDUALS",
            "MAX_EVENTS"]
 
 POSE_SENSOR = 0
@@ -187,7 +186,6 @@ class Work(NamedTuple):
     E: np.ndarray  # (3, 3) angle rates to angular velocity
     Gk: np.ndarray  # (k, k) normal equations of the rates
     bk: np.ndarray  # (k,)
-    fk: ForwardWork
 
 
 class ControllerParts(NamedTuple):
@@ -202,7 +200,8 @@ class ControllerParts(NamedTuple):
     meas: Measurement
     cmd: Command
     work: Work
-    predictor: Predictor
+    predictor: Slot
+    encoders: Slot
     safety: Safety
 
 
@@ -315,32 +314,56 @@ def empty_safety(m: int, lo: np.ndarray, hi: np.ndarray, *, detect: bool = False
                   peak=np.zeros(len(RESIDUALS)), zero=np.zeros(3), Ls=np.zeros(m), Js=np.zeros((m, 6)))
 
 
-class NoPredictor(NamedTuple):
-    """The predictor's slot of a controller that does not predict the ship (its type keeps
-    the autoregressive model's code out of the compiled step)."""
+class Slot(NamedTuple):
+    """Code and data that only some controllers have (the ship-motion predictor, the
+    encoders' forward kinematics), held by address so that the step's type, and so its
+    compiled code, is the same for every controller: ``words`` (n,) int64, words[0] the
+    address of a C function (0: none: the controller has no such thing), words[1:] the
+    record it works on (:func:`~marinecdpr.borrowed.store`), whose arrays the words keep
+    alive (:func:`~marinecdpr.borrowed.kept_words`). The function's code compiles where a
+    controller first has it (:func:`~marinecdpr.control.controller.slot`)."""
 
-    unused: int
-
-
-class NoForwardWork(NamedTuple):
-    """The forward kinematics' slot of a controller whose pose comes from a pose sensor (its
-    type keeps the encoders' forward kinematics out of the compiled step)."""
-
-    unused: int
+    words: np.ndarray
 
 
-def empty_work(m: int, k: int, *, fk_atol_m: float = 1e-4, fk_rtol: float = 1e-4, encoders: bool = True) -> Work:
-    """The working memory of a step with m cables and k controlled DOFs; lengths from the
-    encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m); without
-    ``encoders`` the step has no forward kinematics (:class:`NoForwardWork`)."""
+class Encoders(NamedTuple):
+    """What the encoders' forward kinematics reads and writes
+    (:func:`~marinecdpr.control.step.pose_from_encoders`): the step's measurement, model and
+    gains, its memory ``fk`` (:func:`~marinecdpr.geometry.forward.forward_work`), and the
+    :class:`Work` arrays it shares with the step (Lg, q, qdot, E, Gk, bk, v3)."""
+
+    meas: Measurement
+    model: RobotModel
+    gains: Gains
+    fk: ForwardWork
+    Lg: np.ndarray
+    q: np.ndarray
+    qdot: np.ndarray
+    E: np.ndarray
+    Gk: np.ndarray
+    bk: np.ndarray
+    v3: np.ndarray
+
+
+def empty_work(m: int, k: int) -> Work:
+    """The working memory of a step with m cables and k controlled DOFs."""
     return Work(x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3), w=np.empty(3), R_SO=np.empty((3, 3)),
                 w_s=np.empty(3), al_s=np.empty(3), eta=np.empty((2, 6)), a_cmd=np.empty((2, 3)),
                 m3=np.empty((3, 3, 3)), v3=np.zeros((4, 3)), wrench=np.empty(6), wrench_parts=np.empty((5, 6)),
                 L=np.empty(m), J=np.empty((m, 6)), tension=tension_work(m, k), forecast=np.zeros((3, 6)),
                 q=np.zeros(6), qdot=np.zeros(6), Lg=np.empty(m), E=np.empty((3, 3)), Gk=np.empty((k, k)),
-                bk=np.empty(k), fk=forward_work(m, k, fk_atol_m, fk_rtol) if encoders else NoForwardWork(unused=0))
+                bk=np.empty(k))
 
 
-def unused_predictor() -> NoPredictor:
-    """The predictor's slot of a controller that does not predict."""
-    return NoPredictor(unused=0)
+def encoders_record(meas: Measurement, model: RobotModel, gains: Gains, work: Work, *, fk_atol_m: float = 1e-4,
+                    fk_rtol: float = 1e-4) -> Encoders:
+    """The encoders' forward kinematics' record for a step of these records; lengths from the
+    encoders are a pose's when its residuals are within fk_atol_m + fk_rtol L (m)."""
+    m, k = work.L.shape[0], work.bk.shape[0]
+    return Encoders(meas=meas, model=model, gains=gains, fk=forward_work(m, k, fk_atol_m, fk_rtol), Lg=work.Lg,
+                    q=work.q, qdot=work.qdot, E=work.E, Gk=work.Gk, bk=work.bk, v3=work.v3)
+
+
+def empty_slot() -> Slot:
+    """The slot of a controller without the thing (no predictor, no encoders' kinematics)."""
+    return Slot(words=np.zeros(1, dtype=np.int64))

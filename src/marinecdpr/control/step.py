@@ -30,10 +30,11 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from numba import carray, njit
+from numba.core.errors import TypingError
 from numba.extending import overload
 
-from marinecdpr.borrowed import borrowed_first
+from marinecdpr.borrowed import borrowed_first, call_stored, data_address, float64_pointer, load
 from marinecdpr.geometry.elastic import stretched_length, unstretched_length
 from marinecdpr.geometry.forward import pose_from_lengths_step
 from marinecdpr.geometry.kinematics import cables_step
@@ -42,10 +43,10 @@ from marinecdpr.geometry.rotations import angle_rate_matrix, euler_step
 from marinecdpr.model.linalg import lu_det_solve
 from marinecdpr.model.rigid_body import ShipAt, sum_wrench_parts, wrench_parts_step
 from marinecdpr.model.tension_solver import tensions_step
-from marinecdpr.control.records import NoForwardWork, NoPredictor
 from marinecdpr.motion.prediction import predictor_forecast, predictor_update
 
-__all__ = ["control_step", "estimate_state", "pose_from_encoders", "cables_at", "mm3", "disturbance_C", "watch", "react"]
+__all__ = ["control_step", "estimate_state", "pose_from_encoders", "forecast_at", "encoders_at", "ship_forecast",
+           "encoders_pose", "cables_at", "mm3", "disturbance_C", "watch", "react"]
 
 _cache = True
 
@@ -136,46 +137,76 @@ def estimate_state(k, h, meas, eta, ref, work, how, predictor):
 
 def ship_forecast(predictor, t_sample, eta, t, fc):
     """The predictor's forecast of the ship's motion at t into fc (3, 6) after it takes the
-    sample eta (3, 6) of t_sample; its status (< 0: none yet). A controller without a
-    predictor (:class:`~marinecdpr.control.records.NoPredictor`) has none. Compiled code only."""
+    sample eta (3, 6) of t_sample; its status (< 0: none yet). ``predictor`` is the
+    controller's :class:`~marinecdpr.control.records.Slot`: a controller without one has
+    none (-1); else its :func:`forecast_at` is called by address. Compiled code only."""
     raise NotImplementedError("ship_forecast is called from compiled code")
 
 
 @overload(ship_forecast, jit_options={"cache": True})
 def _ship_forecast(predictor, t_sample, eta, t, fc):
-    if getattr(predictor, "instance_class", None) is NoPredictor:
-        return lambda predictor, t_sample, eta, t, fc: -1
+    if eta.layout != "C" or fc.layout != "C":
+        raise TypingError("ship_forecast: eta and fc must be C-contiguous (3, 6) arrays")
 
     def impl(predictor, t_sample, eta, t, fc):
-        predictor_update(predictor, t_sample, eta[0], eta[1], eta[2])
-        return predictor_forecast(predictor, t, fc)
+        words = predictor.words
+        if words[0] == 0:
+            return -1
+        return call_stored(words[0], (data_address(words) + 8, t_sample, data_address(eta), t, data_address(fc)))
     return impl
 
 
-def encoders_pose(fk, meas, model, work, gains):
-    """:func:`pose_from_encoders` where the controller has the encoders' forward kinematics;
-    0 (nothing done) where its pose comes from a sensor (:class:`NoForwardWork`). Compiled
-    code only."""
-    raise NotImplementedError("encoders_pose is called from compiled code")
+@njit(cache=_cache)
+def forecast_at(at, t_sample, eta_at, t, fc_at, record):
+    """:func:`ship_forecast` of the predictor stored at ``at`` (a
+    :class:`~marinecdpr.motion.prediction.Predictor`, of numba type ``record``, a type
+    reference), with eta and fc (3, 6) at the addresses eta_at and fc_at: compiled once
+    for the predictor's type and called through its C wrapper (the step's code holds no
+    predictor). Returns the forecast's status; -2 where it raised."""
+    pred = load(at, record)
+    eta = carray(float64_pointer(eta_at), (3, 6))
+    fc = carray(float64_pointer(fc_at), (3, 6))
+    try:
+        predictor_update(pred, t_sample, eta[0], eta[1], eta[2])
+        return predictor_forecast(pred, t, fc)
+    except Exception:  # noqa: BLE001 - through a C wrapper: no forecast, the kinematic estimate
+        return -2
 
 
-@overload(encoders_pose, jit_options={"cache": True})
-def _encoders_pose(fk, meas, model, work, gains):
-    if getattr(fk, "instance_class", None) is NoForwardWork:
-        return lambda fk, meas, model, work, gains: 0
-    return lambda fk, meas, model, work, gains: pose_from_encoders(meas, model, work, gains)
+@njit(cache=_cache, inline="always")
+def encoders_pose(encoders):
+    """:func:`pose_from_encoders` where the controller has the encoders' forward kinematics
+    (its :class:`~marinecdpr.control.records.Slot` ``encoders``, called by address: its
+    status); 0 (nothing done) where its pose comes from a sensor."""
+    words = encoders.words
+    if words[0] == 0:
+        return 0
+    return call_stored(words[0], (data_address(words) + 8,))
 
 
 @njit(cache=_cache)
-def pose_from_encoders(meas, model, work, gains):
+def encoders_at(at, record):
+    """:func:`pose_from_encoders` on the :class:`~marinecdpr.control.records.Encoders` stored
+    at ``at`` (of numba type ``record``, a type reference): compiled once and called through
+    its C wrapper. Returns its status; -1 where it raised."""
+    try:
+        return pose_from_encoders(load(at, record))
+    except Exception:  # noqa: BLE001 - through a C wrapper: the step flags the pose as failed
+        return -1
+
+
+@njit(cache=_cache)
+def pose_from_encoders(enc):
     """The platform's pose and twist from the encoders, written to the measurement.
 
     The encoders' unstretched lengths are stretched by the measured tensions (L = L0 (1 +
     T / EA)); forward kinematics (Levenberg-Marquardt, warm-started from the last pose)
     gives the pose, and the lengths' rates the twist in the controlled DOFs, by least
     squares on l' = (dl/dq) q'. Returns the forward kinematics' status (0: converged; see
-    :func:`~marinecdpr.geometry.forward.pose_from_lengths_step`).
+    :func:`~marinecdpr.geometry.forward.pose_from_lengths_step`). ``enc``: the step's
+    :class:`~marinecdpr.control.records.Encoders`.
     """
+    meas, model, gains, work = enc.meas, enc.model, enc.gains, enc
     for i in range(meas.L.shape[0]):
         work.Lg[i] = stretched_length(meas.L[i], meas.T[i], model.EA)
     q = work.q
@@ -599,14 +630,14 @@ def control_step(k, h, held):
             _choose_reaction(k, ref, safety)
         if safety.mode[0] != _NORMAL:
             if gains.pose_from == 1 and safety.bad[_ENCODER] == 0:
-                cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
+                cmd.flags[2] = encoders_pose(ctl.encoders) != 0
             fallback = react(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor, safety)
             cmd.flags[0] = fallback
             cmd.flags[1] = _limits(model, cmd)
             return fallback
     if gains.closed:
         if gains.pose_from == 1:
-            cmd.flags[2] = encoders_pose(work.fk, meas, model, work, gains) != 0
+            cmd.flags[2] = encoders_pose(ctl.encoders) != 0
         fallback = _feedback_tensions(k, h, ref, model, gains, ctl.loads, meas, cmd, work, ctl.predictor, safety)
     else:
         for i in range(cmd.T_cmd.shape[0]):

@@ -16,7 +16,7 @@ from typing import Callable
 import numpy as np
 
 __all__ = ["WarmUp", "warm_up", "warmup_jobs", "compile_apart", "compile_at_once", "planner_copy", "stand_in_held",
-           "tension_solver_args", "WARMUP_STEPS"]
+           "controller_copy", "tension_solver_args", "WARMUP_STEPS"]
 
 WARMUP_STEPS = 3
 """Steps flown per run: enough to run every part's step once."""
@@ -105,7 +105,7 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
     kernels, whose types do not depend on n, sharing the solver's), and the controller's
     records put in their list on stand-in plans (its unboxing of ~90 arrays)."""
     from marinecdpr.compiled_cache import entry_point
-    from marinecdpr.control.controller import controller_records, held_records, stand_in_plans
+    from marinecdpr.control.controller import controller_records, held_records, stand_in_plans, types_only
     from marinecdpr.model.tension_solver import tensions_step
     from marinecdpr.planning.planner import plan_at
 
@@ -115,7 +115,9 @@ def planner_copy(scenario, n: int, solver_ready) -> None:
         solver_ready.set()
     for base_model in ("moving", "fixed"):
         plan_at(scenario, np.arange(n) * scenario.time.step_s, base_model=base_model)
-    entry_point(held_records, (controller_records(scenario, stand_in_plans(scenario, n), n, closed=False),))
+    with types_only():
+        records = controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)
+    entry_point(held_records, (records,))
 
 
 def stand_in_held(scenario, n: int):
@@ -125,9 +127,22 @@ def stand_in_held(scenario, n: int):
     from numba import typeof
     from numba.typed import List
 
-    from marinecdpr.control.controller import controller_records, stand_in_plans
+    from marinecdpr.control.controller import controller_records, stand_in_plans, types_only
 
-    return List.empty_list(typeof(controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)))
+    with types_only():
+        return List.empty_list(typeof(controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)))
+
+
+def controller_copy(scenario, n: int) -> None:
+    """The controller's share of compiling a first run at once (:func:`compile_apart`): its
+    step for its records' type (:func:`stand_in_held`), then what only some controllers
+    have, for this scenario's (its predictor's and its encoders' slots:
+    :func:`~marinecdpr.control.controller.slot`), on stand-in plans."""
+    from marinecdpr.control.controller import controller_records, stand_in_plans
+    from marinecdpr.prototype.parts.controller import pointer_step
+
+    pointer_step(stand_in_held(scenario, n))
+    controller_records(scenario, stand_in_plans(scenario, n), n, closed=False)
 
 
 def compile_at_once(scenario, n: int, *, step: Callable[[], None], here: Callable[[], None]) -> None:
@@ -187,7 +202,7 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
         Default ``scenario.simulation.plant``.
     """
     from marinecdpr import forked
-    from marinecdpr.prototype.parts.controller import pointer_step, stand_in
+    from marinecdpr.prototype.parts.controller import stand_in
     from marinecdpr.prototype.simulation import kernels_cached, simulate
 
     if kernels_cached(plant or scenario.simulation.plant) or not forked.can_fork():
@@ -198,5 +213,5 @@ def compile_apart(scenario, *, plant: str | None = None) -> bool:
         with stand_in():
             simulate(scenario, run="open_loop", plant=plant, n_steps=n, stand_in=True)
 
-    compile_at_once(scenario, n, step=lambda: pointer_step(stand_in_held(scenario, n)), here=here)
+    compile_at_once(scenario, n, step=lambda: controller_copy(scenario, n), here=here)
     return True

@@ -63,7 +63,7 @@ import numpy as np
 from numba import njit, typeof, types
 from numba.extending import overload
 
-from marinecdpr.borrowed import borrowed, call_step, load, store, stored_size
+from marinecdpr.borrowed import borrowed, c_function, call_step, load, store, stored_size
 from marinecdpr.control.records import Measurement
 
 __all__ = ["Signals", "PartSpec", "part", "specs", "part_step", "exchange", "cable_tensions", "mujoco_cables",
@@ -303,21 +303,13 @@ def _store(record, words):
     store(record, words)
 
 
-_STEP_POINTERS: dict = {}
-
-
 def step_pointer(record_type, bus_type) -> int:
     """The address of the C function that steps a part of numba type ``record_type`` on a
     bus of ``bus_type``, both stored (:func:`~marinecdpr.borrowed.call_step`): numba's C
     wrapper of :func:`_step_at` compiled for the two types (cached on disk like every
-    kernel), found once per type."""
-    key = (record_type, bus_type)
-    if key not in _STEP_POINTERS:
-        sig = types.int64(types.int64, types.float64, types.intp, types.intp, types.TypeRef(record_type),
-                          types.TypeRef(bus_type))
-        cres = _step_at.get_compile_result(sig)
-        _STEP_POINTERS[key] = (cres, cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name))
-    return _STEP_POINTERS[key][1]
+    kernel), found once per type (:func:`~marinecdpr.borrowed.c_function`)."""
+    return c_function(_step_at, types.int64(types.int64, types.float64, types.intp, types.intp,
+                                            types.TypeRef(record_type), types.TypeRef(bus_type)))
 
 
 def _words(ty) -> int:

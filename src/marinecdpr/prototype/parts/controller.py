@@ -17,7 +17,7 @@ import numpy as np
 from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
-from marinecdpr.control.controller import step_function
+from marinecdpr.control.controller import step_function, types_only
 from marinecdpr.prototype.parts import part, part_step
 
 __all__ = ["ControllerPart", "LateController", "build", "pointer_step", "stand_in"]
@@ -66,10 +66,12 @@ def stand_in():
     """Within this, a built controller part steps nothing: its ``step`` and ``held`` (an empty
     list) have the controller's types, so a loop compiled for it is the loop the real
     controller runs in, but costs no compiling of the controller
-    (:func:`~marinecdpr.prototype.warmup.compile_apart`)."""
+    (:func:`~marinecdpr.prototype.warmup.compile_apart`); the controller's records are built
+    for their type only (:func:`~marinecdpr.control.controller.types_only`)."""
     _standing_in.append(True)
     try:
-        yield
+        with types_only():
+            yield
     finally:
         _standing_in.pop()
 
