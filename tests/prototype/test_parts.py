@@ -10,7 +10,8 @@ from numba.typed import List
 
 import marinecdpr
 from marinecdpr.prototype import builder
-from marinecdpr.prototype.parts import SIGNALS, Signals, specs
+from marinecdpr.control.step import cables_at
+from marinecdpr.prototype.parts import SIGNALS, Signals, cable_tensions, law_pointer, law_tensions, specs
 from marinecdpr.prototype.simulation import prototype, simulate
 
 from conftest import make_scenario
@@ -278,21 +279,98 @@ def test_the_wired_exchange_is_each_part_s_own_step_in_turn(name):
     assert np.abs(wired.get("Log").T_app[:40]).max() > 10.0  # the tensions were logged: the parts ran
 
 
-def test_the_loop_s_type_is_the_cable_law_s_alone():
-    """What a plant's loop is compiled for (the wired parts' type) is the same for every
-    combination of parts on one cable law (a camera, a brush, a carriage, a late controller),
-    and another for another law: one loop compiled per law serves them all."""
+def test_the_own_loop_is_one_type_and_mujoco_s_one_per_cable_law():
+    """What a plant's loop is compiled for: the own plant's (the wired parts, the cable law by
+    its address) is one type for every combination of parts and every cable law, so one
+    loop serves them all; MuJoCo's takes the cable part typed beside it (one loop per law:
+    the same for a camera, a brush, a carriage, a late controller)."""
     from numba import typeof
 
-    def wired_type(sc):
-        return typeof(prototype(sc, "closed_loop", 10).wired)
+    def types(sc):
+        asm = prototype(sc, "closed_loop", 10)
+        return typeof(asm.wired), typeof((asm.wired, asm.system.cable))
 
     paper = VARIANTS["paper"]
     late = paper.with_changes(faults=[{"kind": "controller_deadline", "at_s": 0.001, "steps": 3}])
-    held = {wired_type(VARIANTS[n]) for n in ("paper", "camera", "carriage")} | {wired_type(late)}
+    snapped = VARIANTS["catenary"].with_changes(faults=[{"kind": "cable_snap", "cable": 2, "at_s": 0.5}])
+    every = [types(VARIANTS[n]) for n in VARIANTS] + [types(late), types(snapped)]
+    assert len({own for own, _ in every}) == 1
+    held = {types(VARIANTS[n])[1] for n in ("paper", "camera", "carriage", "clean")} | {types(late)[1]}
     assert len(held) == 1
-    assert wired_type(VARIANTS["elastic_length"]) not in held
-    assert len({wired_type(VARIANTS[n]) for n in ("elastic_length", "motor")}) == 1
+    assert types(VARIANTS["elastic_length"])[1] not in held
+    assert len({types(VARIANTS[n])[1] for n in ("elastic_length", "motor")}) == 1
+    assert len({mj for _, mj in every}) == 4  # held, elastic, catenary, snapped catenary
+
+
+@njit
+def _law_by_address(wired, j, x, R, v, w, L, J, T):
+    return law_tensions(wired, j, x, R, v, w, L, J, T)
+
+
+@njit
+def _law_typed(cable, j, x, R, v, w, L, J, bus, T):
+    return cable_tensions(cable, j, x, R, v, w, L, J, bus, T).copy()
+
+
+@pytest.mark.parametrize("name", ["paper", "elastic_length", "catenary", "snapped"])
+def test_the_cable_law_by_its_address_is_the_law_typed(name):
+    """Within the own plant's step the cable part's law is called through its C wrapper
+    (parts.law_tensions): at random states and held lengths it gives the tensions (and the
+    rewritten J~ of a sagging cable) of the law called typed, bit for bit."""
+    sc = VARIANTS["catenary" if name == "snapped" else name]
+    if name == "snapped":
+        sc = sc.with_changes(faults=[{"kind": "cable_snap", "cable": 2, "at_s": 0.0}])
+    asm = prototype(sc, "closed_loop", 10)
+    wired, cable, bus = asm.wired, asm.system.cable, asm.wired.bus
+    if name == "snapped":
+        cable.broken[1] = True
+    wired.law[0] = law_pointer(cable, bus)
+    rng = np.random.default_rng(4)
+    m = bus.T_app.shape[0]
+    x0 = asm.ref.pose[0, :3]
+    for j in range(6):
+        x = x0 + rng.uniform(-0.01, 0.01, 3)
+        R = np.eye(3)
+        v, w = rng.uniform(-0.1, 0.1, 3), rng.uniform(-0.1, 0.1, 3)
+        L0 = np.empty(m)
+        J = np.empty((m, 6))
+        cables_at(x, R, asm.system.model, L0, J)
+        bus.L0[:] = L0 * rng.uniform(0.998, 1.0, m)
+        bus.T_app[:] = rng.uniform(50.0, 150.0, m)
+        J1, J2 = J.copy(), J.copy()
+        by_address = _law_by_address(wired, j, x, R, v, w, L0, J1, np.empty(m)).copy()
+        typed = _law_typed(cable, j, x, R, v, w, L0, J2, bus, np.empty(m))
+        np.testing.assert_array_equal(by_address, typed)
+        np.testing.assert_array_equal(J1, J2)
+        assert np.all(typed >= 0.0) and typed.max() > 1.0
+        if name == "snapped":
+            assert typed[1] == 0.0
+    assert list(wired.failed) == [0, 0]
+
+
+def test_a_cable_law_that_raises_is_recorded_as_its_part():
+    """Elastic cables over a held length of zero divide by it: through the law's C wrapper the
+    error is caught and recorded (the exchange j // 2 + 1, the cable part's place + 1), where
+    the own loop stops and the run names the part."""
+    from marinecdpr.control.controller import robot_model
+    from marinecdpr.control.records import empty_measurement
+    from marinecdpr.prototype.parts import empty_signals, wire
+    from marinecdpr.prototype.parts.cables import ElasticCables
+    from marinecdpr.prototype.parts.camera import Camera
+
+    bus = empty_signals(empty_measurement(4), np.zeros(4), np.zeros(4), np.zeros(4))
+    cables = ElasticCables(EA=1e5, damping=0.0, Ldot=np.zeros(4))
+    cam = Camera(delay=0, weight=0.5, noise=np.zeros((5, 3)), history=np.zeros((1, 3)))
+    wired = wire(bus, (cam, cables), cables, robot_model(VARIANTS["paper"]), np.zeros((5, 3)))
+    wired.law[0] = law_pointer(cables, bus)
+    z = np.zeros(3)
+    L = np.ones(4)
+    _law_by_address(wired, 6, z, np.eye(3), z, z, L, np.zeros((4, 6)), np.empty(4))
+    assert list(wired.failed) == [4, 2]
+    bus.L0[:] = 0.5
+    wired.failed[:] = 0
+    T = _law_by_address(wired, 6, z, np.eye(3), z, z, L, np.zeros((4, 6)), np.empty(4))
+    assert list(wired.failed) == [0, 0] and np.all(T == 1e5 * (1.0 - 0.5) / 0.5)
 
 
 def test_the_loop_and_the_controller_api_call_one_compiled_step():

@@ -26,7 +26,7 @@ from marinecdpr.borrowed import borrowed
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.geometry.rotations import matrix_about_y_step, matrix_from_quaternion_step
 from marinecdpr.model import rigid_body as RB
-from marinecdpr.prototype.parts import cable_tensions, diverged, exchange, mujoco_cables
+from marinecdpr.prototype.parts import diverged, exchange, law_tensions, mujoco_cables
 
 __all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
            "mujoco_library"]
@@ -69,7 +69,7 @@ def _own_rhs(y, j, plant, system, dy):
     L = np.empty(n)
     J = np.empty((n, 6))
     cables_at(x, R, model, L, J)
-    T = cable_tensions(system.cable, j, x, R, v, w, L, J, bus, np.empty(n))
+    T = law_tensions(system, j, x, R, v, w, L, J, np.empty(n))  # the cable part's law, by its address
     bias = np.empty(6)
     zero = np.zeros(3)
     f_j, m_j = np.empty(3), np.empty(3)
@@ -109,6 +109,8 @@ def own_loop(k0, k1, h, plant, system):
         _own_rhs(y + 0.5 * h * k1_, j + 1, plant, system, k2_)
         _own_rhs(y + 0.5 * h * k2_, j + 1, plant, system, k3_)
         _own_rhs(y + h * k3_, j + 2, plant, system, k4_)
+        if system.failed[0] != 0:  # the cable part's law raised
+            return system.bus.fallbacks[0] - fallbacks0, k
         y += (h / 6.0) * (k1_ + 2.0 * k2_ + 2.0 * k3_ + k4_)
         y[3:7] /= np.sqrt(np.sum(y[3:7] * y[3:7]))
     return system.bus.fallbacks[0] - fallbacks0, -1
@@ -232,16 +234,16 @@ def _mujoco_inputs(k, R, mj, drive, cable, bus):
 
 
 @njit(cache=_cache)
-def mujoco_exchange(k, h, mj, drive, system):
-    """Read MuJoCo's state, exchange, write MuJoCo's inputs. Returns -1 if diverged, else
-    the exchange's fallback count (0 or 1)."""
+def mujoco_exchange(k, h, mj, drive, system, cable):
+    """Read MuJoCo's state, exchange, write MuJoCo's inputs (``cable``: the cable part).
+    Returns -1 if diverged, else the exchange's fallback count (0 or 1)."""
     x, R, v, w = _mujoco_state(mj)
     if diverged(x, system.ref_x[k]):
         return -1
     before = system.bus.fallbacks[0]
     if exchange(k, h, x, R, v, w, system):
         return -1
-    _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
+    _mujoco_inputs(k, R, mj, drive, cable, system.bus)
     return system.bus.fallbacks[0] - before
 
 
@@ -266,15 +268,16 @@ _c_mj_step = types.ExternalFunction("mj_step", types.void(types.uint64, types.ui
 
 
 @njit(cache=_cache)
-def mujoco_loop(k0, k1, addresses, h, mj, drive, system):
-    """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*).
-    Returns (fallbacks, -1 or the diverged step)."""
-    mj, drive, system = borrowed(mj), borrowed(drive), borrowed(system)  # no counting per step
+def mujoco_loop(k0, k1, addresses, h, mj, drive, system, cable):
+    """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*);
+    ``cable`` the cable part (typed: a loop per cable law). Returns (fallbacks, -1 or the
+    diverged step)."""
+    mj, drive, system, cable = borrowed(mj), borrowed(drive), borrowed(system), borrowed(cable)  # no counting per step
     fallbacks0 = system.bus.fallbacks[0]
     for k in range(k0, k1):
         x, R, v, w = _mujoco_state(mj)
         if diverged(x, system.ref_x[k]) or exchange(k, h, x, R, v, w, system):
             return system.bus.fallbacks[0] - fallbacks0, k
-        _mujoco_inputs(k, R, mj, drive, system.cable, system.bus)
+        _mujoco_inputs(k, R, mj, drive, cable, system.bus)
         _c_mj_step(addresses[0], addresses[1])
     return system.bus.fallbacks[0] - fallbacks0, -1

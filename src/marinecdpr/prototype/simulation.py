@@ -39,7 +39,7 @@ from marinecdpr.control.controller import (
 from marinecdpr.control.records import RESIDUALS, Loads
 from marinecdpr.motion.basemotion import carried_frame_motion, frame_ship_motion
 from marinecdpr.prototype import builder
-from marinecdpr.prototype.parts import DIVERGENCE_M
+from marinecdpr.prototype.parts import DIVERGENCE_M, law_pointer
 from marinecdpr.prototype.parts.brush import normal_force
 from marinecdpr.prototype.plants import (
     MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
@@ -203,6 +203,7 @@ def simulate(
     x0, R0, v0, w0 = _initial_state(scenario, ref)
     system = asm.wired
     if plant == "own":
+        system.law[0] = law_pointer(asm.system.cable, system.bus)  # the cable part's law within the step
         y = np.concatenate([x0, quaternion_from_matrix(R0), v0, w0])
         loads = asm.loads_h
         own = OwnPlant(y=y, R_SO=np.ascontiguousarray(ship_h.R_SO), w_s=np.ascontiguousarray(ship_h.omega_SO_S),
@@ -359,7 +360,8 @@ def _blocks(scenario: Scenario, run: str, t: np.ndarray, progress, loop, asm, bl
         fb, bad = loop(k0, k1)
         fallbacks += fb
         if bad >= 0 and asm.wired.failed[0] > 0:
-            name = type(asm.system.parts[asm.wired.failed[1] - 1]).__name__
+            place = asm.wired.failed[1]  # in the parts + 1; 0: the cable law the builder added
+            name = type(asm.system.parts[place - 1] if place > 0 else asm.system.cable).__name__
             raise SimulationDivergedError(
                 f"{scenario.name}: {run} stopped at t = {t[asm.wired.failed[0] - 1]:.3f} s: the prototype's "
                 f"{name} part failed in its step (a division by zero or a value out of its range)")
@@ -514,8 +516,9 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     system = asm.wired
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
-    compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system) if addresses is not None else None
-    one_exchange = bound(mujoco_exchange, h, mj, drive, system)
+    cable = asm.system.cable
+    compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system, cable) if addresses is not None else None
+    one_exchange = bound(mujoco_exchange, h, mj, drive, system, cable)
 
     def loop(k0: int, k1: int) -> tuple[int, int]:
         if compiled_loop is not None:

@@ -60,14 +60,16 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, typeof, types
+from numba import carray, njit, typeof, types
 from numba.extending import overload
 
-from marinecdpr.borrowed import borrowed, c_function, call_step, load, store, stored_size
+from marinecdpr.borrowed import (
+    borrowed, c_function, call_step, call_stored, data_address, float64_pointer, load, store, stored, stored_size,
+)
 from marinecdpr.control.records import Measurement
 
 __all__ = ["Signals", "PartSpec", "part", "specs", "part_step", "exchange", "cable_tensions", "mujoco_cables",
-           "empty_signals", "Wired", "wire", "step_pointer", "SIGNALS", "STATE_SIGNALS",
+           "empty_signals", "Wired", "wire", "step_pointer", "law_pointer", "law_tensions", "SIGNALS", "STATE_SIGNALS",
            "PLANT_WRITES", "DIVERGENCE_M", "diverged"]
 
 DIVERGENCE_M = 10.0
@@ -263,10 +265,14 @@ class Wired(NamedTuple):
     """The assembled parts as a plant's compiled loop takes them, whatever they are: each
     part's step a C function (``steps``, (p,) intp addresses, :func:`step_pointer`) and its
     record stored in ``store`` (``records``, (p,) intp addresses; :func:`~marinecdpr.borrowed.store`),
-    the bus likewise (``bus_at``), in the exchange's order. Only the cable part, whose law the
-    plant applies within the step, is typed (``cable``), with the bus, the robot's cables
-    (``model``) and the reference positions (n_steps, 3) a divergence is measured from, m:
-    a loop compiled once per cable law serves every combination of the other parts.
+    the bus likewise (``bus_at``), in the exchange's order. The cable part's law, which the
+    own plant applies within the step, likewise (``law``, int64 words: [0] the address of
+    its C function, :func:`law_pointer`, set where the own plant flies it, else 0; [1] the
+    cable part's place in ``steps`` + 1, 0 if it is none of them; [2:] the cable part and
+    the bus stored); then the robot's cables (``model``) and the reference positions
+    (n_steps, 3) a divergence is measured from, m: one loop compiled serves every
+    combination of parts (the MuJoCo loop, which takes the cable part typed, one per cable
+    law).
 
     ``store`` (int64 words) holds the stored records and the bus, which point into the
     parts' arrays: a Wired is valid while the parts it was made from live
@@ -278,7 +284,7 @@ class Wired(NamedTuple):
     steps: np.ndarray
     records: np.ndarray
     bus_at: int
-    cable: object
+    law: np.ndarray
     model: object
     ref_x: np.ndarray
     store: np.ndarray
@@ -318,7 +324,8 @@ def _words(ty) -> int:
 
 def wire(bus: Signals, parts: tuple, cable, model, ref_x: np.ndarray) -> Wired:
     """The :class:`Wired` form of ``parts`` (a tuple of part records, in the exchange's
-    order) on ``bus``; ``cable`` the part whose law the plant applies (typed)."""
+    order) on ``bus``; ``cable`` the part whose law the plant applies (its law's address
+    left 0: :func:`law_pointer`)."""
     bus_ty = typeof(bus)
     tys = [typeof(p) for p in parts]
     sizes = [_words(ty) for ty in [bus_ty] + tys]
@@ -329,8 +336,59 @@ def wire(bus: Signals, parts: tuple, cable, model, ref_x: np.ndarray) -> Wired:
         _store(value, words[a:b])
     steps = np.array([step_pointer(ty, bus_ty) for ty in tys], dtype=np.intp)
     records = np.array([base + 8 * int(a) for a in offsets[1:-1]], dtype=np.intp)
-    return Wired(bus=bus, steps=steps, records=records, bus_at=base, cable=cable, model=model,
+    law = stored((cable, bus), lead=2)
+    law[1] = next((i + 1 for i, p in enumerate(parts) if p is cable), 0)
+    return Wired(bus=bus, steps=steps, records=records, bus_at=base, law=law, model=model,
                  ref_x=ref_x, store=words, failed=np.zeros(2, dtype=np.int64))
+
+
+@njit(cache=True)
+def _law_at(at, j, x_at, R_at, v_at, w_at, L_at, J_at, T_at, n, pair):
+    """:func:`cable_tensions` of the cable part and the bus stored at ``at`` (a pair of the
+    type ``pair``, a type reference) with x, R, v, w (3,), (3, 3), L (n,), J (n, 6) and T
+    (n,) at their addresses: the tensions written to T. Compiled once per cable law, called
+    through its C wrapper (:func:`law_pointer`, :func:`law_tensions`). Returns 1 where the
+    law raised, else 0."""
+    cable, bus = load(at, pair)
+    x = carray(float64_pointer(x_at), (3,))
+    R = carray(float64_pointer(R_at), (3, 3))
+    v = carray(float64_pointer(v_at), (3,))
+    w = carray(float64_pointer(w_at), (3,))
+    L = carray(float64_pointer(L_at), (n,))
+    J = carray(float64_pointer(J_at), (n, 6))
+    T = carray(float64_pointer(T_at), (n,))
+    try:
+        out = cable_tensions(cable, j, x, R, v, w, L, J, bus, T)
+        for i in range(n):  # a law may answer with an array of its own (held tensions: the bus's)
+            T[i] = out[i]
+    except Exception:  # noqa: BLE001 - through a C wrapper: the loop stops and says which part
+        return 1
+    return 0
+
+
+def law_pointer(cable, bus) -> int:
+    """The address of the C function that applies the cable part ``cable``'s law on ``bus``
+    (:func:`_law_at` for their types: compiled, or read from the disk cache, once per cable
+    law; :func:`~marinecdpr.borrowed.c_function`): what :attr:`Wired.law` [0] holds where the
+    own plant flies."""
+    pair = typeof((cable, bus))
+    return c_function(_law_at, types.int64(types.intp, types.int64, types.intp, types.intp, types.intp, types.intp,
+                                           types.intp, types.intp, types.intp, types.int64, types.TypeRef(pair)))
+
+
+@njit(cache=True, inline="always")
+def law_tensions(wired, j, x, R, v, w, L, J, T):
+    """The cable part's tensions (n,) at the plant's state (x, R, v, w; C-contiguous) at
+    half-step row j into T, with L (n,), J (n, 6) the cables there (J may be rewritten:
+    :func:`cable_tensions`), through ``wired.law``. Where the law raised, ``wired.failed``
+    records it (the exchange j // 2 and the cable part) and T is what it left."""
+    law = wired.law
+    if call_stored(law[0], (data_address(law) + 16, j, data_address(x), data_address(R), data_address(v),
+                            data_address(w), data_address(L), data_address(J), data_address(T), T.shape[0])) != 0:
+        if wired.failed[0] == 0:
+            wired.failed[0] = j // 2 + 1
+            wired.failed[1] = law[1]
+    return T
 
 
 @njit(cache=True)
