@@ -279,27 +279,26 @@ def test_the_wired_exchange_is_each_part_s_own_step_in_turn(name):
     assert np.abs(wired.get("Log").T_app[:40]).max() > 10.0  # the tensions were logged: the parts ran
 
 
-def test_the_own_loop_is_one_type_and_mujoco_s_one_per_cable_law():
-    """What a plant's loop is compiled for: the own plant's (the wired parts, the cable law by
-    its address) is one type for every combination of parts and every cable law, so one
-    loop serves them all; MuJoCo's takes the cable part typed beside it (one loop per law:
-    the same for a camera, a brush, a carriage, a late controller)."""
+def test_the_loops_are_one_type_for_every_part_and_cable_law():
+    """What the plants' loops are compiled for (the wired parts, the cable law by its address)
+    is one type for every combination of parts and every cable law, so one loop per plant
+    serves them all; each cable law is a C function of its own (the same for the same law:
+    a camera, a brush, a carriage, a late controller change nothing)."""
     from numba import typeof
 
-    def types(sc):
+    def wired_and_law(sc):
         asm = prototype(sc, "closed_loop", 10)
-        return typeof(asm.wired), typeof((asm.wired, asm.system.cable))
+        return typeof(asm.wired), law_pointer(asm.system.cable, asm.wired.bus)
 
     paper = VARIANTS["paper"]
     late = paper.with_changes(faults=[{"kind": "controller_deadline", "at_s": 0.001, "steps": 3}])
     snapped = VARIANTS["catenary"].with_changes(faults=[{"kind": "cable_snap", "cable": 2, "at_s": 0.5}])
-    every = [types(VARIANTS[n]) for n in VARIANTS] + [types(late), types(snapped)]
-    assert len({own for own, _ in every}) == 1
-    held = {types(VARIANTS[n])[1] for n in ("paper", "camera", "carriage", "clean")} | {types(late)[1]}
-    assert len(held) == 1
-    assert types(VARIANTS["elastic_length"])[1] not in held
-    assert len({types(VARIANTS[n])[1] for n in ("elastic_length", "motor")}) == 1
-    assert len({mj for _, mj in every}) == 4  # held, elastic, catenary, snapped catenary
+    every = {n: wired_and_law(VARIANTS[n]) for n in VARIANTS} | {"late": wired_and_law(late),
+                                                                  "snapped": wired_and_law(snapped)}
+    assert len({ty for ty, _ in every.values()}) == 1
+    assert len({every[n][1] for n in ("paper", "camera", "carriage", "clean", "late")}) == 1
+    assert every["elastic_length"][1] == every["motor"][1] != every["paper"][1]
+    assert len({law for _, law in every.values()}) == 4  # held, elastic, catenary, snapped catenary
 
 
 @njit

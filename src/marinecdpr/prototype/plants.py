@@ -20,15 +20,15 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, types
+from numba import njit, typeof, types
 
-from marinecdpr.borrowed import borrowed
+from marinecdpr.borrowed import borrowed, c_function, call_stored, data_address, load, stored
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.geometry.rotations import matrix_about_y_step, matrix_from_quaternion_step
 from marinecdpr.model import rigid_body as RB
 from marinecdpr.prototype.parts import diverged, exchange, law_tensions, mujoco_cables
 
-__all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange",
+__all__ = ["OwnPlant", "MujocoPlant", "ShipDrive", "own_loop", "mujoco_loop", "mujoco_exchange", "mujoco_law",
            "mujoco_library"]
 
 _cache = True
@@ -204,12 +204,39 @@ def _mujoco_state(mj):
 
 
 @njit(cache=_cache)
-def _mujoco_inputs(k, R, mj, drive, cable, bus):
-    """Write the cable part's inputs (forces or springs), the ship's servo, the disturbance
-    and the bus's extra loads. Given the cable part and the bus, not the whole system: a
-    record of ~170 arrays costs seconds of compiling in each function it passes through."""
-    mj, drive, cable, bus = borrowed(mj), borrowed(drive), borrowed(cable), borrowed(bus)
-    mujoco_cables(cable, mj, bus)
+def _mujoco_law_at(at, triple):
+    """:func:`~marinecdpr.prototype.parts.mujoco_cables` of the cable part, MuJoCo's arrays
+    and the bus stored at ``at`` (of the type ``triple``, a type reference): compiled once
+    per cable law, called through its C wrapper (:func:`mujoco_law`). Returns 1 where it
+    raised, else 0."""
+    cable, mj, bus = load(at, triple)
+    try:
+        mujoco_cables(cable, mj, bus)
+    except Exception:  # noqa: BLE001 - through a C wrapper: the loop stops and says which part
+        return 1
+    return 0
+
+
+def mujoco_law(cable, mj: MujocoPlant, bus) -> np.ndarray:
+    """The cable part's inputs to MuJoCo by address: int64 words, [0] the address of
+    :func:`_mujoco_law_at`'s C wrapper for the types of (``cable``, ``mj``, ``bus``) (compiled,
+    or read from the disk cache, once per cable law), [1:] the three stored (the words keep
+    them alive): what the MuJoCo loop takes, so that it compiles once for every law."""
+    triple = (cable, mj, bus)
+    words = stored(triple, lead=1)
+    words[0] = c_function(_mujoco_law_at, types.int64(types.intp, types.TypeRef(typeof(triple))))
+    return words
+
+
+@njit(cache=_cache)
+def _mujoco_inputs(k, R, mj, drive, law, bus):
+    """Write the cable part's inputs (forces or springs: ``law``, :func:`mujoco_law`), the
+    ship's servo, the disturbance and the bus's extra loads. Given the bus, not the whole
+    system: a record of ~170 arrays costs seconds of compiling in each function it passes
+    through. Returns 1 where the cable part's inputs raised (nothing else written), else 0."""
+    mj, drive, bus = borrowed(mj), borrowed(drive), borrowed(bus)
+    if call_stored(law[0], (data_address(law) + 8,)) != 0:
+        return 1
     for j in range(mj.ship_dofs.shape[0]):  # the ship's six, then a carriage's four
         dof = mj.ship_dofs[j]
         e = 0 if j < 6 else 1
@@ -231,19 +258,31 @@ def _mujoco_inputs(k, R, mj, drive, cable, bus):
         for j in range(3):
             mj.xfrc[mj.body, i] += drive.R_SO[k, i, j] * bus.f_ext[j]
             mj.xfrc[mj.body, 3 + i] += drive.R_SO[k, i, j] * bus.m_ext[j]
+    return 0
+
+
+@njit(cache=_cache, inline="always")
+def _inputs_failed(k, system):
+    """Record that the cable part's inputs to MuJoCo raised at exchange k (as a part's step
+    that raised: ``system.failed``)."""
+    if system.failed[0] == 0:
+        system.failed[0] = k + 1
+        system.failed[1] = system.law[1]
 
 
 @njit(cache=_cache)
-def mujoco_exchange(k, h, mj, drive, system, cable):
-    """Read MuJoCo's state, exchange, write MuJoCo's inputs (``cable``: the cable part).
-    Returns -1 if diverged, else the exchange's fallback count (0 or 1)."""
+def mujoco_exchange(k, h, mj, drive, system, law):
+    """Read MuJoCo's state, exchange, write MuJoCo's inputs (``law``: the cable part's,
+    :func:`mujoco_law`). Returns -1 if diverged, else the exchange's fallback count (0 or 1)."""
     x, R, v, w = _mujoco_state(mj)
     if diverged(x, system.ref_x[k]):
         return -1
     before = system.bus.fallbacks[0]
     if exchange(k, h, x, R, v, w, system):
         return -1
-    _mujoco_inputs(k, R, mj, drive, cable, system.bus)
+    if _mujoco_inputs(k, R, mj, drive, law, system.bus) != 0:
+        _inputs_failed(k, system)
+        return -1
     return system.bus.fallbacks[0] - before
 
 
@@ -268,16 +307,18 @@ _c_mj_step = types.ExternalFunction("mj_step", types.void(types.uint64, types.ui
 
 
 @njit(cache=_cache)
-def mujoco_loop(k0, k1, addresses, h, mj, drive, system, cable):
+def mujoco_loop(k0, k1, addresses, h, mj, drive, system, law):
     """Exchange and mj_step, k0..k1-1, all compiled; ``addresses`` = (mjModel*, mjData*);
-    ``cable`` the cable part (typed: a loop per cable law). Returns (fallbacks, -1 or the
+    ``law`` the cable part's inputs (:func:`mujoco_law`). Returns (fallbacks, -1 or the
     diverged step)."""
-    mj, drive, system, cable = borrowed(mj), borrowed(drive), borrowed(system), borrowed(cable)  # no counting per step
+    mj, drive, system = borrowed(mj), borrowed(drive), borrowed(system)  # no counting per step
     fallbacks0 = system.bus.fallbacks[0]
     for k in range(k0, k1):
         x, R, v, w = _mujoco_state(mj)
         if diverged(x, system.ref_x[k]) or exchange(k, h, x, R, v, w, system):
             return system.bus.fallbacks[0] - fallbacks0, k
-        _mujoco_inputs(k, R, mj, drive, cable, system.bus)
+        if _mujoco_inputs(k, R, mj, drive, law, system.bus) != 0:
+            _inputs_failed(k, system)
+            return system.bus.fallbacks[0] - fallbacks0, k
         _c_mj_step(addresses[0], addresses[1])
     return system.bus.fallbacks[0] - fallbacks0, -1

@@ -17,7 +17,7 @@ import numpy as np
 from marinecdpr.compiled_cache import bound
 from marinecdpr.errors import SimulationDivergedError
 from marinecdpr.prototype.parts import diverged
-from marinecdpr.prototype.plants import _mujoco_inputs, _mujoco_state
+from marinecdpr.prototype.plants import _mujoco_inputs, _mujoco_state, mujoco_law
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Rig"]
@@ -64,7 +64,8 @@ class Rig:
         self._mj_step = mujoco.mj_step
         # the records' types found once, not at every step (compiled_cache.bound)
         self._read = bound(_mujoco_state, self._mj)
-        self._write = bound(_mujoco_inputs, self._mj, self._drive, self._system.cable, self._system.bus)
+        self._law = mujoco_law(self._system.cable, self._mj, self._system.bus)
+        self._write = bound(_mujoco_inputs, self._mj, self._drive, self._law, self._system.bus)
         self.k = 0
 
     def state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -99,6 +100,8 @@ class Rig:
         if diverged(x, self._plan_x[k]):
             raise SimulationDivergedError(f"{self.scenario.name}: the rig diverged at t = {self.t:.3f} s")
         self._system.bus.T_app[:] = tensions
-        self._write(k, R)
+        if self._write(k, R) != 0:
+            raise SimulationDivergedError(f"{self.scenario.name}: the rig's cables failed to write MuJoCo's inputs "
+                                          f"at t = {self.t:.3f} s")
         self._mj_step(self._model, self._data)
         self.k = k + 1

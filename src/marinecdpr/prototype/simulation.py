@@ -42,7 +42,7 @@ from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M, law_pointer
 from marinecdpr.prototype.parts.brush import normal_force
 from marinecdpr.prototype.plants import (
-    MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_library, mujoco_loop, own_loop,
+    MujocoPlant, OwnPlant, ShipDrive, mujoco_exchange, mujoco_law, mujoco_library, mujoco_loop, own_loop,
 )
 from marinecdpr.errors import ScenarioError, SimulationDivergedError
 from marinecdpr.geometry.rotations import matrix_from_euler, quaternion_from_matrix
@@ -516,9 +516,9 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     system = asm.wired
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
-    cable = asm.system.cable
-    compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system, cable) if addresses is not None else None
-    one_exchange = bound(mujoco_exchange, h, mj, drive, system, cable)
+    law = mujoco_law(asm.system.cable, mj, system.bus)  # the cable part's inputs to MuJoCo
+    compiled_loop = bound(mujoco_loop, addresses, h, mj, drive, system, law) if addresses is not None else None
+    one_exchange = bound(mujoco_exchange, h, mj, drive, system, law)
 
     def loop(k0: int, k1: int) -> tuple[int, int]:
         if compiled_loop is not None:
