@@ -531,7 +531,10 @@ def brute_force_least_distance(Jc, w, target, lo, hi):
     bounds and the equality, and the best kept candidate is returned.  Since
     the optimum has *some* such active set, and the case problem's minimiser
     is at least as good as the optimum, this is exact.  Cost grows as 3^n:
-    meant for ``n_cables <= 8``.
+    meant for ``n_cables <= 8``.  The cases sharing a free set share its
+    KKT matrix: they are solved together, one right-hand side each (the
+    same solution as one case at a time); ties in the objective go to the
+    first case in ``itertools.product((0, 1, 2), repeat=n)`` order.
 
     Parameters
     ----------
@@ -565,47 +568,48 @@ def brute_force_least_distance(Jc, w, target, lo, hi):
     lo = np.broadcast_to(np.asarray(lo, dtype=float), (n,)).copy()
     hi = np.broadcast_to(np.asarray(hi, dtype=float), (n,)).copy()
 
-    best_T = None
-    best_obj = np.inf
-    for case in itertools.product((0, 1, 2), repeat=n):   # 0 free, 1 lo, 2 hi
-        T = np.zeros(n)
-        free = [i for i in range(n) if case[i] == 0]
-        for i in range(n):
-            if case[i] == 1:
-                T[i] = lo[i]
-            elif case[i] == 2:
-                T[i] = hi[i]
-
-        if free:
-            fixed = [i for i in range(n) if case[i] != 0]
-            A = Jc[free, :].T                      # (k, n_free)
-            rhs = w - Jc[fixed, :].T @ T[fixed]    # wrench left for free cables
+    # every case, in itertools.product((0, 1, 2), repeat=n)'s order: 0 free, 1 lo, 2 hi
+    cases = np.indices((3,) * n).reshape(n, -1).T
+    order = np.arange(len(cases))            # a case's place in the enumeration
+    free_code = (cases == 0) @ (1 << np.arange(n))
+    by_free_set = np.split(np.argsort(free_code, kind="stable"), np.cumsum(np.bincount(free_code))[:-1])
+    kept_T, kept_obj, kept_order = [], [], []
+    for rows in by_free_set:                 # the cases sharing one free set
+        case = cases[rows]                                               # (g, n)
+        free_set = case[0] == 0
+        T = np.where(case == 1, lo, np.where(case == 2, hi, 0.0))        # (g, n), free cables 0
+        free = np.flatnonzero(free_set)
+        if free.size:
+            fixed = np.flatnonzero(~free_set)
+            A = Jc[free, :].T                             # (k, n_free)
+            rhs = w - T[:, fixed] @ Jc[fixed, :]          # (g, k): wrench left for free cables
             t0 = target[free]
             if np.linalg.matrix_rank(A) == k:
                 # KKT system of min |x - t0|^2 s.t. A x = rhs:
                 #   [ I   A^T ] [x  ]   [t0 ]
                 #   [ A   0   ] [mu ] = [rhs]
-                nf = len(free)
+                nf = free.size
                 K = np.zeros((nf + k, nf + k))
                 K[:nf, :nf] = np.eye(nf)
                 K[:nf, nf:] = A.T
                 K[nf:, :nf] = A
-                b = np.concatenate([t0, rhs])
-                x = np.linalg.solve(K, b)[:nf]
+                b = np.concatenate([np.broadcast_to(t0, (len(rows), nf)), rhs], axis=1)
+                x = np.linalg.solve(K, b.T).T[:, :nf]
             else:
                 # Rank deficient: minimum-norm correction (exact if consistent;
                 # consistency is checked below).
-                x = t0 + np.linalg.pinv(A) @ (rhs - A @ t0)
-            T[free] = x
+                x = t0 + (rhs - A @ t0) @ np.linalg.pinv(A).T
+            T[:, free] = x
 
-        if np.any(T < lo - 1e-9) or np.any(T > hi + 1e-9):
-            continue
-        resid = np.linalg.norm(Jc.T @ T - w)
-        scale = max(1.0, np.linalg.norm(w), np.linalg.norm(np.abs(Jc).T @ np.abs(T)))
-        if resid > 1e-8 * scale:
-            continue
-        obj = float(np.sum((T - target) ** 2))
-        if obj < best_obj:
-            best_obj = obj
-            best_T = T.copy()
-    return best_T
+        inside = np.all((T >= lo - 1e-9) & (T <= hi + 1e-9), axis=1)
+        resid = np.linalg.norm(T @ Jc - w, axis=1)
+        scale = np.maximum(max(1.0, np.linalg.norm(w)), np.linalg.norm(np.abs(T) @ np.abs(Jc), axis=1))
+        ok = inside & (resid <= 1e-8 * scale)
+        kept_T.append(T[ok])
+        kept_obj.append(np.sum((T[ok] - target) ** 2, axis=1))
+        kept_order.append(order[rows[ok]])
+    T, obj, place = np.concatenate(kept_T), np.concatenate(kept_obj), np.concatenate(kept_order)
+    if obj.size == 0:
+        return None
+    best = np.flatnonzero(obj == obj.min())
+    return T[best[np.argmin(place[best])]].copy()
