@@ -44,7 +44,9 @@ origin relative to B's origin.  ``omega_*`` are angular velocities [rad/s],
 
 from __future__ import annotations
 
+import functools
 import itertools
+import math
 
 import numpy as np
 
@@ -520,6 +522,24 @@ def required_wrench(pose, pose_dot, pose_ddot, eta, eta_dot, eta_ddot, x_CS,
     return np.concatenate([R_SO.T @ F_cables_O, R_SO.T @ M_cables_O])
 
 
+@functools.lru_cache(maxsize=None)
+def _active_sets(n):
+    """brute_force_least_distance's 3^n cases of n cables, by their number nf of free
+    cables: (nf, the free sets (G, nf), every case of each (G, F, n): 0 free, 1 lo, 2 hi,
+    each free set's cases the F = 2^(n - nf) assignments of its other cables to lo or hi)."""
+    out = []
+    for nf in range(n + 1):
+        sets = np.array(list(itertools.combinations(range(n), nf)), dtype=int).reshape(math.comb(n, nf), nf)
+        fixed = np.array([[i for i in range(n) if i not in s] for s in sets], dtype=int).reshape(len(sets), n - nf)
+        bounds = np.array(list(itertools.product((1, 2), repeat=n - nf)), dtype=int).reshape(2 ** (n - nf), n - nf)
+        G, F = len(sets), len(bounds)
+        case = np.zeros((G, F, n), dtype=int)
+        np.put_along_axis(case, np.broadcast_to(fixed[:, None, :], (G, F, n - nf)),
+                          np.broadcast_to(bounds[None], (G, F, n - nf)), axis=2)
+        out.append((nf, sets, case))
+    return tuple(out)
+
+
 def brute_force_least_distance(Jc, w, target, lo, hi):
     """Exact minimum-distance tensions by enumerating all active sets.
 
@@ -531,7 +551,11 @@ def brute_force_least_distance(Jc, w, target, lo, hi):
     bounds and the equality, and the best kept candidate is returned.  Since
     the optimum has *some* such active set, and the case problem's minimiser
     is at least as good as the optimum, this is exact.  Cost grows as 3^n:
-    meant for ``n_cables <= 8``.
+    meant for ``n_cables <= 8``.  The cases sharing a free set share its
+    KKT matrix: they are solved together, one right-hand side each (the
+    same solution as one case at a time), and the free sets of one size
+    in one batch; ties in the objective go to the first case in
+    ``itertools.product((0, 1, 2), repeat=n)`` order.
 
     Parameters
     ----------
@@ -565,47 +589,48 @@ def brute_force_least_distance(Jc, w, target, lo, hi):
     lo = np.broadcast_to(np.asarray(lo, dtype=float), (n,)).copy()
     hi = np.broadcast_to(np.asarray(hi, dtype=float), (n,)).copy()
 
-    best_T = None
-    best_obj = np.inf
-    for case in itertools.product((0, 1, 2), repeat=n):   # 0 free, 1 lo, 2 hi
-        T = np.zeros(n)
-        free = [i for i in range(n) if case[i] == 0]
-        for i in range(n):
-            if case[i] == 1:
-                T[i] = lo[i]
-            elif case[i] == 2:
-                T[i] = hi[i]
-
-        if free:
-            fixed = [i for i in range(n) if case[i] != 0]
-            A = Jc[free, :].T                      # (k, n_free)
-            rhs = w - Jc[fixed, :].T @ T[fixed]    # wrench left for free cables
-            t0 = target[free]
-            if np.linalg.matrix_rank(A) == k:
-                # KKT system of min |x - t0|^2 s.t. A x = rhs:
+    # the cases by their number of free cables: for each free set (in a batch of all free
+    # sets of that size) every lo/hi assignment of the other cables; 0 free, 1 lo, 2 hi
+    kept_T, kept_obj, kept_case = [], [], []
+    for nf, sets, case in _active_sets(n):
+        G, F = case.shape[:2]
+        T = np.where(case == 1, lo, np.where(case == 2, hi, 0.0))        # (G, F, n), free cables 0
+        if nf:
+            A = Jc[sets].transpose(0, 2, 1)               # (G, k, n_free): each free set's
+            rhs = w - T @ Jc                              # (G, F, k): wrench left for free cables
+            t0 = target[sets]                             # (G, n_free)
+            full = np.linalg.matrix_rank(A) == k
+            x = np.empty((G, F, nf))
+            if full.any():
+                # KKT system of min |x - t0|^2 s.t. A x = rhs, one per free set, a
+                # right-hand side per assignment of the fixed cables:
                 #   [ I   A^T ] [x  ]   [t0 ]
                 #   [ A   0   ] [mu ] = [rhs]
-                nf = len(free)
-                K = np.zeros((nf + k, nf + k))
-                K[:nf, :nf] = np.eye(nf)
-                K[:nf, nf:] = A.T
-                K[nf:, :nf] = A
-                b = np.concatenate([t0, rhs])
-                x = np.linalg.solve(K, b)[:nf]
-            else:
+                Af = A[full]
+                K = np.zeros((len(Af), nf + k, nf + k))
+                K[:, :nf, :nf] = np.eye(nf)
+                K[:, :nf, nf:] = Af.transpose(0, 2, 1)
+                K[:, nf:, :nf] = Af
+                b = np.concatenate([np.broadcast_to(t0[full][:, None, :], (len(Af), F, nf)), rhs[full]], axis=2)
+                x[full] = np.linalg.solve(K, b.transpose(0, 2, 1)).transpose(0, 2, 1)[..., :nf]
+            if not full.all():
                 # Rank deficient: minimum-norm correction (exact if consistent;
                 # consistency is checked below).
-                x = t0 + np.linalg.pinv(A) @ (rhs - A @ t0)
-            T[free] = x
-
-        if np.any(T < lo - 1e-9) or np.any(T > hi + 1e-9):
-            continue
-        resid = np.linalg.norm(Jc.T @ T - w)
-        scale = max(1.0, np.linalg.norm(w), np.linalg.norm(np.abs(Jc).T @ np.abs(T)))
-        if resid > 1e-8 * scale:
-            continue
-        obj = float(np.sum((T - target) ** 2))
-        if obj < best_obj:
-            best_obj = obj
-            best_T = T.copy()
-    return best_T
+                Ad, td = A[~full], t0[~full]
+                x[~full] = td[:, None, :] + (rhs[~full] - (Ad @ td[..., None])[:, None, :, 0]) \
+                    @ np.linalg.pinv(Ad).transpose(0, 2, 1)
+            np.put_along_axis(T, np.broadcast_to(sets[:, None, :], (G, F, nf)), x, axis=2)
+        T, case = T.reshape(-1, n), case.reshape(-1, n)
+        inside = np.all((T >= lo - 1e-9) & (T <= hi + 1e-9), axis=1)
+        resid = np.linalg.norm(T @ Jc - w, axis=1)
+        scale = np.maximum(max(1.0, np.linalg.norm(w)), np.linalg.norm(np.abs(T) @ np.abs(Jc), axis=1))
+        ok = inside & (resid <= 1e-8 * scale)
+        kept_T.append(T[ok])
+        kept_obj.append(np.sum((T[ok] - target) ** 2, axis=1))
+        kept_case.append(case[ok])
+    T, obj = np.concatenate(kept_T), np.concatenate(kept_obj)
+    if obj.size == 0:
+        return None
+    place = np.concatenate(kept_case) @ 3 ** np.arange(n - 1, -1, -1)  # a case's place in the enumeration
+    best = np.flatnonzero(obj == obj.min())
+    return T[best[np.argmin(place[best])]].copy()

@@ -60,11 +60,12 @@ def reference_box_distance(p0, p1, centre, R, half) -> float:
         return float(np.sqrt(out @ out))
 
     grid = np.linspace(0.0, 1.0, 2001)
-    values = [f(s) for s in grid]
+    x = (p0 + grid[:, None] * (p1 - p0) - centre) @ R  # f at every sample, as one array
+    values = np.sqrt(np.sum(np.maximum(np.abs(x) - half, 0.0) ** 2, axis=1))
     k = int(np.argmin(values))
     res = minimize_scalar(f, bounds=(grid[max(k - 1, 0)], grid[min(k + 1, 2000)]), method="bounded",
                           options={"xatol": 1e-14})
-    return min(float(res.fun), values[k])
+    return min(float(res.fun), float(values[k]))
 
 
 # ------------------------------------------------------------------ segments by hand

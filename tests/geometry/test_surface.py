@@ -145,8 +145,10 @@ def test_hours_fall_as_the_frame_grows_until_the_curvature_limits_it(paper_clean
         assert max(p.extent_m[1] for p in j.placements) <= j.frame_panel_m[1] * (1 + 1e-9)
     tol = paper_clean.cleaning.surface.stand_off_tolerance_m
     assert np.median([p.deviation_m for p in jobs[2].placements]) > 0.5 * tol  # curvature-limited
-    loose = paper_clean.with_updates("cleaning.surface", stand_off_tolerance_m=0.05)
-    n_loose = [len(surface_job(loose, move_time_s=600.0, panel_m=(1.3 * k, 0.8 * k)).placements) for k in (2, 4)]
+    # the looser tolerance's placements: the tiling's alone (surface_job's placements; no hours asserted)
+    s = paper_clean.cleaning.surface
+    n_loose = [len(tile_surface(surface_function(s)[0], s.stations_m, s.heights_m, width_m=1.3 * k, height_m=0.8 * k,
+                                tolerance_m=0.05)[0]) for k in (2, 4)]
     assert 3.0 < n_loose[0] / n_loose[1] < 4.0
 
 
@@ -179,11 +181,13 @@ def test_a_mesh_side_gives_the_analytic_form_s_placements(tmp_path, paper_clean)
                                         **band)
     meshed = paper_clean.with_updates("cleaning.surface", form="mesh", mesh=str(gdf), length_m=None, beam_m=None,
                                       draught_m=None, flare=None, **band)
-    a = surface_job(analytic, move_time_s=600.0, panel_m=(2.0, 1.5))
+    s = analytic.cleaning.surface  # the analytic form's placements: the tiling's alone (surface_job's; no hours asserted)
+    a = tile_surface(surface_function(s)[0], s.stations_m, s.heights_m, width_m=2.0, height_m=1.5,
+                     tolerance_m=s.stand_off_tolerance_m)[0]
     m = surface_job(meshed, move_time_s=600.0, panel_m=(2.0, 1.5))
-    assert m.area_m2 == pytest.approx(a.area_m2, rel=1e-3)
+    assert m.area_m2 == pytest.approx(sum(p.area_m2 for p in a), rel=1e-3)
     # the faceted side kinks between its 1 m panels: a few more patches are cut
-    assert len(a.placements) <= len(m.placements) <= 1.15 * len(a.placements)
+    assert len(a) <= len(m.placements) <= 1.15 * len(a)
     f, _ = surface_function(meshed.cleaning.surface)
     assert max(_dense_deviation(f, p) for p in m.placements) <= 0.02
     off = meshed.with_updates("cleaning.surface", heights_m=[-5.0, 2.0])  # above the mesh's top

@@ -84,9 +84,13 @@ def test_sigkill_at_any_point_leaves_one_complete_run(tmp_path, paper_run):
         assert proc.returncode == -signal.SIGKILL, phase  # killed in that phase, not finished
         seen.add(_one_complete_run(out))
     assert seen == {"paper"}  # a killed run changes nothing
-    again = subprocess.run([EXE, "simulate", "paper_sea", "--duration", "0.3", "--out", str(out)],
-                           capture_output=True, text=True, timeout=300)
-    assert again.returncode == 0, again.stderr
+    # the next run, in this process (as paper_run: the kills above needed processes of their own)
+    from typer.testing import CliRunner
+
+    from marinecdpr.cli.app import app
+
+    again = CliRunner().invoke(app, ["simulate", "paper_sea", "--duration", "0.3", "--out", str(out)])
+    assert again.exit_code == 0, again.output
     assert _one_complete_run(out) == "paper_sea"
     assert [p.name for p in out.glob(".staging-*")] == []  # the killed runs' staging folders are gone
 
