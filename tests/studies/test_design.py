@@ -450,15 +450,23 @@ def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):
         assert (tmp_path / "o" / "designs").exists() == bool(k)
 
 
-def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_path):
+def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_path, monkeypatch):
     """A search interrupted after a few candidates exits 130 saying how many it kept; the
     rerun with --resume judges only the rest and writes the files a run never interrupted
-    writes (the same seed asks for the same candidates)."""
+    writes (the same seed asks for the same candidates). (In this process the baseline and
+    each candidate are judged once: evaluate and baseline, pure functions, keyed by their
+    whole inputs, their answers handed to the uninterrupted run where it asks the same again;
+    the candidates the resume read from the journal it judges itself.)"""
     import os
     import signal
     import subprocess
     import sys
     import time
+
+    import marinecdpr.studies.design as design
+
+    monkeypatch.setattr(design, "evaluate", judged_once(design.evaluate, {}))
+    monkeypatch.setattr(design, "baseline", judged_once(design.baseline, {}))
 
     study = _small_band(tmp_path)  # the 10 x 3 m band: the journal and the resume on any surface
     args = ["design", str(study), "--no-verify", "--population", "4", "--generations", "3"]
