@@ -597,7 +597,9 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says(monkeypatch):
     once for each scenario, frame placements and seas it is asked about, keyed by their whole
     content but the frame's moves between placements, cleaning.surface.relocation, which no
     part of the screen reads (studies/screen.py), and its result handed to every evaluation
-    that asks the same again; the moves' hours and costs are each variant's own.)"""
+    that asks the same again; the moves' hours and costs are each variant's own. So too each
+    placement's coverage path: a pure function of the [cleaning] section without its surface
+    and of the patch's sides, studies/surface.py's _panel_times, planned once for each.)"""
     import marinecdpr.studies.design as design
 
     real, screened = design.screen_surface, {}
@@ -612,6 +614,17 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says(monkeypatch):
         return screened[key]
 
     monkeypatch.setattr(design, "screen_surface", once)
+    import marinecdpr.studies.surface as surface
+
+    timed, paths = surface._panel_times, {}
+
+    def panel_once(cleaning, u, v, cache, digits=3):  # a panel's path: its tool, speeds, sides
+        key = (cleaning.model_dump_json(exclude={"surface"}), round(u, digits), round(v, digits), digits)
+        if key not in paths:
+            paths[key] = timed(cleaning, u, v, cache, digits)
+        return paths[key]
+
+    monkeypatch.setattr(surface, "_panel_times", panel_once)
     spec, template = load_design(SHIP_SIDE)
     cells = study_cells(spec, SHIP_SIDE.parent)
     best = {"frame_width_m": 9.85415590609011, "frame_height_m": 4.914186694687405,
