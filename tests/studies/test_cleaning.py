@@ -28,32 +28,6 @@ def _with(sc, **cleaning):
     return sc.with_changes(cleaning=sc.cleaning.model_dump(exclude_none=True) | cleaning)
 
 
-REACHED: dict = {}
-"""reach_once's answers, by their question, for this module's tests."""
-
-
-@pytest.fixture()
-def reach_once(monkeypatch):
-    """studies.cleaning.reachable_cells answering each question once in this module: a pure
-    function of the coverage raster's cells inside the panel (and clear of its holes), the
-    raster's cell size and the brush's radius, which are all it reads (the key: their content),
-    its answer handed to every job that asks the same again. (A panel's reachable cells were
-    some 40 % of each flight of it: 0.15 mm cells, two distance transforms of 2001 x 2001
-    over a 0.3 m panel; every other figure of a job is its own.)"""
-    import marinecdpr.studies.cleaning as studies_cleaning
-
-    real = studies_cleaning.reachable_cells
-
-    def once(cov, radius_m):
-        inside = cov.passes >= 0
-        key = (inside.shape, np.packbits(inside).tobytes(), float(cov.resolution_m), float(radius_m))
-        if key not in REACHED:
-            REACHED[key] = real(cov, radius_m)
-        return REACHED[key]
-
-    monkeypatch.setattr(studies_cleaning, "reachable_cells", once)
-
-
 @pytest.mark.parametrize("change, key, words", [
     (dict(overlap_m=0.2), "cleaning.overlap_m", "less than brush_diameter_m"),
     (dict(normal_force_N=[90.0, 40.0]), "cleaning.normal_force_N", "F_min <= F_max"),
