@@ -113,7 +113,7 @@ def test_in_calm_water_the_paper_robot_cleans_what_a_round_brush_can_reach(clean
     assert s["area_rate_m2_h"] == pytest.approx((s["panel_area_m2"] - s["missed_area_m2"]) / s["job_time_s"] * 3600)
 
 
-def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean):
+def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean, reach_once):
     n = 20001
     sea = cleaning_job(clean, n_steps=n)
     calm = cleaning_job(clean.with_changes(base_motion={"type": "still"}), n_steps=n)
@@ -155,7 +155,7 @@ def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
         assert np.abs(res.pose_error[:, [0, 2]]).max() < 1e-4, plant
 
 
-def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path):
+def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path, reach_once):
     from marinecdpr.studies.cleaning import guaranteed_job
 
     short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 8.0})
@@ -200,7 +200,7 @@ def test_a_ship_side_is_placements_of_the_frame_by_hand():
     assert res.exit_code == 2 and "--move-time -1: expected a non-negative number" in res.stderr
 
 
-def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, tmp_path):
+def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, tmp_path, reach_once):
     """Issue 11: what the sea and the brush's load do, side by side: each variant is the
     same job flown by cleaning_job in that condition; in calm water the normal force is the
     preload exactly; without the drag the tensions and the winches' energy change."""
@@ -365,7 +365,7 @@ def small():
     return sc.with_changes(time={"step_s": 0.001, "duration_s": math.ceil(cleaning_path(sc.cleaning).duration_s)})
 
 
-def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
+def test_a_sea_state_is_the_cleaning_job_in_that_sea(small, reach_once):
     cell = Cell(3, 1.0, 8.0, 150.0, 0.2)
     r = evaluate_cleaning_cell(small, cell, coverage_target_pct=90.0, in_band_target_pct=95.0)
     job = cleaning_job(cell_scenario(small, cell, small.time.duration_s, small.time.step_s))
@@ -386,7 +386,7 @@ def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
     assert not none.operable and "tensions within the limits" in none.reason and math.isnan(none.hours)
 
 
-def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
+def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small, reach_once):
     cs = cleaning_seas(small, DIAGRAM, headings_deg=(180.0, 90.0), coverage_target_pct=90.0)
     rs = cs.sea.results
     assert len(rs) == 2 * 3  # the cells of probability 0 are not flown
@@ -409,7 +409,7 @@ def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
         {key(r): (r.operable, r.coverage_pct, r.tension_max_N) for r in again.sea.results}
 
 
-def test_on_dask_the_cleaning_job_gives_the_serial_results(small):
+def test_on_dask_the_cleaning_job_gives_the_serial_results(small, reach_once):
     diagram = ScatterDiagram(np.array([0.5, 2.0]), np.array([6.0]), np.array([[0.5], [0.5]]))
     sc = small.with_changes(time={"duration_s": 2.0})
     from marinecdpr.studies.executor import Executor

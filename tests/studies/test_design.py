@@ -332,7 +332,7 @@ def test_a_bad_study_file_is_one_line_naming_the_key(tmp_path, edit, words):
         load_design(path)
 
 
-def test_the_finalist_is_flown_in_every_sea_state(tmp_path):
+def test_the_finalist_is_flown_in_every_sea_state(tmp_path, reach_once):
     """The best design of a one-generation search flown closed loop in the study's two sea
     states: the time domain's share and hours beside the screen's, and the screen never
     passes a sea state the time domain fails. (The small study on a 2 x 1.5 m frame over the
@@ -357,7 +357,7 @@ def test_the_finalist_is_flown_in_every_sea_state(tmp_path):
     assert v.td_expected_hours == pytest.approx(e.surface_hours / v.td_share, rel=1e-14)
 
 
-def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypatch):
+def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypatch, reach_once):
     """With ``[sea] verify = "boundary"`` the finalist flies only the seas about the height where
     its job first fails in each column (one Tp, one heading): on a column of six heights whose
     every sea flown ("all") works up to a height and fails above it, the boundary's flights
@@ -450,15 +450,23 @@ def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):
         assert (tmp_path / "o" / "designs").exists() == bool(k)
 
 
-def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_path):
+def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_path, monkeypatch):
     """A search interrupted after a few candidates exits 130 saying how many it kept; the
     rerun with --resume judges only the rest and writes the files a run never interrupted
-    writes (the same seed asks for the same candidates)."""
+    writes (the same seed asks for the same candidates). (In this process the baseline and
+    each candidate are judged once: evaluate and baseline, pure functions, keyed by their
+    whole inputs, their answers handed to the uninterrupted run where it asks the same again;
+    the candidates the resume read from the journal it judges itself.)"""
     import os
     import signal
     import subprocess
     import sys
     import time
+
+    import marinecdpr.studies.design as design
+
+    monkeypatch.setattr(design, "evaluate", judged_once(design.evaluate, {}))
+    monkeypatch.setattr(design, "baseline", judged_once(design.baseline, {}))
 
     study = _small_band(tmp_path)  # the 10 x 3 m band: the journal and the resume on any surface
     args = ["design", str(study), "--no-verify", "--population", "4", "--generations", "3"]
@@ -589,7 +597,9 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says(monkeypatch):
     once for each scenario, frame placements and seas it is asked about, keyed by their whole
     content but the frame's moves between placements, cleaning.surface.relocation, which no
     part of the screen reads (studies/screen.py), and its result handed to every evaluation
-    that asks the same again; the moves' hours and costs are each variant's own.)"""
+    that asks the same again; the moves' hours and costs are each variant's own. So too each
+    placement's coverage path: a pure function of the [cleaning] section without its surface
+    and of the patch's sides, studies/surface.py's _panel_times, planned once for each.)"""
     import marinecdpr.studies.design as design
 
     real, screened = design.screen_surface, {}
@@ -604,6 +614,17 @@ def test_the_readme_s_best_ship_side_design_is_judged_as_it_says(monkeypatch):
         return screened[key]
 
     monkeypatch.setattr(design, "screen_surface", once)
+    import marinecdpr.studies.surface as surface
+
+    timed, paths = surface._panel_times, {}
+
+    def panel_once(cleaning, u, v, cache, digits=3):  # a panel's path: its tool, speeds, sides
+        key = (cleaning.model_dump_json(exclude={"surface"}), round(u, digits), round(v, digits), digits)
+        if key not in paths:
+            paths[key] = timed(cleaning, u, v, cache, digits)
+        return paths[key]
+
+    monkeypatch.setattr(surface, "_panel_times", panel_once)
     spec, template = load_design(SHIP_SIDE)
     cells = study_cells(spec, SHIP_SIDE.parent)
     best = {"frame_width_m": 9.85415590609011, "frame_height_m": 4.914186694687405,

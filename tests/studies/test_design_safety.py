@@ -73,11 +73,30 @@ def evaluate_once():
 
 @pytest.fixture(scope="module")
 def judged(safe, evaluate_once):
-    """Every pattern with both winches, judged with the constraint."""
+    """Every pattern with both winches, judged with the constraint. (Their frame, platform,
+    tool and speed are the same: one surface job, their placements and hours. The surface
+    job, a pure function of the scenario's [cleaning] and its platform's mass, which are all
+    of the scenario it reads (studies/surface.py), is run once for each it is asked about, keyed
+    by their content and its options, its result handed to every candidate that asks the
+    same again; the screen, the power and the cost are each candidate's own.)"""
+    import marinecdpr.studies.surface as surface
+
+    real, planned = surface.surface_job, {}
+
+    def once(sc, **kw):  # the same question, the same answer
+        key = (sc.cleaning.model_dump_json(), float(sc.robot.mass_kg), json.dumps(kw, sort_keys=True))
+        if key not in planned:
+            planned[key] = real(sc, **kw)
+        return planned[key]
+
     spec, template, cells = safe
-    return {(p, w): evaluate_once(spec, template, _x(spec, pattern=p, winch=w), cells)
-            for p in ("uncrossed", "crossed", "five_top", "six_top_bottom", "six_sides", "six_double_top",
-                      "eight_double") for w in ("medium", "large")}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(surface, "surface_job", once)
+        every = {(p, w): evaluate_once(spec, template, _x(spec, pattern=p, winch=w), cells)
+                 for p in ("uncrossed", "crossed", "five_top", "six_top_bottom", "six_sides", "six_double_top",
+                           "eight_double") for w in ("medium", "large")}
+    assert len(planned) == 1  # one frame, platform and tool: one surface job
+    return every
 
 
 A, F, Z = 0.025, 6.0, 3.0  # half the planes' spacing, the frame's width and height (m)
