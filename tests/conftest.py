@@ -196,31 +196,3 @@ def judged_once(function, memo: dict):
             memo[key] = function(*args)
         return memo[key]
     return once
-
-
-REACHED: dict = {}
-"""reach_once's answers, by their question, for the session's tests."""
-
-
-@pytest.fixture()
-def reach_once(monkeypatch):
-    """studies.cleaning.reachable_cells answering each question once in the session: a pure
-    function of the coverage raster's cells inside the panel (and clear of its holes), the
-    raster's cell size and the brush's radius, which are all it reads (the key: their content),
-    its answer handed to every job that asks the same again. (A panel's reachable cells were
-    some 40 % of each flight of it: 0.15 mm cells, two distance transforms of 2001 x 2001
-    over a 0.3 m panel; every other figure of a job is its own.)"""
-    import marinecdpr.studies.cleaning as studies_cleaning
-
-    real = studies_cleaning.reachable_cells
-
-    def once(cov, radius_m):
-        import numpy as np
-
-        inside = cov.passes >= 0
-        key = (inside.shape, np.packbits(inside).tobytes(), float(cov.resolution_m), float(radius_m))
-        if key not in REACHED:
-            REACHED[key] = real(cov, radius_m)
-        return REACHED[key]
-
-    monkeypatch.setattr(studies_cleaning, "reachable_cells", once)

@@ -113,7 +113,7 @@ def test_in_calm_water_the_paper_robot_cleans_what_a_round_brush_can_reach(clean
     assert s["area_rate_m2_h"] == pytest.approx((s["panel_area_m2"] - s["missed_area_m2"]) / s["job_time_s"] * 3600)
 
 
-def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean, reach_once):
+def test_the_sea_changes_the_normal_force_and_the_tensions_in_numbers(clean):
     n = 20001
     sea = cleaning_job(clean, n_steps=n)
     calm = cleaning_job(clean.with_changes(base_motion={"type": "still"}), n_steps=n)
@@ -155,7 +155,7 @@ def test_open_loop_with_the_brush_tracks_as_planned_in_calm_water(clean):
         assert np.abs(res.pose_error[:, [0, 2]]).max() < 1e-4, plant
 
 
-def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path, reach_once):
+def test_guarantee_sets_the_overlap_from_the_first_runs_tracking_and_checks_it(clean, tmp_path):
     from marinecdpr.studies.cleaning import guaranteed_job
 
     short = _with(clean, overlap_m=0.0).with_changes(time={"step_s": 0.001, "duration_s": 8.0})
@@ -200,7 +200,7 @@ def test_a_ship_side_is_placements_of_the_frame_by_hand():
     assert res.exit_code == 2 and "--move-time -1: expected a non-negative number" in res.stderr
 
 
-def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, tmp_path, reach_once):
+def test_the_job_beside_calm_water_and_without_the_brush_drag_in_numbers(clean, tmp_path):
     """Issue 11: what the sea and the brush's load do, side by side: each variant is the
     same job flown by cleaning_job in that condition; in calm water the normal force is the
     preload exactly; without the drag the tensions and the winches' energy change."""
@@ -365,7 +365,7 @@ def small():
     return sc.with_changes(time={"step_s": 0.001, "duration_s": math.ceil(cleaning_path(sc.cleaning).duration_s)})
 
 
-def test_a_sea_state_is_the_cleaning_job_in_that_sea(small, reach_once):
+def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
     cell = Cell(3, 1.0, 8.0, 150.0, 0.2)
     r = evaluate_cleaning_cell(small, cell, coverage_target_pct=90.0, in_band_target_pct=95.0)
     job = cleaning_job(cell_scenario(small, cell, small.time.duration_s, small.time.step_s))
@@ -386,7 +386,7 @@ def test_a_sea_state_is_the_cleaning_job_in_that_sea(small, reach_once):
     assert not none.operable and "tensions within the limits" in none.reason and math.isnan(none.hours)
 
 
-def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small, reach_once):
+def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
     cs = cleaning_seas(small, DIAGRAM, headings_deg=(180.0, 90.0), coverage_target_pct=90.0)
     rs = cs.sea.results
     assert len(rs) == 2 * 3  # the cells of probability 0 are not flown
@@ -409,7 +409,7 @@ def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small, reach_onc
         {key(r): (r.operable, r.coverage_pct, r.tension_max_N) for r in again.sea.results}
 
 
-def test_on_dask_the_cleaning_job_gives_the_serial_results(small, reach_once):
+def test_on_dask_the_cleaning_job_gives_the_serial_results(small):
     diagram = ScatterDiagram(np.array([0.5, 2.0]), np.array([6.0]), np.array([[0.5], [0.5]]))
     sc = small.with_changes(time={"duration_s": 2.0})
     from marinecdpr.studies.executor import Executor
@@ -526,3 +526,34 @@ def test_clean_works_for_a_spatial_robot(tmp_path):
     assert s["robot_dofs"] == "spatial"
     html = (out / "report.html").read_text()
     assert "the cables hold the brush on the hull at the preload" in html and "the guide holds" not in html
+
+
+def test_a_rectangle_s_reachable_cells_miss_its_corners_and_are_kept_for_the_next_flight():
+    """reachable_cells: on a 0.4 x 0.3 m rectangle a disc of r = 0.05 m misses r^2 (1 - pi/4)
+    at each corner (by hand: 0.12 - 4 * 0.0025 * 0.2146 = 0.117854 m^2; within the 1 mm
+    raster's staircase); asked again for the same panel, the kept answer (the same cells, read
+    only); for another radius or another panel, its own."""
+    from types import SimpleNamespace
+
+    from marinecdpr.studies import cleaning as C
+
+    passes = np.zeros((300, 400), dtype=np.int64)  # 1 mm cells
+    cov = SimpleNamespace(passes=passes, resolution_m=0.001)
+    reach = C.reachable_cells(cov, 0.05)
+    area = reach.sum() * 1e-6
+    assert abs(area - (0.12 - 4 * 0.05**2 * (1 - np.pi / 4))) < 4e-4  # the staircase: ~ the corners' arcs x 1 mm
+    assert not reach[0, 0] and not reach[0, -1] and reach[150, 0] and reach[0, 200]
+    again = C.reachable_cells(SimpleNamespace(passes=passes.copy(), resolution_m=0.001), 0.05)
+    assert again is reach and not again.flags.writeable
+    wider = C.reachable_cells(cov, 0.1)
+    assert wider.sum() < reach.sum()
+    holed = passes.copy()
+    holed[100:200, 150:250] = -1  # a hole: outside the panel
+    with_hole = C.reachable_cells(SimpleNamespace(passes=holed, resolution_m=0.001), 0.05)
+    np.testing.assert_array_equal(with_hole, C._reachable(holed >= 0, 0.001, 0.05))
+    assert with_hole.sum() == reach.sum() - 100 * 100  # a disc outside a square hole reaches up to its edges and corners
+    for r in np.linspace(0.01, 0.02, 9):  # more panels than are kept: the first is asked afresh
+        C.reachable_cells(cov, float(r))
+    fresh = C.reachable_cells(cov, 0.05)
+    assert fresh is not reach
+    np.testing.assert_array_equal(fresh, reach)

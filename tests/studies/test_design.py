@@ -332,7 +332,7 @@ def test_a_bad_study_file_is_one_line_naming_the_key(tmp_path, edit, words):
         load_design(path)
 
 
-def test_the_finalist_is_flown_in_every_sea_state(tmp_path, reach_once):
+def test_the_finalist_is_flown_in_every_sea_state(tmp_path):
     """The best design of a one-generation search flown closed loop in the study's two sea
     states: the time domain's share and hours beside the screen's, and the screen never
     passes a sea state the time domain fails. (The small study on a 2 x 1.5 m frame over the
@@ -357,7 +357,7 @@ def test_the_finalist_is_flown_in_every_sea_state(tmp_path, reach_once):
     assert v.td_expected_hours == pytest.approx(e.surface_hours / v.td_share, rel=1e-14)
 
 
-def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypatch, reach_once):
+def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypatch):
     """With ``[sea] verify = "boundary"`` the finalist flies only the seas about the height where
     its job first fails in each column (one Tp, one heading): on a column of six heights whose
     every sea flown ("all") works up to a height and fails above it, the boundary's flights
