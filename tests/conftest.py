@@ -15,6 +15,14 @@ import marinecdpr
 from marinecdpr.scenario.loading import scenario_from_dict
 
 
+_WARMING: list = []
+"""The warm-up's process (gw0) while it runs: :func:`pytest_sessionstart`."""
+
+
+def _warm_flag(workerinput) -> Path:
+    return Path(tempfile.gettempdir()) / f"marinecdpr-warm-{workerinput['testrunuid']}"
+
+
 def pytest_sessionstart(session):
     """On a cold compile cache, with several xdist workers, the first worker compiles the paper
     robot's planner, controller and both plants' loops before any test starts
@@ -22,20 +30,39 @@ def pytest_sessionstart(session):
     other workers wait; then every worker loads them from numba's cache. Without this the
     workers' first tests compiled the same kernels at once, each its own copy: a quarter of the
     suite's compile time on a cold cache was spent twice (numba's compile events, 2026-12-06).
-    A warm cache skips it."""
+    The warm-up runs in a process of its own, started here, while every worker collects the
+    tests (some 12 s each: the warm-up alone left a core idle part of the time); the workers
+    wait for it before their first test (:func:`pytest_collection_finish`). A warm cache
+    skips it."""
     workerinput = getattr(session.config, "workerinput", None)
     if workerinput is None or int(workerinput.get("workercount", 1)) < 2:
         return
     from marinecdpr.prototype.simulation import kernels_cached
 
     if kernels_cached("mujoco") and kernels_cached("own"):
+        _warm_flag(workerinput).touch()
         return
-    done = Path(tempfile.gettempdir()) / f"marinecdpr-warm-{workerinput['testrunuid']}"
     if workerinput["workerid"] == "gw0":
-        from marinecdpr.prototype.warmup import warm_up
+        import subprocess
+        import sys
 
+        code = ("import marinecdpr\nfrom marinecdpr.prototype.warmup import warm_up\n"
+                "warm_up([marinecdpr.load_scenario('paper')], plants=('mujoco', 'own'))\n")
+        _WARMING.append(subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL,
+                                         stderr=subprocess.DEVNULL))  # a failed warm-up: each test compiles its own
+
+
+def pytest_collection_finish(session):
+    """Wait for the warm-up (:func:`pytest_sessionstart`) before the first test: gw0 for its
+    process (then it says so to the others), the other workers for gw0's word."""
+    workerinput = getattr(session.config, "workerinput", None)
+    if workerinput is None or int(workerinput.get("workercount", 1)) < 2:
+        return
+    done = _warm_flag(workerinput)
+    if workerinput["workerid"] == "gw0":
         try:
-            warm_up([marinecdpr.load_scenario("paper")], plants=("mujoco", "own"))
+            for process in _WARMING:
+                process.wait(timeout=900)  # at most 15 minutes; a failed warm-up leaves each test its compile
         finally:
             done.touch()
         return
@@ -48,7 +75,9 @@ def pytest_sessionstart(session):
 def pytest_sessionfinish(session):
     workerinput = getattr(session.config, "workerinput", None)
     if workerinput is not None and workerinput["workerid"] == "gw0":
-        (Path(tempfile.gettempdir()) / f"marinecdpr-warm-{workerinput['testrunuid']}").unlink(missing_ok=True)
+        for process in _WARMING:
+            process.kill()
+        _warm_flag(workerinput).unlink(missing_ok=True)
 
 
 def paper_dict() -> dict:
