@@ -11,9 +11,10 @@ folder (``MARINECDPR_CACHE_DIR``), three ways:
     (or the code before the split) pays;
   * warm: the same command again, the cache filled;
   * then, on that cache, the first run of two other scenarios: ``paper_clean`` (a brush part
-    more, the same cable law: the loop is reused, only the new part's step compiles) and
-    ``paper_as_built`` (motor winches on elastic cables: another cable law, so its loop
-    compiles), what a user meets moving on from the paper's scenario.
+    more: the loop is reused, only the new part's step compiles) and ``paper_as_built``
+    (motor winches on elastic cables: the loop is reused too, since the cable law is
+    called by its address; its parts' steps, its law and its planner's kernels compile),
+    what a user meets moving on from the paper's scenario.
 Issue 22's goal: the first run within 20 s, a warm run within 3 s, on this 2-core machine
 with nothing else running. Prints the minimum and median of each.
 """
