@@ -23,7 +23,7 @@ from numba.core import cgutils, types
 from numba.extending import intrinsic
 
 __all__ = ["borrowed", "borrowed_first", "store", "load", "stored_size", "call_step", "call_stored", "data_address",
-           "float64_pointer", "c_function", "kept_words", "stored"]
+           "float64_pointer", "c_function", "kept_words", "stored", "with_function"]
 
 
 def _strip(context, builder, ty, value, count=True):
@@ -232,3 +232,15 @@ def stored(record, *, lead: int = 0):
 @njit(cache=True)
 def _store_into(record, words):
     store(record, words)
+
+
+def with_function(function, record, arg_types: tuple):
+    """``record`` :func:`stored` after one word that holds the address of ``function``'s C
+    wrapper (:func:`c_function`) compiled for ``arg_types`` and, last, the record's type (a
+    type reference): int64 words that a compiled caller calls with :func:`call_stored`
+    (``words[0]``, the words' address plus 8 first among the arguments)."""
+    from numba import typeof
+
+    words = stored(record, lead=1)
+    words[0] = c_function(function, types.int64(*arg_types, types.TypeRef(typeof(record))))
+    return words

@@ -27,7 +27,7 @@ import numpy as np
 from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
-from marinecdpr.borrowed import borrowed_first, c_function, stored
+from marinecdpr.borrowed import borrowed_first, with_function
 from marinecdpr.compiled_cache import entry_point
 from marinecdpr.control.records import (
     ENCODERS, KINDS, MODES, POSE_SENSOR, PREDICTIONS, SENSORS, ControllerParts, Gains, Loads, Reference, RobotModel,
@@ -185,9 +185,7 @@ def slot(function, record, arg_types: tuple) -> Slot:
     first holds such a record, never into the step; within :func:`types_only`, empty."""
     if _TYPES_ONLY:
         return empty_slot()
-    words = stored(record, lead=1)
-    words[0] = c_function(function, types.int64(*arg_types, types.TypeRef(typeof(record))))
-    return Slot(words=words)
+    return Slot(words=with_function(function, record, arg_types))
 
 
 def predictor(scenario: Scenario) -> Slot:

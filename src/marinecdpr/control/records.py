@@ -19,8 +19,8 @@ from marinecdpr.geometry.forward import ForwardWork, forward_work
 from marinecdpr.model.tension_solver import TensionWork, tension_work
 
 __all__ = ["Reference", "RobotModel", "Gains", "Loads", "Measurement", "Command", "Work", "Safety", "ControllerParts",
-           "Slot", "Encoders",
-           "empty_measurement", "empty_command", "empty_work", "empty_safety", "empty_slot", "encoders_record", "POSE_SENSOR", "ENCODERS", "PREDICTIONS", "SENSORS", "KINDS", "MODES", "RESIDUALS",
+           "Slot", "Encoders", "empty_measurement", "empty_command", "empty_work", "empty_safety", "empty_slot",
+           "encoders_record", "POSE_SENSOR", "ENCODERS", "PREDICTIONS", "SENSORS", "KINDS", "MODES", "RESIDUALS",
            "MAX_EVENTS"]
 
 POSE_SENSOR = 0

@@ -20,9 +20,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit, typeof, types
+from numba import njit, types
 
-from marinecdpr.borrowed import borrowed, c_function, call_stored, data_address, load, stored
+from marinecdpr.borrowed import borrowed, call_stored, data_address, load, with_function
 from marinecdpr.control.step import cables_at, disturbance_C, mm3
 from marinecdpr.geometry.rotations import matrix_about_y_step, matrix_from_quaternion_step
 from marinecdpr.model import rigid_body as RB
@@ -222,10 +222,7 @@ def mujoco_law(cable, mj: MujocoPlant, bus) -> np.ndarray:
     :func:`_mujoco_law_at`'s C wrapper for the types of (``cable``, ``mj``, ``bus``) (compiled,
     or read from the disk cache, once per cable law), [1:] the three stored (the words keep
     them alive): what the MuJoCo loop takes, so that it compiles once for every law."""
-    triple = (cable, mj, bus)
-    words = stored(triple, lead=1)
-    words[0] = c_function(_mujoco_law_at, types.int64(types.intp, types.TypeRef(typeof(triple))))
-    return words
+    return with_function(_mujoco_law_at, (cable, mj, bus), (types.intp,))
 
 
 @njit(cache=_cache)
