@@ -271,8 +271,8 @@ class Wired(NamedTuple):
     cable part's place in ``steps`` + 1, 0 if it is none of them; [2:] the cable part and
     the bus stored); then the robot's cables (``model``) and the reference positions
     (n_steps, 3) a divergence is measured from, m: one loop compiled serves every
-    combination of parts (the MuJoCo loop, which takes the cable part typed, one per cable
-    law).
+    combination of parts and every cable law (the MuJoCo loop takes the cable part's inputs
+    by address beside it: :func:`~marinecdpr.prototype.plants.mujoco_law`).
 
     ``store`` (int64 words) holds the stored records and the bus, which point into the
     parts' arrays: a Wired is valid while the parts it was made from live
