@@ -23,7 +23,7 @@ from numba.core import cgutils, types
 from numba.extending import intrinsic
 
 __all__ = ["borrowed", "borrowed_first", "store", "load", "stored_size", "call_step", "call_stored", "data_address",
-           "float64_pointer", "c_function", "kept_words", "stored", "with_function"]
+           "float64_pointer", "c_function", "kept_words", "stored", "store_in", "with_function"]
 
 
 def _strip(context, builder, ty, value, count=True):
@@ -225,12 +225,14 @@ def stored(record, *, lead: int = 0):
     from numba import typeof
 
     words = kept_words(lead + -(-stored_size(typeof(record)) // 8), record)
-    _store_into(record, words[lead:])
+    store_in(record, words[lead:])
     return words
 
 
 @njit(cache=True)
-def _store_into(record, words):
+def store_in(record, words):
+    """:func:`store` called from Python: ``record`` written into the int64 array ``words``
+    (compiled once per record type, with numba's disk cache: the package's types only)."""
     store(record, words)
 
 

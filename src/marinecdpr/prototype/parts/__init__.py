@@ -64,7 +64,7 @@ from numba import carray, njit, typeof, types
 from numba.extending import overload
 
 from marinecdpr.borrowed import (
-    borrowed, c_function, call_step, call_stored, data_address, float64_pointer, load, store, stored, stored_size,
+    borrowed, c_function, call_step, call_stored, data_address, float64_pointer, load, store_in, stored, stored_size,
 )
 from marinecdpr.control.records import Measurement
 
@@ -304,11 +304,6 @@ def _step_at(k, h, part_at, bus_at, record, bus):
     return 0
 
 
-@njit(cache=True)
-def _store(record, words):
-    store(record, words)
-
-
 def step_pointer(record_type, bus_type) -> int:
     """The address of the C function that steps a part of numba type ``record_type`` on a
     bus of ``bus_type``, both stored (:func:`~marinecdpr.borrowed.call_step`): numba's C
@@ -333,7 +328,7 @@ def wire(bus: Signals, parts: tuple, cable, model, ref_x: np.ndarray) -> Wired:
     words = np.zeros(int(offsets[-1]), dtype=np.int64)
     base = words.ctypes.data
     for value, a, b in zip((bus, *parts), offsets[:-1], offsets[1:]):
-        _store(value, words[a:b])
+        store_in(value, words[a:b])
     steps = np.array([step_pointer(ty, bus_ty) for ty in tys], dtype=np.intp)
     records = np.array([base + 8 * int(a) for a in offsets[1:-1]], dtype=np.intp)
     law = stored((cable, bus), lead=2)
