@@ -274,3 +274,76 @@ def test_the_watch_and_the_reaction_allocate_nothing_beyond_the_normal_step(six)
         if not was:
             _nrt_python.memsys_disable_stats()
     assert counts["normal"] == counts["go_on"] and len(counts["normal"]) == 1
+
+
+# ------------------------------------------------------------------ a motor's current
+TAU_MAX = 2.0  # N m: test_winch_faults' drive
+
+
+def _motor_winches(data):
+    data["simulation"]["cables"] = {"model": "elastic", "stiffness_EA_N": 1.0e5, "damping_N_s_m": 0.0, "winch": "motor"}
+    data["robot"]["winch"] = {"drum_radius_m": 0.05, "gear_ratio": 10.0, "torque_max_Nm": TAU_MAX,
+                              "speed_max_rad_s": 300.0, "power_max_W": 200.0, "rotor_inertia_kg_m2": 1.0e-4,
+                              "drum_inertia_kg_m2": 1.0e-3, "gear_efficiency": 1.0, "coulomb_friction_Nm": 0.0,
+                              "viscous_friction_Nm_s": 0.0}
+
+
+def _torque_off(cable, share):
+    """Motor ``cable``'s torque (from its current) ``share`` of its torque limit above its
+    drive's demand (0.4 N m) from step K0; the others' as demanded."""
+    def fault(k, meas):
+        demand = np.full(len(meas["tensions"]), 0.4)
+        torque = demand.copy()
+        if k >= K0:
+            torque[cable] += share * TAU_MAX
+        meas["motor_torques"], meas["motor_demands"] = torque, demand
+    return fault
+
+
+@pytest.fixture(scope="module")
+def motors():
+    """Six cables (r = 3: the other five hold the wrench without one) on motor winches."""
+    return make_scenario(lambda d: (six_cables(d), _motor_winches(d)))
+
+
+def test_a_motor_whose_current_leaves_its_demand_fails_its_drive_and_its_brake_is_commanded(motors):
+    """Cable 3's motor gives 0.3 tau_max more than its drive asks from step K0 (a stall's
+    signature): 1.5 times current_fraction (0.2) of its limit, so on the 20th such exchange
+    (current_delay_s 0.02 s at 1 ms: step K0 + 19) its drive has failed, kind "drive": its brake
+    is commanded and its cable lost (its tension left out, 0), the other five holding the
+    wrench on the plan (go on, as after a lost cable); until then every command is the fault-free run's, bit for bit, and the
+    watched residual's peak is 1.5 (by hand: 0.3 / 0.2)."""
+    out, ctl = fly(motors, _torque_off(2, 0.3))
+    ref, _ = fly(motors, no_fault)
+    det = ctl.detections
+    assert [(d.step, d.kind, d.sensor, d.cable) for d in det] == [(K0 + 19, "drive", "", 2)]
+    for k in range(K0 + 19):
+        np.testing.assert_array_equal(out[k][0], ref[k][0])
+        assert out[k][4] == "normal" and not out[k][1].any()
+    for k in range(K0 + 19, N):
+        assert out[k][4] == "go_on" and out[k][1].tolist() == [0, 0, 1, 0, 0, 0] and out[k][0][2] == 0.0
+    assert ctl.parts.safety.peak[5] == pytest.approx(1.5, rel=1e-12)
+
+
+def test_a_motor_within_its_band_is_never_a_fault(motors):
+    """0.19 tau_max off its demand (0.95 of the band) for the whole run: no detection, the same
+    commands as the run without, and the residual's peak 0.95; a torque given without its
+    demand is refused in one line."""
+    out, ctl = fly(motors, _torque_off(3, 0.19))
+    ref, _ = fly(motors, no_fault)
+    assert ctl.detections == [] and all(o[4] == "normal" for o in out)
+    for a, b in zip(out, ref):
+        np.testing.assert_array_equal(a[0], b[0])
+    assert ctl.parts.safety.peak[5] == pytest.approx(0.95, rel=1e-12)
+    with pytest.raises(ValueError, match="motor_torques and motor_demands go together"):
+        fly(motors, lambda k, meas: meas.update(motor_torques=np.zeros(4)), n=2)
+
+
+def test_without_motor_winches_the_current_is_not_watched():
+    """The paper's ideal cables have no motor: a torque far from its demand changes nothing."""
+    sc = make_scenario()
+    out, ctl = fly(sc, _torque_off(0, 5.0))
+    ref, _ = fly(sc, no_fault)
+    assert ctl.detections == [] and ctl.parts.safety.peak[5] == 0.0
+    for a, b in zip(out, ref):
+        np.testing.assert_array_equal(a[0], b[0])

@@ -175,3 +175,34 @@ def test_a_brake_mistake_is_one_line(fault, key, says):
         make_scenario(edit)
     text = str(err.value)
     assert "\n" not in text and key in text and says in text, text
+
+
+@pytest.mark.parametrize("kind", ["winch_stall", "motor_power_loss"])
+def test_a_stalled_or_powerless_motor_is_detected_by_its_current_and_its_drum_braked(kind):
+    """Closed loop, cable 1's motor struck at 0.5 s: its torque (its drive's current) leaves
+    its loop's demand (the stall's 2 N m against the loop's; no torque against the loop's), so
+    the controller's watch finds its drive failed on the 20th exchange (current_delay_s
+    0.02 s: at 0.52 s, before any other detection), commands its brake, which holds the drum
+    0.2 s later (brake_delay_s): from 0.72 s its unstretched length stays what it was (to
+    1e-12 m). MuJoCo and the own plant detect the same at the same step."""
+    runs = [simulate(paper_on("motor", [{"kind": kind, "cable": 1, "at_s": 0.5}], duration_s=1.0),
+                     run="closed_loop", plant=plant) for plant in ("own", "mujoco")]
+    for r in runs:
+        assert (r.detections[0].step, r.detections[0].kind, r.detections[0].cable) == (520, "drive", 0)
+        assert r.brakes_held[0] == (1, pytest.approx(0.72))
+        L0 = unstretched(r)[720:, 0]
+        taut = np.isfinite(L0)  # the powerless drum ran out its cable's stretch before the brake held
+        assert taut.sum() >= 30  # the powerless one: taut 34 of the 280 steps
+        np.testing.assert_allclose(L0[taut], L0[taut][0], rtol=0.0, atol=1e-12)
+    assert [(d.step, d.kind, d.cable) for d in runs[0].detections] == [(d.step, d.kind, d.cable)
+                                                                     for d in runs[1].detections]
+    assert runs[0].residual_peaks["current"] > 1.0
+
+
+def test_a_sound_motor_s_current_is_its_demand():
+    """Without a fault, on motor winches, the watched current residual is 0 in a closed loop
+    on either plant (a sound drive's torque is its demand, after its own limits), and the
+    run's summary names it; nothing is detected."""
+    for plant in ("own", "mujoco"):
+        r = simulate(paper_on("motor", [], duration_s=1.0), run="closed_loop", plant=plant)
+        assert r.detections == () and r.residual_peaks["current"] == 0.0

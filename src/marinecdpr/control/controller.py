@@ -274,7 +274,8 @@ def step_loads(loads_h: Loads, n: int) -> Loads:
 def safety(scenario: Scenario) -> Safety:
     """The controller's fault detection (``[simulation.control.safety]``), nothing detected yet:
     the delays in exchanges (at least one), the MRU's timeout past its own latency and
-    sampling period, the stop's damping 2 pi f, 1/s."""
+    sampling period, the stop's damping 2 pi f, 1/s; the motors' torque limits where the
+    winches are motor winches (``robot.winch``)."""
     sim, h = scenario.simulation, scenario.time.step_s
     cfg, mru = sim.control.safety, sim.mru
     rate = mru.rate_hz if mru.rate_hz is not None else MRU_UNITS[mru.unit][0]
@@ -285,7 +286,9 @@ def safety(scenario: Scenario) -> Safety:
                         jump_m=cfg.jump_m, frozen_m=cfg.frozen_m, disagree_m=cfg.disagree_m,
                         disagree_steps=max(1, math.ceil(cfg.disagree_delay_s / h - 1e-9)),
                         mru_timeout_s=cfg.mru_timeout_s + mru.latency_s + period, park=cfg.on_cable_loss == "park",
-                        stop_kd=2.0 * np.pi * cfg.stop_damping_hz)
+                        stop_kd=2.0 * np.pi * cfg.stop_damping_hz, current_fraction=cfg.current_fraction,
+                        current_steps=max(1, math.ceil(cfg.current_delay_s / h - 1e-9)),
+                        tau_max=robot.winch.torque_max_Nm if sim.cables.winch == "motor" else None)
 
 
 @dataclass(frozen=True)
@@ -379,7 +382,7 @@ def step_function(held):
 
 
 @njit(cache=True)
-def step_from_arrays(k, h, held, step, x, R, v, w, eta, clock, L, Ldot, T):
+def step_from_arrays(k, h, held, step, x, R, v, w, eta, clock, L, Ldot, T, tau, tau_set):
     """:func:`control_step` on a measurement given as arrays (copied into the measurement
     record); ``held``: :func:`held_records`'s list of the controller's records; ``step``:
     :func:`step_function` of their type.
@@ -402,6 +405,9 @@ def step_from_arrays(k, h, held, step, x, R, v, w, eta, clock, L, Ldot, T):
         The exchange's time t_k, the pose's time stamp and the ship sample's, s.
     L, Ldot, T : ndarray, shape (n_cables,)
         The encoders' lengths (m) and rates (m/s), the measured tensions (N).
+    tau, tau_set : ndarray, shape (n_cables,)
+        The motors' torques from their drives' currents and the drives' demands, N m (zeros:
+        no motor watched).
 
     Returns
     -------
@@ -415,6 +421,8 @@ def step_from_arrays(k, h, held, step, x, R, v, w, eta, clock, L, Ldot, T):
         meas.L[i] = L[i]
         meas.Ldot[i] = Ldot[i]
         meas.T[i] = T[i]
+        meas.tau[i] = tau[i]
+        meas.tau_set[i] = tau_set[i]
     for i in range(3):
         meas.x[i] = x[i]
         meas.v[i] = v[i]
@@ -446,7 +454,7 @@ def step_entry_point(held, m: int):
     converted, so :meth:`Controller.step` converts its arguments first."""
     z3, eye, zm = np.zeros(3), np.eye(3), np.zeros(m)
     return entry_point(step_from_arrays, (0, 1.0, held, step_function(held), z3, eye, z3, z3, np.zeros((3, 6)), z3,
-                                          zm, zm, zm))
+                                          zm, zm, zm, zm, zm))
 
 
 class Controller:
@@ -513,7 +521,8 @@ class Controller:
     def step(self, t: float, *, eta: np.ndarray, x: np.ndarray | None = None, R: np.ndarray | None = None,
              v: np.ndarray | None = None, w: np.ndarray | None = None, lengths: np.ndarray | None = None,
              length_rates: np.ndarray | None = None, tensions: np.ndarray | None = None,
-             t_pose: float | None = None, t_ship: float | None = None):
+             t_pose: float | None = None, t_ship: float | None = None, motor_torques: np.ndarray | None = None,
+             motor_demands: np.ndarray | None = None):
         """The commands for the exchange at time t (s from the plan's start).
 
         Parameters
@@ -534,6 +543,11 @@ class Controller:
         t_pose, t_ship : float, optional
             The pose's and the ship sample's time stamps, s (default t: measured now; the
             encoders are read now).
+        motor_torques, motor_demands : ndarray, shape (m,), optional
+            Motor winches: each motor's torque from its drive's current and the drive's torque
+            demand, N m (motor side), both or neither; the fault detection watches their
+            difference (``current_fraction`` of the torque limit for ``current_delay_s``: the
+            drive has failed: its brake is commanded and its cable lost, ``on_cable_loss``).
 
         Returns
         -------
@@ -563,6 +577,13 @@ class Controller:
             length_rates = _array(length_rates, "length_rates", (m,))
         else:
             lengths = length_rates = self._zm
+        if (motor_torques is None) != (motor_demands is None):
+            raise ValueError("motor_torques and motor_demands go together: give both or neither")
+        if motor_torques is None:
+            motor_torques = motor_demands = self._zm
+        else:
+            motor_torques = _array(motor_torques, "motor_torques", (m,))
+            motor_demands = _array(motor_demands, "motor_demands", (m,))
         eta = _array(eta, "eta", (3, 6))
         k = int(round(t / self.step_s))
         if not 0 <= k < self.n_steps:
@@ -572,5 +593,6 @@ class Controller:
         clock[0] = t
         clock[1] = t if t_pose is None else t_pose
         clock[2] = t if t_ship is None else t_ship
-        self._call(k, self.step_s, self._held, self._step, x, R, v, w, eta, clock, lengths, length_rates, tensions)
+        self._call(k, self.step_s, self._held, self._step, x, R, v, w, eta, clock, lengths, length_rates, tensions,
+                   motor_torques, motor_demands)
         return self.parts.cmd

@@ -126,6 +126,9 @@ class Measurement(NamedTuple):
     rates (m/s) from the winches' encoders; T : (m,) measured tensions, N. eta : (3, 6) the
     motion reference unit's latest sample: the ship's eta, eta' and eta'' (m, rad).
     clock : (3,) the exchange's time t_k, the pose's time stamp and the ship sample's, s.
+    tau, tau_set : (m,) motor winches' torques from their drives' currents and the drives'
+    torque demands (after the drives' own torque, power and speed limits), motor side, N m,
+    as of the last exchange; zeros where there is no motor.
     """
 
     x: np.ndarray
@@ -137,6 +140,8 @@ class Measurement(NamedTuple):
     T: np.ndarray
     eta: np.ndarray
     clock: np.ndarray
+    tau: np.ndarray
+    tau_set: np.ndarray
 
 
 class Command(NamedTuple):
@@ -208,7 +213,7 @@ class ControllerParts(NamedTuple):
 def empty_measurement(m: int) -> Measurement:
     """A zeroed measurement for m cables (R the identity)."""
     return Measurement(x=np.zeros(3), R=np.eye(3), v=np.zeros(3), w=np.zeros(3), L=np.zeros(m), Ldot=np.zeros(m),
-                       T=np.zeros(m), eta=np.zeros((3, 6)), clock=np.zeros(3))
+                       T=np.zeros(m), eta=np.zeros((3, 6)), clock=np.zeros(3), tau=np.zeros(m), tau_set=np.zeros(m))
 
 
 def empty_command(m: int) -> Command:
@@ -218,22 +223,24 @@ def empty_command(m: int) -> Command:
 
 SENSORS = {"pose": 0, "load_cell": 1, "encoder": 2, "mru": 3}
 """A detection's sensor (the ``sensor`` column of :attr:`Safety.events`; -1: none, a cable)."""
-KINDS = {"cable_slack": 1, "non_finite": 2, "frozen": 3, "jump": 4, "disagree": 5, "dropout": 6}
+KINDS = {"cable_slack": 1, "non_finite": 2, "frozen": 3, "jump": 4, "disagree": 5, "dropout": 6, "drive": 7}
 """A detection's kind (the ``kind`` column of :attr:`Safety.events`): a cable's load cell far
 below its command for the stated time (slack or broken); a reading that is not a finite
 number; a reading unchanged while the plan moved; a reading that moved far beyond what the plan
 moves; the encoders and the pose sensor disagreeing on a cable's length for the stated time;
-the motion reference unit's samples stopping."""
+the motion reference unit's samples stopping; a motor winch's torque (from its current) far
+from its drive's demand for the stated time (a stalled motor, or one without power)."""
 MODES = {"normal": 0, "go_on": 1, "park": 2, "stop": 3, "brake": 4}
 """The controller's reaction (:attr:`Safety.mode`): nothing detected; a cable lost, its tension
 redistributed on the plan; holding the pose where the fault was detected; a stop (a wrench
 opposing the motion, to rest) where the remaining cables cannot hold the plan; the brakes,
 where even the stop has no tensions within limits."""
-RESIDUALS = ("slack", "jump", "frozen", "disagree", "mru_age")
+RESIDUALS = ("slack", "jump", "frozen", "disagree", "mru_age", "current")
 """The watched residuals, each over its threshold (:attr:`Safety.peak`): a cable's 1 - T_meas /
 T_cmd over 1 - ``slack_fraction``; a reading's move beyond the plan's over ``jump_m``; the
 plan's move under an unchanged reading over ``frozen_m``; the encoders' and the pose
-sensor's length difference over ``disagree_m``; the MRU sample's age over ``mru_timeout_s``."""
+sensor's length difference over ``disagree_m``; the MRU sample's age over ``mru_timeout_s``; a
+motor's torque less its drive's demand, over ``current_fraction`` of its torque limit."""
 MAX_EVENTS = 16
 """The most detections a controller records (:attr:`Safety.events`)."""
 
@@ -246,12 +253,16 @@ class Safety(NamedTuple):
     below slack_fraction of its last command for slack_steps exchanges is a lost cable;
     jump_m, frozen_m, disagree_m (m) and disagree_steps (int); mru_timeout_s (s); park
     (bool): hold the pose after a cable loss even where the remaining cables hold the plan;
-    stop_kd (1/s): the stop's a = -stop_kd v.
+    stop_kd (1/s): the stop's a = -stop_kd v; current_fraction (-) and current_steps (int): a
+    motor whose torque (from its current) differs from its drive's demand by more than
+    current_fraction of its torque limit tau_max (m,), N m (0: no motor: not watched), for
+    current_steps exchanges has failed.
 
     State (m cables): present (4,) int, 1 where the caller measures that sensor this exchange
     (:data:`SENSORS`; the prototype measures all four); count (2, m) int, the exchanges a
-    cable's load cell has read low and its length has disagreed; lost (m,) int, 1 where a cable
-    is lost; bad (4,) int, 1 where a sensor is faulty; mode (1,) int, a :data:`MODES` value;
+    cable's load cell has read low, its length has disagreed and its motor's torque has left its
+    demand; lost (m,) int, 1 where a cable is lost; failed (m,) int, 1 where a winch's drive
+    has failed; bad (4,) int, 1 where a sensor is faulty; mode (1,) int, a :data:`MODES` value;
     since (1,) int, the step the reaction started; hold_x (3,), hold_R (3, 3): the pose the
     controller holds (park, stop), in C; last_x (3,), last_L (m,): the previous exchange's
     pose sensor's and encoders' readings; last_eta (3, 6): the MRU's last sound sample (what
@@ -273,9 +284,13 @@ class Safety(NamedTuple):
     mru_timeout_s: float
     park: bool
     stop_kd: float
+    current_fraction: float
+    current_steps: int
+    tau_max: np.ndarray
     present: np.ndarray
     count: np.ndarray
     lost: np.ndarray
+    failed: np.ndarray
     bad: np.ndarray
     mode: np.ndarray
     since: np.ndarray
@@ -299,14 +314,18 @@ class Safety(NamedTuple):
 def empty_safety(m: int, lo: np.ndarray, hi: np.ndarray, *, detect: bool = False, slack_fraction: float = 0.25,
                  slack_steps: int = 20, jump_m: float = 0.05, frozen_m: float = 0.02, disagree_m: float = 0.05,
                  disagree_steps: int = 20, mru_timeout_s: float = 0.5, park: bool = False,
-                 stop_kd: float = 4.0 * np.pi) -> Safety:
+                 stop_kd: float = 4.0 * np.pi, current_fraction: float = 0.2, current_steps: int = 20,
+                 tau_max=None) -> Safety:
     """A controller's safety record for m cables with tension limits lo, hi (m,), N, nothing
-    detected yet, every sensor present."""
+    detected yet, every sensor present; the motors' torque limits tau_max (m,), N m (default:
+    none, zeros: no motor watched)."""
     return Safety(detect=bool(detect), slack_fraction=float(slack_fraction), slack_steps=int(slack_steps),
                   jump_m=float(jump_m), frozen_m=float(frozen_m), disagree_m=float(disagree_m),
                   disagree_steps=int(disagree_steps), mru_timeout_s=float(mru_timeout_s), park=bool(park),
-                  stop_kd=float(stop_kd), present=np.ones(4, dtype=np.int64), count=np.zeros((2, m), dtype=np.int64),
-                  lost=np.zeros(m, dtype=np.int64), bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
+                  stop_kd=float(stop_kd), current_fraction=float(current_fraction), current_steps=int(current_steps),
+                  tau_max=np.zeros(m) if tau_max is None else np.array(np.broadcast_to(np.asarray(tau_max, dtype=float), (m,))),
+                  present=np.ones(4, dtype=np.int64), count=np.zeros((3, m), dtype=np.int64),
+                  lost=np.zeros(m, dtype=np.int64), failed=np.zeros(m, dtype=np.int64), bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
                   since=np.full(1, -1, dtype=np.int64), hold_x=np.zeros(3), hold_R=np.eye(3),
                   last_x=np.full(3, np.nan), last_L=np.full(m, np.nan), last_eta=np.full((3, 6), np.nan), moved_x=np.zeros(1), moved_L=np.zeros(m),
                   lo=np.array(lo, dtype=float), hi=np.array(hi, dtype=float),

@@ -349,7 +349,7 @@ def _limits(model, cmd):
 
 # ------------------------------------------------------------ detection and reaction
 _POSE, _CELL, _ENCODER, _MRU = 0, 1, 2, 3  # records.SENSORS
-_SLACK, _NON_FINITE, _FROZEN, _JUMP, _DISAGREE, _DROPOUT = 1, 2, 3, 4, 5, 6  # records.KINDS
+_SLACK, _NON_FINITE, _FROZEN, _JUMP, _DISAGREE, _DROPOUT, _DRIVE = 1, 2, 3, 4, 5, 6, 7  # records.KINDS
 _NORMAL, _GO_ON, _PARK, _STOP, _BRAKE = 0, 1, 2, 3, 4  # records.MODES
 
 
@@ -391,8 +391,10 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
     marks its sensor faulty; with a pose sensor, a cable whose encoder length stretched by
     its load cell's tension (less the plan's sag) differs from its length at the measured
     pose by ``disagree_m`` for ``disagree_steps`` exchanges marks the encoders and the pose
-    sensor as disagreeing; the MRU's sample older than ``mru_timeout_s`` marks it dropped out.
-    Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
+    sensor as disagreeing; the MRU's sample older than ``mru_timeout_s`` marks it dropped out; a
+    motor whose torque (from its drive's current) differs from its drive's demand by more than
+    ``current_fraction`` of its torque limit for ``current_steps`` exchanges marks its winch's
+    drive failed (stalled, or without power) and its cable lost to the tensions' solve. Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
     ratios to their thresholds before the first detection are kept in ``s.peak``. Returns the
     number of new detections. Reads ``cmd.T_cmd`` as the last exchange's command; may
     overwrite ``work.L`` and ``work.J``.
@@ -447,6 +449,22 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
                     _detected(s, k, _SLACK, -1, i)
             else:
                 s.count[0, i] = 0
+    # a motor's torque (its drive's current) far from its drive's demand, for the stated time
+    for i in range(m):
+        if not s.tau_max[i] > 0.0 or s.failed[i] != 0 or s.lost[i] != 0:
+            continue
+        r = abs(meas.tau[i] - meas.tau_set[i]) / (s.current_fraction * s.tau_max[i])
+        _residual(s, 5, r)
+        if r > 1.0:
+            s.count[2, i] += 1
+            if s.count[2, i] >= s.current_steps:
+                s.failed[i] = 1  # its brake commanded; its cable, no longer controlled, left out as a lost one's
+                s.lost[i] = 1
+                s.lo[i] = 0.0
+                s.hi[i] = 0.0
+                _detected(s, k, _DRIVE, -1, i)
+        else:
+            s.count[2, i] = 0
     # the pose sensor: a jump beyond the plan's move, or frozen while the plan moves
     if use_pose and s.bad[_POSE] == 0:
         if math.isfinite(s.last_x[0]):
@@ -554,7 +572,8 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
     within limits even for that, the stop: a = -stop_kd v (a wrench opposing the motion, to
     rest), or the largest share of that deceleration (1, 1/2, 1/4, 0: held at its velocity)
     within limits; where not even that, the brakes (``cmd.brake``), the remaining winches
-    holding the plan's tensions within their limits. Writes T_cmd, L0_cmd (the lengths at the
+    holding the plan's tensions within their limits. A winch whose drive has failed has its
+    brake commanded in any mode. Writes T_cmd, L0_cmd (the lengths at the
     held pose, or the plan's when going on) and brake; returns 1 once the reaction is the
     brakes, else 0.
     """
@@ -582,6 +601,9 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
         for i in range(m):
             cmd.T_cmd[i] = min(max(ref.T[k, i], s.lo[i]), s.hi[i])
             cmd.brake[i] = 1 - s.lost[i]
+    for i in range(m):  # a failed drive's brake holds its drum
+        if s.failed[i] != 0:
+            cmd.brake[i] = 1
     if mode == _GO_ON:
         for i in range(m):
             cmd.L0_cmd[i] = (unstretched_length(ref.L[k, i], cmd.T_cmd[i] - model.damping * ref.Ldot[k, i], model.EA)
@@ -596,7 +618,9 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
 @njit(cache=_cache, inline="always")
 def _choose_reaction(k, ref, s):
     """After a new detection: a lost cable goes on (or parks, with ``park``) until the rest
-    cannot hold the wrench; a faulty sensor parks; a stop or the brakes stay."""
+    cannot hold the wrench (a winch's failed drive, whose motor no longer does what its loop
+    asks, is such a loss: its brake holds its drum, :func:`react`); a faulty sensor parks; a
+    stop or the brakes stay."""
     mode = s.mode[0]
     if mode == _STOP or mode == _BRAKE:
         return

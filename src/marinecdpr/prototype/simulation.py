@@ -230,7 +230,7 @@ def simulate(
         carriage_drive=None if drive is None else DriveForce(
             t=t, force_N=drive.force, limit_N=scenario.ship.carriage.drive_force_max_N),
         detections=tuple(detections(watch, h)), reaction=reaction(watch),
-        residual_peaks={name: float(v) for name, v in zip(RESIDUALS, watch.peak)} if watched else {},
+        residual_peaks=_residual_peaks(scenario, watch) if watched else {},
         faults=_faults_acted(scenario, n), brakes_held=_brakes_held(asm, h),
     )
 
@@ -393,6 +393,13 @@ def kernels_cached(plant: str) -> bool:
     if mujoco_library():
         return compiled_cached(mujoco_loop)
     return compiled_cached(mujoco_exchange)  # MuJoCo's library not found: each exchange compiled
+
+
+def _residual_peaks(scenario: Scenario, watch) -> dict:
+    """The watched residuals' peaks by name (:data:`~marinecdpr.control.records.RESIDUALS`):
+    the motors' currents only where the winches are motor winches."""
+    motors = scenario.simulation.cables.winch == "motor"
+    return {name: float(v) for name, v in zip(RESIDUALS, watch.peak) if motors or name != "current"}
 
 
 def _diverged_message(scenario: Scenario, run: str, t: float) -> str:

@@ -488,6 +488,12 @@ class Safety(_Model):
     """... for this long: the encoders and the pose sensor disagree, s."""
     mru_timeout_s: _ranged(0.0, 60.0, "s", "a sample's age, not a sea's period", above=True) = 0.5
     """The motion reference unit has dropped out when its last sample is older than this, s."""
+    current_fraction: _ranged(0.0, 1.0, "", "a share of the motor's torque limit", above=True) = 0.2
+    """Motor winches: a motor whose torque (from its drive's current) differs from its drive's
+    demand by this share of its torque limit ..."""
+    current_delay_s: _ranged(0.0, 10.0, "s", "a detection's delay, not a minute") = 0.02
+    """... for this long has failed (stalled, or without power): its brake is commanded and its
+    cable is lost to the controller (``on_cable_loss``), s."""
     on_cable_loss: Literal["go_on", "park"] = "go_on"
     """Where the remaining cables still hold the wrench within their limits: go on along the
     plan with the lost cable's tension redistributed (go_on), or hold the pose where the loss

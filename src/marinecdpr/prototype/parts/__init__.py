@@ -126,7 +126,7 @@ SIGNALS = frozenset(Signals._fields) | {f"meas.{f}" for f in Measurement._fields
 """Every signal a part may read or write: the bus's fields and the measurement's."""
 PLANT_WRITES = frozenset({"x", "R", "v", "w"})
 """What the loop writes from the plant's state before the parts step."""
-STATE_SIGNALS = frozenset({"L0", "L0_drum", "T_hold", "T_app", "f_ext", "m_ext"})
+STATE_SIGNALS = frozenset({"L0", "L0_drum", "T_hold", "T_app", "f_ext", "m_ext", "meas.tau", "meas.tau_set"})
 """Signals that hold a value from t = 0 (the builder's context sets them): a part may read
 them where no part of the run writes them (e.g. no brush: f_ext stays zero)."""
 

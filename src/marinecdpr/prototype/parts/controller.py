@@ -18,6 +18,7 @@ from numba import cfunc, njit, typeof, types
 from numba.typed import List
 
 from marinecdpr.control.controller import step_function, types_only
+from marinecdpr.control.records import Measurement
 from marinecdpr.prototype.parts import part, part_step
 
 __all__ = ["ControllerPart", "LateController", "build", "pointer_step", "stand_in"]
@@ -28,7 +29,7 @@ def controller_step(k, h, part, bus):
     bus.fallbacks[0] += part.step(k, h, part.held)  # the records read in place from their list
 
 
-@part(step=controller_step, order=20, reads=tuple(f"meas.{f}" for f in ("x", "R", "v", "w", "L", "Ldot", "T", "eta", "clock")), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
+@part(step=controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
 class ControllerPart(NamedTuple):
     """The controller's records (:class:`~marinecdpr.control.records.ControllerParts`), held
     in a one-item typed list: the loop passes one pointer, not the records' ~90 arrays
@@ -87,7 +88,7 @@ def late_controller_step(k, h, part, bus):
     part_step(k, h, part.controller, bus)
 
 
-@part(step=late_controller_step, order=20, reads=tuple(f"meas.{f}" for f in ("x", "R", "v", "w", "L", "Ldot", "T", "eta", "clock")), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
+@part(step=late_controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
 class LateController(NamedTuple):
     """The controller (``controller``, a :class:`ControllerPart`) missing its deadline
     (``[[faults]]`` of kind ``controller_deadline``): k0, k1 (f,) int64 the exchanges from

@@ -54,7 +54,8 @@ def drive_step(k, h, part, bus, T_cmd, T_drum):
     """A motor winch part's tension loop (commanded drum tensions ``T_cmd`` (m,), N, on its
     load cells' ``part.T_meas``) and its motors over the step under the drums' tensions
     ``T_drum`` (m,), N; the steps limited counted; the bus's L0 (the drum's mean over the
-    step) and L0_drum (the drum's now) written."""
+    step) and L0_drum (the drum's now) written, and the measurement's motor torques (from the
+    drives' currents: the torques that acted) and the drives' demands, the same numbers."""
     drive = part.drive
     tension_control_step(drive, T_cmd, part.T_meas, part.Ldot_ref[k], part.Lddot_ref[k])
     if winch_motor_step(drive, drive.tau, T_drum, h) > 0:
@@ -63,9 +64,12 @@ def drive_step(k, h, part, bus, T_cmd, T_drum):
             if drive.limited[i] == OVERSPEED:
                 part.limited[1] += 1
                 break
+    meas = bus.meas
     for i in range(bus.T_cmd.shape[0]):  # L0 moved by -(r_d / G) h omega over the step
         bus.L0[i] = drive.L0[i] + 0.5 * drive.r[i] / drive.G[i] * h * drive.omega[i]
         bus.L0_drum[i] = drive.L0[i]
+        meas.tau[i] = drive.tau[i]  # a sound drive's current is its demand (after its limits)
+        meas.tau_set[i] = drive.tau[i]
 
 
 @njit(cache=True)
@@ -79,7 +83,8 @@ def motor_winch_step(k, h, part, bus):
     drive_step(k, h, part, bus, bus.T_cmd, bus.T_app)
 
 
-@part(step=motor_winch_step, order=45, reads=("T_cmd", "T_app", "cell_noise"), writes=("L0", "L0_drum"))
+@part(step=motor_winch_step, order=45, reads=("T_cmd", "T_app", "cell_noise"),
+      writes=("L0", "L0_drum", "meas.tau", "meas.tau_set"))
 class MotorWinch(NamedTuple):
     """The winches' motors: each drum driven through its gearbox by a motor with torque,
     speed and power limits, inertia and friction (:mod:`marinecdpr.model.winch`), its
@@ -115,7 +120,7 @@ def catenary_motor_winch_step(k, h, part, bus):
 
 
 @part(step=catenary_motor_winch_step, order=45, reads=("T_cmd", "T_app", "T_winch", "cell_noise"),
-      writes=("L0", "L0_drum"))
+      writes=("L0", "L0_drum", "meas.tau", "meas.tau_set"))
 class CatenaryMotorWinch(NamedTuple):
     """Motor winches (:class:`MotorWinch`'s drives, loops and limits) on sagging cables
     (``simulation.cables.model = "catenary"``): each drum turns under its catenary's
@@ -190,7 +195,10 @@ def faulty_motor_step(k, h, part, bus):
     winding in, whatever its loop commands (the drum reels in until the cable's pull balances
     the limit, and pays out where the pull exceeds it); a drum whose brake
     holds (k >= k_brake: a fault's, or the controller's command's after the brake's delay)
-    keeps the length it had paid out when the brake took hold, at rest."""
+    keeps the length it had paid out when the brake took hold, at rest. The measurement's
+    motor torques are the torques that acted (0 without power or braked, the stalled
+    motor's), the drives' demands the sound loops' (:func:`drive_step`; 0 where the brake holds:
+    the drive is disabled)."""
     drive, free = part.winch.drive, part.free
     m = drive.omega.shape[0]
     for i in range(m):
@@ -214,6 +222,7 @@ def faulty_motor_step(k, h, part, bus):
             drive.omega[i] = 0.0
             drive.L0[i] = part.L0_held[i]
             drive.tau[i] = 0.0
+            bus.meas.tau_set[i] = 0.0  # a drive whose brake holds is disabled: it asks for nothing
             bus.L0[i] = part.L0_held[i]
             bus.L0_drum[i] = part.L0_held[i]
         elif k >= part.k_power[i] or k >= part.k_stall[i]:
@@ -222,10 +231,11 @@ def faulty_motor_step(k, h, part, bus):
             drive.tau[i] = 0.0 if k >= part.k_power[i] else free.tau[i]
             bus.L0[i] = free.L0[i] + 0.5 * free.r[i] / free.G[i] * h * free.omega[i]
             bus.L0_drum[i] = free.L0[i]
+        bus.meas.tau[i] = drive.tau[i]  # the torque that acted; its demand is the sound loop's
 
 
 @part(step=faulty_motor_step, order=45, reads=("T_cmd", "T_app", "cell_noise", "brake"),
-      writes=("L0", "L0_drum"))  # heavy: T_winch too
+      writes=("L0", "L0_drum", "meas.tau", "meas.tau_set"))  # heavy: T_winch too
 class FaultyMotorWinch(NamedTuple):
     """Motor winches (``winch``: a :class:`MotorWinch` or :class:`CatenaryMotorWinch`; ``heavy``
     for the latter, whose drums carry ``T_winch``) some of which lose their motor's power or
