@@ -121,6 +121,7 @@ def test_a_stalled_motor_pulls_at_its_torque_limit_until_the_cable_balances_it()
     ({"model": "elastic", "stiffness_EA_N": EA, "winch": "tension"}, "winch_brake", "length-controlled or motor"),
     ({"model": "elastic", "stiffness_EA_N": EA}, "motor_power_loss", "needs motor winches"),
     ({"model": "elastic", "stiffness_EA_N": EA}, "winch_stall", "a winch_stall needs motor winches"),
+    ({"model": "ideal"}, "brake_failure", "needs a winch that pays out the cable"),
 ])
 def test_a_winch_fault_without_such_a_winch_is_refused_in_one_line(cables, kind, says):
     def edit(d):
@@ -159,7 +160,7 @@ def test_a_failed_primary_brake_leaves_the_drum_to_the_secondary():
 
 @pytest.mark.parametrize("fault, key, says", [
     ({"kind": "motor_power_loss", "cable": 1, "at_s": 0.5, "secondary_delay_s": 0.3}, "faults[1].secondary_delay_s",
-     "is for a winch_brake's secondary brake"),
+     "is for a secondary brake (winch_brake, brake_failure)"),
     ({"kind": "cable_snap", "cable": 1, "at_s": 0.5, "primary_fails": True}, "faults[1].primary_fails",
      "is for a winch_brake's primary brake"),
     ({"kind": "winch_brake", "cable": 1, "at_s": 0.5, "brake_delay_s": 0.3, "secondary_delay_s": 0.1},
@@ -206,3 +207,47 @@ def test_a_sound_motor_s_current_is_its_demand():
     for plant in ("own", "mujoco"):
         r = simulate(paper_on("motor", [], duration_s=1.0), run="closed_loop", plant=plant)
         assert r.detections == () and r.residual_peaks["current"] == 0.0
+
+
+@pytest.mark.parametrize("secondary_s, held_s", [(None, None), (0.3, 0.82)])
+def test_a_commanded_brake_whose_primary_fails_holds_by_its_secondary_or_not_at_all(secondary_s, held_s):
+    """Cable 1's motor stalls at 0.5 s and its brake's primary has failed from 0.1 s
+    (brake_failure): the watch finds the drive failed at 0.52 s and commands its brake; the
+    primary (0.2 s: 0.72 s) does not hold; a secondary of 0.3 s holds the drum from 0.82 s
+    (its length then as it was, to 1e-12 m), and without one the stalled drum is never held.
+    A primary that fails after the command held it: the brake holds at 0.72 s as before.
+    Both plants."""
+    for plant in ("own", "mujoco"):
+        failure = {"kind": "brake_failure", "cable": 1, "at_s": 0.1}
+        if secondary_s is not None:
+            failure["secondary_delay_s"] = secondary_s
+        r = simulate(paper_on("motor", [{"kind": "winch_stall", "cable": 1, "at_s": 0.5}, failure], duration_s=1.0),
+                     run="closed_loop", plant=plant)
+        assert (r.detections[0].step, r.detections[0].kind, r.detections[0].cable) == (520, "drive", 0)
+        held = dict(r.brakes_held)
+        if held_s is None:
+            assert 1 not in held
+        else:
+            assert held[1] == pytest.approx(held_s)
+            L0 = unstretched(r)[820:, 0]
+            taut = np.isfinite(L0)
+            assert taut.sum() >= 30
+            np.testing.assert_allclose(L0[taut], L0[taut][0], rtol=0.0, atol=1e-12)
+    late = simulate(paper_on("motor", [{"kind": "winch_stall", "cable": 1, "at_s": 0.5},
+                                       {"kind": "brake_failure", "cable": 1, "at_s": 0.6}], duration_s=1.0),
+                    run="closed_loop", plant="own")
+    assert dict(late.brakes_held)[1] == pytest.approx(0.72)
+
+
+@pytest.mark.parametrize("faults, field, says", [
+    ([{"kind": "brake_failure", "cable": 1, "at_s": 0.1, "secondary_delay_s": 0.1}], "faults[1].secondary_delay_s",
+     "before the primary brake's simulation.control.safety.brake_delay_s (0.2 s)"),
+    ([{"kind": "brake_failure", "cable": 2, "at_s": 0.1}, {"kind": "brake_failure", "cable": 2, "at_s": 0.3}],
+     "faults[2].cable", "winch 2's primary brake fails once"),
+    ([{"kind": "winch_stall", "cable": 1, "at_s": 0.1, "secondary_delay_s": 0.5}], "faults[1].secondary_delay_s",
+     "is for a secondary brake (winch_brake, brake_failure), not a winch_stall"),
+])
+def test_a_brake_failure_that_cannot_be_is_refused_in_one_line(faults, field, says):
+    with pytest.raises(ScenarioError) as err:
+        paper_on("motor", faults)
+    assert "\n" not in str(err.value) and field in str(err.value) and says in str(err.value)

@@ -22,7 +22,16 @@ Its primary and secondary brakes: with ``primary_fails = true`` the brake named 
 gives one, ``secondary_delay_s`` after ``at_s`` (its delay includes finding the primary
 failed); without a secondary, nothing holds the drum. A secondary with a sound primary never
 acts (the primary holds first). The brakes the controller commands are not those of this
-entry (they hold after ``[simulation.control.safety] brake_delay_s``).
+entry (they hold after ``[simulation.control.safety] brake_delay_s``; a ``brake_failure`` fails
+those).
+
+``brake_failure``: from ``at_s`` the primary brake of the cable's winch fails: a brake the
+controller commands on it (its reaction's, after ``[simulation.control.safety]
+brake_delay_s``) does not hold; a secondary brake, if given, holds the drum
+``secondary_delay_s`` after the command (its delay includes finding the primary failed; not
+before brake_delay_s); without one, nothing holds it. Elastic or catenary cables on a
+length-controlled or motor winch; it may strike a winch that has another fault (the brake
+that fault's reaction commands is then the one that fails).
 
 ``motor_power_loss``: from ``at_s`` the cable's motor gives no torque (motor winches): the
 drum runs under the cable's pull against the drive's inertia and friction
@@ -76,12 +85,12 @@ from marinecdpr.scenario.fields import CABLES_MAX, TIME_MAX_S, _KeyedError, _Mod
 
 __all__ = ["Fault", "FAULT_KINDS", "CABLELESS_FAULTS", "WINCH_FAULTS", "BRAKE_FAULTS", "SENSOR_FAULTS", "SENSOR_MODES", "MAX_FAULTS"]
 
-FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "load_cell", "encoder", "mru",
-               "brush_contact_loss", "controller_deadline")
+FAULT_KINDS = ("cable_snap", "winch_brake", "motor_power_loss", "winch_stall", "brake_failure", "load_cell", "encoder",
+               "mru", "brush_contact_loss", "controller_deadline")
 """The faults a scenario may list (``kind``)."""
 CABLELESS_FAULTS = ("mru", "brush_contact_loss", "controller_deadline")
 """The faults that strike no cable (the ship's motion reference unit, the brush, the controller)."""
-WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall")
+WINCH_FAULTS = ("winch_brake", "motor_power_loss", "winch_stall", "brake_failure")
 """The faults of a cable's winch."""
 BRAKE_FAULTS = ("winch_brake", "motor_power_loss")
 """The winch faults that take a ``brake_delay_s``."""
@@ -99,8 +108,9 @@ class Fault(_Model):
     kind: Literal[FAULT_KINDS]
     """What fails: "cable_snap" (the cable breaks), "winch_brake" (its winch's brake holds the
     drum), "motor_power_loss" (its winch's motor gives no torque), "winch_stall" (its motor
-    stuck at its torque limit), a sensor ("load_cell", "encoder", "mru"), "brush_contact_loss"
-    or "controller_deadline"."""
+    stuck at its torque limit), "brake_failure" (its primary brake fails when the controller
+    commands it), a sensor ("load_cell", "encoder", "mru"), "brush_contact_loss" or
+    "controller_deadline"."""
     cable: Annotated[int, Field(ge=1, le=CABLES_MAX, strict=True)] | None = None
     """Which cable (or its winch, its sensors), counted from 1 in the order of
     ``[[robot.cables]]`` (every kind but mru, brush_contact_loss and controller_deadline)."""
@@ -114,7 +124,8 @@ class Fault(_Model):
 
     secondary_delay_s: _ranged(0.0, 60.0, "s", "a brake that takes a minute holds nothing") | None = None
     """winch_brake: how long after ``at_s`` a secondary brake holds the drum if the primary
-    fails, s (none: no secondary brake)."""
+    fails; brake_failure: how long after the controller commands the brake; s (none: no
+    secondary brake)."""
     primary_fails: Annotated[bool, Field(strict=True)] | None = None
     """winch_brake: true, the primary brake fails to hold (the secondary, if any, holds); none
     or false, it holds."""
@@ -146,8 +157,9 @@ class Fault(_Model):
         if self.kind not in BRAKE_FAULTS and self.brake_delay_s is not None:
             raise _KeyedError("brake_delay_s", f"is for a winch's faults (winch_brake, motor_power_loss), not a "
                                                f"{self.kind}")
-        if self.kind != "winch_brake" and self.secondary_delay_s is not None:
-            raise _KeyedError("secondary_delay_s", f"is for a winch_brake's secondary brake, not a {self.kind}")
+        if self.kind not in ("winch_brake", "brake_failure") and self.secondary_delay_s is not None:
+            raise _KeyedError("secondary_delay_s", f"is for a secondary brake (winch_brake, brake_failure), not a "
+                                                   f"{self.kind}")
         if self.kind != "winch_brake" and self.primary_fails is not None:
             raise _KeyedError("primary_fails", f"is for a winch_brake's primary brake, not a {self.kind}")
         if (self.secondary_delay_s is not None and self.brake_delay_s is not None

@@ -601,6 +601,7 @@ class Scenario(_Model):
         m, end = self.robot.n_cables, self.time.duration_s
         snapped: set[int] = set()
         on_winch: set[int] = set()
+        failing: set[int] = set()
         for i, fault in enumerate(self.faults, start=1):
             if fault.cable is not None and fault.cable > m:
                 raise _KeyedError(f"faults[{i}].cable", f"the robot has {m} cables (counted from 1), got {fault.cable}")
@@ -626,6 +627,18 @@ class Scenario(_Model):
                 raise _KeyedError(f"faults[{i}].kind", f"a {fault.kind} needs a winch that pays out the cable: "
                                                        "elastic or catenary cables (simulation.cables.model) on "
                                                        "a length-controlled or motor winch")
+            if fault.kind == "brake_failure":  # beside the winch's other fault, if any: one a winch
+                delay = self.simulation.control.safety.brake_delay_s
+                if fault.secondary_delay_s is not None and fault.secondary_delay_s < delay:
+                    raise _KeyedError(f"faults[{i}].secondary_delay_s",
+                                      f"{fault.secondary_delay_s:g} s is before the primary brake's "
+                                      f"simulation.control.safety.brake_delay_s ({delay:g} s): the secondary holds "
+                                      "when the primary has failed")
+                if fault.cable in failing:
+                    raise _KeyedError(f"faults[{i}].cable", f"winch {fault.cable}'s primary brake fails once: it "
+                                                            "is listed twice")
+                failing.add(fault.cable)
+                continue
             if fault.cable in on_winch:
                 raise _KeyedError(f"faults[{i}].cable", f"winch {fault.cable} has one fault: it is listed twice")
             on_winch.add(fault.cable)

@@ -26,7 +26,7 @@ from marinecdpr.model.winch import OVERSPEED, WinchDrive, tension_control_step, 
 from marinecdpr.prototype.parts import part, part_step
 
 __all__ = ["LagWinch", "MotorWinch", "CatenaryMotorWinch", "BrakedLagWinch", "FaultyMotorWinch",
-           "MOTOR_LOOP_DAMPING", "fault_steps", "stall_steps", "build"]
+           "MOTOR_LOOP_DAMPING", "fault_steps", "stall_steps", "brake_failure_steps", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -146,10 +146,14 @@ NEVER = np.iinfo(np.int64).max
 def commanded_brakes(k, part, bus):
     """The controller's brake commands (``bus.brake``): a brake first commanded at exchange k
     holds its drum from k + ``part.delay`` on (``part.k_brake`` moved earlier where a fault's
-    brake would hold later)."""
+    brake would hold later); where its primary has failed (k >= ``part.k_fails``), from k +
+    ``part.secondary`` (the secondary brake's delay; NEVER: none holds)."""
     for i in range(part.k_brake.shape[0]):
-        if bus.brake[i] != 0 and part.k_brake[i] > k + part.delay:
-            part.k_brake[i] = k + part.delay
+        if bus.brake[i] == 0:
+            continue
+        d = part.delay if k < part.k_fails[i] else part.secondary[i]
+        if d != NEVER and part.k_brake[i] > k + d:
+            part.k_brake[i] = k + d
 
 
 @njit(cache=True)
@@ -176,7 +180,9 @@ class BrakedLagWinch(NamedTuple):
     their drums. k_brake (m,) int64: the exchange from which each brake holds (NEVER: never;
     a brake the controller commands at k holds from k + delay). held (m,) bool; L0_held (m,):
     the length each held drum keeps, m; L0_prev (m,): each drum's length after the last
-    exchange, m; delay : int, the brakes' delay from the controller's command, exchanges."""
+    exchange, m; delay : int, the brakes' delay from the controller's command, exchanges;
+    k_fails (m,) int64: the exchange from which each primary brake fails (NEVER: never);
+    secondary (m,) int64: then the secondary's delay from the command (NEVER: none)."""
 
     winch: LagWinch
     k_brake: np.ndarray
@@ -184,6 +190,8 @@ class BrakedLagWinch(NamedTuple):
     L0_held: np.ndarray
     L0_prev: np.ndarray
     delay: int
+    k_fails: np.ndarray
+    secondary: np.ndarray
 
 
 @njit(cache=True)
@@ -244,7 +252,8 @@ class FaultyMotorWinch(NamedTuple):
     (NEVER: never). free : WinchDrive, a copy of the drive stepped with the faulty motors'
     torques; tau_fault (m,): those torques (0 without power, tau_max stalled), N m (scratch);
     held (m,) bool; L0_held (m,), m; delay : int, the
-    brakes' delay from the controller's command (``bus.brake``), exchanges."""
+    brakes' delay from the controller's command (``bus.brake``), exchanges; k_fails, secondary
+    (m,) int64: as :class:`BrakedLagWinch`'s."""
 
     winch: object
     heavy: bool
@@ -256,6 +265,8 @@ class FaultyMotorWinch(NamedTuple):
     held: np.ndarray
     L0_held: np.ndarray
     delay: int
+    k_fails: np.ndarray
+    secondary: np.ndarray
 
 
 def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -279,6 +290,20 @@ def fault_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
             elif f.secondary_delay_s is not None:  # the secondary brake, the primary having failed
                 brake[f.cable - 1] = step(f.at_s + f.secondary_delay_s)
     return power, brake
+
+
+def brake_failure_steps(faults, m: int, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """From the scenario's ``brake_failure`` faults: the exchange from which each of m winches'
+    primary brake fails (the first with t_k = k h >= at_s, to 1e-9 of a step), and the
+    secondary's delay from a command in exchanges (rounded up); NEVER where not. Two (m,)
+    int64 arrays."""
+    fails, secondary = np.full(m, NEVER, dtype=np.int64), np.full(m, NEVER, dtype=np.int64)
+    for f in faults:
+        if f.kind == "brake_failure":
+            fails[f.cable - 1] = int(np.ceil(f.at_s / h - 1e-9))
+            if f.secondary_delay_s is not None:
+                secondary[f.cable - 1] = int(np.ceil(f.secondary_delay_s / h - 1e-9))
+    return fails, secondary
 
 
 def stall_steps(faults, m: int, h: float) -> np.ndarray:
@@ -305,14 +330,15 @@ def with_faults(context, winch):
     h = scenario.time.step_s
     power, brake = fault_steps(scenario.faults, m, h)
     delay = int(np.ceil(scenario.simulation.control.safety.brake_delay_s / h - 1e-9))
+    fails, secondary = brake_failure_steps(scenario.faults, m, h)
     if isinstance(winch, LagWinch):
         return BrakedLagWinch(winch=winch, k_brake=brake, held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
-                              L0_prev=context.bus.L0.copy(), delay=delay)
+                              L0_prev=context.bus.L0.copy(), delay=delay, k_fails=fails, secondary=secondary)
     d = winch.drive
     free = WinchDrive(*(np.array(a, copy=True) for a in d))
     return FaultyMotorWinch(winch=winch, heavy=isinstance(winch, CatenaryMotorWinch), k_power=power, k_brake=brake,
                             k_stall=stall_steps(scenario.faults, m, h), free=free, tau_fault=np.zeros(m), held=np.zeros(m, dtype=np.bool_), L0_held=np.zeros(m),
-                            delay=delay)
+                            delay=delay, k_fails=fails, secondary=secondary)
 
 
 MOTOR_LOOP_DAMPING = 0.7
