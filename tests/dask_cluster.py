@@ -1,0 +1,119 @@
+"""One Dask cluster shared by the tests of a test process (each xdist worker, or the one
+process of ``-n 0``) whose claim is that a study's results on Dask are its serial results:
+they pass its address as a running scheduler's (``Executor.at(address)``, ``--scheduler``)
+instead of each starting a local cluster of its own (~1.5-3 s of CPU each on the suite's two
+cores: the cluster's start, then the package, numpy, scipy and numba imported in each new
+worker). The tests of a local cluster's own start and teardown (``--workers``), of Ctrl-C
+and of a worker killed keep their own clusters.
+
+The cluster is the product's own local cluster (``executor._dask_client``: two worker
+processes of one thread, Ctrl-C ignored in them), started in a process of its own, in a
+session of its own: the test process's children (``multiprocessing.active_children()``,
+which tests/report/test_figures.py checks is empty) and its process group stay as they
+were. That process ends its cluster when its stdin closes: at the session's end, or when
+the test process dies however it dies. A test module uses it by importing the fixture::
+
+    from dask_cluster import dask_scheduler  # noqa: F401  (a fixture)
+
+    def test_on_dask(dask_scheduler):
+        Executor.at(dask_scheduler) ...
+"""
+
+from __future__ import annotations
+
+import os
+import select
+import signal
+import subprocess
+import sys
+import tempfile
+
+import pytest
+
+START_TIMEOUT_S = 300.0
+"""A hang guard for the cluster's start (a loaded machine takes seconds), not a speed check."""
+STOP_TIMEOUT_S = 60.0
+
+_shared: dict = {"users": 0, "process": None, "address": None, "log": None}
+"""The one cluster of this test process: each module that imports :func:`dask_scheduler`
+makes a fixture of its own (pytest caches a fixture per module that defines it), so they
+count their users here and the last to end stops it."""
+
+
+def _start() -> str:
+    log = tempfile.TemporaryFile()
+    process = subprocess.Popen([sys.executable, __file__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                               stderr=log, start_new_session=True)
+    _shared.update(process=process, log=log)
+    ready, _, _ = select.select([process.stdout], [], [], START_TIMEOUT_S)
+    address = process.stdout.readline().decode().strip() if ready else ""
+    if not address.startswith("tcp://"):
+        _stop()
+        log.seek(0)
+        raise RuntimeError(f"the shared Dask cluster did not start: {log.read().decode(errors='replace')[-4000:]}")
+    _shared["address"] = address
+    return address
+
+
+def _stop() -> None:
+    """Close its stdin (the cluster closes, its workers end), then make sure: whatever of its
+    session is left after :data:`STOP_TIMEOUT_S` is killed."""
+    process, log = _shared["process"], _shared["log"]
+    _shared.update(process=None, address=None, log=None)
+    if process is None:
+        return
+    try:
+        import psutil
+
+        family = [psutil.Process(process.pid), *psutil.Process(process.pid).children(recursive=True)]
+    except Exception:  # psutil missing, or the process gone already
+        family = []
+    process.stdin.close()
+    try:
+        process.wait(timeout=STOP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)  # its own session: its workers with it
+        process.wait()
+    if family:
+        import psutil
+
+        _, alive = psutil.wait_procs(family, timeout=STOP_TIMEOUT_S)
+        for p in alive:
+            p.kill()
+    process.stdout.close()
+    log.close()
+
+
+@pytest.fixture(scope="session")
+def dask_scheduler():
+    """The address (``tcp://127.0.0.1:PORT``) of this test process's shared Dask cluster:
+    two worker processes of one thread each, as a study's own local cluster."""
+    pytest.importorskip("dask.distributed")
+    if _shared["process"] is None:
+        _start()
+    _shared["users"] += 1
+    try:
+        yield _shared["address"]
+    finally:
+        _shared["users"] -= 1
+        if _shared["users"] == 0:
+            _stop()
+
+
+def _serve() -> None:
+    """The cluster's process: the product's local cluster of two workers; its address on
+    stdout; closed when stdin ends."""
+    out = os.fdopen(os.dup(1), "w")
+    os.dup2(2, 1)  # the workers' stdout (none expected) to the log, never to a pipe nobody reads
+    from marinecdpr.studies.executor import LOCAL_WORKERS, _dask_client
+
+    with _dask_client(None, LOCAL_WORKERS) as client:
+        print(client.scheduler_info()["address"], file=out, flush=True)
+        out.close()
+        sys.stdin.buffer.read()  # until the test process closes it, or ends
+
+
+if __name__ == "__main__":
+    here = os.path.dirname(os.path.abspath(__file__))  # the tests' helpers shadow nothing of the workers'
+    sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != here]
+    _serve()
