@@ -42,7 +42,7 @@ count their users here and the last to end stops it."""
 
 def _start() -> str:
     log = tempfile.TemporaryFile()
-    process = subprocess.Popen([sys.executable, __file__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+    process = subprocess.Popen([sys.executable, "-c", _SERVE], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                stderr=log, start_new_session=True)
     _shared.update(process=process, log=log)
     ready, _, _ = select.select([process.stdout], [], [], START_TIMEOUT_S)
@@ -100,20 +100,16 @@ def dask_scheduler():
             _stop()
 
 
-def _serve() -> None:
-    """The cluster's process: the product's local cluster of two workers; its address on
-    stdout; closed when stdin ends."""
-    out = os.fdopen(os.dup(1), "w")
-    os.dup2(2, 1)  # the workers' stdout (none expected) to the log, never to a pipe nobody reads
-    from marinecdpr.studies.executor import LOCAL_WORKERS, _dask_client
+_SERVE = """
+import os, sys
+out = os.fdopen(os.dup(1), "w")
+os.dup2(2, 1)  # the workers' stdout (none expected) to the log, never to a pipe nobody reads
+from marinecdpr.studies.executor import LOCAL_WORKERS, _dask_client
 
-    with _dask_client(None, LOCAL_WORKERS) as client:
-        print(client.scheduler_info()["address"], file=out, flush=True)
-        out.close()
-        sys.stdin.buffer.read()  # until the test process closes it, or ends
-
-
-if __name__ == "__main__":
-    here = os.path.dirname(os.path.abspath(__file__))  # the tests' helpers shadow nothing of the workers'
-    sys.path[:] = [p for p in sys.path if os.path.abspath(p or ".") != here]
-    _serve()
+with _dask_client(None, LOCAL_WORKERS) as client:
+    print(client.scheduler_info()["address"], file=out, flush=True)
+    out.close()
+    sys.stdin.buffer.read()  # until the test process closes it, or ends
+"""
+"""The cluster's process (``python -c``: its workers import no test module): the product's
+local cluster of two workers; its address on stdout; closed when stdin ends."""
