@@ -10,8 +10,9 @@ The cluster is the product's own local cluster (``executor._dask_client``: two w
 processes of one thread, Ctrl-C ignored in them), started in a process of its own, in a
 session of its own: the test process's children (``multiprocessing.active_children()``,
 which tests/report/test_figures.py checks is empty) and its process group stay as they
-were. That process ends its cluster when its stdin closes: at the session's end, or when
-the test process dies however it dies. A test module uses it by importing the fixture::
+were. At the session's end that session is killed, all of it; should the test process die
+first, however it dies, its stdin closes and it closes its cluster. A test module uses it
+by importing the fixture::
 
     from dask_cluster import dask_scheduler  # noqa: F401  (a fixture)
 
@@ -23,18 +24,21 @@ from __future__ import annotations
 
 import os
 import select
+import shutil
 import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 import pytest
 
 START_TIMEOUT_S = 300.0
 """A hang guard for the cluster's start (a loaded machine takes seconds), not a speed check."""
 STOP_TIMEOUT_S = 60.0
+"""A hang guard for its processes' end once killed."""
 
-_shared: dict = {"users": 0, "process": None, "address": None, "log": None}
+_shared: dict = {"users": 0, "process": None, "address": None, "log": None, "scratch": None}
 """The one cluster of this test process: each module that imports :func:`dask_scheduler`
 makes a fixture of its own (pytest caches a fixture per module that defines it), so they
 count their users here and the last to end stops it."""
@@ -42,46 +46,61 @@ count their users here and the last to end stops it."""
 
 def _start() -> str:
     log = tempfile.TemporaryFile()
+    scratch = tempfile.mkdtemp(prefix="marinecdpr-dask-")  # the workers' own folders, gone with them
     process = subprocess.Popen([sys.executable, "-c", _SERVE], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                               stderr=log, start_new_session=True)
-    _shared.update(process=process, log=log)
+                               stderr=log, start_new_session=True,
+                               env=dict(os.environ, DASK_TEMPORARY_DIRECTORY=scratch))
+    _shared.update(process=process, log=log, scratch=scratch)
     ready, _, _ = select.select([process.stdout], [], [], START_TIMEOUT_S)
     address = process.stdout.readline().decode().strip() if ready else ""
     if not address.startswith("tcp://"):
-        _stop()
         log.seek(0)
-        raise RuntimeError(f"the shared Dask cluster did not start: {log.read().decode(errors='replace')[-4000:]}")
+        said = log.read().decode(errors="replace")[-4000:]
+        _stop()
+        raise RuntimeError(f"the shared Dask cluster did not start: {said}")
     _shared["address"] = address
     return address
 
 
 def _stop() -> None:
-    """Close its stdin (the cluster closes, its workers end), then make sure: whatever of its
-    session is left after :data:`STOP_TIMEOUT_S` is killed."""
-    process, log = _shared["process"], _shared["log"]
-    _shared.update(process=None, address=None, log=None)
+    """Its whole session killed at once (a cluster's orderly close took 3-5 s at the suite's
+    end, for nothing kept), then waited for, its workers' folders removed."""
+    process, log, scratch = _shared["process"], _shared["log"], _shared["scratch"]
+    _shared.update(process=None, address=None, log=None, scratch=None)
     if process is None:
         return
     try:
         import psutil
 
-        family = [psutil.Process(process.pid), *psutil.Process(process.pid).children(recursive=True)]
-    except Exception:  # psutil missing, or the process gone already
+        family = psutil.Process(process.pid).children(recursive=True)
+    except Exception:  # psutil missing: the group's kill alone
         family = []
-    process.stdin.close()
+    alive = []
     try:
-        process.wait(timeout=STOP_TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)  # its own session: its workers with it
-        process.wait()
-    if family:
-        import psutil
-
-        _, alive = psutil.wait_procs(family, timeout=STOP_TIMEOUT_S)
-        for p in alive:
-            p.kill()
+        os.killpg(process.pid, signal.SIGKILL)  # not waited for yet: the group is still its own
+    except ProcessLookupError:
+        pass
+    process.wait()
+    for _ in range(int(STOP_TIMEOUT_S / 0.01)):  # its workers, orphans now: ended (pid 1 reaps them when it will)
+        alive = [p for p in family if _running(p)]
+        if not alive:
+            break
+        time.sleep(0.01)
+    assert not alive, f"the shared Dask cluster's processes outlived it: {alive}"
+    process.stdin.close()
     process.stdout.close()
     log.close()
+    shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _running(process) -> bool:
+    """Neither gone nor a zombie (killed, not yet reaped)."""
+    import psutil
+
+    try:
+        return process.is_running() and process.status() != psutil.STATUS_ZOMBIE
+    except psutil.NoSuchProcess:
+        return False
 
 
 @pytest.fixture(scope="session")
