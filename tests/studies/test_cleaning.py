@@ -348,6 +348,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.motion.trajectory import cleaning_path
 from marinecdpr.studies.cleaning import cleaning_job, cleaning_seas, evaluate_cleaning_cell, ship_side
 from marinecdpr.studies.operability import Cell, ScatterDiagram, cell_scenario
+from dask_cluster import dask_scheduler  # noqa: F401  (a fixture: the test process's shared Dask cluster)
 
 runner = CliRunner()
 # calm seas work; in 14 m, 10 s beam seas the ship's motion pushes the brush out of its force band;
@@ -409,13 +410,13 @@ def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
         {key(r): (r.operable, r.coverage_pct, r.tension_max_N) for r in again.sea.results}
 
 
-def test_on_dask_the_cleaning_job_gives_the_serial_results(small):
+def test_on_dask_the_cleaning_job_gives_the_serial_results(small, dask_scheduler):
     diagram = ScatterDiagram(np.array([0.5, 2.0]), np.array([6.0]), np.array([[0.5], [0.5]]))
     sc = small.with_changes(time={"duration_s": 2.0})
     from marinecdpr.studies.executor import Executor
 
     serial = cleaning_seas(sc, diagram, executor=Executor.serial())
-    dask = cleaning_seas(sc, diagram, executor=Executor.local(workers=2))
+    dask = cleaning_seas(sc, diagram, executor=Executor.at(dask_scheduler))  # two worker processes
     assert dask.sea.executor == "dask"
     assert [(r.operable, r.coverage_pct, r.tension_min_N, r.tension_max_N) for r in serial.sea.results] == \
         [(r.operable, r.coverage_pct, r.tension_min_N, r.tension_max_N) for r in dask.sea.results]

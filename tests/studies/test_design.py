@@ -27,6 +27,7 @@ from marinecdpr.studies.design import (  # noqa: E402
 from marinecdpr.studies.screen import screen_cells  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
 from tests.conftest import judged_once, one_candidate_study, one_line_exit_2, tiny_study_folder  # noqa: E402
+from dask_cluster import dask_scheduler  # noqa: E402, F401  (a fixture: the test process's shared Dask cluster)
 
 runner = CliRunner()
 SHIP_SIDE = Path(str(resources.files("marinecdpr") / "data" / "designs" / "ship_side.toml"))
@@ -499,18 +500,17 @@ def test_ctrl_c_keeps_the_candidates_and_resume_goes_on_to_the_same_study(tmp_pa
     one_line_exit_2(other, "--resume", "another study")
 
 
-def test_the_search_on_dask_judges_the_same_candidates(tiny):
-    """A local Dask cluster of two workers: the same candidates, in the same order, with the
-    same figures as the serial search (the same seed; the tiny study, 2 generations of 4: the
-    claim holds for any study)."""
-    pytest.importorskip("dask.distributed")
+def test_the_search_on_dask_judges_the_same_candidates(tiny, dask_scheduler):
+    """A Dask cluster of two workers (the suite's shared one): the same candidates, in the same
+    order, with the same figures as the serial search (the same seed; the tiny study, 2
+    generations of 4: the claim holds for any study)."""
     path, spec, template, cells = tiny
     spec = spec.model_copy(update={"population": 4, "generations": 2})
     serial = search(spec, template, cells)
     assert len(serial.evaluations) == 8
     from marinecdpr.studies.executor import Executor
 
-    dask = search(spec, template, cells, executor=Executor.local(workers=2))
+    dask = search(spec, template, cells, executor=Executor.at(dask_scheduler))
     assert [e.__dict__ for e in dask.evaluations] == [e.__dict__ for e in serial.evaluations]
     assert dask.front == serial.front
 

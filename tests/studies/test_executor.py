@@ -14,6 +14,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.studies.executor import (AUTO_DASK_MIN_STEPS, LOCAL_WORKERS, NO_DASK_NOTE, WORKERS_PER_CORE,
                                          Executor, ExecutorError)
 from marinecdpr.studies.operability import Cell, evaluate_cell
+from dask_cluster import dask_scheduler  # noqa: F401  (a fixture: the test process's shared Dask cluster)
 from test_operability import sea_robot
 
 
@@ -104,15 +105,17 @@ CELLS = [Cell(index=k, hs=hs, tp=tp, heading_deg=h, probability=0.25)
 KW = dict(margin_N=5.0, duration_s=30.0, step_s=0.05, realisations=2)
 
 
-def test_serial_and_a_local_cluster_give_the_same_results_to_the_bit():
-    pytest.importorskip("dask.distributed")
+def test_serial_and_a_dask_cluster_give_the_same_results_to_the_bit(dask_scheduler):
+    """On a running Dask cluster of two worker processes (the suite's shared one: a local
+    cluster's own start and teardown are test_every_executor_gives_the_same_files' and
+    test_a_piece_that_kills_its_workers_is_one_line's)."""
     template = sea_robot()
     serial = Executor.serial().map(evaluate_cell, template, CELLS, KW)
     # against the function called by hand: the executor adds nothing (repr: every float to
     # the bit, and NaN equal to NaN)
     assert repr(serial) == repr([evaluate_cell(template, c, **KW) for c in CELLS])
     seen, each = [], {}
-    with Executor.local(workers=2).session() as session:
+    with Executor.at(dask_scheduler).session() as session:
         on_dask = session.map(evaluate_cell, template, CELLS, KW, progress=lambda d, n: seen.append((d, n)),
                               each=lambda k, r: each.setdefault(k, r))
         again = session.map(evaluate_cell, template, CELLS[::-1], KW)   # the same cluster, another order
@@ -139,9 +142,9 @@ def test_serial_and_a_local_cluster_give_the_same_results_to_the_bit():
     assert all(np.isfinite(r.min_margin_N) for r in serial)
     assert seen == [(1, 3), (2, 3), (3, 3)] and sorted(each) == [0, 1, 2]
     assert all(each[k] is on_dask[k] for k in each)
-    # a piece's error reaches the caller as itself, and the cluster is torn down
+    # a piece's error reaches the caller as itself
     with pytest.raises(ValueError, match="realisations must be at least 1, got 0"):
-        Executor.local(workers=1).map(evaluate_cell, template, CELLS[:1], KW | {"realisations": 0})
+        Executor.at(dask_scheduler).map(evaluate_cell, template, CELLS[:1], KW | {"realisations": 0})
 
 
 def test_a_piece_that_kills_its_workers_is_one_line():

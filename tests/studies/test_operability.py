@@ -11,6 +11,7 @@ import pytest
 from marinecdpr import ScenarioError
 from marinecdpr.studies.operability import ScatterDiagram, operability, read_scatter_csv
 from marinecdpr.scenario.loading import scenario_from_dict
+from dask_cluster import dask_scheduler  # noqa: F401  (a fixture: the test process's shared Dask cluster)
 
 SHORT = dict(duration_s=120.0, step_s=0.05)
 
@@ -79,20 +80,17 @@ def test_a_sea_states_verdict_does_not_depend_on_the_other_sea_states_asked_for(
     assert np.abs(heave(other, 0) - heave(sea_robot(), 0)).max() > 0.05
 
 
-def test_dask_gives_the_serial_results():
-    """A running Dask scheduler (--scheduler ADDRESS: a real cluster of two worker processes):
-    the same verdicts and margins, to the bit, with progress after each piece. (The local
-    cluster an executor starts itself, --workers, is test_every_executor_gives_the_same_files':
-    the command's files the same byte for byte.)"""
-    from dask.distributed import LocalCluster
-
+def test_dask_gives_the_serial_results(dask_scheduler):
+    """A running Dask scheduler (--scheduler ADDRESS: a real cluster of two worker processes,
+    the suite's shared one): the same verdicts and margins, to the bit, with progress after
+    each piece. (The local cluster an executor starts itself, --workers, is
+    test_every_executor_gives_the_same_files': the command's files the same byte for byte.)"""
     diagram = ScatterDiagram(np.array([0.5, 3.0]), np.array([6.0, 10.0]), np.full((2, 2), 0.25))
     kw = dict(headings_deg=(180.0, 120.0), realisations=2, **SHORT)
     serial = operability(sea_robot(), diagram, executor=Executor.serial(), **kw)
     seen = []
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        parallel = operability(sea_robot(), diagram, executor=Executor.at(cluster.scheduler_address),
-                               progress=lambda done, total: seen.append((done, total)), **kw)
+    parallel = operability(sea_robot(), diagram, executor=Executor.at(dask_scheduler),
+                           progress=lambda done, total: seen.append((done, total)), **kw)
     assert parallel.executor == "dask"
     assert [(r.operable, r.fraction_feasible, r.min_margin_N) for r in serial.results] == \
         [(r.operable, r.fraction_feasible, r.min_margin_N) for r in parallel.results]

@@ -65,6 +65,17 @@ FORGOTTEN_RETRIES = 2
 """How many times a session sends again the pieces of work a Dask cluster cancelled (forgot:
 a worker lost, or the client's link to the scheduler timed out on a loaded machine)."""
 
+LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False}
+"""Dask configuration set while a local cluster starts (its workers keep it): no sampling
+profiler in the workers. Each worker's profiler walks its running piece's stack every
+10 ms, for the dashboard's profile, which nobody reads during a study. Without it a 2-worker
+study took less CPU, the command and its workers together (interleaved pairs of fresh runs,
+--workers 2, on the 2-core machine shared with other work, 2026-12-07; the same files to the
+byte): operability paper_sea --duration 120 --headings 180,90, 1.8-4.7 s less of ~30 s in 4
+of 5 pairs, 0.8 s more in one (mean -2.1 s, -7 %); clean paper_clean --seas over 4 sea states
+of 10 s, 0.6-2.0 s less of ~12 s in 5 of 5 pairs (-7 %). Wall times drifted too much on the
+shared machine to tell."""
+
 AUTO_DASK_MIN_STEPS = 20_000_000
 """:meth:`Executor.auto` runs serially below this many time steps of work in all (a
 sea-state study's cells x steps per cell, :func:`~marinecdpr.studies.operability.study_steps`),
@@ -455,6 +466,7 @@ def _dask_client(scheduler: str | None, workers: int):
         Dask is not installed (an executor made while it was).
     """
     try:
+        import dask
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise ScenarioError("Dask is not installed: pip install 'marinecdpr[dask]'") from None
@@ -470,7 +482,7 @@ def _dask_client(scheduler: str | None, workers: int):
         # started first, here: the thread that starts it is left with SIGINT unblocked, and
         # the workers that thread would start with it (see _sigint_deferred)
         resource_tracker.ensure_running()
-        with _sigint_deferred():
+        with _sigint_deferred(), dask.config.set(LOCAL_CLUSTER_CONFIG):  # the nannies pass it to their workers
             # the scheduler's HTTP server on a free port (None still binds 8787: two studies at
             # once, as the suite's two workers run them, printed distributed's "port in use")
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
