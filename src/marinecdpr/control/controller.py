@@ -547,7 +547,8 @@ class Controller:
             Motor winches: each motor's torque from its drive's current and the drive's torque
             demand, N m (motor side), both or neither; the fault detection watches their
             difference (``current_fraction`` of the torque limit for ``current_delay_s``: the
-            drive has failed: its brake is commanded and its cable lost, ``on_cable_loss``).
+            drive has failed: its cable is lost to the controller, ``on_cable_loss``, the others
+            holding the pull its load cell reads).
 
         Returns
         -------

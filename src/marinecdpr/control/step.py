@@ -275,13 +275,16 @@ def _required_wrench(k, model, loads, work, a_SO):
 
 
 @njit(cache=_cache)
-def _tensions_for(k, h, eta, how, blind, hold_x, hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, lost, lo, hi, ref,
+def _tensions_for(k, h, eta, how, blind, hold_x, hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, lost, known, lo, hi,
+                  ref,
                   model, loads, meas, cmd, work, predictor):
     """The state at mid-step (:func:`estimate_state` from the MRU's sample eta (3, 6), ``how``
     a ``Gains.prediction``; where ``blind``, the pose ``hold_x``, ``hold_R`` at rest instead),
     computed torque with gains kp, kd on the error to the target (x_t, R_t, v_t, w_t, a_t,
     al_t), the wrench it needs (eq. 15) and the tension method within lo, hi (m,), the cables
-    where ``lost`` (m,) is non-zero left out (their rows of J~ zeroed): T_cmd. True where
+    where ``lost`` (m,) is non-zero left out (their rows of J~ zeroed), the wrench of the
+    tension ``known`` (m,), N, that such a cable still pulls with (a failed drive's, from its
+    load cell; 0 for a broken one) taken from the wrench the others hold (J~^T T = w): T_cmd. True where
     within the limits. The one solve of the normal step and of every reaction, compiled once
     (inlined at each of their call sites, it cost seconds of compiling each)."""
     a_SO = estimate_state(k, h, meas, eta, ref, work, how, predictor)
@@ -297,6 +300,7 @@ def _tensions_for(k, h, eta, how, blind, hold_x, hold_R, kp, kd, x_t, R_t, v_t, 
     for i in range(cmd.T_cmd.shape[0]):
         if lost[i] != 0:
             for j in range(6):
+                work.wrench[j] -= work.J[i, j] * known[i]
                 work.J[i, j] = 0.0
     # every method, exact for any redundancy, compiled (the planning layer's solvers)
     return tensions_step(work.J, work.wrench, model.controlled, lo, hi, model.method, cmd.T_cmd, work.tension)
@@ -317,7 +321,7 @@ def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predicto
     reaction's: one compiled solve for both)."""
     x_t, R_t = ref.x[k], ref.R[k]
     if _tensions_for(k, h, meas.eta, gains.prediction, _blind(gains, s), x_t, R_t, gains.kp, gains.kd, x_t, R_t,
-                     ref.v[k], ref.w[k], ref.a[k], ref.al[k], s.lost, model.lo, model.hi, ref, model, loads, meas, cmd,
+                     ref.v[k], ref.w[k], ref.a[k], ref.al[k], s.lost, s.known, model.lo, model.hi, ref, model, loads, meas, cmd,
                      work, predictor):
         return 0
     for i in range(cmd.T_cmd.shape[0]):  # element by element: a slice copy compiles numba's shape-error text (1.4 s)
@@ -394,7 +398,8 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
     sensor as disagreeing; the MRU's sample older than ``mru_timeout_s`` marks it dropped out; a
     motor whose torque (from its drive's current) differs from its drive's demand by more than
     ``current_fraction`` of its torque limit for ``current_steps`` exchanges marks its winch's
-    drive failed (stalled, or without power) and its cable lost to the tensions' solve. Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
+    drive failed (stalled, or without power): its cable is lost to the tensions' solve, the
+    tension its load cell reads taken as known (``s.known``). Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
     ratios to their thresholds before the first detection are kept in ``s.peak``. Returns the
     number of new detections. Reads ``cmd.T_cmd`` as the last exchange's command; may
     overwrite ``work.L`` and ``work.J``.
@@ -458,13 +463,17 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
         if r > 1.0:
             s.count[2, i] += 1
             if s.count[2, i] >= s.current_steps:
-                s.failed[i] = 1  # its brake commanded; its cable, no longer controlled, left out as a lost one's
-                s.lost[i] = 1
+                s.failed[i] = 1  # its cable no longer controlled: lost to the solve, its measured
+                s.lost[i] = 1  # tension's wrench taken from what the others hold (below)
                 s.lo[i] = 0.0
                 s.hi[i] = 0.0
                 _detected(s, k, _DRIVE, -1, i)
         else:
             s.count[2, i] = 0
+    for i in range(m):  # a failed drive's cable still pulls: with what its load cell reads
+        if s.failed[i] != 0:
+            T = meas.T[i] if (s.present[_CELL] != 0 and s.bad[_CELL] == 0) else 0.0
+            s.known[i] = T if (math.isfinite(T) and T > 0.0) else 0.0
     # the pose sensor: a jump beyond the plan's move, or frozen while the plan moves
     if use_pose and s.bad[_POSE] == 0:
         if math.isfinite(s.last_x[0]):
@@ -551,7 +560,7 @@ def _reaction_tensions(k, h, mode, scale, ref, model, gains, loads, meas, cmd, w
     if s.bad[_MRU] != 0:  # the MRU's last sound sample, as it is
         eta, how = s.last_eta, 0
     return _tensions_for(k, h, eta, how, _blind(gains, s), s.hold_x, s.hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t,
-                         s.lost, s.lo, s.hi, ref, model, loads, meas, cmd, work, predictor)
+                         s.lost, s.known, s.lo, s.hi, ref, model, loads, meas, cmd, work, predictor)
 
 
 _SCALES = (1.0, 0.5, 0.25, 0.0)
@@ -572,8 +581,8 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
     within limits even for that, the stop: a = -stop_kd v (a wrench opposing the motion, to
     rest), or the largest share of that deceleration (1, 1/2, 1/4, 0: held at its velocity)
     within limits; where not even that, the brakes (``cmd.brake``), the remaining winches
-    holding the plan's tensions within their limits. A winch whose drive has failed has its
-    brake commanded in any mode. Writes T_cmd, L0_cmd (the lengths at the
+    holding the plan's tensions within their limits. A winch whose drive has failed is such a
+    lost cable, whose measured pull the others hold besides the wrench (``s.known``). Writes T_cmd, L0_cmd (the lengths at the
     held pose, or the plan's when going on) and brake; returns 1 once the reaction is the
     brakes, else 0.
     """
@@ -601,9 +610,6 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
         for i in range(m):
             cmd.T_cmd[i] = min(max(ref.T[k, i], s.lo[i]), s.hi[i])
             cmd.brake[i] = 1 - s.lost[i]
-    for i in range(m):  # a failed drive's brake holds its drum
-        if s.failed[i] != 0:
-            cmd.brake[i] = 1
     if mode == _GO_ON:
         for i in range(m):
             cmd.L0_cmd[i] = (unstretched_length(ref.L[k, i], cmd.T_cmd[i] - model.damping * ref.Ldot[k, i], model.EA)
@@ -619,8 +625,8 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
 def _choose_reaction(k, ref, s):
     """After a new detection: a lost cable goes on (or parks, with ``park``) until the rest
     cannot hold the wrench (a winch's failed drive, whose motor no longer does what its loop
-    asks, is such a loss: its brake holds its drum, :func:`react`); a faulty sensor parks; a
-    stop or the brakes stay."""
+    asks, is such a loss, its cable's measured pull held by the others); a faulty sensor
+    parks; a stop or the brakes stay."""
     mode = s.mode[0]
     if mode == _STOP or mode == _BRAKE:
         return

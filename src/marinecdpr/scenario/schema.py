@@ -492,8 +492,8 @@ class Safety(_Model):
     """Motor winches: a motor whose torque (from its drive's current) differs from its drive's
     demand by this share of its torque limit ..."""
     current_delay_s: _ranged(0.0, 10.0, "s", "a detection's delay, not a minute") = 0.02
-    """... for this long has failed (stalled, or without power): its brake is commanded and its
-    cable is lost to the controller (``on_cable_loss``), s."""
+    """... for this long has failed (stalled, or without power): its cable is lost to the
+    controller (``on_cable_loss``), the others holding its measured pull besides the wrench, s."""
     on_cable_loss: Literal["go_on", "park"] = "go_on"
     """Where the remaining cables still hold the wrench within their limits: go on along the
     plan with the lost cable's tension redistributed (go_on), or hold the pose where the loss
