@@ -21,7 +21,7 @@ from marinecdpr.commands import clean as command
 from marinecdpr.commands.clean import CleanSpec
 from marinecdpr.errors import ScenarioError
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 
@@ -94,7 +94,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"scenario", "out"}
     assert options == set(CleanSpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = CleanSpec.default(name)
         assert (CleanSpec(**{name: default}).model_dump()[name] if default is not None else None) == spec_default
 

@@ -16,6 +16,7 @@ from marinecdpr.commands import SpecError
 from marinecdpr.commands import control_study as command
 from marinecdpr.commands.control_study import ControlStudySpec
 from marinecdpr.studies import control
+from command_pages import cli_default
 
 
 @pytest.mark.parametrize("options, flag, words", [
@@ -39,7 +40,7 @@ def test_the_command_line_s_and_the_study_s_defaults_are_the_spec_s():
     params = {p.name: p for p in typer.main.get_command(app).commands["control-study"].params}
     assert set(params) - {"scenario", "out"} == set(ControlStudySpec.model_fields)
     for name in ControlStudySpec.model_fields:
-        given = params[name].default
+        given = cli_default(params[name])
         assert (ControlStudySpec(**{name: given}).model_dump()[name] if given is not None else None) \
             == ControlStudySpec.default(name), name
     study = inspect.signature(control.control_study).parameters

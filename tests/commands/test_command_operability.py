@@ -24,6 +24,7 @@ from marinecdpr.commands.operability import OperabilitySpec
 from marinecdpr.errors import ScenarioError
 from marinecdpr.studies.executor import NO_DASK_NOTE, Executor
 from marinecdpr.studies.operability import REALISATIONS, study_steps
+from command_pages import cli_default
 
 runner = CliRunner()
 DOC = Path(__file__).resolve().parents[2] / "docs" / "commands" / "operability.md"
@@ -153,7 +154,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"scenario", "out"}
     assert options == set(OperabilitySpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = OperabilitySpec.default(name)
         assert (OperabilitySpec(**{name: default}).model_dump()[name] if default is not None else None) == spec_default
     assert OperabilitySpec.default("realisations") == REALISATIONS

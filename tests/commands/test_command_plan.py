@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
-from command_pages import assert_table_is_the_spec, run_page
+from command_pages import assert_table_is_the_spec, cli_default, run_page
 from marinecdpr.cli.app import app
 from marinecdpr.commands import SpecError
 from marinecdpr.commands import plan as command
@@ -51,7 +51,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     params = {p.name: p for p in typer.main.get_command(app).commands["plan"].params}
     assert set(params) - {"scenario", "out"} == set(PlanSpec.model_fields)
     for name in PlanSpec.model_fields:
-        assert params[name].default == PlanSpec.default(name), name
+        assert cli_default(params[name]) == PlanSpec.default(name), name
 
 
 def test_a_plan_too_long_for_the_machine_is_refused_before_any_work(tmp_path):

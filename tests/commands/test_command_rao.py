@@ -17,7 +17,7 @@ from marinecdpr.commands import SpecError
 from marinecdpr.commands import rao as command
 from marinecdpr.commands.rao import MAX_RAO_FREQUENCIES, RaoSpec
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 BOX = {"length": 40.0, "beam": 10.0, "draught": 3.0, "gm": 1.0}
@@ -78,7 +78,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"out"}
     assert options == set(RaoSpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = RaoSpec.default(name)
         given = {} if name in ("mesh", "kg") else BOX
         if default is None:

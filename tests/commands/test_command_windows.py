@@ -18,7 +18,7 @@ from marinecdpr.commands import windows as command
 from marinecdpr.commands.windows import WindowsSpec
 from marinecdpr.errors import ScenarioError
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 HS = [1.0, 1.0, 3.0, 1.0, 1.0, 1.0, 3.0, 3.0, 1.0, 1.0]  # hourly; under 2 m at 0-2, 3-6, 8-10 h
@@ -70,7 +70,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     assert options == set(WindowsSpec.model_fields)
     assert params["duration_h"].required and WindowsSpec.model_fields["duration_h"].is_required()
     for name in options - {"duration_h"}:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = WindowsSpec.default(name)
         given = {"duration_h": 1.0, "hs_limit": 1.0} if name != "hs_limit" else {"duration_h": 1.0,
                                                                                    "operability": "x.json"}
