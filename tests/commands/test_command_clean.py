@@ -198,6 +198,7 @@ def _short_band(tmp_path: Path) -> Path:
     return path
 
 
+@pytest.mark.figures
 def test_the_surface_from_python_is_what_the_command_writes(tmp_path):
     """On a short band (the stern's 15 m: the curved end, placements cut to its flare), the
     command's files are the run's from Python byte for byte."""
@@ -236,10 +237,12 @@ def test_the_seas_from_python_are_what_the_command_writes(paper_clean, tmp_path)
 
 
 # ------------------------------------------------------------------ the page
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_and_defaults():
     assert_table_is_the_spec("clean", CleanSpec)
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written(tmp_path, monkeypatch):
     ns = run_page("clean", tmp_path, monkeypatch)
     result, est = ns["result"], ns["est"]

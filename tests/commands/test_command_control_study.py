@@ -67,6 +67,7 @@ def test_the_estimate_checks_the_spec_against_the_scenario():
     assert err.value.flag == "--encoder-resolution"
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     from command_pages import assert_table_is_the_spec, run_page
 

@@ -166,6 +166,7 @@ def test_the_command_line_names_the_flag_of_a_bad_spec_field(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_with_its_defaults():
     rows = re.findall(r"^\| `--([a-z-]+)` \| ([^|]*) \|", DOC.read_text(encoding="utf-8"), flags=re.M)
     table = {flag.replace("-", "_"): said.strip().strip("`") for flag, said in rows}

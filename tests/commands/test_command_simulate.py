@@ -108,6 +108,7 @@ def test_a_bypassed_controller_is_the_result_s_verdict():
     assert s["closed_loop"]["controller_fallbacks"] > 0.01 * 201 and s["runs_controller_bypassed"] == ["closed_loop"]
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     assert_table_is_the_spec("simulate", SimulateSpec)
     ns = run_page("simulate", tmp_path, monkeypatch)

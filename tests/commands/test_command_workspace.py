@@ -102,6 +102,7 @@ def test_every_command_reads_headings_by_one_rule(tmp_path, command, extra, give
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     from command_pages import assert_table_is_the_spec, run_page
 
