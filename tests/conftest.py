@@ -105,6 +105,23 @@ def paper_plan(paper):
     return marinecdpr.plan(paper)
 
 
+@pytest.fixture(autouse=True)
+def figures_only_where_marked(request):
+    """The library's defaults table (:mod:`marinecdpr.defaults`) with ``report.figures`` off
+    for each test, so that a command run in this process draws no PNG (most of the suite checks
+    numbers, CSVs, JSON and lines); a test marked ``@pytest.mark.figures`` keeps the figures on.
+    The table as it was is put back after the test. Commands run as subprocesses keep the
+    shipped default (figures on)."""
+    from marinecdpr import defaults
+
+    before = dict(defaults.defaults)
+    if request.node.get_closest_marker("figures") is None:
+        defaults.set_defaults("report", figures=False)
+    yield
+    defaults.defaults.clear()
+    defaults.defaults.update(before)
+
+
 @pytest.fixture()
 def captured_figures(monkeypatch):
     """The figures the report functions draw, by file name, kept open instead of saved (closed

@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
@@ -13,6 +14,7 @@ from marinecdpr.cli.app import app
 runner = CliRunner()
 
 
+@pytest.mark.figures
 def test_plan_writes_the_csv_and_figure(tmp_path, paper, paper_plan):
     res = runner.invoke(app, ["plan", "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.output

@@ -18,6 +18,7 @@ runner = CliRunner()
 FILES = {"faults.csv", "summary.json", "faults.png", "report.html", MANIFEST}
 
 
+@pytest.mark.figures
 @pytest.mark.parametrize("name", sorted(marinecdpr.builtin_scenarios()))
 def test_every_builtin_scenario_through_the_command(name, tmp_path):
     """Each built-in's cables 1 and 2 snapping at its hardest moments within its first 1.2 s,

@@ -72,6 +72,7 @@ def test_every_builtin_scenario_is_in_the_list():
     assert set(marinecdpr.builtin_scenarios()) <= set(SCENARIOS)
 
 
+@pytest.mark.figures
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_every_scenario_and_base_motion_through_every_command(name, tmp_path):
     """Item 1: simulate crashed on sea-state and recorded motion; every base-motion type
@@ -293,6 +294,7 @@ def test_an_interrupted_run_leaves_the_previous_run_whole(tmp_path, monkeypatch,
     assert json.loads((out / "summary.json").read_text())["scenario"] == "paper"
 
 
+@pytest.mark.figures
 def test_a_new_run_replaces_every_file_of_the_previous_one_and_nothing_else(tmp_path, paper_run):
     out = tmp_path / "out"
     shutil.copytree(paper_run[1], out)  # the previous run, beside a file of the user's
@@ -336,6 +338,7 @@ def test_an_output_folder_that_cannot_be_written_fails_before_the_work(command, 
 
 
 # ---------------------------------------------------------------- item 5: file modes
+@pytest.mark.figures
 def test_output_files_honour_the_umask(tmp_path):
     old = os.umask(0o022)
     try:

@@ -59,7 +59,8 @@ def test_a_command_s_options_are_its_spec_s_fields_with_its_defaults(command):
         if spec.model_fields[field].is_required():  # required of the command line too
             assert param.required, (command, field)
             continue
-        default = param.default.value if hasattr(param.default, "value") else param.default  # an enum's member
+        default = param.default() if callable(param.default) else param.default  # read as the command runs
+        default = default.value if hasattr(default, "value") else default  # an enum's member
         if field in base:
             assert default == spec.default(field), (command, field, default, spec.default(field))
             continue

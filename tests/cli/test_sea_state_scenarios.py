@@ -5,6 +5,7 @@ import tomllib
 from importlib import resources
 
 import numpy as np
+import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
@@ -40,6 +41,7 @@ def test_sea_state_scenario_simulates():
     assert np.abs(res.pose_error[:, :3]).max() < 1e-5
 
 
+@pytest.mark.figures
 def test_workspace_command(tmp_path):
     res = runner.invoke(app, ["workspace", "paper", "--duration", "1", "--step", "0.05", "--points", "8x6",
                               "--out", str(tmp_path)])
@@ -51,6 +53,7 @@ def test_workspace_command(tmp_path):
     assert bad.exit_code == 2 and "--points 8: expected two positive integers" in bad.stderr
 
 
+@pytest.mark.figures
 def test_operability_command(tmp_path):
     scatter = tmp_path / "scatter.csv"
     scatter.write_text("hs_m,tp_s,probability\n0.5,7,0.7\n1.5,9,0.3\n")

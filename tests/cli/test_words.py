@@ -104,6 +104,7 @@ from marinecdpr.cli.app import app
 runner = CliRunner()
 
 
+@pytest.mark.figures
 def test_windows_names_its_folder_and_says_1_day(tmp_path):
     out = tmp_path / "o"
     res = runner.invoke(app, ["windows", "--duration-h", "6", "--hs-limit", "2.5", "--days", "1,3,0.5",
@@ -122,7 +123,7 @@ def test_control_study_names_its_folder(tmp_path, monkeypatch):
     monkeypatch.setattr(control, "control_study", lambda *a, **k: SimpleNamespace(runs=[], bypassed=[]))
     monkeypatch.setattr(control, "ship_prediction_error", lambda *a, **k: None)
     monkeypatch.setattr(writers, "write_control_study",
-                        lambda result, prediction, folder: (None, [Path(folder) / "control_study.csv"]))
+                        lambda result, prediction, folder, figures=True: (None, [Path(folder) / "control_study.csv"]))
     out = tmp_path / "o"
     res = runner.invoke(app, ["control-study", "paper_sea", "--latencies", "0", "--predictions", "none",
                               "--pose-from", "sensor", "--duration", "20", "--out", str(out)], terminal_width=2000)

@@ -11,6 +11,12 @@ from pathlib import Path
 PAGES = Path(__file__).resolve().parents[2] / "docs" / "commands"
 
 
+def cli_default(param) -> object:
+    """A command line option's default as the command reads it when it runs (a default read
+    from the library's defaults table, ``--figures``, is a function click calls then)."""
+    return param.default() if callable(param.default) else param.default
+
+
 def page(command: str) -> str:
     """``docs/commands/<command>.md``'s text."""
     return (PAGES / f"{command}.md").read_text(encoding="utf-8")

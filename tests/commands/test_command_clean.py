@@ -21,7 +21,7 @@ from marinecdpr.commands import clean as command
 from marinecdpr.commands.clean import CleanSpec
 from marinecdpr.errors import ScenarioError
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 
@@ -94,7 +94,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"scenario", "out"}
     assert options == set(CleanSpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = CleanSpec.default(name)
         assert (CleanSpec(**{name: default}).model_dump()[name] if default is not None else None) == spec_default
 
@@ -198,6 +198,7 @@ def _short_band(tmp_path: Path) -> Path:
     return path
 
 
+@pytest.mark.figures
 def test_the_surface_from_python_is_what_the_command_writes(tmp_path):
     """On a short band (the stern's 15 m: the curved end, placements cut to its flare), the
     command's files are the run's from Python byte for byte."""
@@ -236,10 +237,12 @@ def test_the_seas_from_python_are_what_the_command_writes(paper_clean, tmp_path)
 
 
 # ------------------------------------------------------------------ the page
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_and_defaults():
     assert_table_is_the_spec("clean", CleanSpec)
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written(tmp_path, monkeypatch):
     ns = run_page("clean", tmp_path, monkeypatch)
     result, est = ns["result"], ns["est"]

@@ -16,6 +16,7 @@ from marinecdpr.commands import SpecError
 from marinecdpr.commands import control_study as command
 from marinecdpr.commands.control_study import ControlStudySpec
 from marinecdpr.studies import control
+from command_pages import cli_default
 
 
 @pytest.mark.parametrize("options, flag, words", [
@@ -39,7 +40,7 @@ def test_the_command_line_s_and_the_study_s_defaults_are_the_spec_s():
     params = {p.name: p for p in typer.main.get_command(app).commands["control-study"].params}
     assert set(params) - {"scenario", "out"} == set(ControlStudySpec.model_fields)
     for name in ControlStudySpec.model_fields:
-        given = params[name].default
+        given = cli_default(params[name])
         assert (ControlStudySpec(**{name: given}).model_dump()[name] if given is not None else None) \
             == ControlStudySpec.default(name), name
     study = inspect.signature(control.control_study).parameters
@@ -66,6 +67,7 @@ def test_the_estimate_checks_the_spec_against_the_scenario():
     assert err.value.flag == "--encoder-resolution"
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     from command_pages import assert_table_is_the_spec, run_page
 

@@ -94,6 +94,7 @@ def test_a_sea_state_on_a_scenario_without_one_is_refused():
     assert err.value.flag == "--hs"
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     """docs/commands/faults.md: its example flies cable 1 of paper_clean snapping at the two
     moments of its first 2 s, each leaving the frame (four cables); its table is the spec."""

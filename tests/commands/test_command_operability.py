@@ -24,6 +24,7 @@ from marinecdpr.commands.operability import OperabilitySpec
 from marinecdpr.errors import ScenarioError
 from marinecdpr.studies.executor import NO_DASK_NOTE, Executor
 from marinecdpr.studies.operability import REALISATIONS, study_steps
+from command_pages import cli_default
 
 runner = CliRunner()
 DOC = Path(__file__).resolve().parents[2] / "docs" / "commands" / "operability.md"
@@ -115,6 +116,7 @@ def test_the_estimate_refuses_before_any_work(scatter, tmp_path, monkeypatch):
     assert big.steps >= 20_000_000 and big.executor.why == "no dask" and big.executor.note == NO_DASK_NOTE
 
 
+@pytest.mark.figures
 def test_a_run_from_python_is_what_the_command_writes(scatter, tmp_path):
     """The typed result's sea states and summary, and the command's operability.csv and .json:
     the same, value for value."""
@@ -153,7 +155,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"scenario", "out"}
     assert options == set(OperabilitySpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = OperabilitySpec.default(name)
         assert (OperabilitySpec(**{name: default}).model_dump()[name] if default is not None else None) == spec_default
     assert OperabilitySpec.default("realisations") == REALISATIONS
@@ -172,6 +174,7 @@ def _table(doc: str) -> dict[str, str]:
     return {flag.replace("-", "_"): default.strip().strip("`") for flag, default in rows}
 
 
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_with_its_defaults():
     table = _table(DOC.read_text(encoding="utf-8"))
     assert set(table) == set(OperabilitySpec.model_fields)

@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 import marinecdpr
-from command_pages import assert_table_is_the_spec, run_page
+from command_pages import assert_table_is_the_spec, cli_default, run_page
 from marinecdpr.cli.app import app
 from marinecdpr.commands import SpecError
 from marinecdpr.commands import plan as command
@@ -51,7 +51,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     params = {p.name: p for p in typer.main.get_command(app).commands["plan"].params}
     assert set(params) - {"scenario", "out"} == set(PlanSpec.model_fields)
     for name in PlanSpec.model_fields:
-        assert params[name].default == PlanSpec.default(name), name
+        assert cli_default(params[name]) == PlanSpec.default(name), name
 
 
 def test_a_plan_too_long_for_the_machine_is_refused_before_any_work(tmp_path):
@@ -67,6 +67,7 @@ def test_a_plan_too_long_for_the_machine_is_refused_before_any_work(tmp_path):
     assert est.size.n_steps == sc.time.n_steps == 15001 and est.describe().startswith("size: paper: 15,001 steps")
 
 
+@pytest.mark.figures
 def test_a_run_from_python_writes_what_the_command_writes(tmp_path):
     """The run's files are the command's, byte for byte; its figures are the CSV's own."""
     scen = short_paper(tmp_path)
@@ -123,6 +124,7 @@ def test_an_infeasible_plan_fails_unless_allowed(tmp_path):
     assert (tmp_path / "s" / "plan.csv").read_bytes() == (tmp_path / "l" / "plan.csv").read_bytes()
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     assert_table_is_the_spec("plan", PlanSpec)
     ns = run_page("plan", tmp_path, monkeypatch)

@@ -17,7 +17,7 @@ from marinecdpr.commands import SpecError
 from marinecdpr.commands import rao as command
 from marinecdpr.commands.rao import MAX_RAO_FREQUENCIES, RaoSpec
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 BOX = {"length": 40.0, "beam": 10.0, "draught": 3.0, "gm": 1.0}
@@ -78,7 +78,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"out"}
     assert options == set(RaoSpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = RaoSpec.default(name)
         given = {} if name in ("mesh", "kg") else BOX
         if default is None:
@@ -110,6 +110,7 @@ def _same_nc(a: Path, b: Path) -> None:
     assert x.identical(y)
 
 
+@pytest.mark.figures
 def test_a_run_from_python_writes_what_the_command_writes(tmp_path):
     pytest.importorskip("capytaine")
     spec = RaoSpec(**BOX, panel=5.0, omega="0.3:1.2:3", headings="90,180")
@@ -162,10 +163,12 @@ def test_the_box_as_a_mesh_from_python_gives_the_box_s_raos(tmp_path):
     _same_nc(tmp_path / "py" / "rao.nc", tmp_path / "cli" / "rao.nc")
 
 
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_and_defaults():
     assert_table_is_the_spec("rao", RaoSpec)
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written(tmp_path, monkeypatch):
     pytest.importorskip("capytaine")
     ns = run_page("rao", tmp_path, monkeypatch)

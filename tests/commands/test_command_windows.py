@@ -18,7 +18,7 @@ from marinecdpr.commands import windows as command
 from marinecdpr.commands.windows import WindowsSpec
 from marinecdpr.errors import ScenarioError
 
-from command_pages import assert_table_is_the_spec, options_table, page, run_page
+from command_pages import assert_table_is_the_spec, cli_default, options_table, page, run_page
 
 runner = CliRunner()
 HS = [1.0, 1.0, 3.0, 1.0, 1.0, 1.0, 3.0, 3.0, 1.0, 1.0]  # hourly; under 2 m at 0-2, 3-6, 8-10 h
@@ -70,7 +70,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     assert options == set(WindowsSpec.model_fields)
     assert params["duration_h"].required and WindowsSpec.model_fields["duration_h"].is_required()
     for name in options - {"duration_h"}:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = WindowsSpec.default(name)
         given = {"duration_h": 1.0, "hs_limit": 1.0} if name != "hs_limit" else {"duration_h": 1.0,
                                                                                    "operability": "x.json"}
@@ -107,6 +107,7 @@ def test_the_estimate_reads_the_series_and_the_limits_at_the_heading(series, tmp
     assert "illustrative" in command.estimate(WindowsSpec(duration_h=2.0, hs_limit=2.0)).series_name
 
 
+@pytest.mark.figures
 def test_a_run_from_python_writes_what_the_command_writes(series, tmp_path):
     """Windows by hand: under 2 m at 0-2, 3-6 and 8-10 h, all at least 2 h long; from each
     hourly start the wait is 0, 2, 1, 0, 0, 3, 2, 1, 0 h and none from 9 h (8-10 h ends with
@@ -130,6 +131,7 @@ def test_a_run_from_python_writes_what_the_command_writes(series, tmp_path):
     assert json.loads((tmp_path / "py" / "summary.json").read_text()) == json.loads(json.dumps(s))
 
 
+@pytest.mark.figures
 def test_the_page_lists_the_spec_s_options_and_defaults():
     """Every option but the required --duration-h with its default; that one said required."""
     assert set(options_table("windows")) == set(WindowsSpec.model_fields) - {"duration_h"}
@@ -162,6 +164,7 @@ def windy(tmp_path) -> Path:
     return path
 
 
+@pytest.mark.figures
 def test_a_wind_limit_closes_a_window_in_the_files_and_the_line(windy, tmp_path):
     """By hand: under Hs 2 m and 12 m/s the samples at 0, 1, 3, 5, 8, 9 h are workable (the
     wind, 15 m/s, closes 4 h): windows 0-2, 3-4, 5-6, 8-10, of them 0-2 and 8-10 fit 2 h.

@@ -15,6 +15,7 @@ from marinecdpr.cli.app import app
 from marinecdpr.commands import SpecError
 from marinecdpr.commands import workspace as command
 from marinecdpr.commands.workspace import WorkspaceSpec
+from command_pages import cli_default
 
 runner = CliRunner()
 
@@ -50,7 +51,7 @@ def test_the_command_line_s_defaults_are_the_spec_s():
     options = set(params) - {"scenario", "out"}
     assert options == set(WorkspaceSpec.model_fields)
     for name in options:
-        default = params[name].default
+        default = cli_default(params[name])
         spec_default = WorkspaceSpec.default(name)
         assert (WorkspaceSpec(**{name: default}).model_dump()[name] if default is not None else None) == spec_default
 
@@ -101,6 +102,7 @@ def test_every_command_reads_headings_by_one_rule(tmp_path, command, extra, give
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.figures
 def test_the_page_runs_as_written_and_lists_the_spec(tmp_path, monkeypatch):
     from command_pages import assert_table_is_the_spec, run_page
 

@@ -14,7 +14,7 @@ DOC = Path(__file__).resolve().parents[2] / "docs" / "python.md"
 
 def test_the_python_page_runs_as_written_and_its_results_hold(tmp_path, monkeypatch):
     blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S)
-    assert len(blocks) == 4
+    assert len(blocks) == 5
     monkeypatch.chdir(tmp_path)
     ns: dict = {}
     for block in blocks:
@@ -27,6 +27,9 @@ def test_the_python_page_runs_as_written_and_its_results_hold(tmp_path, monkeypa
         written = np.array([float(r["fraction_feasible"]) for r in csv.DictReader(fh)])
     np.testing.assert_array_equal(written, frac.ravel())
     assert (tmp_path / "out" / "my_workspace.png").stat().st_size > 1000
+    # figures off from the defaults table: the map's CSV alone; a wrong key refused in one line
+    assert ns["numbers_only"] == [Path("out") / "numbers" / "workspace.csv"]
+    assert ns["refused"] == "marinecdpr defaults: no key 'report.figure'; the keys are report.figures"
     # the bad option, as the page says
     assert ns["said"] == ("axes", "xq", "expected two different letters of x, y, z")
     # 20 ms late without prediction tracks worse than on time (the ship moves meanwhile)

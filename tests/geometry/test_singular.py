@@ -154,6 +154,7 @@ def test_check_warns_once_per_survey_with_the_layouts_hint_once(singular_files):
     assert quiet.exit_code == 0 and "warning" not in quiet.stderr
 
 
+@pytest.mark.figures
 def test_plan_writes_its_files_and_exits_3_naming_the_singular_pose(singular_files, tmp_path):
     res = runner.invoke(app, ["plan", str(singular_files["paper"]), "--out", str(tmp_path)])
     assert res.exit_code == 3, res.output

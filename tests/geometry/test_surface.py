@@ -195,6 +195,7 @@ def test_a_mesh_side_gives_the_analytic_form_s_placements(tmp_path, paper_clean)
         surface_job(off, move_time_s=600.0)
 
 
+@pytest.mark.figures
 def test_clean_surface_writes_the_placements_and_their_hours(tmp_path, monkeypatch):
     """The figures of docs/cleaning.md for paper_clean's band: 2 660 placements, 497 h with moves of 600 s;
     the frame (1.9 x 1.4 m, its anchors' extent) and the panel it cleans (1.3 x 0.8 m) each

@@ -94,6 +94,7 @@ def test_the_box_approximation_against_bem_in_numbers(bem):
     assert 2.5 <= ratio <= 5.0
 
 
+@pytest.mark.figures
 def test_the_command_writes_what_the_scenario_reads(tmp_path):
     res = runner.invoke(app, ["rao", "--length", "100", "--beam", "20", "--draught", "6", "--gm", "2", "--panel", "8",
                               "--omega", "0.3:1.2:4", "--headings", "90,180", "--out", str(tmp_path / "r")])

@@ -7,7 +7,7 @@ from pathlib import Path
 import marinecdpr
 
 PACKAGE = Path(marinecdpr.__file__).parent
-LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed", "compiled_cache", "starting"), ("geometry",), ("scenario",), ("motion",), ("model",),
+LAYERS = (("errors", "textfiles", "memory", "forked", "borrowed", "compiled_cache", "starting", "defaults"), ("geometry",), ("scenario",), ("motion",), ("model",),
           ("planning",), ("control",), ("prototype",), ("studies",), ("report",), ("commands",), ("cli",))
 
 

@@ -178,6 +178,7 @@ def test_streamed_plan_files_are_the_in_memory_ones(tmp_path, mass, duration):
     assert summary.infeasibility() == whole.infeasibility()
 
 
+@pytest.mark.figures
 def test_plan_command_writes_in_chunks_without_the_whole_plan(tmp_path, monkeypatch):
     from marinecdpr.planning import planner as planning
     from marinecdpr.report.writers import write_plan_csv

@@ -166,6 +166,7 @@ def test_spatial_robot_on_both_plants():
 runner = CliRunner()
 
 
+@pytest.mark.figures
 def test_simulate_command_writes_the_report(tmp_path):
     res = runner.invoke(app, ["simulate", "--duration", "0.4", "--out", str(tmp_path)])
     assert res.exit_code == 0, res.output

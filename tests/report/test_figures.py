@@ -23,6 +23,8 @@ import marinecdpr.report.writers as writers
 from marinecdpr.report.figures import RUN_TITLES, decimate
 from marinecdpr.prototype.simulation import RUNS, SimResult
 
+pytestmark = pytest.mark.figures  # the module is about the figures: drawn in every test
+
 N = 15_001
 COLUMNS = 1210  # the 11-inch figures at 110 dpi
 

@@ -151,6 +151,7 @@ def _used(folder: Path) -> str:
     return subprocess.run(["df", "--output=used", str(folder)], capture_output=True, text=True).stdout.split()[-1]
 
 
+@pytest.mark.figures
 @pytest.mark.parametrize("args", [
     ["plan", "paper"],
     ["simulate", "paper", "--duration", "0.3"],
@@ -242,6 +243,7 @@ def test_plan_into_simulate_s_folder_is_refused_and_keeps_its_files(tmp_path):
     assert [p.name for p in out.glob(".staging-*")] == []
 
 
+@pytest.mark.figures
 def test_the_same_command_replaces_its_own_files(tmp_path):
     out = tmp_path / "out"
     (out).mkdir()
@@ -254,6 +256,7 @@ def test_the_same_command_replaces_its_own_files(tmp_path):
     assert (out / "notes.txt").read_text() == "mine"  # a file no run wrote is never touched
 
 
+@pytest.mark.figures
 def test_another_command_refused_in_windows_folder_then_free_once_its_files_are_gone(tmp_path):
     out = tmp_path / "out"
     win = runner.invoke(app, ["windows", "--duration-h", "6", "--hs-limit", "2", "--out", str(out)])

@@ -429,6 +429,7 @@ def test_cleaning_seas_needs_a_sea_state_and_a_cleaning_job(small):
         cleaning_seas(marinecdpr.load_scenario("paper_sea"), DIAGRAM)
 
 
+@pytest.mark.figures
 def test_clean_seas_writes_what_it_found_and_refuses_bad_options(small, tmp_path):
     csv = tmp_path / "diagram.csv"
     csv.write_text("hs_m,tp_s,probability\n0.5,6,0.6\n10,14,0.4\n")

@@ -259,6 +259,7 @@ def test_the_search_s_front_is_the_enumeration_s_and_the_seed_repeats_it(tmp_pat
     assert len(judged) == 6  # each combination judged once, by the search, the enumeration or both
 
 
+@pytest.mark.figures
 def test_design_writes_its_files_and_the_finalists_run(tmp_path):
     """The small study's files (on the 10 x 3 m band: the files and their agreement on any
     surface; its template's robot the paper's)."""

@@ -16,7 +16,8 @@ from typing import Optional
 import typer
 
 from marinecdpr.cli.common import (compile_notice, console, err_console, fail_bypassed, fail_scenario,
-                                   fail_spec, load, output, percent, plain, run_errors, spec_of, styled)
+                                   fail_spec, figures_option, load, output, percent, plain, run_errors, spec_of,
+                                   styled)
 from marinecdpr.cli.progress import progress_bar, task_progress
 from marinecdpr.cli.seas import print_sea_table
 from marinecdpr.commands.base import SpecError
@@ -67,6 +68,7 @@ def clean(
                                             help="With --seas: a running Dask scheduler at this address."),
     compare: bool = typer.Option(CleanSpec.default("compare"), "--compare/--no-compare", help="Also fly the job in "
                                  "calm water and without the brush's drag, and set the figures side by side."),
+    figures: bool = figures_option("coverage.png, cleaning.png (surface.png, sea_states.png) and the report's images"),
 ) -> None:
     """The cleaning job: plan the coverage path over the panel, fly it closed loop in the
     scenario's sea, and measure the cleaned area from the simulated brush; beside it the
@@ -77,7 +79,7 @@ def clean(
     spec = spec_of(CleanSpec, plant=plant, duration=duration, guarantee=guarantee, hull_area=hull_area,
                    move_time=move_time, surface=surface, rail=rail, rail_mode=rail_mode, seas=seas, scatter=scatter, headings=headings,
                    coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
-                   scheduler=scheduler, compare=compare)
+                   scheduler=scheduler, compare=compare, figures=figures)
     sc = load(scenario, None, None)
     try:  # before any work: no cleaning job, no sea state, a diagram that cannot be read, too big, the executor
         est = command.estimate(spec, sc)

@@ -9,8 +9,8 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import (compile_notice, console, fail_bypassed, fail_spec, load, output, plain, run_errors,
-    spec_of)
+from marinecdpr.cli.common import (compile_notice, console, fail_bypassed, fail_spec, figures_option, load, output, plain,
+    run_errors, spec_of)
 from marinecdpr.cli.progress import task_progress
 from marinecdpr.commands.control_study import ControlStudySpec
 
@@ -36,6 +36,7 @@ def control_study(
     plant: str = typer.Option(ControlStudySpec.default("plant"), "--plant", help="own or mujoco."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for control_study.csv/.png, prediction.csv, "
                                                               "summary.json."),
+    figures: bool = figures_option("control_study.png"),
 ) -> None:
     """What the ship-motion sensor's latency costs in tracking and tension margin, with the
     ship's motion predicted or not, and the pose from a pose sensor or the winches' encoders;
@@ -44,7 +45,8 @@ def control_study(
     from marinecdpr.commands.base import SpecError
 
     spec = spec_of(ControlStudySpec, latencies=latencies, predictions=predictions, pose_from=pose_from, rate=rate,
-                 encoder_resolution=encoder_resolution, duration=duration, settle=settle, plant=plant)
+                 encoder_resolution=encoder_resolution, duration=duration, settle=settle, plant=plant,
+                 figures=figures)
     sc = load(scenario, None, None)
     try:  # before any work: what the scenario cannot take, and runs the machine cannot hold or finish
         est = command.estimate(spec, sc)

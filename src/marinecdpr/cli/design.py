@@ -14,7 +14,7 @@ from typing import Optional
 import typer
 
 from marinecdpr.cli.common import (EXIT_INTERRUPTED, Plant, compile_notice, console, count, err_console, fail,
-    fail_spec, output, plain, run_errors, spec_of)
+    fail_spec, figures_option, output, plain, run_errors, spec_of)
 from marinecdpr.cli.progress import progress_bar, seconds
 from marinecdpr.commands.base import SpecError
 from marinecdpr.commands.design import JOURNAL, DesignCommandSpec
@@ -48,6 +48,7 @@ def design(
                                           "the finalists' sea states (default: the candidates here, the sea states on "
                                           "Dask when they are many)."),
     scheduler: Optional[str] = typer.Option(_default("scheduler"), help="A running Dask scheduler's address for both."),
+    figures: bool = figures_option("pareto.png, convergence.png, finalists.png and the report's images"),
 ) -> None:
     """Design a robot for a ship: search the frame, platform, winches, rope and tool that clean
     the study's surface in the fewest expected hours for the power installed, in its seas, and
@@ -55,7 +56,8 @@ def design(
     from marinecdpr.commands import design as command
 
     options = spec_of(DesignCommandSpec, population=population, generations=generations, seed=seed, resume=resume,
-                      verify=verify, plant=plant, serial=serial, workers=workers, scheduler=scheduler)
+                      verify=verify, plant=plant, serial=serial, workers=workers, scheduler=scheduler,
+                      figures=figures)
     journal = out / JOURNAL  # beside the staged files: an interrupted run keeps it
     try:  # before any work: the study, the executors, the journal a --resume goes on from
         est = command.estimate(options, spec, journal=journal)
@@ -94,7 +96,8 @@ def design(
                 with run_errors(spec):
                     checked = command.verify(options, est, study,
                                              progress=lambda d, tot: bar.update(task, completed=d, total=tot))
-        result = command.DesignResult(study=study, template=template, verified=tuple(checked), cells=len(cells))
+        result = command.DesignResult(study=study, template=template, verified=tuple(checked), cells=len(cells),
+                                      figures=options.figures)
         paths = [out / p.relative_to(folder) for p in result.write(folder)]
     ev, b = study.evaluations, study.baseline
     console.print(plain(f"{study_spec.name}: {count(len(ev), 'candidate')} ({sum(e.feasible for e in ev)} "

@@ -9,7 +9,8 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import compile_notice, console, fail_spec, load, output, plain, run_errors, spec_of
+from marinecdpr.cli.common import (compile_notice, console, fail_spec, figures_option, load, output, plain, run_errors,
+    spec_of)
 from marinecdpr.cli.progress import task_progress
 from marinecdpr.commands.faults import KINDS, FaultsSpec
 
@@ -48,6 +49,7 @@ def faults(
                                        help="Exchanges a late controller's commands are held."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for faults.csv/.png, summary.json, "
                                                               "report.html."),
+    figures: bool = figures_option("faults.png and the report's image"),
 ) -> None:
     """What each single fault does at the job's hardest moments: a cable that snaps, a
     winch's brake or motor, a sensor, the controller's deadline, each flown closed loop with
@@ -57,7 +59,7 @@ def faults(
 
     spec = spec_of(FaultsSpec, kinds=kinds, cables=cables, at=at, after=after, duration=duration, plant=plant, hs=hs,
                    tp=tp, heading=heading, sensor_mode=sensor_mode, drift=drift, brake_delay=brake_delay,
-                   deadline_steps=deadline_steps)
+                   deadline_steps=deadline_steps, figures=figures)
     sc = load(scenario, None, None)
     with run_errors(scenario):
         try:  # before any flight: the options against the scenario, the job planned, the moments chosen

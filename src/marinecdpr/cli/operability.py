@@ -10,8 +10,8 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import (compile_notice, console, count, err_console, fail_scenario, fail_spec, interval,
-    load, output, percent, plain, spec_of, warn_singular)
+from marinecdpr.cli.common import (compile_notice, console, count, err_console, fail_scenario, fail_spec,
+    figures_option, interval, load, output, percent, plain, spec_of, warn_singular)
 from marinecdpr.cli.progress import progress_bar
 from marinecdpr.cli.seas import print_sea_table
 from marinecdpr.commands.base import SpecError
@@ -48,6 +48,7 @@ def operability(
                                             "(e.g. 12x8) instead of the trajectory."),
     min_area: float = typer.Option(_default("min_area"), min=0.0, max=1.0, help="With --workspace: share of the "
                                    "frame's poses that must stay feasible."),
+    figures: bool = figures_option("operability.png"),
 ) -> None:
     """In which sea states, over a scatter diagram, can the robot work?
 
@@ -59,7 +60,7 @@ def operability(
 
     spec = spec_of(OperabilitySpec, scatter=scatter, headings=headings, margin=margin, duration=duration, step=step,
                    realisations=realisations, serial=serial, workers=workers, scheduler=scheduler,
-                   max_error=max_error, workspace=workspace, min_area=min_area)
+                   max_error=max_error, workspace=workspace, min_area=min_area, figures=figures)
     sc = load(scenario, None, None)
     try:  # before any work: the diagram, the largest sea state's size, the executor
         est = command.estimate(spec, sc)

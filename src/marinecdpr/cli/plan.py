@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 from rich.table import Table
 
-from marinecdpr.cli.common import (EXIT_INFEASIBLE, console, err_console, fail_scenario, load, output, plain, spec_of,
-    styled)
+from marinecdpr.cli.common import (EXIT_INFEASIBLE, console, err_console, fail_scenario, figures_option, load, output,
+    plain, spec_of, styled)
 from marinecdpr.commands.plan import PlanSpec
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.fields import TENSION_METHODS
@@ -31,11 +31,13 @@ def plan(
         help="Exit 0 even where the cables cannot hold the platform, or come closer than "
              "robot.clearance_m to each other, the platform or an obstacle."
     ),
+    figures: bool = figures_option("tensions.png"),
 ) -> None:
     """Plan cable tensions along the scenario's trajectory on its moving ship."""
     from marinecdpr.commands import plan as command
 
-    spec = spec_of(PlanSpec, method=method, fixed_base=fixed_base, allow_infeasible=allow_infeasible)
+    spec = spec_of(PlanSpec, method=method, fixed_base=fixed_base, allow_infeasible=allow_infeasible,
+                   figures=figures)
     sc = load(scenario, None, None)
     try:
         est = command.estimate(spec, sc)  # before any work: too big is one line, exit 2
@@ -45,7 +47,7 @@ def plan(
     except ScenarioError as exc:
         fail_scenario(exc, scenario)
     p = result.plan
-    csv_path, fig_path = (out / path.name for path in result.paths)
+    written = [out / path.name for path in result.paths]
 
     table = Table(title=f"plan: {plain(sc.name)} ({p.method}, {p.base_model} base)")
     table.add_column("quantity")
@@ -64,7 +66,7 @@ def plan(
         d = result.drive
         table.add_row("carriage drive along the rail (N)", f"{d.peak_N:.4g} at {d.at_s:.4g} s"
                       + ("" if d.limit_N is None else f" (of {d.limit_N:.4g})"))
-    table.add_row("written", f"{csv_path}\n{fig_path}")
+    table.add_row("written", "\n".join(str(p) for p in written))
     console.print(table)
     for label, text in (("infeasible:", result.infeasibility()), ("interference:", result.interference()),
                         ("carriage drive:", result.drive_verdict())):

@@ -15,7 +15,7 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import console, err_console, fail, fail_spec, output, plain, spec_of
+from marinecdpr.cli.common import console, err_console, fail, fail_spec, figures_option, output, plain, spec_of
 from marinecdpr.cli.progress import seconds
 from marinecdpr.commands.base import SpecError
 from marinecdpr.commands.rao import RaoSpec
@@ -45,6 +45,7 @@ def rao(
     hull: Optional[str] = typer.Option(RaoSpec.default("hull"), help="The hull's form: box (default), or wigley (the "
                                        "analytic ship form, fine ends); not with --mesh."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for rao.nc and rao.png."),
+    figures: bool = figures_option("rao.png"),
 ) -> None:
     """A hull's RAOs from the BEM code Capytaine (pip install 'marinecdpr[bem]'): a box or
     Wigley hull of given main dimensions, or a hull mesh (--mesh, with --kg). Writes rao.nc
@@ -57,7 +58,7 @@ def rao(
 
     spec = spec_of(RaoSpec, length=length, beam=beam, draught=draught, gm=gm, mesh=mesh, kg=kg, mesh_units=mesh_units,
                    waterline=waterline, roll_damping=roll_damping, headings=headings, omega=omega, panel=panel,
-                   hull=hull)
+                   hull=hull, figures=figures)
     try:  # before any work: a mesh that is no hull, a BEM the machine cannot hold or finish, is one line
         est = command.estimate(spec)
     except (ScenarioError, ValueError) as exc:

@@ -11,7 +11,7 @@ import typer
 from rich.table import Table
 
 from marinecdpr.cli.common import (EXIT_INFEASIBLE, compile_notice, console, err_console, fail, fail_bypassed,
-    fail_scenario, load, output, plain, run_errors, spec_of, styled)
+    fail_scenario, figures_option, load, output, plain, run_errors, spec_of, styled)
 from marinecdpr.cli.progress import progress_bar
 from marinecdpr.commands.simulate import SimulateSpec
 from marinecdpr.errors import ScenarioError
@@ -25,6 +25,7 @@ def simulate(
     max_error: Optional[float] = typer.Option(SimulateSpec.default("max_error"),
                                               help="Flag runs whose position or cable-length "
                                               "error passes this, m (default: the scenario's, 1% of the frame)."),
+    figures: bool = figures_option("the figures (PNG) and the report's images"),
 ) -> None:
     """The main job: plan, fly the plan on the virtual prototype, write the report.
 
@@ -38,7 +39,7 @@ def simulate(
     from marinecdpr.report.figures import RUN_TITLES
     from marinecdpr.report.text import beyond_text, error_table, findings
 
-    spec = spec_of(SimulateSpec, plant=plant, duration=duration, max_error=max_error)
+    spec = spec_of(SimulateSpec, plant=plant, duration=duration, max_error=max_error, figures=figures)
     sc = load(scenario, None, None)
     try:
         est = command.estimate(spec, sc)  # the first --duration seconds; too big is one line, exit 2

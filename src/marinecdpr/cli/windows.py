@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import console, count, fail, output, plain, spec_of
+from marinecdpr.cli.common import console, count, fail, figures_option, output, plain, spec_of
 from marinecdpr.commands.windows import WindowsSpec
 from marinecdpr.errors import ScenarioError
 
@@ -33,13 +33,14 @@ def windows(
                                                "of the mean wind at 10 m, m/s: a sample is workable when its wind "
                                                "(the series' wind_m_s) is within it too."),
     out: Path = typer.Option(Path("out"), "--out", "-o", help="Folder for windows.csv, summary.json, windows.png."),
+    figures: bool = figures_option("windows.png"),
 ) -> None:
     """Weather windows in a series of sea states: when an operation of --duration-h fits,
     the expected wait before it can start, and the probability it is done within days."""
     from marinecdpr.commands import windows as command
 
     spec = spec_of(WindowsSpec, duration_h=duration_h, hs_limit=hs_limit, operability=operability, heading=heading,
-                   alpha=alpha, days=days, wind_limit=wind_limit)
+                   alpha=alpha, days=days, wind_limit=wind_limit, figures=figures)
     try:  # the series and the operability.json read and checked: one line naming the file
         est = command.estimate(spec, series)
     except ScenarioError as exc:

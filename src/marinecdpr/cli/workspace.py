@@ -8,7 +8,8 @@ from typing import Optional
 
 import typer
 
-from marinecdpr.cli.common import console, err_console, fail_scenario, load, output, plain, spec_of, warn_singular
+from marinecdpr.cli.common import (console, err_console, fail_scenario, figures_option, load, output, plain, spec_of,
+    warn_singular)
 from marinecdpr.cli.progress import seconds, task_progress
 from marinecdpr.commands.workspace import WorkspaceSpec
 from marinecdpr.errors import ScenarioError
@@ -27,11 +28,13 @@ def workspace(
                                              "time.duration_s)."),
     step: Optional[float] = typer.Option(WorkspaceSpec.default("step"),
                                          help="Time step, s (default: the scenario's time.step_s)."),
+    figures: bool = figures_option("workspace.png"),
 ) -> None:
     """Map where on the frame the platform can be held while the ship moves."""
     from marinecdpr.commands import workspace as command
 
-    spec = spec_of(WorkspaceSpec, points=points, axes=axes, fixed=fixed, duration=duration, step=step)
+    spec = spec_of(WorkspaceSpec, points=points, axes=axes, fixed=fixed, duration=duration, step=step,
+                   figures=figures)
     sc = load(scenario, None, None)
     try:
         est = command.estimate(spec, sc)  # before any work: too big is one line, exit 2

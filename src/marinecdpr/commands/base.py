@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from marinecdpr.errors import MarineCDPRError
 
@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # the command line builds its options from the specs: nothing
     from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Spec", "SpecError", "BadValue", "Estimate", "with_time", "positive", "finite", "grid", "headings", "PLANTS",
-           "plant"]
+           "plant", "figures_field"]
 
 
 class SpecError(MarineCDPRError, ValueError):
@@ -85,8 +85,24 @@ class Spec(BaseModel):
 
     @classmethod
     def default(cls, field: str) -> Any:
-        """A field's default (the command line shows and uses the same)."""
-        return cls.model_fields[field].default
+        """A field's default (the command line shows and uses the same); one read from the
+        library's defaults table (:mod:`marinecdpr.defaults`) as the table holds it now."""
+        return cls.model_fields[field].get_default(call_default_factory=True)
+
+
+def _figures_default() -> bool:
+    from marinecdpr.defaults import get
+
+    return get("report.figures")
+
+
+def figures_field() -> Any:
+    """A spec's ``figures`` field (``figures: bool = figures_field()``): draw the command's
+    figures (its PNG files and the report's images), or not (every other file the same byte
+    for byte; the report says the figures were not drawn). Its default is the defaults
+    table's ``"report.figures"`` (:mod:`marinecdpr.defaults`, True as shipped), read when
+    the spec is made."""
+    return Field(default_factory=_figures_default)
 
 
 def positive(value: float | None, *, zero_ok: bool = False) -> float | None:

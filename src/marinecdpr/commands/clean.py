@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator, model_validator
 
-from marinecdpr.commands.base import Estimate, SpecError, headings, positive
+from marinecdpr.commands.base import Estimate, SpecError, figures_field, headings, positive
 from marinecdpr.commands.seas import ExecutorOptions
 
 if TYPE_CHECKING:  # the spec is read when the command line starts: the work's modules load with the work
@@ -88,6 +88,10 @@ class CleanSpec(ExecutorOptions):
         a running Dask scheduler at this address.
     compare : bool
         Also fly the job in calm water and without the brush's drag.
+    figures : bool
+        Draw the figures (``coverage.png``, ``cleaning.png``, ``surface.png``,
+        ``sea_states.png``) and the report's images (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     plant: str | None = None
@@ -104,6 +108,7 @@ class CleanSpec(ExecutorOptions):
     coverage_target: float = 99.0
     in_band_target: float = 95.0
     compare: bool = True
+    figures: bool = figures_field()
 
     @field_validator("plant")
     @classmethod
@@ -409,12 +414,13 @@ class CleanResult:
         (:func:`~marinecdpr.report.cleaning.write_cleaning`), with ``surface``
         ``placements.csv``, ``surface.png`` (:func:`~marinecdpr.report.cleaning.write_surface`),
         with ``rail`` ``stations.csv`` (:func:`~marinecdpr.report.cleaning.write_strip`) in
-        ``folder``; returns the paths."""
+        ``folder``, the PNGs only with the spec's ``figures``; returns the paths."""
         from marinecdpr.report.cleaning import write_cleaning, write_strip, write_surface
 
+        figures = self.spec.figures
         paths = write_cleaning(self.job, Path(folder), hull=self.hull, comparison=self.comparison,
-                               summary=self.summary())
-        paths += write_surface(self.surface, Path(folder)) if self.surface is not None else []
+                               summary=self.summary(), figures=figures)
+        paths += write_surface(self.surface, Path(folder), figures=figures) if self.surface is not None else []
         return paths + (write_strip(self.strip, Path(folder)) if self.strip is not None else [])
 
 
@@ -445,11 +451,11 @@ class CleanSeasResult:
         return cleaning_seas_summary(self.seas, self.scenario)
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``sea_states.csv``, ``summary.json``, ``sea_states.png`` in ``folder``
-        (:func:`~marinecdpr.report.cleaning.write_cleaning_seas`); returns the paths."""
+        """``sea_states.csv``, ``summary.json``, ``sea_states.png`` (with the spec's ``figures``)
+        in ``folder`` (:func:`~marinecdpr.report.cleaning.write_cleaning_seas`); returns the paths."""
         from marinecdpr.report.cleaning import write_cleaning_seas
 
-        return write_cleaning_seas(self.seas, self.scenario, Path(folder))
+        return write_cleaning_seas(self.seas, self.scenario, Path(folder), figures=self.spec.figures)
 
 
 def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None = None,

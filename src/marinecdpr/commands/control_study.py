@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, positive
+from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, figures_field, positive
 from marinecdpr.scenario.fields import POSE_SOURCES, PREDICTIONS
 
 if TYPE_CHECKING:
@@ -53,6 +53,9 @@ class ControlStudySpec(Spec):
     settle : float, optional
         Errors count from this time on, s (default: the predictor's warm-up and a second).
     plant : {"own", "mujoco"}
+    figures : bool
+        Draw ``control_study.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     latencies: tuple[float, ...] = (0.0, 10.0, 20.0, 50.0, 100.0)
@@ -63,6 +66,7 @@ class ControlStudySpec(Spec):
     duration: float = 60.0
     settle: float | None = None
     plant: str = "own"
+    figures: bool = figures_field()
 
     @field_validator("latencies", mode="before")
     @classmethod
@@ -166,13 +170,14 @@ class ControlStudyResult:
     prediction: Any
 
     def write(self, folder: str | Path) -> tuple[dict, list[Path]]:
-        """``control_study.csv``, ``prediction.csv``, ``summary.json``, ``control_study.png``
-        (:func:`~marinecdpr.report.writers.write_control_study`): the summary and the paths."""
+        """``control_study.csv``, ``prediction.csv``, ``summary.json``, ``control_study.png`` (with
+        the spec's ``figures``) (:func:`~marinecdpr.report.writers.write_control_study`): the
+        summary and the paths."""
         from marinecdpr.report.writers import write_control_study
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)  # as the other results' write
-        return write_control_study(self.study, self.prediction, folder)
+        return write_control_study(self.study, self.prediction, folder, figures=self.spec.figures)
 
 
 def run(spec: ControlStudySpec, scenario: Scenario, *, estimated: ControlStudyEstimate | None = None,

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import Field, field_validator
 
-from marinecdpr.commands.base import BadValue
+from marinecdpr.commands.base import BadValue, figures_field
 from marinecdpr.commands.seas import ExecutorOptions
 from marinecdpr.scenario.design import GENERATIONS, POPULATION, SEED_MAX
 
@@ -57,6 +57,9 @@ class DesignCommandSpec(ExecutorOptions):
         What judges the candidates (on Dask only where ``workers`` or ``scheduler`` asks)
         and flies the finalists' sea states (on Dask where asked, or by their size)
         (:class:`~marinecdpr.commands.seas.ExecutorOptions`).
+    figures : bool
+        Draw ``pareto.png``, ``convergence.png``, ``finalists.png`` and the report's images (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     population: int | None = Field(default=None, ge=POPULATION[0], le=POPULATION[1])
@@ -65,6 +68,7 @@ class DesignCommandSpec(ExecutorOptions):
     resume: bool = False
     verify: bool = True
     plant: str | None = None
+    figures: bool = figures_field()
 
     @field_validator("plant", mode="before")
     @classmethod
@@ -195,12 +199,15 @@ class DesignResult:
         feasible candidate).
     cells : int
         The study's sea states.
+    figures : bool
+        :meth:`write` draws the PNGs and the report's images (the spec's ``figures``).
     """
 
     study: DesignStudy
     template: Scenario
     verified: tuple = ()
     cells: int = 0
+    figures: bool = True
 
     def summary(self) -> dict:
         """``summary.json``'s content (:func:`~marinecdpr.report.design.design_summary`)."""
@@ -210,13 +217,14 @@ class DesignResult:
 
     def write(self, folder: str | Path) -> list[Path]:
         """candidates.csv, pareto.csv and .png, convergence.png, finalists.csv and .png,
-        designs/*.toml, summary.json and report.html in ``folder``, made if missing
+        designs/*.toml, summary.json and report.html in ``folder`` (the PNGs with
+        :attr:`figures`), made if missing
         (:func:`~marinecdpr.report.design.write_design`; each file written whole or not at all)."""
         from marinecdpr.report.design import write_design
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        return write_design(self.study, self.template, folder, list(self.verified))
+        return write_design(self.study, self.template, folder, list(self.verified), figures=self.figures)
 
 
 def search(spec: DesignCommandSpec, estimated: DesignEstimate, *,
@@ -273,4 +281,5 @@ def run(spec: DesignCommandSpec, study: str | Path = "ship_side", *, journal: st
     est = estimated or estimate(spec, study, journal=journal)
     found = search(spec, est, progress=progress)
     checked = verify(spec, est, found, progress=verify_progress)
-    return DesignResult(study=found, template=est.template, verified=tuple(checked), cells=len(est.cells))
+    return DesignResult(study=found, template=est.template, verified=tuple(checked), cells=len(est.cells),
+                        figures=spec.figures)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator, model_validator
 
-from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, finite, plant, positive
+from marinecdpr.commands.base import BadValue, Estimate, Spec, SpecError, figures_field, finite, plant, positive
 from marinecdpr.scenario.faults import CABLELESS_FAULTS, FAULT_KINDS, SENSOR_MODES
 
 if TYPE_CHECKING:
@@ -89,6 +89,9 @@ class FaultsSpec(Spec):
         A winch fault's brake delay, s (brake: default 0; power: none, the drum runs free).
     deadline_steps : int
         For how many exchanges the controller's commands are held.
+    figures : bool
+        Draw ``faults.png`` and the report's image (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     kinds: tuple[str, ...] = ("cable_snap",)
@@ -104,6 +107,7 @@ class FaultsSpec(Spec):
     drift: float = 10.0
     brake_delay: float | None = None
     deadline_steps: int = 50
+    figures: bool = figures_field()
 
     @field_validator("kinds", mode="before")
     @classmethod
@@ -339,13 +343,13 @@ class FaultsResult:
         return faults_summary(self.study, self.scenario)
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``faults.csv``, ``summary.json``, ``faults.png`` and ``report.html`` in ``folder``
-        (:func:`~marinecdpr.report.faults.write_faults`)."""
+        """``faults.csv``, ``summary.json``, ``faults.png`` (with the spec's ``figures``) and
+        ``report.html`` in ``folder`` (:func:`~marinecdpr.report.faults.write_faults`)."""
         from marinecdpr.report.faults import write_faults
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        return write_faults(self.study, self.scenario, folder)
+        return write_faults(self.study, self.scenario, folder, figures=self.spec.figures)
 
 
 def run(spec: FaultsSpec, scenario: Scenario, *, estimated: FaultsEstimate | None = None,

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Estimate, grid, headings, positive
+from marinecdpr.commands.base import Estimate, figures_field, grid, headings, positive
 from marinecdpr.commands.seas import ExecutorOptions
 
 if TYPE_CHECKING:  # the spec is read when the command line starts: the work's modules load with the work
@@ -53,6 +53,9 @@ class OperabilitySpec(ExecutorOptions):
         Judge a grid of held poses (``"12x8"``) instead of the trajectory.
     min_area : float
         With ``workspace``: the share of the frame's poses that must stay feasible, 0..1.
+    figures : bool
+        Draw ``operability.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     scatter: Path | None = None
@@ -64,6 +67,7 @@ class OperabilitySpec(ExecutorOptions):
     max_error: float | None = None
     workspace: tuple[int, int] | None = None
     min_area: float = 1.0
+    figures: bool = figures_field()
 
     @field_validator("headings", mode="before")
     @classmethod
@@ -181,11 +185,14 @@ class OperabilityResult:
         Per sea state and heading, the probability of success, the limiting Hs.
     executor : Executor
         What ran the sea states.
+    figures : bool
+        :meth:`write` draws ``operability.png`` (the spec's ``figures``).
     """
 
     scenario: Scenario
     operability: Operability
     executor: Executor
+    figures: bool = True
 
     def summary(self) -> dict:
         """``operability.json``'s content (:func:`~marinecdpr.report.writers.operability_summary`)."""
@@ -194,11 +201,11 @@ class OperabilityResult:
         return operability_summary(self.operability, self.scenario)
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``operability.csv``, ``operability.json`` and ``operability.png`` in ``folder``
-        (:func:`~marinecdpr.report.writers.write_operability`)."""
+        """``operability.csv``, ``operability.json`` and (with :attr:`figures`) ``operability.png``
+        in ``folder`` (:func:`~marinecdpr.report.writers.write_operability`)."""
         from marinecdpr.report.writers import write_operability
 
-        return write_operability(self.operability, self.scenario, Path(folder))
+        return write_operability(self.operability, self.scenario, Path(folder), figures=self.figures)
 
 
 def run(spec: OperabilitySpec, scenario: Scenario, *, estimated: OperabilityEstimate | None = None,
@@ -221,4 +228,4 @@ def run(spec: OperabilitySpec, scenario: Scenario, *, estimated: OperabilityEsti
                      duration_s=spec.duration, step_s=spec.step, executor=est.executor, max_error_m=spec.max_error,
                      workspace=spec.workspace, min_area=spec.min_area, realisations=spec.realisations,
                      progress=progress)
-    return OperabilityResult(scenario=scenario, operability=op, executor=est.executor)
+    return OperabilityResult(scenario=scenario, operability=op, executor=est.executor, figures=spec.figures)

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Estimate, Spec
+from marinecdpr.commands.base import Estimate, Spec, figures_field
 from marinecdpr.scenario.fields import TENSION_METHODS
 
 if TYPE_CHECKING:
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["PlanSpec", "PlanResult", "estimate", "run", "FILES"]
 
 FILES = ("plan.csv", "tensions.png")
-"""What the command writes, in this order."""
+"""What the command writes, in this order (``tensions.png`` with the spec's ``figures``)."""
 
 
 class PlanSpec(Spec):
@@ -43,11 +43,15 @@ class PlanSpec(Spec):
         The command exits 0 even where the cables cannot hold the platform or come closer
         than ``robot.clearance_m`` to something (the plan and its files are the same either
         way: :attr:`PlanResult.failed` reads it).
+    figures : bool
+        Draw ``tensions.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     method: str | None = None
     fixed_base: bool = False
     allow_infeasible: bool = False
+    figures: bool = figures_field()
 
     @field_validator("method")
     @classmethod
@@ -84,7 +88,7 @@ class PlanResult:
         singular and interfering steps, tension ranges, N; :meth:`infeasibility`,
         :meth:`interference`), and ``planning_s``, the time spent planning, s.
     paths : tuple of Path
-        ``plan.csv`` and ``tensions.png``, as written by :func:`run`.
+        ``plan.csv`` and (with the spec's ``figures``) ``tensions.png``, as written by :func:`run`.
     """
 
     spec: PlanSpec
@@ -151,7 +155,7 @@ def run(spec: PlanSpec, scenario: Scenario, folder: str | Path, *, estimated: Es
         progress: Callable[[int, int], None] | None = None) -> PlanResult:
     """Plan the scenario chunk by chunk (:func:`~marinecdpr.planning.planner.iter_plan`) and
     write each chunk as it comes (:func:`~marinecdpr.report.writers.write_plan_stream`):
-    ``plan.csv`` and ``tensions.png`` in ``folder`` (a streaming command's run takes its
+    ``plan.csv`` and (with ``spec.figures``) ``tensions.png`` in ``folder`` (a streaming command's run takes its
     output folder: only one chunk is ever in memory). Each file appears whole or not at all.
 
     Parameters
@@ -179,8 +183,8 @@ def run(spec: PlanSpec, scenario: Scenario, folder: str | Path, *, estimated: Es
     carriage = scenario.ship.carriage
     if carriage is not None and carriage.mass_kg is not None and not scenario.robot.has_pulleys:
         pieces = _driven(pieces, scenario, drives)
-    paths = (folder / FILES[0], folder / FILES[1])
-    summary = write_plan_stream(pieces, scenario, *paths)
+    paths = (folder / FILES[0], folder / FILES[1]) if spec.figures else (folder / FILES[0],)
+    summary = write_plan_stream(pieces, scenario, paths[0], paths[1] if spec.figures else None)
     from marinecdpr.planning.carriage import DrivePeak
 
     return PlanResult(spec=spec, scenario=scenario, plan=summary, paths=paths,

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import field_validator, model_validator
 
-from marinecdpr.commands.base import Spec, SpecError, finite, headings, positive
+from marinecdpr.commands.base import Spec, SpecError, figures_field, finite, headings, positive
 
 if TYPE_CHECKING:
     import numpy as np
@@ -62,6 +62,9 @@ class RaoSpec(Spec):
         About the panels' size, m (default :data:`DEFAULT_PANEL_M`; not with ``mesh``).
     hull : {"box", "wigley"}, optional
         The hull's form (default box; not with ``mesh``).
+    figures : bool
+        Draw ``rao.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     length: float | None = None
@@ -77,6 +80,7 @@ class RaoSpec(Spec):
     omega: str = "0.2:1.8:33"
     panel: float | None = None
     hull: str | None = None
+    figures: bool = figures_field()
 
     @field_validator("length", "beam", "draught", "gm", "kg", "panel")
     @classmethod
@@ -254,7 +258,8 @@ class RaoResult:
         return "box approximation" + ("" if self.spec.shape == "box" else " of the same main dimensions")
 
     def write_tables(self, folder: str | Path):
-        """``rao.nc``, ``rao.csv`` and ``rao.png`` in ``folder`` (:func:`~marinecdpr.report.writers.write_rao`):
+        """``rao.nc``, ``rao.csv`` and ``rao.png`` (with the spec's ``figures``) in ``folder``
+        (:func:`~marinecdpr.report.writers.write_rao`):
         its :class:`~marinecdpr.report.writers.RaoFiles`, the RAOs read back from rao.nc as a
         scenario reads them (``bem``), the box approximation (``approx``) and the paths.
 
@@ -266,7 +271,8 @@ class RaoResult:
         from marinecdpr.report.writers import write_rao
 
         Path(folder).mkdir(parents=True, exist_ok=True)
-        return write_rao(self.ds, Path(folder), made_by=self.made_by, box=self.box, box_label=self.box_label)
+        return write_rao(self.ds, Path(folder), made_by=self.made_by, box=self.box, box_label=self.box_label,
+                         figures=self.spec.figures)
 
     def write(self, folder: str | Path) -> list[Path]:
         """:meth:`write_tables`'s paths."""

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import PLANTS, Estimate, Spec, plant, positive
+from marinecdpr.commands.base import PLANTS, Estimate, Spec, figures_field, plant, positive
 
 if TYPE_CHECKING:
     from marinecdpr.scenario.schema import Scenario
@@ -35,11 +35,15 @@ class SimulateSpec(Spec):
     max_error : float, optional
         Flag runs whose position or cable-length error passes this, m (default: the
         scenario's, 1% of the frame: :func:`~marinecdpr.studies.prototype_runs.error_bounds`).
+    figures : bool
+        Draw the four figures (PNG) and the report's images (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     plant: str | None = None
     duration: float | None = None
     max_error: float | None = None
+    figures: bool = figures_field()
 
     @field_validator("plant")
     @classmethod
@@ -162,11 +166,12 @@ class SimulateResult:
                 for run in f.runs_controller_bypassed]
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``plan.csv``, ``sim_<run>.csv``, the four figures, ``summary.json`` and ``report.html``
-        in ``folder`` (:func:`~marinecdpr.report.writers.write_virtual_prototype`)."""
+        """``plan.csv``, ``sim_<run>.csv``, the four figures (with the spec's ``figures``),
+        ``summary.json`` and ``report.html`` in ``folder``
+        (:func:`~marinecdpr.report.writers.write_virtual_prototype`)."""
         from marinecdpr.report.writers import write_virtual_prototype
 
-        return write_virtual_prototype(self.prototype, Path(folder))
+        return write_virtual_prototype(self.prototype, Path(folder), figures=self.spec.figures)
 
 
 def run(spec: SimulateSpec, scenario: Scenario, *, estimated: SimulateEstimate | None = None,

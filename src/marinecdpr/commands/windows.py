@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import field_validator, model_validator
 
-from marinecdpr.commands.base import Spec, SpecError, finite, positive
+from marinecdpr.commands.base import Spec, figures_field, SpecError, finite, positive
 
 if TYPE_CHECKING:
     from marinecdpr.studies.weather import SeaStateSeries, Windows
@@ -50,6 +50,9 @@ class WindowsSpec(Spec):
         does not scale it): a sample is workable when its Hs is within the Hs limit and its
         wind (the series' column ``wind_m_s``, which it then needs) within this one. None:
         the series' wind, if it has one, is read and written out, not judged.
+    figures : bool
+        Draw ``windows.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     duration_h: float
@@ -59,6 +62,7 @@ class WindowsSpec(Spec):
     alpha: float = 1.0
     days: tuple[float, ...] = (1.0, 3.0, 7.0)
     wind_limit: float | None = None
+    figures: bool = figures_field()
 
     @field_validator("duration_h", "hs_limit", "wind_limit")
     @classmethod
@@ -193,13 +197,14 @@ class WindowsResult:
                                design_limit=self.spec.design_limit, days=list(self.spec.days))
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``windows.csv``, ``summary.json``, ``windows.png`` in ``folder``
-        (:func:`~marinecdpr.report.writers.write_windows`); returns the paths."""
+        """``windows.csv``, ``summary.json``, ``windows.png`` (with the spec's ``figures``) in
+        ``folder`` (:func:`~marinecdpr.report.writers.write_windows`); returns the paths."""
         from marinecdpr.report.writers import write_windows
 
         Path(folder).mkdir(parents=True, exist_ok=True)
         _, paths = write_windows(self.series, self.windows, Path(folder), series_name=self.series_name,
-                                 design_limit=self.spec.design_limit, days=list(self.spec.days))
+                                 design_limit=self.spec.design_limit, days=list(self.spec.days),
+                                 figures=self.spec.figures)
         return paths
 
 

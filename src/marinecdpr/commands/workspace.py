@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Callable
 
 from pydantic import field_validator
 
-from marinecdpr.commands.base import Estimate, Spec, finite, grid, positive, with_time
+from marinecdpr.commands.base import Estimate, Spec, figures_field, finite, grid, positive, with_time
 
 if TYPE_CHECKING:  # the spec is read when the command line starts: the work's modules load with the work
     from marinecdpr.scenario.schema import Scenario
@@ -36,6 +36,9 @@ class WorkspaceSpec(Spec):
         Seconds of ship motion per pose (default: the scenario's ``time.duration_s``).
     step : float, optional
         Time step, s (default: the scenario's ``time.step_s``).
+    figures : bool
+        Draw ``workspace.png`` (default: the defaults table's ``"report.figures"``,
+        :mod:`marinecdpr.defaults`; True as shipped).
     """
 
     points: tuple[int, int] = (30, 20)
@@ -43,6 +46,7 @@ class WorkspaceSpec(Spec):
     fixed: float | None = None
     duration: float | None = None
     step: float | None = None
+    figures: bool = figures_field()
 
     @field_validator("points", mode="before")
     @classmethod
@@ -105,11 +109,14 @@ class WorkspaceResult:
     singular : SingularPoses
         Where on the map's own grid, and between its points, J~ loses rank
         (:func:`~marinecdpr.studies.workspace.map_singular_poses`).
+    figures : bool
+        :meth:`write` draws ``workspace.png`` (the spec's ``figures``).
     """
 
     scenario: Scenario
     map: WorkspaceMap
     singular: SingularPoses
+    figures: bool = True
 
     @property
     def poses(self) -> int:
@@ -158,11 +165,11 @@ class WorkspaceResult:
         return out
 
     def write(self, folder: str | Path) -> list[Path]:
-        """``workspace.csv`` and ``workspace.png`` in ``folder``
+        """``workspace.csv`` and (with :attr:`figures`) ``workspace.png`` in ``folder``
         (:func:`~marinecdpr.report.writers.write_workspace`)."""
         from marinecdpr.report.writers import write_workspace
 
-        return write_workspace(self.map, self.scenario, Path(folder))
+        return write_workspace(self.map, self.scenario, Path(folder), figures=self.figures)
 
 
 def run(spec: WorkspaceSpec, scenario: Scenario, *, estimated: WorkspaceEstimate | None = None,
@@ -185,4 +192,4 @@ def run(spec: WorkspaceSpec, scenario: Scenario, *, estimated: WorkspaceEstimate
     if estimated is None:
         check_run_size(sc, "workspace", grid=spec.points)
     ws = workspace_map(sc, axes=(spec.axes[0], spec.axes[1]), n=spec.points, fixed_m=spec.fixed, progress=progress)
-    return WorkspaceResult(scenario=sc, map=ws, singular=map_singular_poses(sc, ws))
+    return WorkspaceResult(scenario=sc, map=ws, singular=map_singular_poses(sc, ws), figures=spec.figures)

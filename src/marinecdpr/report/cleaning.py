@@ -216,12 +216,12 @@ def _comparison_rows(comparison: dict) -> tuple[list[str], list[tuple[str, list[
                    for k in (comparison[names[0]] if names else ())]
 
 
-def write_cleaning_html(job, figures: dict, path: Path, *, hull: dict | None = None,
+def write_cleaning_html(job, figures: dict | None, path: Path, *, hull: dict | None = None,
                         comparison: dict | None = None) -> Path:
     """The job's page (:func:`~marinecdpr.report.page.render_page`): the scenario, the job's
     figures (``job.figures``), what they say, the ``hull`` estimate and the job beside calm
-    water and without the brush's drag (``comparison``) where made, the figures and the robot
-    on the ship in 3D."""
+    water and without the brush's drag (``comparison``) where made, the figures (``figures``:
+    caption to PNG; None: the page says they were not drawn) and the robot on the ship in 3D."""
     from markupsafe import Markup
 
     from marinecdpr.report.page import embedded_figures, render_page
@@ -259,19 +259,22 @@ def write_cleaning_html(job, figures: dict, path: Path, *, hull: dict | None = N
 
 
 def write_cleaning(job, folder: Path, *, hull: dict | None = None, comparison: dict | None = None,
-                   summary: dict | None = None) -> list[Path]:
+                   summary: dict | None = None, figures: bool = True) -> list[Path]:
     """Every file of the cleaning job in ``folder``, with the ``hull`` estimate and the
     ``comparison`` where made; ``summary.json`` holds ``summary`` (default ``job.summary``).
-    Returns the paths written."""
+    Without ``figures`` no PNG is drawn and the report says so. Returns the paths written."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [write_clean_csv(job, folder / "clean.csv")]
-    figures = {"Figure 1: coverage of the panel from the simulated brush": plot_coverage(job, folder / "coverage.png"),
-               "Figure 2: tensions, normal force and cross-track error":
-                   plot_cleaning_series(job, folder / "cleaning.png")}
-    paths += list(figures.values())
+    drawn = None
+    if figures:
+        drawn = {"Figure 1: coverage of the panel from the simulated brush":
+                     plot_coverage(job, folder / "coverage.png"),
+                 "Figure 2: tensions, normal force and cross-track error":
+                     plot_cleaning_series(job, folder / "cleaning.png")}
+        paths += list(drawn.values())
     paths.append(write_json(job.summary if summary is None else summary, folder / "summary.json"))
-    paths.append(write_cleaning_html(job, figures, folder / "report.html", hull=hull, comparison=comparison))
+    paths.append(write_cleaning_html(job, drawn, folder / "report.html", hull=hull, comparison=comparison))
     return paths
 
 
@@ -317,12 +320,12 @@ def cleaning_seas_summary(cs, scenario) -> dict:
     }
 
 
-def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
+def write_cleaning_seas(cs, scenario, folder: Path, *, figures: bool = True) -> list[Path]:
     """The cleaning job over a scatter diagram (:func:`~marinecdpr.studies.cleaning.cleaning_seas`):
     ``sea_states.csv`` (one row per sea state: its verdict and figures; empty cells where
     the job could not be flown), ``summary.json`` (the share of sea states the job works
     in, per heading, the limiting Hs, the expected hours, and why each failing sea state
-    fails) and ``sea_states.png`` (the workable sea states, one panel per heading). A wind
+    fails) and, with ``figures``, ``sea_states.png`` (the workable sea states, one panel per heading). A wind
     that follows the sea state (``[wind] with_sea``) adds each sea state's wind to the CSV:
     ``wind_m_s`` and ``wind_direction_deg``."""
     from marinecdpr.studies.operability import cell_winds
@@ -341,18 +344,20 @@ def write_cleaning_seas(cs, scenario, folder: Path) -> list[Path]:
     paths = [_write_csv(names, values, folder / "sea_states.csv", int_last=False,
                         int_columns=(SEA_STATE_COLUMNS.index("works"),))]
     paths.append(write_json(cleaning_seas_summary(cs, scenario), folder / "summary.json"))
+    if not figures:
+        return paths
     paths.append(plot_operability(cs.sea, scenario, folder / "sea_states.png", workable=(
         f"the cleaning job works: >= {cs.coverage_target_pct:g} % of reach cleaned, force in band "
         f">= {cs.in_band_target_pct:g} % of the time")))
     return paths
 
 
-def write_surface(sj, folder: Path) -> list[Path]:
+def write_surface(sj, folder: Path, *, figures: bool = True) -> list[Path]:
     """``placements.csv`` (one row per frame placement on ``[cleaning.surface]``: its patch's
     stations and heights, the plane's centre and normal in S, the surface's offsets from the
     plane, the patch's extent in the plane, its area and cleaning time; the patches too curved
-    for the tolerance last, with ``cleanable`` 0 and no cleaning time, 0 s) and ``surface.png``
-    (the side, x along the ship and z up, each placement coloured by its minutes, and by its
+    for the tolerance last, with ``cleanable`` 0 and no cleaning time, 0 s) and, with
+    ``figures``, ``surface.png`` (the side, x along the ship and z up, each placement coloured by its minutes, and by its
     stand-off deviation). With ``[cleaning.surface.relocation]`` each row also says which robot
     visits it (``robot``, from 1), its place in that robot's visits (``visit``, from 1), the
     move into it (``move_in_s``, 0 at a robot's first) and whether a crane made it
@@ -380,6 +385,8 @@ def write_surface(sj, folder: Path) -> list[Path]:
         rows = [r[:-1] + list(e) + r[-1:] for r, e in zip(rows, extra)]
     csv = _write_csv(names, np.array(rows, dtype=float).reshape(-1, len(names)), folder / "placements.csv",
                      int_last=True)
+    if not figures:
+        return [csv]
     plt = _pyplot()
     from matplotlib.collections import PatchCollection
     from matplotlib.patches import Rectangle

@@ -288,12 +288,13 @@ def _count(n: int, word: str) -> str:
     return f"{n} {word}" + ("" if n == 1 else "s")
 
 
-def write_design(study, template, folder: Path, verification=None) -> list[Path]:
+def write_design(study, template, folder: Path, verification=None, *, figures: bool = True) -> list[Path]:
     """``candidates.csv``, ``pareto.csv``, ``pareto.png``, ``convergence.png``,
     ``designs/*.toml`` (the front's best ``finalists`` by expected hours, as built and ready
     to run: :func:`~marinecdpr.studies.design.as_built`), ``finalists.csv`` (their hours in
     parts, binding constraints and, when verified, their time-domain figures beside the
-    screen's) and ``summary.json``."""
+    screen's), ``summary.json``, ``finalists.png`` and ``report.html``. Without ``figures``
+    no PNG is drawn and the report says so; the other files are the same."""
     import tomli_w
 
     from marinecdpr.scenario.importing.common import toml_plain
@@ -306,8 +307,9 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                                                     enumerate(zip(ev, study.generation))], layout)]
     paths.append(_write_rows(folder / "pareto.csv", [_row(i, int(study.generation[i]), ev[i], layout)
                                                      for i in study.front], layout))
-    paths.append(_save(pareto_figure(study), folder / "pareto.png"))
-    paths.append(_save(convergence_figure(study), folder / "convergence.png"))
+    if figures:
+        paths.append(_save(pareto_figure(study), folder / "pareto.png"))
+        paths.append(_save(convergence_figure(study), folder / "convergence.png"))
     designs = folder / "designs"
     designs.mkdir(exist_ok=True)
     plant = next((v.plant for v in verification or [] if v.plant), None)
@@ -333,12 +335,13 @@ def write_design(study, template, folder: Path, verification=None) -> list[Path]
                 w.writerows(_finalist_rows(study, verification))
         paths.append(path)
     paths.append(write_json(design_summary(study, verification), folder / "summary.json"))
-    drawn = _draw_finalists(study, template, folder / "finalists.png")
-    paths.append(drawn)
-    paths.append(_report_html(study, verification, {"The Pareto front": folder / "pareto.png",
-                                                    "Convergence": folder / "convergence.png",
-                                                    "The finalists beside the template's robot": drawn},
-                              folder / "report.html"))
+    shown = None
+    if figures:
+        drawn = _draw_finalists(study, template, folder / "finalists.png")
+        paths.append(drawn)
+        shown = {"The Pareto front": folder / "pareto.png", "Convergence": folder / "convergence.png",
+                 "The finalists beside the template's robot": drawn}
+    paths.append(_report_html(study, verification, shown, folder / "report.html"))
     return paths
 
 
@@ -433,10 +436,11 @@ def safety_text(study) -> str:
             f"{len(study.evaluations)} candidates ({len(alone)} on it alone; {by}).")
 
 
-def _report_html(study, verification, figures: dict, path: Path) -> Path:
+def _report_html(study, verification, figures: dict | None, path: Path) -> Path:
     """One page: the targets, the front beside the template's robot (its second objective
     with its unit, its hours in parts, its binding constraints, the time domain's figures
-    where flown), and the figures. Says whether the finalists were flown."""
+    where flown), and the figures (None: the page says they were not drawn). Says whether
+    the finalists were flown."""
     from marinecdpr.report.page import embedded_figures, render_page
 
     spec = study.spec

@@ -125,15 +125,17 @@ def plot_fault_trajectories(study, scenario: Scenario, path: Path) -> Path:
     return _save(fig, path)
 
 
-def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
-    """``faults.csv``, ``summary.json``, ``faults.png`` and ``report.html`` in ``folder``."""
+def write_faults(study, scenario: Scenario, folder: Path, *, figures: bool = True) -> list[Path]:
+    """``faults.csv``, ``summary.json``, ``faults.png`` and ``report.html`` in ``folder``;
+    without ``figures`` no PNG, and the report says the figure was not drawn."""
     folder = Path(folder)
     rows = [[_cell(getattr(r, c)) for c in FAULT_COLUMNS] for r in study.rows]
     paths = [_write_table(list(FAULT_COLUMNS), rows, folder / "faults.csv")]
     summary = faults_summary(study, scenario)
     paths.append(write_json(summary, folder / "summary.json"))
-    figure = plot_fault_trajectories(study, scenario, folder / "faults.png")
-    paths.append(figure)
+    figure = plot_fault_trajectories(study, scenario, folder / "faults.png") if figures else None
+    if figure is not None:
+        paths.append(figure)
     facts = [("robot", f"{scenario.robot.n_cables} cables, {scenario.robot.dofs}"), ("plant", study.plant),
              ("sea states", "; ".join(sea_label(sea) for sea in study.seas) if study.seas[0]
               else scenario.base_motion.type.replace("_", " ")),
@@ -154,6 +156,6 @@ def write_faults(study, scenario: Scenario, folder: Path) -> list[Path]:
               fmt(r.static_margin_N, " N", 4), r.verdict] for r in study.rows]
     paths.append(render_page("faults.html", folder / "report.html", name=scenario.name,
                              description=scenario.description, facts=facts, table=table,
-                             figures=embedded_figures({"Figure 1: each fault's trajectory in the frame C (x, z)":
-                                                       figure}), view=""))
+                             figures=embedded_figures(None if figure is None else {
+                                 "Figure 1: each fault's trajectory in the frame C (x, z)": figure}), view=""))
     return paths

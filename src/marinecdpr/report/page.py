@@ -15,7 +15,10 @@ from pathlib import Path
 from marinecdpr.report.files import atomic_path
 from marinecdpr.textfiles import strip_control
 
-__all__ = ["render_page", "embedded_figures", "literal"]
+__all__ = ["render_page", "embedded_figures", "literal", "NOT_DRAWN"]
+
+NOT_DRAWN = "Figures not drawn (--no-figures; from Python, figures=False in the spec)."
+"""What a page says in place of its figures when they were not drawn."""
 
 
 def literal(value: object) -> object:
@@ -36,14 +39,17 @@ def _environment():
                        undefined=StrictUndefined, trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
 
 
-def embedded_figures(figures: dict[str, Path]) -> list[dict]:
+def embedded_figures(figures: dict[str, Path] | None) -> list[dict] | None:
     """Each figure's caption and its PNG as a ``data:`` address (the page stands alone).
 
     Parameters
     ----------
-    figures : dict of str to Path
-        Caption to PNG file, in the page's order.
+    figures : dict of str to Path, or None
+        Caption to PNG file, in the page's order; None where the figures were not drawn
+        (then None: :func:`render_page` says so in words).
     """
+    if figures is None:
+        return None
     return [{"caption": caption,
              "src": "data:image/png;base64," + base64.b64encode(Path(p).read_bytes()).decode("ascii")}
             for caption, p in figures.items()]
@@ -51,7 +57,11 @@ def embedded_figures(figures: dict[str, Path]) -> list[dict]:
 
 def render_page(template: str, path: Path, **values) -> Path:
     """The page ``template`` (a file of ``report/templates``) with ``values``, written to
-    ``path`` atomically (whole or not at all); returns ``path``."""
+    ``path`` atomically (whole or not at all); returns ``path``. ``figures=None`` (the
+    figures not drawn, :func:`embedded_figures`) puts :data:`NOT_DRAWN` where they would be."""
+    values["figures_not_drawn"] = NOT_DRAWN if "figures" in values and values["figures"] is None else None
+    if values["figures_not_drawn"] is not None:
+        values["figures"] = []
     page = _environment().get_template(template).render(**values)
     path = Path(path)
     with atomic_path(path) as tmp:

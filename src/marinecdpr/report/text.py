@@ -181,10 +181,11 @@ def _budget_cell(value: float | None, scale: float, unit: str) -> str:
     return "–" if value is None else f"{value * scale:.3g} {unit}"
 
 
-def write_report_html(f: PrototypeFigures, scenario: Scenario, figures: dict[str, Path], path: Path, *,
+def write_report_html(f: PrototypeFigures, scenario: Scenario, figures: dict[str, Path] | None, path: Path, *,
                       plan=None) -> Path:
     """One self-contained page: the scenario, the error table (beside the paper's for the
-    paper's experiment), what the numbers say, every figure, and the robot on the ship in 3D
+    paper's experiment), what the numbers say, every figure (``figures``: caption to PNG;
+    None: the page says they were not drawn), and the robot on the ship in 3D
     (:func:`~marinecdpr.report.view3d.view_section`, at ``plan``'s poses, else the scenario's
     trajectory's)."""
     from markupsafe import Markup

@@ -124,7 +124,7 @@ def plan_csv_writer(scenario: Scenario, path: Path) -> Iterator:
             raise ValueError("plan_csv_writer: no piece of a plan was written")
 
 
-def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: Path):
+def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: Path | None):
     """``plan.csv`` and ``tensions.png`` from a plan made in pieces (:func:`~marinecdpr.iter_plan`),
     holding one piece at a time.
 
@@ -133,7 +133,9 @@ def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: P
     pieces : iterable of Plan
         The scenario's whole plan, in order.
     scenario : Scenario
-    csv_path, figure_path : Path
+    csv_path : Path
+    figure_path : Path or None
+        None: no figure drawn (the CSV the same).
 
     Returns
     -------
@@ -146,7 +148,7 @@ def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: P
     from marinecdpr.planning.planner import PlanSummary
 
     summary = PlanSummary()
-    envelope = TensionEnvelope(scenario.time.n_steps, scenario.robot.n_cables)
+    envelope = None if figure_path is None else TensionEnvelope(scenario.time.n_steps, scenario.robot.n_cables)
     summary.planning_s = 0.0
     it = iter(pieces)
     with plan_csv_writer(scenario, csv_path) as write:
@@ -157,10 +159,12 @@ def write_plan_stream(pieces, scenario: Scenario, csv_path: Path, figure_path: P
             if piece is None:
                 break
             write(piece)
-            envelope.add(piece)
+            if envelope is not None:
+                envelope.add(piece)
             summary.add(piece)
             del piece
-    plot_tension_envelope(envelope, scenario, figure_path)
+    if envelope is not None:
+        plot_tension_envelope(envelope, scenario, figure_path)
     return summary
 
 
@@ -180,16 +184,25 @@ def write_sim_csv(res, scenario: Scenario, path: Path) -> Path:
     return _write_csv(names, values, path, int_last=False)
 
 
-def write_virtual_prototype(vp, folder: Path) -> list[Path]:
+def write_virtual_prototype(vp, folder: Path, *, figures: bool = True) -> list[Path]:
     """Every file of the main job in ``folder``: plan.csv, sim_<run>.csv, the figures,
     summary.json and report.html. Returns the paths written.
 
     Where it pays (:func:`~marinecdpr.forked.can_fork`), two of the figures are drawn by a
-    forked copy of this process meanwhile; the files are the same either way.
+    forked copy of this process meanwhile; the files are the same either way. Without
+    ``figures`` no figure is drawn (nor any process forked) and the report says so; the
+    other files are the same.
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     sc = vp.scenario
+    if not figures:
+        paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
+        for name, res in vp.results.items():
+            paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
+        paths.append(write_json(vp.summary, folder / "summary.json"))
+        paths.append(write_report_html(vp.figures, sc, None, folder / "report.html", plan=vp.plan))
+        return paths
     # drawing the figures is most of the work: two of them (about half) are drawn in a
     # second process while this one writes the CSVs and draws the other two
     _pyplot()  # imported once, before the fork, for both
@@ -219,10 +232,10 @@ def write_virtual_prototype(vp, folder: Path) -> list[Path]:
 
 
 # ------------------------------------------------------------ workspace, operability
-def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
+def write_workspace(ws, scenario: Scenario, folder: Path, *, figures: bool = True) -> list[Path]:
     """``workspace.csv`` (one row per grid pose; with ``robot.clearance_m`` also
-    ``least_clearance_m`` and ``interference_free`` (1/0)) and ``workspace.png`` (the maps,
-    :func:`plot_workspace`)."""
+    ``least_clearance_m`` and ``interference_free`` (1/0)) and, with ``figures``,
+    ``workspace.png`` (the maps, :func:`plot_workspace`)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     U, V = np.meshgrid(ws.u, ws.v, indexing="ij")
@@ -235,12 +248,12 @@ def write_workspace(ws, scenario: Scenario, folder: Path) -> list[Path]:
         columns += [ws.least_clearance_m.ravel(), ws.interference_free.ravel().astype(float)]
     values = np.column_stack(columns)
     csv_path = _write_csv(names, values, folder / "workspace.csv", int_last=False)
-    return [csv_path, plot_workspace(ws, scenario, folder / "workspace.png")]
+    return [csv_path] + ([plot_workspace(ws, scenario, folder / "workspace.png")] if figures else [])
 
 
-def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
-    """``operability.csv`` (one row per sea state), ``operability.json`` and ``operability.png``
-    (:func:`plot_operability`). A wind that follows the sea state (``[wind] with_sea``) adds
+def write_operability(op, scenario: Scenario, folder: Path, *, figures: bool = True) -> list[Path]:
+    """``operability.csv`` (one row per sea state), ``operability.json`` and, with ``figures``,
+    ``operability.png`` (:func:`plot_operability`). A wind that follows the sea state (``[wind] with_sea``) adds
     each sea state's wind to the CSV: ``wind_m_s`` (at the wind's reference height) and
     ``wind_direction_deg`` (where it comes from in O)."""
     from marinecdpr.studies.operability import cell_winds
@@ -261,7 +274,8 @@ def write_operability(op, scenario: Scenario, folder: Path) -> list[Path]:
                         int_columns=(names.index("realisations"), names.index("successes"),
                                      names.index("controller_bypassed")))]
     paths.append(write_json(operability_summary(op, scenario), folder / "operability.json"))
-    paths.append(plot_operability(op, scenario, folder / "operability.png"))
+    if figures:
+        paths.append(plot_operability(op, scenario, folder / "operability.png"))
     return paths
 
 
@@ -302,12 +316,13 @@ class RaoFiles(NamedTuple):
     paths: list
 
 
-def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "box approximation") -> RaoFiles:
+def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "box approximation",
+              figures: bool = True) -> RaoFiles:
     """A BEM solution's files (:func:`~marinecdpr.motion.bem.hull_bem`): ``rao.nc``
     (Capytaine's dataset, ``source = "capytaine"``), the same table as ``rao.csv``
     (``source = "csv"``, read without the bem extra; its first lines say how it was made)
     and ``rao.png`` beside the box approximation of ``box`` (box_hull_rao's arguments),
-    dashed and named ``box_label`` in the legend.
+    dashed and named ``box_label`` in the legend (with ``figures``; without, no figure).
     Returns :class:`RaoFiles`."""
     import capytaine as cpt
 
@@ -324,6 +339,8 @@ def write_rao(ds, folder: Path, *, made_by: str, box: dict, box_label: str = "bo
                                         "below the first omega the first row's values hold; above the last, zero"))
     approx = box_hull_rao(**(box | {"roll_damping_ratio": max(box["roll_damping_ratio"], 1e-3)}),
                           omega=bem.omega, heading_deg=bem.heading_deg)
+    if not figures:
+        return RaoFiles(bem=bem, approx=approx, paths=[nc, table])
     figure = plot_raos(bem, folder / "rao.png", title=f"RAOs from BEM: {ds.attrs['hull']}", beside=approx,
                        beside_label=box_label)
     return RaoFiles(bem=bem, approx=approx, paths=[nc, table, figure])
@@ -359,10 +376,10 @@ def windows_summary(series, windows, *, series_name: str, design_limit: str, day
 
 
 def write_windows(series, windows, folder: Path, *, series_name: str, design_limit: str,
-                  days: list[float]) -> tuple[dict, list[Path]]:
+                  days: list[float], figures: bool = True) -> tuple[dict, list[Path]]:
     """A weather-window study's files (:func:`~marinecdpr.studies.weather.weather_windows`):
     ``windows.csv`` (each window, its length, whether the operation fits), ``summary.json``
-    and ``windows.png``. Returns (the summary, the paths)."""
+    and, with ``figures``, ``windows.png``. Returns (the summary, the paths)."""
     from marinecdpr.report.figures import plot_windows
 
     folder = Path(folder)
@@ -370,6 +387,8 @@ def write_windows(series, windows, folder: Path, *, series_name: str, design_lim
     paths = [_write_csv(["start_h", "end_h", "length_h", "long_enough"], _window_rows(w), folder / "windows.csv")]
     summary = windows_summary(series, w, series_name=series_name, design_limit=design_limit, days=days)
     paths.append(write_json(summary, folder / "summary.json"))
+    if not figures:
+        return summary, paths
     paths.append(plot_windows(series, w, folder / "windows.png",
                               title=f"Weather windows for a {d:g} h operation (alpha {w.alpha:g})"))
     return summary, paths
@@ -387,11 +406,11 @@ def _write_table(names: list[str], rows: list[list], path: Path) -> Path:
     return path
 
 
-def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Path]]:
+def write_control_study(study, prediction, folder: Path, *, figures: bool = True) -> tuple[dict, list[Path]]:
     """A control study's files (:mod:`marinecdpr.studies.control`): ``control_study.csv`` (a
     row per run), ``prediction.csv`` (the ship-motion predictor's error per horizon and DOF,
-    beside the kinematic extrapolation's and the held sample's), ``summary.json`` and
-    ``control_study.png``. Returns (the summary, the paths)."""
+    beside the kinematic extrapolation's and the held sample's), ``summary.json`` and, with
+    ``figures``, ``control_study.png``. Returns (the summary, the paths)."""
     from dataclasses import asdict
 
     from marinecdpr.report.figures import plot_control_study
@@ -423,5 +442,6 @@ def write_control_study(study, prediction, folder: Path) -> tuple[dict, list[Pat
                                                          ("kinematic", prediction.taylor),
                                                          ("hold", prediction.hold))}}}
     paths.append(write_json(summary, folder / "summary.json"))
-    paths.append(plot_control_study(study, prediction, folder / "control_study.png"))
+    if figures:
+        paths.append(plot_control_study(study, prediction, folder / "control_study.png"))
     return summary, paths
