@@ -902,7 +902,8 @@ def test_the_study_key_is_the_content_of_its_files_not_their_paths(tiny, journal
 
 SHIP_SIDE_KEY = "ed838c876f6c7535"
 """The shipped ship_side study's key as computed before a cable's breaking load
-(``breaking_load_N``, issue 40 item 4) was a scenario key (commit ba01b22)."""
+(``breaking_load_N``, issue 40 item 4) was a scenario key (commit ba01b22), and before the
+motors' current watch (``[simulation.control.safety] current_fraction``, ``current_delay_s``)."""
 
 
 def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was():
@@ -913,6 +914,8 @@ def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was
     assert study_key(spec, template, cells) == SHIP_SIDE_KEY
     rope = template.with_updates("robot", breaking_load_N=float(template.robot.tension_max.max()) * 5.0)
     assert study_key(spec, rope, cells) != SHIP_SIDE_KEY
+    watch = template.with_updates("simulation.control.safety", current_fraction=0.3)
+    assert study_key(spec, watch, cells) != SHIP_SIDE_KEY
 
 
 @pytest.mark.parametrize("file, edit", [

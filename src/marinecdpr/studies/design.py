@@ -47,7 +47,7 @@ from scipy.fft import next_fast_len
 from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.cleaning import Cleaning
 from marinecdpr.scenario.design import CONTINUOUS, PATTERN_CABLES, RAIL_VARIABLES, DesignSpec
-from marinecdpr.scenario.schema import Scenario, validated_scenario
+from marinecdpr.scenario.schema import Safety, Scenario, validated_scenario
 from marinecdpr.studies.executor import Executor
 
 __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidate_scenario", "evaluate", "search",
@@ -997,6 +997,10 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     for node in (scenario["robot"], *scenario["robot"]["cables"]):  # no breaking load: as before it was known
         if node.get("breaking_load_N", 0) is None:
             del node["breaking_load_N"]
+    watch, shipped = scenario["simulation"]["control"]["safety"], Safety.model_fields
+    for key in ("current_fraction", "current_delay_s"):  # the motors' current watch as shipped: as before it was
+        if watch.get(key) == shipped[key].default:
+            del watch[key]
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]
