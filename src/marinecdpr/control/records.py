@@ -259,13 +259,14 @@ class Safety(NamedTuple):
     current_steps exchanges has failed.
 
     State (m cables): present (4,) int, 1 where the caller measures that sensor this exchange
-    (:data:`SENSORS`; the prototype measures all four); count (2, m) int, the exchanges a
+    (:data:`SENSORS`; the prototype measures all four); count (3, m) int, the exchanges a
     cable's load cell has read low, its length has disagreed and its motor's torque has left its
     demand; lost (m,) int, 1 where a cable is lost; failed (m,) int, 1 where a winch's drive
     has failed; known (m,): the tension a lost cable still pulls with (a failed drive's, from
-    its load cell; 0 for a broken one), N; bad (4,) int, 1 where a sensor is faulty; mode (1,) int, a :data:`MODES` value;
-    since (1,) int, the step the reaction started; hold_x (3,), hold_R (3, 3): the pose the
-    controller holds (park, stop), in C; last_x (3,), last_L (m,): the previous exchange's
+    its load cell; 0 for a broken one), N; bad (4,) int, 1 where a sensor is faulty; mode
+    (1,) int, a :data:`MODES` value; since (1,) int, the step the reaction started; hold_x
+    (3,), hold_R (3, 3): the pose the controller holds (park, stop), in C; last_x (3,), last_L
+    (m,): the previous exchange's
     pose sensor's and encoders' readings; last_eta (3, 6): the MRU's last sound sample (what
     the reaction uses once the MRU is faulty; NaN before the first); moved_x (1,), moved_L (m,): how far the plan moved
     since each reading last changed, m; lo, hi (m,): the tension limits the step solves
@@ -325,9 +326,11 @@ def empty_safety(m: int, lo: np.ndarray, hi: np.ndarray, *, detect: bool = False
                   jump_m=float(jump_m), frozen_m=float(frozen_m), disagree_m=float(disagree_m),
                   disagree_steps=int(disagree_steps), mru_timeout_s=float(mru_timeout_s), park=bool(park),
                   stop_kd=float(stop_kd), current_fraction=float(current_fraction), current_steps=int(current_steps),
-                  tau_max=np.zeros(m) if tau_max is None else np.array(np.broadcast_to(np.asarray(tau_max, dtype=float), (m,))),
+                  tau_max=np.zeros(m) if tau_max is None else np.array(np.broadcast_to(np.asarray(tau_max, dtype=float),
+                                                                                         (m,))),
                   present=np.ones(4, dtype=np.int64), count=np.zeros((3, m), dtype=np.int64),
-                  lost=np.zeros(m, dtype=np.int64), failed=np.zeros(m, dtype=np.int64), known=np.zeros(m), bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
+                  lost=np.zeros(m, dtype=np.int64), failed=np.zeros(m, dtype=np.int64), known=np.zeros(m),
+                  bad=np.zeros(4, dtype=np.int64), mode=np.zeros(1, dtype=np.int64),
                   since=np.full(1, -1, dtype=np.int64), hold_x=np.zeros(3), hold_R=np.eye(3),
                   last_x=np.full(3, np.nan), last_L=np.full(m, np.nan), last_eta=np.full((3, 6), np.nan), moved_x=np.zeros(1), moved_L=np.zeros(m),
                   lo=np.array(lo, dtype=float), hi=np.array(hi, dtype=float),

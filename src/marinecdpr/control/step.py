@@ -276,16 +276,15 @@ def _required_wrench(k, model, loads, work, a_SO):
 
 @njit(cache=_cache)
 def _tensions_for(k, h, eta, how, blind, hold_x, hold_R, kp, kd, x_t, R_t, v_t, w_t, a_t, al_t, lost, known, lo, hi,
-                  ref,
-                  model, loads, meas, cmd, work, predictor):
+                  ref, model, loads, meas, cmd, work, predictor):
     """The state at mid-step (:func:`estimate_state` from the MRU's sample eta (3, 6), ``how``
     a ``Gains.prediction``; where ``blind``, the pose ``hold_x``, ``hold_R`` at rest instead),
     computed torque with gains kp, kd on the error to the target (x_t, R_t, v_t, w_t, a_t,
     al_t), the wrench it needs (eq. 15) and the tension method within lo, hi (m,), the cables
     where ``lost`` (m,) is non-zero left out (their rows of J~ zeroed), the wrench of the
     tension ``known`` (m,), N, that such a cable still pulls with (a failed drive's, from its
-    load cell; 0 for a broken one) taken from the wrench the others hold (J~^T T = w): T_cmd. True where
-    within the limits. The one solve of the normal step and of every reaction, compiled once
+    load cell; 0 for a broken one) taken from the wrench the others hold (J~^T T = w): T_cmd.
+    True where within the limits. The one solve of the normal step and of every reaction, compiled once
     (inlined at each of their call sites, it cost seconds of compiling each)."""
     a_SO = estimate_state(k, h, meas, eta, ref, work, how, predictor)
     if blind:  # no pose to feed back: the held pose, at rest (feed-forward)
@@ -321,8 +320,8 @@ def _feedback_tensions(k, h, ref, model, gains, loads, meas, cmd, work, predicto
     reaction's: one compiled solve for both)."""
     x_t, R_t = ref.x[k], ref.R[k]
     if _tensions_for(k, h, meas.eta, gains.prediction, _blind(gains, s), x_t, R_t, gains.kp, gains.kd, x_t, R_t,
-                     ref.v[k], ref.w[k], ref.a[k], ref.al[k], s.lost, s.known, model.lo, model.hi, ref, model, loads, meas, cmd,
-                     work, predictor):
+                     ref.v[k], ref.w[k], ref.a[k], ref.al[k], s.lost, s.known, model.lo, model.hi, ref, model, loads,
+                     meas, cmd, work, predictor):
         return 0
     for i in range(cmd.T_cmd.shape[0]):  # element by element: a slice copy compiles numba's shape-error text (1.4 s)
         cmd.T_cmd[i] = ref.T[k, i]
@@ -399,9 +398,10 @@ def watch(k, h, ref, model, gains, meas, cmd, work, s):
     motor whose torque (from its drive's current) differs from its drive's demand by more than
     ``current_fraction`` of its torque limit for ``current_steps`` exchanges marks its winch's
     drive failed (stalled, or without power): its cable is lost to the tensions' solve, the
-    tension its load cell reads taken as known (``s.known``). Each detection is recorded (step, kind, sensor, cable); the watched residuals' largest
-    ratios to their thresholds before the first detection are kept in ``s.peak``. Returns the
-    number of new detections. Reads ``cmd.T_cmd`` as the last exchange's command; may
+    tension its load cell reads taken as known (``s.known``). Each detection is recorded
+    (step, kind, sensor, cable); the watched residuals' largest ratios to their thresholds
+    before the first detection are kept in ``s.peak``. Returns the number of new detections.
+    Reads ``cmd.T_cmd`` as the last exchange's command; may
     overwrite ``work.L`` and ``work.J``.
     """
     m = cmd.T_cmd.shape[0]
@@ -582,9 +582,9 @@ def react(k, h, ref, model, gains, loads, meas, cmd, work, predictor, s):
     rest), or the largest share of that deceleration (1, 1/2, 1/4, 0: held at its velocity)
     within limits; where not even that, the brakes (``cmd.brake``), the remaining winches
     holding the plan's tensions within their limits. A winch whose drive has failed is such a
-    lost cable, whose measured pull the others hold besides the wrench (``s.known``). Writes T_cmd, L0_cmd (the lengths at the
-    held pose, or the plan's when going on) and brake; returns 1 once the reaction is the
-    brakes, else 0.
+    lost cable, whose measured pull the others hold besides the wrench (``s.known``). Writes
+    T_cmd, L0_cmd (the lengths at the held pose, or the plan's when going on) and brake;
+    returns 1 once the reaction is the brakes, else 0.
     """
     mode = s.mode[0]
     while mode != _BRAKE:  # the mode, then the stop, then the brakes: one call site of the solve

@@ -29,7 +29,8 @@ def controller_step(k, h, part, bus):
     bus.fallbacks[0] += part.step(k, h, part.held)  # the records read in place from their list
 
 
-@part(step=controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
+@part(step=controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields),
+      writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
 class ControllerPart(NamedTuple):
     """The controller's records (:class:`~marinecdpr.control.records.ControllerParts`), held
     in a one-item typed list: the loop passes one pointer, not the records' ~90 arrays
@@ -88,7 +89,8 @@ def late_controller_step(k, h, part, bus):
     part_step(k, h, part.controller, bus)
 
 
-@part(step=late_controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields), writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
+@part(step=late_controller_step, order=20, reads=tuple(f"meas.{f}" for f in Measurement._fields),
+      writes=("T_cmd", "L0_cmd", "fallbacks", "brake"))
 class LateController(NamedTuple):
     """The controller (``controller``, a :class:`ControllerPart`) missing its deadline
     (``[[faults]]`` of kind ``controller_deadline``): k0, k1 (f,) int64 the exchanges from
