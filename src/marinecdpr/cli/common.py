@@ -150,17 +150,16 @@ def output(out: Path):
         fail(f"interrupted; --out {out} keeps what it held", EXIT_INTERRUPTED)
 
 
-def _figures_default() -> bool:
-    from marinecdpr.defaults import get
-
-    return get("report.figures")
-
-
 def figures_option(what: str):
     """The ``--figures/--no-figures`` option of a command that draws figures (``what``: the
     files): the spec's ``figures``, its default the defaults table's ``"report.figures"``
     (:mod:`marinecdpr.defaults`), read as the command runs."""
-    return typer.Option(..., "--figures/--no-figures", default_factory=_figures_default, show_default=False,
+    from functools import partial
+
+    from marinecdpr.defaults import get
+
+    return typer.Option(..., "--figures/--no-figures", default_factory=partial(get, "report.figures"),
+                        show_default=False,
                         help=f"Draw {what} (the default: marinecdpr.defaults' report.figures). --no-figures: "
                              "the other files the same, no figure drawn.")
 

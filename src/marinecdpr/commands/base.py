@@ -90,19 +90,17 @@ class Spec(BaseModel):
         return cls.model_fields[field].get_default(call_default_factory=True)
 
 
-def _figures_default() -> bool:
-    from marinecdpr.defaults import get
-
-    return get("report.figures")
-
-
 def figures_field() -> Any:
     """A spec's ``figures`` field (``figures: bool = figures_field()``): draw the command's
     figures (its PNG files and the report's images), or not (every other file the same byte
     for byte; the report says the figures were not drawn). Its default is the defaults
     table's ``"report.figures"`` (:mod:`marinecdpr.defaults`, True as shipped), read when
     the spec is made."""
-    return Field(default_factory=_figures_default)
+    from functools import partial
+
+    from marinecdpr.defaults import get
+
+    return Field(default_factory=partial(get, "report.figures"))
 
 
 def positive(value: float | None, *, zero_ok: bool = False) -> float | None:
