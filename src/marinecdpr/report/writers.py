@@ -196,38 +196,37 @@ def write_virtual_prototype(vp, folder: Path, *, figures: bool = True) -> list[P
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     sc = vp.scenario
-    if not figures:
-        paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
-        for name, res in vp.results.items():
-            paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
-        paths.append(write_json(vp.summary, folder / "summary.json"))
-        paths.append(write_report_html(vp.figures, sc, None, folder / "report.html", plan=vp.plan))
-        return paths
-    # drawing the figures is most of the work: two of them (about half) are drawn in a
-    # second process while this one writes the CSVs and draws the other two
-    _pyplot()  # imported once, before the fork, for both
-    apart = Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
-                             plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png")))
+    apart = None
+    if figures:
+        # drawing the figures is most of the work: two of them (about half) are drawn in a
+        # second process while this one writes the CSVs and draws the other two
+        _pyplot()  # imported once, before the fork, for both
+        apart = Forked(lambda: (plot_tensions(vp.plan, sc, folder / "tensions.png"),
+                                 plot_cable_lengths(vp.results, sc, folder / "cable_lengths.png")))
+    drawn = None  # the figures not drawn: the report says so
     try:
         paths = [write_plan_csv(vp.plan, sc, folder / "plan.csv")]
         for name, res in vp.results.items():
             paths.append(write_sim_csv(res, sc, folder / f"sim_{name}.csv"))
-        tracking = plot_tracking(vp.results, sc, folder / "tracking.png")
-        path_figure = plot_path(vp.results, sc, folder / "path.png")
-        tensions, lengths = apart.result()
+        if apart is not None:
+            tracking = plot_tracking(vp.results, sc, folder / "tracking.png")
+            path_figure = plot_path(vp.results, sc, folder / "path.png")
+            tensions, lengths = apart.result()
+            # numbered by their order on the page; the paper's figures they follow named in words
+            drawn = {
+                "Figure 1: cable tensions (a) from eq. (18) and (b) after optimisation, like the paper's figure 5":
+                    tensions,
+                "Figure 2: cable lengths, planned (kinematics) and actual (virtual prototype), like the paper's "
+                "figure 6": lengths,
+                "Figure 3: planned and actual pose, and the tracking errors, like the paper's figure 7": tracking,
+                "Figure 4: the platform's path in C, planned and actual": path_figure,
+            }
+            paths += list(drawn.values())
     finally:
-        apart.stop()
-    # numbered by their order on the page; the paper's figures they follow named in words
-    figures = {
-        "Figure 1: cable tensions (a) from eq. (18) and (b) after optimisation, like the paper's figure 5": tensions,
-        "Figure 2: cable lengths, planned (kinematics) and actual (virtual prototype), like the paper's figure 6":
-            lengths,
-        "Figure 3: planned and actual pose, and the tracking errors, like the paper's figure 7": tracking,
-        "Figure 4: the platform's path in C, planned and actual": path_figure,
-    }
-    paths += list(figures.values())
+        if apart is not None:
+            apart.stop()
     paths.append(write_json(vp.summary, folder / "summary.json"))
-    paths.append(write_report_html(vp.figures, sc, figures, folder / "report.html", plan=vp.plan))
+    paths.append(write_report_html(vp.figures, sc, drawn, folder / "report.html", plan=vp.plan))
     return paths
 
 
