@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.special import ndtr
 
 import marinecdpr
@@ -272,6 +274,43 @@ def test_the_chance_is_rice_s_crossings_over_the_facets_by_hand(held, t_max):
     assert 1e-6 < by_hand < 1.0
     assert r.chance[0] == pytest.approx(by_hand, rel=1e-9)
     assert r.tensions_ok[0] == (by_hand <= S.EXCEEDANCE)
+
+
+def _chance_as_arrays(level, time_s, drops, starts, per_newton, p_b, f_b, var0, ratio, margin):
+    """The screen's chance over every (sea state, bin) at once, as whole arrays (the form the
+    screen had before it summed bin by bin): total and the bin that brings the most."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        scale = per_newton / np.sqrt(var0[:, p_b, f_b])
+        rate = ratio[:, p_b, f_b] / (2.0 * np.pi)
+        dd = level[None] - margin[:, None]
+        z = np.where(np.isfinite(scale), dd * scale, np.where(dd > 0, np.inf, -np.inf))
+        dens = np.exp(-0.5 * z * z)
+        term = np.where(dd > 0, time_s * rate * dens + np.where(np.isfinite(scale), drops * scale, 0.0) * dens
+                        / np.sqrt(2.0 * np.pi) + starts * ndtr(-z), 1.0)
+    return term.sum(axis=1), np.argmax(np.where(level[None] <= 0.0, np.inf, term), axis=1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 300), st.floats(-3.0, 3.0))
+def test_the_chance_summed_bin_by_bin_is_the_whole_arrays(seed, n_bins, shift):
+    """The screen's chance, summed bin by bin, against the same sums over whole arrays: random
+    bins (headrooms near and beyond the limits, some far enough that nothing is left, a start,
+    a sea of no variance along some facets), random margins: the totals to 1e-12 and the same
+    worst bin."""
+    rng = np.random.default_rng(seed)
+    n_cells, n_p, F = 5, 3, 4
+    level = rng.uniform(-5.0, 60.0, n_bins) + shift
+    level[rng.random(n_bins) < 0.05] = -np.inf
+    var0 = rng.uniform(0.0, 4.0, (n_cells, n_p, F)) ** 2
+    var0[rng.random(var0.shape) < 0.1] = 0.0
+    ratio = rng.uniform(0.1, 2.0, (n_cells, n_p, F))
+    args = (level, rng.uniform(0.0, 1.0, n_bins), np.where(rng.random(n_bins) < 0.5, 0.0, rng.uniform(0, 3, n_bins)),
+            (np.arange(n_bins) == 0).astype(float), rng.uniform(0.5, 2.0, n_bins),
+            rng.integers(0, n_p, n_bins), rng.integers(0, F, n_bins), var0, ratio, rng.uniform(-2.0, 2.0, n_cells))
+    total, worst = S._chance_sums(*args)
+    expected, most = _chance_as_arrays(*args)
+    np.testing.assert_allclose(total, expected, rtol=1e-12, atol=0.0)
+    assert worst.tolist() == most.tolist()
 
 
 def test_limits_tightened_by_the_margin_meet_the_exceedance(held):

@@ -62,7 +62,10 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Callable
 
+import math
+
 import numpy as np
+from numba import njit
 from scipy.special import ndtr, ndtri
 
 from marinecdpr.errors import ScenarioError
@@ -487,7 +490,85 @@ def _response_moments(model: ScreenModel, rao, cells: list, template: Scenario) 
 
 
 CHANCE_CHUNK = 2**22
-"""The most (sea state, bin) entries the screen's chance holds at once (32 MB an array)."""
+"""The most (sea state, bin) entries the screen holds at once (32 MB an array): the margin's
+bracket (:func:`screen_cells`); the chance itself is summed bin by bin (:func:`_chance_sums`)."""
+
+
+_Z_NONE = 38.7
+"""Beyond this z, exp(-z^2 / 2) (exp(-748.8)) and ndtr(-z) round to 0 in doubles."""
+
+
+@njit(cache=True)
+def _ndtr(a: float) -> float:
+    """The standard normal distribution function at ``a`` (scipy.special.ndtr's cephes form:
+    erf near zero, erfc in the tails)."""
+    x = a * math.sqrt(0.5)
+    z = abs(x)
+    if z < math.sqrt(0.5):
+        return 0.5 + 0.5 * math.erf(x)
+    y = 0.5 * math.erfc(z)
+    return 1.0 - y if x > 0.0 else y
+
+
+@njit(cache=True, error_model="numpy")
+def _chance_sums(level, time_s, drops, starts, per_newton, p_b, f_b, var0, ratio, margin):
+    """The screen's chance over the job in each sea state (step 5), its bins summed one by one.
+
+    Per bin b (its pose p_b, facet f_b) and sea state i, with the headroom ``dd = level_b -
+    margin_i`` and ``z = dd per_newton_b / sigma`` (sigma = sqrt(var0[i, p_b, f_b])): where dd
+    > 0, the Rice crossings ``time_s rate phi`` (rate = ratio / 2 pi, phi = exp(-z^2 / 2)),
+    the mean's drops ``drops per_newton / sigma phi / sqrt(2 pi)`` and a start beyond,
+    ``starts ndtr(-z)``; where dd <= 0 (beyond the limit even without the sea), 1.
+
+    Parameters
+    ----------
+    level, time_s, drops, starts, per_newton : ndarray, shape (n_bins,)
+        Each bin's headroom (N of tension), time (s), drops of the headroom (N), starts
+        beyond (0 or 1 a sample) and newtons of tension per unit of wrench along its facet.
+    p_b, f_b : ndarray of int64, shape (n_bins,)
+        Each bin's pose and facet.
+    var0, ratio : ndarray, shape (n_cells, n_poses, n_facets)
+        The sea's variance along each facet's normal at each pose, and sqrt(m2 / m0).
+    margin : ndarray, shape (n_cells,)
+        The tightening of every limit, N.
+
+    Returns
+    -------
+    total : ndarray, shape (n_cells,)
+        The chance (a bound; not clipped at 1).
+    worst : ndarray of int64, shape (n_cells,)
+        The bin that brings the most of it (one beyond the limits without the sea first).
+    """
+    n_cells, n_bins = margin.shape[0], level.shape[0]
+    total = np.zeros(n_cells)
+    worst = np.zeros(n_cells, dtype=np.int64)
+    root_2pi = math.sqrt(2.0 * math.pi)
+    for i in range(n_cells):
+        sigma = np.sqrt(var0[i])
+        rate = ratio[i] / (2.0 * math.pi)
+        s, most = 0.0, -math.inf
+        for b in range(n_bins):
+            dd = level[b] - margin[i]
+            if dd > 0.0:
+                scale = per_newton[b] / sigma[p_b[b], f_b[b]]
+                finite = math.isfinite(scale)
+                z = dd * scale if finite else math.inf
+                if z > _Z_NONE:  # exp(-z^2 / 2) and ndtr(-z) are 0 in doubles: nothing
+                    term = 0.0
+                else:
+                    dens = math.exp(-0.5 * z * z)
+                    term = (time_s[b] * rate[p_b[b], f_b[b]] * dens
+                            + (drops[b] * scale if finite else 0.0) * dens / root_2pi)
+                    if starts[b] != 0.0:
+                        term += starts[b] * _ndtr(-z)
+            else:
+                term = 1.0
+            s += term
+            key = math.inf if level[b] <= 0.0 else term
+            if key > most:
+                most, worst[i] = key, b
+        total[i] = s
+    return total, worst
 
 GUST_STEP_M_S = 0.01
 """The gust step of the central difference for the wrench per m/s of gust (the drag is
@@ -743,31 +824,23 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
     step = max(1, CHANCE_CHUNK // max(len(key), 1))
     chunks = [slice(a, min(a + step, n_cells)) for a in range(0, n_cells, step)]
 
-    def scales(rows: slice) -> tuple[np.ndarray, np.ndarray]:
-        """z per newton and the up-crossing rate of each bin, (n_rows, n_bins), for the cells ``rows``."""
+    def scales(rows: slice) -> np.ndarray:
+        """z per newton of each bin, (n_rows, n_bins), for the cells ``rows``."""
         with np.errstate(divide="ignore"):
-            scale = per_newton / np.sqrt(var0[rows][:, p_b, f_b])
-        return scale, ratio[rows][:, p_b, f_b] / (2.0 * np.pi)
+            return per_newton / np.sqrt(var0[rows][:, p_b, f_b])
 
-    def chance(margin, rows: slice, scale, rate):
-        """The chance over the job (a bound) for the cells ``rows`` with the limits tightened by
-        ``margin`` (n_rows,): per bin, and in all."""
-        dd = level[None] - margin[:, None]
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            z = np.where(np.isfinite(scale), dd * scale, np.where(dd > 0, np.inf, -np.inf))
-            dens = np.exp(-0.5 * z * z)
-            term = np.where(dd > 0, time_s * rate * dens + np.where(np.isfinite(scale), drops * scale, 0.0) * dens
-                            / np.sqrt(2.0 * np.pi) + starts * ndtr(-z), 1.0)
-        return term, term.sum(axis=1) + np.where(singular.any(), np.inf, 0.0)
+    bins = (level, time_s, drops, starts, per_newton, p_b.astype(np.int64), f_b.astype(np.int64),
+            np.ascontiguousarray(var0), np.ascontiguousarray(ratio))
+    lost = np.inf if singular.any() else 0.0
 
-    chance_total = np.empty(n_cells)
+    def chance(margin) -> tuple[np.ndarray, np.ndarray]:
+        """The chance over the job (a bound) in each cell with the limits tightened by
+        ``margin`` (n_cells,), and the bin that brings the most of it (:func:`_chance_sums`)."""
+        total, worst = _chance_sums(*bins, np.ascontiguousarray(margin, dtype=float))
+        return total + lost, worst
+
     # the bin that brings the most chance; one beyond the limits even without the sea first
-    worst = np.zeros(n_cells, dtype=int)
-    for rows in chunks:
-        term, chance_total[rows] = chance(np.zeros(rows.stop - rows.start), rows, *scales(rows))
-        if term.shape[1]:
-            worst[rows] = np.argmax(np.where(level[None] <= 0.0, np.inf, term), axis=1)
-        del term
+    chance_total, worst = chance(np.zeros(n_cells))
     tensions_ok = chance_total <= exceedance
 
     def margin() -> np.ndarray:
@@ -776,18 +849,16 @@ def screen_cells(scenario: Scenario, cells: list[Cell], *, model: ScreenModel | 
         if singular.any():
             return np.full(n_cells, -np.inf)
         half_range = float(np.min(robot.tension_max - robot.tension_min)) / 2.0
-        out = np.empty(n_cells)
+        lo_m = np.empty(n_cells)
         for rows in chunks:
-            scale, rate = scales(rows)
-            hi_m = np.full(rows.stop - rows.start, min(float(level.min(initial=np.inf)), half_range))
             with np.errstate(divide="ignore"):
-                lo_m = (level[None] - 12.0 / scale).min(axis=1, initial=half_range)
-            for _ in range(MARGIN_BISECTIONS):
-                mid = 0.5 * (lo_m + hi_m)
-                ok = chance(mid, rows, scale, rate)[1] <= exceedance
-                lo_m, hi_m = np.where(ok, mid, lo_m), np.where(ok, hi_m, mid)
-            out[rows] = lo_m
-        return out
+                lo_m[rows] = (level[None] - 12.0 / scales(rows)).min(axis=1, initial=half_range)
+        hi_m = np.full(n_cells, min(float(level.min(initial=np.inf)), half_range))
+        for _ in range(MARGIN_BISECTIONS):
+            mid = 0.5 * (lo_m + hi_m)
+            ok = chance(mid)[0] <= exceedance
+            lo_m, hi_m = np.where(ok, mid, lo_m), np.where(ok, hi_m, mid)
+        return lo_m
     band_ok = in_band_low >= in_band_target_pct
     works = tensions_ok & band_ok
     # why each failing sea state fails: the term that brings the most chance (its pose, tool
