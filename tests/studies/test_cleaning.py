@@ -387,6 +387,29 @@ def test_a_sea_state_is_the_cleaning_job_in_that_sea(small):
     assert not none.operable and "tensions within the limits" in none.reason and math.isnan(none.hours)
 
 
+def test_a_sea_state_whose_plan_fails_is_judged_by_its_plan_as_its_flight_would_be(small, monkeypatch):
+    """``plan_first`` (the design study's finalists): a sea state whose plan holds the normal
+    force in band too little is not flown, its verdict and share of time in band those of
+    the flown job (which takes both from its plan); one whose plan passes is flown, its result
+    the same as without ``plan_first``, from one plan."""
+    from marinecdpr.studies import cleaning
+
+    rough, calm = Cell(0, 14.0, 10.0, 90.0, 0.2), Cell(3, 1.0, 8.0, 150.0, 0.2)
+    flown = evaluate_cleaning_cell(small, rough)
+    assert not flown.operable and "normal force in band" in flown.reason and np.isfinite(flown.coverage_pct)
+    flights = []
+    real = cleaning.simulate
+    monkeypatch.setattr(cleaning, "simulate", lambda *a, **k: flights.append(1) or real(*a, **k))
+    planned = evaluate_cleaning_cell(small, rough, plan_first=True)
+    assert flights == [] and not planned.operable and planned.reason.endswith(cleaning.NOT_FLOWN)
+    assert planned.in_band_pct == flown.in_band_pct < 95.0 and math.isnan(planned.coverage_pct)
+    plans = []
+    real_plan = cleaning.plan
+    monkeypatch.setattr(cleaning, "plan", lambda *a, **k: plans.append(1) or real_plan(*a, **k))
+    assert evaluate_cleaning_cell(small, calm, plan_first=True) == evaluate_cleaning_cell(small, calm)
+    assert flights == [1, 1] and plans == [1, 1]
+
+
 def test_over_a_scatter_diagram_the_share_and_hours_sum_by_hand(small):
     cs = cleaning_seas(small, DIAGRAM, headings_deg=(180.0, 90.0), coverage_target_pct=90.0)
     rs = cs.sea.results

@@ -407,7 +407,7 @@ def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypat
 def test_the_boundary_search_finds_every_monotone_column_s_verdicts(bounds, data):
     """Columns of 1-17 heights, each working below its own boundary and failing from it, with
     any screen verdicts: the search returns every verdict and flies at most 2 + ceil(log2 n)
-    seas of a column of n, each once."""
+    seas of a column of n, each once; with the screen's verdicts right, at most two a column."""
     from marinecdpr.studies.design import fly_boundary
     from marinecdpr.studies.operability import Cell
 
@@ -433,6 +433,14 @@ def test_the_boundary_search_finds_every_monotone_column_s_verdicts(bounds, data
     for k in range(len(bounds)):
         n = sum(1 for c in cells if int(c.tp - 5.0) == k)
         assert sum(1 for c in cells if c.index in asked and int(c.tp - 5.0) == k) <= 2 + int(np.ceil(np.log2(n)))
+    # a screen that is right: each column settled by at most two flights, at most one of them a
+    # pass (a whole flight; a failure mostly its plan alone)
+    asked.clear()
+    works, flown = fly_boundary(Session(), None, cells, truth, {})
+    assert works.tolist() == truth.tolist()
+    for k in range(len(bounds)):
+        mine = [c for c in cells if c.index in asked and int(c.tp - 5.0) == k]
+        assert len(mine) <= 2 and sum(c.hs - 0.5 < first_fail[k] for c in mine) <= 1
 
 
 def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):

@@ -143,8 +143,9 @@ def design(
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
             f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
             f"passed {v.screen_works_td_fails} the time domain failed"
-            + (f" ({v.flown} flown about each column's boundary, the rest taken from it)" if v.flown < len(cells)
-               else "")), highlight=False, soft_wrap=True)
+            + (f" ({v.flown} judged about each column's boundary, {v.planned_only} of them failing in their plan "
+               f"and not flown; the rest taken from it)" if v.flown < len(cells) else "")),
+            highlight=False, soft_wrap=True)
         if v.rail_move is not None:
             from marinecdpr.report.design import rail_move_text
 

@@ -490,8 +490,9 @@ def _report_html(study, verification, figures: dict | None, path: Path) -> Path:
         where = ("in every sea state" if spec.sea.verify == "all" else
                  "in the sea states about each column's boundary (one period, one heading: bisected from the "
                  "screen's verdicts to the height where the job first fails; the column's lower seas taken to work "
-                 "and its higher ones to fail; " + ", ".join(f"{v.flown} flown for finalist {v.rank}"
-                                                            for v in verification) + ")")
+                 "and its higher ones to fail; a sea state whose plan fails judged by its plan, not flown; " +
+                 ", ".join(f"{v.flown} judged for finalist {v.rank} ({v.planned_only} by the plan alone)"
+                           for v in verification) + ")")
         flown = (f"The finalists were also flown as built (their rope's weight and stretch, their winches' "
                  f"dynamics and limits) through the cleaning job {where}, closed loop on the prototype "
                  f"({' and '.join('MuJoCo' if p == 'mujoco' else 'the own plant' for p in plants)}): the time "

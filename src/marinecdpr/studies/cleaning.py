@@ -48,7 +48,7 @@ __all__ = ["CleaningFigures", "Guarantee", "CleaningJob", "cleaning_job", "guara
            "check_hull_estimate", "brush_positions", "normal_force",
            "cross_track_error", "reachable_cells", "CleaningCellResult", "CleaningSeas", "evaluate_cleaning_cell",
            "cleaning_seas", "COVERAGE_TARGET_PCT", "IN_BAND_TARGET_PCT", "COMPARED", "job_variants",
-           "compare_conditions"]
+           "compare_conditions", "planned_in_band", "NOT_FLOWN"]
 
 
 @dataclass(frozen=True)
@@ -248,6 +248,7 @@ def cleaning_job(
     plant: str | None = None,
     n_steps: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    reference: Plan | None = None,
 ) -> CleaningJob:
     """Plan the coverage path, fly it closed loop, and measure the cleaning.
 
@@ -259,6 +260,8 @@ def cleaning_job(
     n_steps : int, optional
         Only the first steps (short horizons).
     progress : callable(done, total), optional
+    reference : Plan, optional
+        The scenario's plan, if already made (:func:`~marinecdpr.planning.planner.plan`).
 
     Raises
     ------
@@ -270,24 +273,33 @@ def cleaning_job(
     if cleaning is None or not isinstance(scenario.trajectory, CoverageTrajectory):
         raise ScenarioError("no cleaning job: give a [cleaning] section and [trajectory] type = \"coverage\"",
                             key="cleaning", source=scenario.name)
-    compile_apart(scenario, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
-    p = plan(scenario)
+    if reference is None:
+        compile_apart(scenario, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
+    p = plan(scenario) if reference is None else reference
     res = simulate(scenario, run="closed_loop", reference=p, plant=plant, n_steps=n_steps, progress=progress)
     n = res.t.size
     brush = brush_positions(res.pose, cleaning.brush_offset_m)
     planned = brush_positions(res.pose_planned, cleaning.brush_offset_m)
     v_planned = brush_velocity(p.twist[:n, :3], p.twist[:n, 3:], matrix_from_euler(p.pose[:n, 3:]),
                                cleaning.brush_offset_m)
-    F_n = normal_force(p, scenario)[:n]
-    lo, hi = cleaning.band_N
-    tol = 1e-9 * max(hi, 1.0)
-    in_band = (F_n >= lo - tol) & (F_n <= hi + tol)
+    F_n, in_band = planned_in_band(p, scenario, n)
     cross = cross_track_error(brush[:, [0, 2]], planned[:, [0, 2]], v_planned[:, [0, 2]])
     cov = coverage_map(np.asarray(cleaning.panel_m), [np.asarray(h) for h in cleaning.holes_m],
                        brush[:, [0, 2]], in_band, width_m=cleaning.brush_diameter_m)
     figures = _figures(scenario, p, res, F_n, in_band, cross, cov)
     return CleaningJob(scenario=scenario, plan=p, result=res, brush=brush, brush_planned=planned, normal_force=F_n,
                        in_band=in_band, cross_track=cross, coverage=cov, figures=figures, summary=figures.to_json())
+
+
+def planned_in_band(p: Plan, scenario: Scenario, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The brush's normal force over the plan's first ``n`` steps (N, shape (n,): the pusher's,
+    :func:`~marinecdpr.prototype.simulation.normal_force`) and whether it is within
+    ``cleaning.band_N`` (to 1e-9 of the band's top), shape (n,) of bool: what a flown job's
+    share of time in band is of."""
+    F_n = normal_force(p, scenario)[:n]
+    lo, hi = scenario.cleaning.band_N
+    tol = 1e-9 * max(hi, 1.0)
+    return F_n, (F_n >= lo - tol) & (F_n <= hi + tol)
 
 
 def _figures(scenario: Scenario, p: Plan, res: SimResult, normal_force_N: np.ndarray, in_band: np.ndarray,
@@ -504,16 +516,37 @@ class CleaningCellResult:
         return float(self.operable)
 
 
+NOT_FLOWN = "(in the plan: not flown)"
+"""How the reason of a sea state judged by its plan alone ends (:func:`evaluate_cleaning_cell`)."""
+
+
 def evaluate_cleaning_cell(template: Scenario, cell: Cell, *, coverage_target_pct: float = COVERAGE_TARGET_PCT,
                            in_band_target_pct: float = IN_BAND_TARGET_PCT, plant: str | None = None,
-                           hull_area_m2: float | None = None, move_time_s: float = 600.0) -> CleaningCellResult:
+                           hull_area_m2: float | None = None, move_time_s: float = 600.0,
+                           plan_first: bool = False) -> CleaningCellResult:
     """Fly the template's cleaning job in one sea state (the template's time and sea
     otherwise; the record's seed from the sea state, :func:`~marinecdpr.studies.operability.sea_state_seed`)
-    and judge it."""
+    and judge it.
+
+    With ``plan_first``, a job whose plan already fails is not flown: the plan's tensions
+    and its normal force's share of time in band (:func:`planned_in_band`: a flown job's
+    verdict takes both from its plan) decide it, and the result's flown figures are NaN;
+    the verdict is the flown job's."""
     sc = cell_scenario(template, cell, template.time.duration_s, template.time.step_s)
     nan = float("nan")
     try:
-        job = cleaning_job(sc, plant=plant)
+        reference = None
+        if plan_first:
+            compile_apart(sc, plant=plant)
+            reference = plan(sc)
+            in_band = 100.0 * float(planned_in_band(reference, sc, reference.n_steps)[1].mean())
+            if in_band < in_band_target_pct:
+                return CleaningCellResult(cell=cell, operable=False,
+                                          reason=f"normal force in band {in_band:.2f} % of the time < "
+                                                 f"{in_band_target_pct:g} % {NOT_FLOWN}",
+                                          coverage_pct=nan, reachable_coverage_pct=nan, in_band_pct=in_band,
+                                          tension_min_N=nan, tension_max_N=nan, job_time_s=nan, hours=nan)
+        job = cleaning_job(sc, plant=plant, reference=reference)
     except InfeasibleError:
         return CleaningCellResult(cell=cell, operable=False,
                                   reason="no tensions within the limits at some step of the plan",

@@ -1324,8 +1324,12 @@ class Verification:
     plant: str = ""
     screen_reasons: list = field(default_factory=list)
     flown: int = 0
-    """How many sea states were flown (all of them, or with ``[sea] verify = "boundary"``
-    those about each column's boundary; the rest taken as the column's boundary says)."""
+    """How many sea states were judged in the time domain (all of them, or with ``[sea] verify =
+    "boundary"`` those about each column's boundary; the rest taken as the column's boundary
+    says)."""
+    planned_only: int = 0
+    """Of those, how many failed in their plan and were not flown (``verify = "boundary"``:
+    :func:`~marinecdpr.studies.cleaning.evaluate_cleaning_cell`'s ``plan_first``)."""
     rail_move: "RailMoveCheck | None" = None
     """A finalist on a rail: its frame carried along the rail in the time domain
     (:func:`fly_rail_move`); None for other moves, or where no sea state works."""
@@ -1438,11 +1442,15 @@ def column_boundary(verdicts: dict[int, bool], n: int) -> tuple[int, int]:
 def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndarray, kwargs: dict,
                  progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, dict]:
     """The time domain's verdict in every sea state, flying only those about each column's
-    boundary (:func:`sea_columns`): first the highest of the column's lowest seas the screen
-    passes and the next above it, then by bisection (all columns' next seas at once on the
-    ``session``) until each column is settled (:func:`column_boundary`). A column's seas below
-    its first failure are taken to work and those above it to fail; the seas flown keep their
-    own verdicts.
+    boundary (:func:`sea_columns`): first the sea just above the highest of the column's
+    lowest seas the screen passes (the top sea where it passes them all); where that fails,
+    the screen's highest pass next (a conservative screen's pass: the time domain should pass
+    it too); then by bisection (all columns' next seas at once on the ``session``) until each
+    column is settled (:func:`column_boundary`). A column's seas below its first failure are
+    taken to work and those above it to fail; the seas flown keep their own verdicts. A pass
+    costs a whole flight and a failure mostly its plan alone (``plan_first``), so the screen's
+    own pass is flown only where the sea above it fails: were it to pass there, the sea below
+    would be taken to work.
 
     Parameters
     ----------
@@ -1464,11 +1472,11 @@ def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndar
     columns = sea_columns(cells)
     verdicts: list[dict[int, bool]] = [{} for _ in columns]
     flown: dict[int, object] = {}
-    probes = []
-    for k, col in enumerate(columns):
+    guess = []  # the screen's last pass of each column's lowest seas (-1: none)
+    for col in columns:
         ok = screen_works[col]
-        s = int(np.argmin(ok)) - 1 if not ok.all() else len(col) - 1  # the screen's last of the lowest
-        probes += [(k, j) for j in (s, s + 1) if 0 <= j < len(col)]
+        guess.append(int(np.argmin(ok)) - 1 if not ok.all() else len(col) - 1)
+    probes = [(k, min(s + 1, len(col) - 1)) for k, (s, col) in enumerate(zip(guess, columns))]
     while probes:
         before = len(flown)
         results = session.map(evaluate_cleaning_cell, template, [cells[columns[k][j]] for k, j in probes], kwargs,
@@ -1480,7 +1488,7 @@ def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndar
         for k, col in enumerate(columns):
             lo, hi = column_boundary(verdicts[k], len(col))
             if hi > lo + 1:
-                probes.append((k, (lo + hi) // 2))
+                probes.append((k, guess[k] if hi == guess[k] + 1 and lo < guess[k] else (lo + hi) // 2))
     works = np.zeros(len(cells), dtype=bool)
     for k, col in enumerate(columns):
         lo, hi = column_boundary(verdicts[k], len(col))
@@ -1500,7 +1508,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     the seas hardest; the time-domain share and hours beside the screen's there. With
     ``[sea] verify = "boundary"`` only the seas about each column's boundary fly
     (:func:`fly_boundary`). A finalist on a rail also flies a move of its frame along the rail
-    in the highest sea flown that works (:func:`fly_rail_move`).
+    in the highest sea flown that works (:func:`fly_rail_move`). There a sea state whose
+    plan already fails (its tensions, or its normal force's share of time in band: a flown
+    job takes both from its plan) is judged by its plan and not flown (``plan_first``).
 
     Parameters
     ----------
@@ -1510,7 +1520,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     progress : callable(done, total), optional
         Sea states flown over all finalists.
     """
-    from marinecdpr.studies.cleaning import COVERAGE_TARGET_PCT, IN_BAND_TARGET_PCT, cleaning_seas
+    from marinecdpr.studies.cleaning import COVERAGE_TARGET_PCT, IN_BAND_TARGET_PCT, NOT_FLOWN, cleaning_seas
     from marinecdpr.studies.operability import scatter_cells
     from marinecdpr.studies.screen import screen_cells
 
@@ -1535,7 +1545,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
         works = screened.works
         if boundary:
             kwargs = dict(coverage_target_pct=COVERAGE_TARGET_PCT, in_band_target_pct=IN_BAND_TARGET_PCT,
-                          plant=flown, hull_area_m2=None, move_time_s=600.0)
+                          plant=flown, hull_area_m2=None, move_time_s=600.0, plan_first=True)
 
             def seen(n, before=done_before, left=len(chosen) - rank):
                 nonlocal total
@@ -1548,6 +1558,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             share = float(weight[td].sum())
             failed = [results[j] for j in sorted(results) if not results[j].operable]
             n_flown = len(results)
+            planned_only = sum(r.reason.endswith(NOT_FLOWN) for r in results.values())
         else:
             done = (rank - 1) * len(cells)
             cs = cleaning_seas(sc, scatter, headings_deg=heads, plant=flown, executor=executor,
@@ -1555,7 +1566,7 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             td = np.array([r.operable for r in cs.sea.results], dtype=bool)
             share = cs.sea.operability
             failed = [r for r in cs.sea.results if not r.operable]
-            n_flown = len(cells)
+            n_flown, planned_only = len(cells), 0
         rail_move = None
         hardest = max((j for j in (results if boundary else range(len(cells))) if td[j]),
                       key=lambda j: (cells[j].hs, -j), default=None)  # the highest sea flown that works
@@ -1569,5 +1580,6 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             screen_fails_td_works=int((~works & td).sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
                      for r in failed], plant=flown,
-            screen_reasons=[why for why in screened.reasons if why], flown=n_flown, rail_move=rail_move))
+            screen_reasons=[why for why in screened.reasons if why], flown=n_flown, planned_only=planned_only,
+            rail_move=rail_move))
     return out
