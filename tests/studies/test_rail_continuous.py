@@ -250,8 +250,8 @@ def test_refusals_and_the_fallback(example, tmp_path):
     """A carriage slower than the run's V: ``continuous`` refused in one line naming
     speed_max_m_s, ``fastest`` falls back to the stepped mode and says why; a panel narrower
     than the sawtooth (a lane and the carriage's lag) and a panel with a hole: refused naming
-    cleaning.panel_m; an unknown mode, an on_hull path without a carriage and its closed loop
-    (not wired into the controller yet): one line each."""
+    cleaning.panel_m; an unknown mode, an on_hull path without a carriage, or evaluated without
+    the ship (its carriage's motion): one line each."""
     sc = _straight(example, tmp_path, speed_max_m_s=0.01).with_updates("time", duration_s=0.5)
     with pytest.raises(ScenarioError) as info:
         rail_strip(sc, mode="continuous")
@@ -272,12 +272,9 @@ def test_refusals_and_the_fallback(example, tmp_path):
         continuous_run(holed, rail_of(holed.ship), 0.0, 3.9)
     with pytest.raises(ScenarioError, match="unknown rail mode 'sideways'"):
         rail_strip(sc, mode="sideways")
-    # a closed loop of a path held on the ship: not wired into the controller yet, one line, no flight
-    from marinecdpr.studies.cleaning import cleaning_job
-
     held = run_scenario(sc, 0.0, 3.9, dwell_s=6.0, speed_m_s=0.01)
-    with pytest.raises(ScenarioError, match="trajectory.on_hull: is planned only"):
-        cleaning_job(held, plant="own")
+    with pytest.raises(ScenarioError, match="trajectory.on_hull: is held on the ship while the carriage moves"):
+        evaluate_trajectory(held.trajectory, np.array([0.0, 1.0]), held.cleaning)
     with pytest.raises(ScenarioError, match="trajectory.on_hull: needs \\[ship.carriage\\]"):
         example.with_updates("ship", carriage=None, frame_origin_m=[0.0, 0.0, 0.0]).with_updates(
             "trajectory", on_hull=True)

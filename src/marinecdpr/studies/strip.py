@@ -503,7 +503,7 @@ class ContinuousRun:
     carriage runs from the first station to the last, a double-S move at the speed V = lane
     spacing / (one lane and one step) within ``[ship.carriage]``'s acceleration and jerk,
     starting ``start_s`` after the path, so that the platform's path in C (the brush held on
-    the ship, :func:`~marinecdpr.motion.carriage.held_on_ship`) is a sawtooth that stays within
+    the ship, :func:`~marinecdpr.motion.trajectory.evaluate_trajectory` given the ship) is a sawtooth that stays within
     the panel; after the carriage stops, the brush cleans the last station's panel.
 
     Attributes
