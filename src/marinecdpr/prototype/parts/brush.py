@@ -26,12 +26,19 @@ __all__ = ["BrushContact", "BrushOnHull", "build", "contact_force", "contact_los
 
 
 @njit(cache=True)
-def brush_step(k, h, part, bus):
-    brush_velocity_step(bus.v, bus.w, bus.R, part.params.offset_P, part.v)
-    brush_wrench_step(part.v, part.n_C, part.F_n[k], bus.R, part.params, bus.f_ext, bus.m_ext)
+def _brush_loads(k, brush, v, w, bus):
+    """The brush's loads at exchange k, the platform moving over the hull with twist (v, w) in C,
+    less the plan's, onto the bus's f_ext, m_ext."""
+    brush_velocity_step(v, w, bus.R, brush.params.offset_P, brush.v)
+    brush_wrench_step(brush.v, brush.n_C, brush.F_n[k], bus.R, brush.params, bus.f_ext, bus.m_ext)
     for i in range(3):
-        bus.f_ext[i] -= part.f_plan[k, i]
-        bus.m_ext[i] -= part.m_plan[k, i]
+        bus.f_ext[i] -= brush.f_plan[k, i]
+        bus.m_ext[i] -= brush.m_plan[k, i]
+
+
+@njit(cache=True)
+def brush_step(k, h, part, bus):
+    _brush_loads(k, part, bus.v, bus.w, bus)
 
 
 @part(step=brush_step, order=50, reads=("R", "v", "w"), writes=("f_ext", "m_ext"))
@@ -57,26 +64,17 @@ def brush_on_hull_step(k, h, part, bus):
     vh[2] = v[2] + vc[2] + (wc[0] * x[1] - wc[1] * x[0])
     for i in range(3):
         wh[i] = w[i] + wc[i]
-    brush_velocity_step(vh, wh, bus.R, part.params.offset_P, part.v)
-    brush_wrench_step(part.v, part.n_C, part.F_n[k], bus.R, part.params, bus.f_ext, bus.m_ext)
-    for i in range(3):
-        bus.f_ext[i] -= part.f_plan[k, i]
-        bus.m_ext[i] -= part.m_plan[k, i]
+    _brush_loads(k, part.brush, vh, wh, bus)
 
 
 @part(step=brush_on_hull_step, order=50, reads=("x", "R", "v", "w"), writes=("f_ext", "m_ext"))
 class BrushOnHull(NamedTuple):
-    """:class:`BrushContact` on a hull that moves under the frame (``trajectory.on_hull``):
-    its fields, and v_c, w_c : (n_steps, 3) the carriage's R_SC^T v_S (m/s) and omega_CS
-    (rad/s) in C at t_k (:func:`~marinecdpr.motion.carriage.carriage_motion`); v_h, w_h (3,):
-    scratch, the platform's twist relative to the hull."""
+    """A :class:`BrushContact` (``brush``) on a hull that moves under the frame
+    (``trajectory.on_hull``); v_c, w_c : (n_steps, 3) the carriage's R_SC^T v_S (m/s) and
+    omega_CS (rad/s) in C at t_k (:func:`~marinecdpr.motion.carriage.carriage_motion`); v_h,
+    w_h (3,): scratch, the platform's twist relative to the hull."""
 
-    params: BrushParams
-    n_C: np.ndarray
-    F_n: np.ndarray
-    f_plan: np.ndarray
-    m_plan: np.ndarray
-    v: np.ndarray
+    brush: BrushContact
     v_c: np.ndarray
     w_c: np.ndarray
     v_h: np.ndarray
@@ -164,5 +162,5 @@ def build(context) -> list:
     from marinecdpr.motion.carriage import carriage_motion
 
     _, v_S, _, R_SC, omega, _ = carriage_motion(scenario.ship, np.arange(n) * scenario.time.step_s)
-    return [BrushOnHull(*brush, v_c=np.ascontiguousarray(np.einsum("nji,nj->ni", R_SC, v_S)),
+    return [BrushOnHull(brush=brush, v_c=np.ascontiguousarray(np.einsum("nji,nj->ni", R_SC, v_S)),
                         w_c=np.ascontiguousarray(omega, dtype=float), v_h=np.zeros(3), w_h=np.zeros(3))]
