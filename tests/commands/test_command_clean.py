@@ -292,7 +292,8 @@ def test_the_rail_strip_by_default_takes_the_faster_mode_per_stretch(tmp_path):
     """``--surface --rail`` without ``--rail-mode`` on examples/rail_strip.toml: its one stretch
     of the rail (10 m) cleaned while the carriage moves, 570.65 s against 988.4 s stepped;
     stations.csv's run row holds the run's cleaning, stretches.csv both hours and the mode,
-    and the command prints one line on it."""
+    and the command prints one line on it; the run is flown closed loop over the horizon: its
+    figures in the strip's summary are continuous_flight.csv's, and a line says them."""
     res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--duration", "0.2", "--plant", "own",
                               "--surface", "--rail", "--no-compare", "--out", str(tmp_path / "cli")],
                         terminal_width=4000)
@@ -309,6 +310,16 @@ def test_the_rail_strip_by_default_takes_the_faster_mode_per_stretch(tmp_path):
     assert rows["clean_s"][-1] == pytest.approx(s["continuous_runs"][0]["duration_s"], rel=1e-9)
     table = np.genfromtxt(tmp_path / "cli" / "stretches.csv", delimiter=",", names=True)
     assert table["continuous"] == 1 and table["stepped_h"] == pytest.approx(stretch["stepped_h"], rel=1e-9)
+    g = s["continuous_flight"]
+    flight = np.genfromtxt(tmp_path / "cli" / "continuous_flight.csv", delimiter=",", names=True)
+    assert flight.size == g["steps"] == 201 and g["plant"] == "own" and g["partial"]
+    assert g["normal_force_in_band_pct"] == pytest.approx(100.0 * flight["in_band"].mean(), rel=1e-12)
+    assert g["max_tracking_error_m"] == pytest.approx(flight["tracking_error_m"].max(), rel=1e-9)
+    assert g["tension_min_N"] == pytest.approx(min(flight[f"T{i}_N"].min() for i in range(1, 5)), rel=1e-9)
+    assert g["normal_force_N"] == pytest.approx([flight["normal_force_N"].min(), flight["normal_force_N"].max()],
+                                                rel=1e-9)
+    assert ("continuous run flown closed loop (own, 0.201 s of its 570.7 s, PARTIAL): normal force in band 100 % "
+            "(59.93 to 60.24 N on the hull)") in res.output and "controller held" in res.output
     res = runner.invoke(app, ["clean", str(EXAMPLES / "rail_strip.toml"), "--surface", "--rail", "--rail-mode",
                               "sideways", "--out", str(tmp_path / "bad")])
     assert res.exit_code == 2 and len(res.stderr.strip().splitlines()) == 1, res.stderr

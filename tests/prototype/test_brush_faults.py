@@ -2,9 +2,14 @@
 over the fault's window its normal force is zero, so that it presses and drags nothing and the
 platform meets the known loads without the brush's (the part's f_ext, m_ext cancel the plan's
 brush loads the plant applies; a water jet's reaction, not a contact, still acts); outside the
-window the part is as without the fault. Hand-worked on the compiled step."""
+window the part is as without the fault. Hand-worked on the compiled step. And the part where
+its path is held on the ship while the carriage moves (``trajectory.on_hull``, issue 39, item 3:
+:class:`~marinecdpr.prototype.parts.brush.BrushOnHull`): it slides over the hull with the
+carriage's velocity added, its compiled step against the planner's array functions."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,21 +17,29 @@ from numba import njit
 
 import marinecdpr
 from marinecdpr import ScenarioError
+from marinecdpr.geometry.rotations import matrix_from_euler
+from marinecdpr.model.brush import cleaning_loads
+from marinecdpr.motion.carriage import rail_of
+from marinecdpr.planning.planner import twist_on_hull
 from marinecdpr.prototype.parts import part_step
 from marinecdpr.prototype.parts.brush import normal_force
 from marinecdpr.prototype.simulation import prototype
+from marinecdpr.studies.strip import run_scenario
 
 from conftest import make_scenario
 
 H, N, JET = 0.001, 400, 3.0
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "rail_strip.toml"
 
 
 @njit
-def _brush_loads(part, bus, x_dot, w, R, f, m):
+def _brush_loads(part, bus, x_dot, w, R, f, m, x=None):
     """The part's f_ext, m_ext (n, 3) at each exchange with the platform moving at x_dot, w
-    (n, 3) and turned R (n, 3, 3)."""
+    (n, 3) and turned R (n, 3, 3) (and, given, at x (n, 3))."""
     for k in range(f.shape[0]):
         for i in range(3):
+            if x is not None:
+                bus.x[i] = x[k, i]
             bus.v[i] = x_dot[k, i]
             bus.w[i] = w[k, i]
             for j in range(3):
@@ -99,3 +112,32 @@ def test_a_brush_fault_without_a_brush_is_refused_in_one_line():
         make_scenario(edit)
     text = str(err.value)
     assert "\n" not in text and "faults[1].kind" in text and "no [cleaning]" in text, text
+
+
+def test_the_brush_slides_over_the_hull_with_the_carriage():
+    """examples/rail_strip.toml's path held on the ship, the carriage running at once at 0.1 m/s
+    along its bent rail (its yaw turning through the bends: omega_CS too), the platform off its
+    plan (0.05 m/s, 0.1 rad/s about, 1 cm, 0.05 rad): the part's loads plus the plan's it takes
+    off are the brush's at the platform's twist relative to the hull, by the planner's array
+    functions, to 1e-10 N (the compiled step and numpy's order their sums apart); without the
+    carriage's velocity they would differ by the drag's turn (over 10 N)."""
+    sc = marinecdpr.load_scenario(str(EXAMPLE))
+    sc = run_scenario(sc, 0.0, rail_of(sc.ship).length_m, dwell_s=0.0, speed_m_s=0.1)
+    sc = sc.with_updates("time", duration_s=N * sc.time.step_s)
+    proto = prototype(sc, "open_loop", N, include=lambda name: name == "brush", given=("x", "R", "v", "w"))
+    part = proto.get("BrushOnHull")
+    t = np.arange(N) * sc.time.step_s
+    rng = np.random.default_rng(5)
+    ref = proto.ref
+    x = ref.pose[:N, :3] + rng.normal(0.0, 0.01, (N, 3))
+    v = ref.twist[:N, :3] + rng.normal(0.0, 0.05, (N, 3))
+    w = ref.twist[:N, 3:] + rng.normal(0.0, 0.1, (N, 3))
+    R = matrix_from_euler(ref.pose[:N, 3:] + rng.normal(0.0, 0.05, (N, 3)))
+    f, m = np.empty((N, 3)), np.empty((N, 3))
+    _brush_loads(part, proto.system.bus, v, w, np.ascontiguousarray(R), f, m, x)
+    twist = np.column_stack([v, w])
+    f_hull, m_hull = cleaning_loads(sc.cleaning, twist_on_hull(sc, x, twist, t), R, part.brush.F_n)
+    np.testing.assert_allclose(f + part.brush.f_plan, f_hull, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(m + part.brush.m_plan, m_hull, rtol=0, atol=1e-10)
+    f_C, _ = cleaning_loads(sc.cleaning, twist, R, part.brush.F_n)
+    assert np.abs(f_C - f_hull).max() > 10.0

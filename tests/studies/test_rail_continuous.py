@@ -2,7 +2,9 @@
 :func:`~marinecdpr.studies.strip.continuous_run`; issue 39, item 3): a flat straight side worked
 by hand (hours, coverage, force, the cables holding the carriage's acceleration), the coverage
 of the example's curved stretch recounted on the hull by brute force, the platform's path in C
-within the panel over random runs, the choice per stretch and the refusals."""
+within the panel over random runs, the choice per stretch and the refusals; the run flown closed
+loop (:func:`~marinecdpr.studies.strip.fly_continuous`): the platform following the path held on
+the ship, the brush in band, the flown record's coverage recounted on the hull."""
 
 from __future__ import annotations
 
@@ -19,7 +21,7 @@ from marinecdpr.motion.rail import scurve_move
 from marinecdpr.motion.trajectory import cleaning_path, evaluate_trajectory
 from marinecdpr.planning.planner import plan
 from marinecdpr.scenario.loading import load_scenario
-from marinecdpr.studies.strip import ContinuousError, continuous_run, rail_strip, run_scenario
+from marinecdpr.studies.strip import ContinuousError, continuous_run, fly_continuous, rail_strip, run_scenario
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "rail_strip.toml"
 
@@ -174,22 +176,9 @@ def test_the_examples_stretch_is_faster_continuous_and_its_coverage_recounted_on
     r_t, _, _, R_t, _, _ = carriage_motion(rs.ship, p.t)
     b = p.pose[:, [0, 2]]  # the brush at P's origin (no offset in the example)
     assert np.all(np.asarray(sc.cleaning.brush_offset_m) == 0.0)
-    P = r_t + b[:, :1] * R_t[:, :, 0] + b[:, 1:] * R_t[:, :, 2]
-    n = R_t[:, :, 1]
     surface = sc.cleaning.surface
-    L, B, T, flare = surface.length_m, surface.beam_m, surface.draught_m, surface.flare
-
-    def side(x, z):
-        return 0.5 * B * (1.0 - (2.0 * x / L) ** 2) * (1.0 + flare * (z / T) ** 2)
-
-    lo, hi = np.full(len(P), -0.2), np.full(len(P), 0.2)
-    for _ in range(60):  # bisection on the offset along C's y to the hull y = f(x, z)
-        mid = 0.5 * (lo + hi)
-        q = P + mid[:, None] * n
-        above = side(q[:, 0], q[:, 2]) - q[:, 1] > 0.0  # the hull still beyond the point along n
-        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
-    contact = P + (0.5 * (lo + hi))[:, None] * n
-    assert np.abs(0.5 * (lo + hi)).max() <= surface.stand_off_tolerance_m
+    offset, contact = _onto_the_side(surface, b, r_t, R_t)
+    assert np.abs(offset).max() <= surface.stand_off_tolerance_m
     assert np.linalg.norm(np.diff(contact, axis=0), axis=1).max() < 0.0021
     tree = cKDTree(contact)
     x0, x1 = st.stretches[0].x_m[1], surface.stations_m[1]
@@ -197,10 +186,8 @@ def test_the_examples_stretch_is_faster_continuous_and_its_coverage_recounted_on
     rng = np.random.default_rng(11)
     N = 60_000
     x, z = rng.uniform(x0, x1, N), rng.uniform(z0, z1, N)
-    fx = 0.5 * B * (-8.0 * x / L ** 2) * (1.0 + flare * (z / T) ** 2)
-    fz = 0.5 * B * (1.0 - (2.0 * x / L) ** 2) * (2.0 * flare * z / T ** 2)
-    w = np.sqrt(1.0 + fx ** 2 + fz ** 2)
-    dist, _ = tree.query(np.column_stack([x, side(x, z), z]))
+    side, w = _wigley(surface, x, z)
+    dist, _ = tree.query(np.column_stack([x, side, z]))
     cleaned = dist <= 0.5 * sc.cleaning.brush_diameter_m
     share = float((w * cleaned).sum() / w.sum())
     sigma = np.sqrt(share * (1.0 - share) / N)
@@ -210,6 +197,91 @@ def test_the_examples_stretch_is_faster_continuous_and_its_coverage_recounted_on
     raster = float(cov.weight_m2[:, part][cov.passes[:, part] >= 1].sum() / cov.weight_m2[:, part].sum())
     assert abs(share - raster) <= 3.0 * sigma + 0.001 / (z1 - z0)
     assert 0.97 < raster < 0.995
+
+
+def _wigley(surface, x, z):
+    """The Wigley side's y = f(x, z) (closed form) and its area element sqrt(1 + f_x^2 + f_z^2)."""
+    L, B, T, flare = surface.length_m, surface.beam_m, surface.draught_m, surface.flare
+    fx = 0.5 * B * (-8.0 * x / L ** 2) * (1.0 + flare * (z / T) ** 2)
+    fz = 0.5 * B * (1.0 - (2.0 * x / L) ** 2) * (2.0 * flare * z / T ** 2)
+    return 0.5 * B * (1.0 - (2.0 * x / L) ** 2) * (1.0 + flare * (z / T) ** 2), np.sqrt(1.0 + fx ** 2 + fz ** 2)
+
+
+def _onto_the_side(surface, b, r_t, R_t):
+    """The brush's (x, z) in C, ``b`` (n, 2), carried to S by the carriage's pose (C's origin
+    ``r_t`` (n, 3), axes ``R_t`` (n, 3, 3)) and along C's y onto the Wigley side by bisection:
+    the offsets (n,) and the contact points (n, 3) in S."""
+    P = r_t + b[:, :1] * R_t[:, :, 0] + b[:, 1:] * R_t[:, :, 2]
+    n = R_t[:, :, 1]
+    lo, hi = np.full(len(P), -0.2), np.full(len(P), 0.2)
+    for _ in range(60):  # bisection on the offset along C's y to the hull y = f(x, z)
+        mid = 0.5 * (lo + hi)
+        q = P + mid[:, None] * n
+        above = _wigley(surface, q[:, 0], q[:, 2])[0] - q[:, 1] > 0.0  # the hull still beyond the point along n
+        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+    offset = 0.5 * (lo + hi)
+    return offset, P + offset[:, None] * n
+
+
+@pytest.fixture(scope="module")
+def flown(example):
+    """examples/rail_strip.toml's continuous run flown closed loop on the own plant over its first
+    12 s (the carriage starts at 6.43 s and runs 0.106 m within them)."""
+    sc = example.with_updates("time", duration_s=12.0)
+    return sc, fly_continuous(rail_strip(sc, mode="continuous"), sc, plant="own")
+
+
+def test_the_flown_run_follows_the_path_held_on_the_ship(flown):
+    """The closed loop flies the path held on the ship: the platform's planned x in C plus the
+    carriage's travel is the path's on the ship (to 1e-12 m), and the flown one within the
+    tracking the flight reports (measured 0.152 mm in x, 0.172 mm in z, as the stepped job at the
+    rail's start tracks: the same 0.172 mm in z); the brush within 0.183 mm of the planned (0.25 mm
+    allowed), in contact with the hull (stand-off 0.46 to 3.45 mm, within the 10 mm tolerance) and
+    its normal force on the hull in band at every step (57.9 to 62.1 N); the controller held."""
+    sc, st = flown
+    f, run = st.flight, st.runs[0]
+    rs = run_scenario(sc, *run.s_m, dwell_s=run.start_s, speed_m_s=run.speed_m_s)
+    d, _, _ = carriage_travel(rs.ship, f.t)
+    assert d[-1] == pytest.approx(0.1056, abs=1e-4)
+    on_ship, _, _ = cleaning_path(rs.cleaning).evaluate(f.t)  # the brush at P's origin
+    np.testing.assert_allclose(f.pose_planned[:, 0] + d, on_ship[:, 0], rtol=0, atol=1e-12)
+    err = np.abs(np.column_stack([f.pose[:, 0] + d - on_ship[:, 0], f.pose[:, 2] - on_ship[:, 1]]))
+    assert err.max() <= 2.5e-4 and np.linalg.norm(err, axis=1).max() == pytest.approx(f.tracking_m.max(), abs=1e-6)
+    g = f.as_dict()
+    assert g["max_tracking_error_m"] <= 2.5e-4 and g["max_cross_track_error_m"] <= g["max_tracking_error_m"]
+    assert f.hull.contact.all() and g["normal_force_in_band_pct"] == 100.0
+    lo, hi = sc.cleaning.band_N
+    assert lo < 57.8 < g["normal_force_N"][0] < g["normal_force_N"][1] < 62.1 < hi
+    assert 0.0 < g["stand_off_m"][0] < g["stand_off_m"][1] < sc.cleaning.surface.stand_off_tolerance_m
+    assert g["controller_verdict"] == "held" and g["controller_fallbacks"] == 0 and g["partial"]
+    assert 50.0 < g["tension_min_N"] < g["tension_max_N"] < 450.0
+
+
+def test_the_flown_coverage_recounted_on_the_hull(flown):
+    """The flown record's cleaned area on the hull recounted without the raster: each flown brush
+    centre carried to S by the carriage's pose at its step and along C's y onto the Wigley side
+    (closed form, bisection), then a 1 mm grid on the hull's (x, z), offset from the raster's
+    cells, each point cleaned within the brush's radius of a contact (a k-d tree), weighted by
+    the true area element. Measured 0.23680 m2 sampled against 0.23658 m2 rastered (2 mm: its
+    error is along the lanes' ends, which run with the raster), 3e-4 m2 allowed; the flown
+    record cleaned what the plan did to 0.01 %."""
+    sc, st = flown
+    f, run = st.flight, st.runs[0]
+    rs = run_scenario(sc, *run.s_m, dwell_s=run.start_s, speed_m_s=run.speed_m_s)
+    r_t, _, _, R_t, _, _ = carriage_motion(rs.ship, f.t)
+    surface = sc.cleaning.surface
+    offset, contact = _onto_the_side(surface, f.pose[:, [0, 2]], r_t, R_t)
+    np.testing.assert_allclose(offset, f.hull.stand_off_m, rtol=0, atol=1e-9)
+    h = 0.001
+    x0, x1 = contact[:, 0].min() - 0.15, contact[:, 0].max() + 0.15
+    (z0, z1), r = surface.heights_m, 0.5 * sc.cleaning.brush_diameter_m
+    X, Z = np.meshgrid(x0 + (np.arange(int((x1 - x0) / h)) + 0.37) * h, z0 + (np.arange(int((z1 - z0) / h)) + 0.61) * h)
+    side, w = _wigley(surface, X, Z)
+    dist, _ = cKDTree(contact).query(np.column_stack([X.ravel(), side.ravel(), Z.ravel()]), distance_upper_bound=2 * r)
+    sampled = float((w.ravel() * h * h)[dist <= r].sum())
+    assert f.coverage.cleaned_area_m2 == pytest.approx(sampled, abs=3e-4)
+    assert 0.2 < sampled < 0.3
+    assert f.coverage.cleaned_area_m2 == pytest.approx(f.planned_coverage.cleaned_area_m2, rel=1e-4)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -250,8 +322,8 @@ def test_refusals_and_the_fallback(example, tmp_path):
     """A carriage slower than the run's V: ``continuous`` refused in one line naming
     speed_max_m_s, ``fastest`` falls back to the stepped mode and says why; a panel narrower
     than the sawtooth (a lane and the carriage's lag) and a panel with a hole: refused naming
-    cleaning.panel_m; an unknown mode, an on_hull path without a carriage and its closed loop
-    (not wired into the controller yet): one line each."""
+    cleaning.panel_m; an unknown mode, an on_hull path without a carriage, or evaluated without
+    the ship (its carriage's motion): one line each."""
     sc = _straight(example, tmp_path, speed_max_m_s=0.01).with_updates("time", duration_s=0.5)
     with pytest.raises(ScenarioError) as info:
         rail_strip(sc, mode="continuous")
@@ -272,12 +344,9 @@ def test_refusals_and_the_fallback(example, tmp_path):
         continuous_run(holed, rail_of(holed.ship), 0.0, 3.9)
     with pytest.raises(ScenarioError, match="unknown rail mode 'sideways'"):
         rail_strip(sc, mode="sideways")
-    # a closed loop of a path held on the ship: not wired into the controller yet, one line, no flight
-    from marinecdpr.studies.cleaning import cleaning_job
-
     held = run_scenario(sc, 0.0, 3.9, dwell_s=6.0, speed_m_s=0.01)
-    with pytest.raises(ScenarioError, match="trajectory.on_hull: is planned only"):
-        cleaning_job(held, plant="own")
+    with pytest.raises(ScenarioError, match="trajectory.on_hull: is held on the ship while the carriage moves"):
+        evaluate_trajectory(held.trajectory, np.array([0.0, 1.0]), held.cleaning)
     with pytest.raises(ScenarioError, match="trajectory.on_hull: needs \\[ship.carriage\\]"):
         example.with_updates("ship", carriage=None, frame_origin_m=[0.0, 0.0, 0.0]).with_updates(
             "trajectory", on_hull=True)

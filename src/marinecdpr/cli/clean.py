@@ -192,6 +192,16 @@ def _print_strip(st) -> None:
                             f"{min(r.force_N[0] for r in st.runs):.4g} to {max(r.force_N[1] for r in st.runs):.4g} N"
                             + (f"; {int(st.run_beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.run_beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
+    if st.flight is not None:
+        fl = st.flight
+        (f_lo, f_hi), (t_lo, t_hi) = fl.force_range_N, fl.tension_range_N
+        console.print(plain(f"continuous run flown closed loop ({fl.plant}, {fl.flown_s:.4g} s of its "
+                            f"{fl.path_s:.4g} s{', PARTIAL' if fl.partial else ''}): normal force in band "
+                            f"{fl.in_band_pct:.4g} % ({f_lo:.4g} to {f_hi:.4g} N on the hull), tracking "
+                            f"{1e3 * fl.tracking_m.max():.3g} mm (cross-track {1e3 * fl.cross_track_m.max():.3g} mm), "
+                            f"tensions {t_lo:.4g} to {t_hi:.4g} N, {fl.coverage.cleaned_area_m2:.4g} m2 cleaned on the "
+                            f"hull ({fl.cleaned_of_planned_pct:.4g} % of the plan's), controller "
+                            f"{fl.controller_verdict}"), highlight=False, soft_wrap=True)
     for ch in st.choices:
         other = ("cannot run continuously: " + ch.why_not if ch.continuous_h is None
                  else f"continuous {ch.continuous_h:.4g} h at {100.0 * ch.continuous_speed_m_s:.3g} cm/s")

@@ -215,7 +215,8 @@ class CleanEstimate(Estimate):
         The scenario as flown: its first ``duration`` seconds where the spec gives fewer.
     runs : int
         The most closed-loop runs of the whole job (the guarantee's two, the compared
-        variants), each of ``flown.time.n_steps`` steps.
+        variants, with ``rail`` not stepped the first continuous run's), each of
+        ``flown.time.n_steps`` steps.
     asked, lasts : float, optional
         Where the spec's ``duration`` asked for more than the scenario lasts: that duration
         and the scenario's own, s (the scenario's is flown).
@@ -292,7 +293,8 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
     if not spec.over_seas:
         from marinecdpr.studies.cleaning import job_variants
 
-        runs = (2 if spec.guarantee else 1) + (len(job_variants(sc)) - 1 if spec.compare else 0)
+        runs = ((2 if spec.guarantee else 1) + (len(job_variants(sc)) - 1 if spec.compare else 0)
+                + (1 if spec.rail and spec.rail_mode != "stepped" else 0))  # the first continuous run's flight
         return CleanEstimate(scenario=sc.name, size=size, flown=sc, runs=runs, asked=asked, lasts=lasts)
 
     from marinecdpr.motion.trajectory import cleaning_path
@@ -362,7 +364,8 @@ class CleanResult:
     surface : SurfaceJob, optional
         With ``surface``: the frame's placements on the curved band.
     strip : RailStrip, optional
-        With ``rail``: the band cleaned from the carriage's stations.
+        With ``rail``: the band cleaned from the carriage's stations, its first continuous run
+        flown closed loop (:attr:`~marinecdpr.studies.strip.RailStrip.flight`) where it has one.
     """
 
     spec: CleanSpec
@@ -395,7 +398,7 @@ class CleanResult:
 
     def bypassed(self) -> list[tuple[str, int, int]]:
         """The closed loops whose controller was bypassed: (name, bypassed steps, steps) of the
-        job, the guarantee's first run and the compared variants (beyond
+        job, the guarantee's first run, the compared variants and the strip's continuous run (beyond
         ``simulation.max_bypassed_share``)."""
         f = self.job.figures
         share = self.scenario.simulation.max_bypassed_share
@@ -407,13 +410,17 @@ class CleanResult:
             if name != "as asked" and figures["controller_bypassed_share"] > share:
                 runs.append((f"the job in {name}" if name == "calm water" else f"the job with {name}",
                              figures["controller_fallbacks"], f.steps))
+        flight = None if self.strip is None else self.strip.flight
+        if flight is not None and flight.controller_verdict == "bypassed":
+            runs.append(("the continuous run", flight.controller_fallbacks, int(flight.t.size)))
         return runs
 
     def write(self, folder: str | Path) -> list[Path]:
         """``clean.csv``, ``coverage.png``, ``cleaning.png``, ``summary.json``, ``report.html``
         (:func:`~marinecdpr.report.cleaning.write_cleaning`), with ``surface``
         ``placements.csv``, ``surface.png`` (:func:`~marinecdpr.report.cleaning.write_surface`),
-        with ``rail`` ``stations.csv`` (:func:`~marinecdpr.report.cleaning.write_strip`) in
+        with ``rail`` ``stations.csv``, ``stretches.csv`` and, where a continuous run was flown,
+        ``continuous_flight.csv`` (:func:`~marinecdpr.report.cleaning.write_strip`) in
         ``folder``, the PNGs only with the spec's ``figures``; returns the paths."""
         from marinecdpr.report.cleaning import write_cleaning, write_strip, write_surface
 
@@ -463,7 +470,8 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
         executor: Executor | None = None) -> CleanResult | CleanSeasResult:
     """The cleaning job of the spec (:func:`~marinecdpr.studies.cleaning.cleaning_job`, or
     :func:`~marinecdpr.studies.cleaning.guaranteed_job`), the compared variants, the hull's
-    hours and the surface's placements; with ``seas`` the job over the scatter diagram. The
+    hours and the surface's placements (with ``rail``, the strip's first continuous run flown,
+    :func:`~marinecdpr.studies.strip.fly_continuous`); with ``seas`` the job over the scatter diagram. The
     spec is checked against the scenario first (:func:`estimate`).
 
     Parameters
@@ -505,6 +513,10 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
 
     job = (guaranteed_job if spec.guarantee else cleaning_job)(sc, plant=spec.plant, progress=step)
     comparison = compare_conditions(job, plant=spec.plant, progress=step) if spec.compare else None
+    if spec.rail:  # the first continuous run flown closed loop, where the strip has one
+        from marinecdpr.studies.strip import fly_continuous
+
+        placed = fly_continuous(placed, sc, plant=spec.plant, progress=step)
     if progress is not None:
         progress(done[0], done[0])  # the runs that were flown
     hull = None

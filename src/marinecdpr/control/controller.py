@@ -43,7 +43,7 @@ from marinecdpr.model.wind import scenario_wind_loads
 from marinecdpr.motion.basemotion import frame_origin_of, frame_ship_motion
 from marinecdpr.motion.prediction import make_predictor
 from marinecdpr.motion.trajectory import evaluate_disturbance, evaluate_trajectory
-from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan
+from marinecdpr.planning.planner import Plan, plan_at, stand_in_plan, twist_on_hull
 from marinecdpr.scenario.schema import MRU_UNITS, Scenario
 
 __all__ = ["Controller", "Plans", "BrushLoads", "Detection", "detections", "reaction", "safety",
@@ -203,7 +203,8 @@ def predictor(scenario: Scenario) -> Slot:
 def _half_step_path(scenario: Scenario, ref: Plan, ff: Plan, n: int):
     """The planned path on the half-step grid: pose and twist (2 n + 1, 6) (row 2k: t_k, from
     the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n: t_n, the trajectory's)."""
-    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning)
+    last = evaluate_trajectory(scenario.trajectory, np.array([n * scenario.time.step_s]), scenario.cleaning,
+                               scenario.ship)
     pose, twist = np.empty((2 * n + 1, 6)), np.empty((2 * n + 1, 6))
     pose[0:2 * n:2], pose[1:2 * n:2], pose[2 * n] = ref.pose[:n], ff.pose[:n], last.pose[0]
     twist[0:2 * n:2], twist[1:2 * n:2], twist[2 * n] = ref.twist[:n], ff.twist[:n], last.twist[0]
@@ -213,12 +214,16 @@ def _half_step_path(scenario: Scenario, ref: Plan, ff: Plan, n: int):
 def planned_brush_loads(scenario: Scenario, ref: Plan, ff: Plan, n: int) -> BrushLoads | None:
     """The cleaning brush's loads along the planned path at the preload, on the half-step
     grid (row 2k: t_k, from the plan ``ref``; row 2k + 1: t_k + h/2, from ``ff``; row 2n:
-    t_n), as :class:`BrushLoads`; None without ``[cleaning]``."""
+    t_n), as :class:`BrushLoads`; None without ``[cleaning]``. A path held on the ship
+    (``trajectory.on_hull``) slides the brush over the hull with the carriage's velocity
+    added, as the plan's (:func:`~marinecdpr.planning.planner.twist_on_hull`)."""
     if scenario.cleaning is None:
         return None
     pose, twist = _half_step_path(scenario, ref, ff, n)
     R_PC = matrix_from_euler(pose[:, 3:])
-    f_b, m_b = cleaning_loads(scenario.cleaning, twist, R_PC, scenario.cleaning.preload)
+    t_h = np.arange(2 * n + 1) * (0.5 * scenario.time.step_s)
+    f_b, m_b = cleaning_loads(scenario.cleaning, twist_on_hull(scenario, pose[:, :3], twist, t_h), R_PC,
+                              scenario.cleaning.preload)
     return BrushLoads(f=f_b, m=m_b, R_PC=R_PC)
 
 

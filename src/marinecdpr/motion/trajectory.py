@@ -146,7 +146,7 @@ def evaluate_trajectory(
         the plane y = ``plane_y_m``, the platform's orientation fixed.
     ship : marinecdpr.scenario.schema.Ship, optional
         The scenario's ``[ship]``: a coverage trajectory ``on_hull`` takes its carriage's
-        motion (:func:`~marinecdpr.motion.carriage.held_on_ship`); refused without it.
+        motion (the carriage's travel along the rail taken off the path's x); refused without it.
     """
     t = np.asarray(t, dtype=float)
     n = t.size
@@ -214,9 +214,9 @@ def _held_on_ship(ship, t: np.ndarray, p: np.ndarray, v: np.ndarray, a: np.ndarr
     first station taken off along C's x (:func:`~marinecdpr.motion.carriage.carriage_travel`)."""
     from marinecdpr.motion.carriage import carriage_travel
 
-    if ship is None:  # a model not given the ship: the controller's, the screen's, the design study's
-        raise ScenarioError("is planned only (clean --surface --rail's continuous mode): this model does not take the "
-                            "carriage's motion yet", key="trajectory.on_hull")
+    if ship is None:  # a caller that did not give the ship (the planner, the controller, the plants give it)
+        raise ScenarioError("is held on the ship while the carriage moves: evaluate the path with the scenario's "
+                            "[ship] (its carriage's motion)", key="trajectory.on_hull")
     if ship.carriage is None:
         raise ScenarioError("needs [ship.carriage]: the path is held on the ship while the carriage carries the frame",
                             key="trajectory.on_hull")

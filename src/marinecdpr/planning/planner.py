@@ -38,7 +38,7 @@ from marinecdpr.planning.verdicts import (  # also planner's public names, as be
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["Plan", "WinchBounds", "CableSag", "plan", "plan_at", "iter_plan", "ship_motion_at", "PlanSummary", "check_trajectory", "SingularPoses",
-           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference", "required_wrench",
+           "describe_pose", "DEFAULT_CHUNK_STEPS", "stand_in_plan", "trajectory_interference", "required_wrench", "twist_on_hull",
            "TWIST_NAMES", "WINCH_OVERSPEED", "WINCH_NO_TENSION"]
 
 DEFAULT_CHUNK_STEPS = 16384
@@ -364,11 +364,27 @@ def _sag(scenario: Scenario, spans_from: np.ndarray, anchors: np.ndarray, up_C: 
     return dict(sag_lengths=sag, winch_tensions=T_A)
 
 
-def _on_the_hull(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, t: np.ndarray) -> np.ndarray:
+def twist_on_hull(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, t: np.ndarray) -> np.ndarray:
     """The platform's twist relative to the hull (to S), in C, where a coverage path is held on
     the ship while the carriage moves (``trajectory.on_hull``): the brush slides over the hull
     with the carriage's velocity added, (v_PC + R_SC^T v_S + omega_CS x x_PC, omega_PC +
-    omega_CS); elsewhere ``twist`` (relative to C, which the brush's model takes as the hull's)."""
+    omega_CS); elsewhere ``twist`` itself (relative to C, which the brush's model takes as the
+    hull's).
+
+    Parameters
+    ----------
+    x_PC : ndarray, shape (n_steps, 3)
+        P's origin in C, m.
+    twist : ndarray, shape (n_steps, 6)
+        (v_PC, omega_PC) in C, m/s, rad/s.
+    t : ndarray, shape (n_steps,)
+        Times, s (the carriage's).
+
+    Returns
+    -------
+    ndarray, shape (n_steps, 6)
+        In C, m/s, rad/s (``twist``, the same object, without ``on_hull``).
+    """
     if not getattr(scenario.trajectory, "on_hull", False):
         return twist
     from marinecdpr.motion.carriage import carriage_motion
@@ -401,7 +417,7 @@ def required_wrench(scenario: Scenario, x_PC: np.ndarray, twist: np.ndarray, twi
     f_r, m_r = evaluate_disturbance(scenario.disturbance, t)
     f_C, m_C = disturbance_in_C(f_r, m_r, scenario.disturbance.frame, ship.R_SO, R_PC)
     if scenario.cleaning is not None:
-        f_b, m_b = cleaning_loads(scenario.cleaning, _on_the_hull(scenario, x_PC, twist, t), R_PC, F_n)
+        f_b, m_b = cleaning_loads(scenario.cleaning, twist_on_hull(scenario, x_PC, twist, t), R_PC, F_n)
         f_C, m_C = f_C + f_b, m_C + m_b
     if scenario.wind is not None:
         f_w, m_w = scenario_wind_loads(scenario, x_PC, twist, R_PC, ship, t)

@@ -435,7 +435,9 @@ def write_strip(strip, folder: Path) -> list[Path]:
     they are tiled as ``clean --surface`` tiles them), whether the stand-off passes the
     tool's tolerance, and whether a crane made the move into it; a continuous run's row is
     its first station's, its cleaning the whole run's. ``stretches.csv``: each followed stretch
-    of the rail, its hours either way and the mode taken (:data:`STRETCH_COLUMNS`)."""
+    of the rail, its hours either way and the mode taken (:data:`STRETCH_COLUMNS`). With the
+    first continuous run flown (:attr:`~marinecdpr.studies.strip.RailStrip.flight`),
+    ``continuous_flight.csv``: a row per step (:func:`flight_columns`)."""
     from marinecdpr.geometry.rotations import euler_from_matrix
 
     rows = []
@@ -468,5 +470,26 @@ def write_strip(strip, folder: Path) -> list[Path]:
                            float(c.mode == "continuous")] for c in strip.choices], dtype=float)
     tail = [_write_csv(list(STRETCH_COLUMNS), stretches.reshape(-1, len(STRETCH_COLUMNS)),
                        Path(folder) / "stretches.csv", int_last=True, int_columns=(0, 3))]
+    if strip.flight is not None:
+        tail.append(_write_flight(strip.flight, Path(folder)))
     return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,
                        int_columns=(0, STRIP_COLUMNS.index("beyond_tolerance")))] + tail
+
+
+def flight_columns(n_cables: int) -> list[str]:
+    """``continuous_flight.csv``'s columns: the time; the flown and planned brush's contact on the
+    hull in the run's first C (x, z; the panel on the ship), m; the hull's stand-off under the
+    flown brush, m; its normal force on the hull, N; whether it cleans (1/0); its distance from
+    the planned brush and the part across its travel, m; the cables' tensions, N."""
+    return (["t_s", "hull_x_m", "hull_z_m", "planned_hull_x_m", "planned_hull_z_m", "stand_off_m", "normal_force_N",
+             "in_band", "tracking_error_m", "cross_track_error_m"] + [f"T{i + 1}_N" for i in range(n_cables)])
+
+
+def _write_flight(flight, folder: Path) -> Path:
+    """``continuous_flight.csv`` of a :class:`~marinecdpr.studies.strip.RunFlight`."""
+    h, p = flight.hull, flight.planned
+    values = np.column_stack([flight.t, h.on_ship[:, 0], h.on_ship[:, 2], p.on_ship[:, 0], p.on_ship[:, 2],
+                              h.stand_off_m, h.force_N, h.contact.astype(float), flight.tracking_m,
+                              flight.cross_track_m, flight.tensions])
+    return _write_csv(flight_columns(flight.tensions.shape[1]), values, folder / "continuous_flight.csv",
+                      int_last=False, int_columns=(7,))

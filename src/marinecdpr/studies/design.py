@@ -443,7 +443,7 @@ def clearance(sc: Scenario, *, step_s: float = 1.0) -> float:
     from marinecdpr.planning.interference import pose_clearances
 
     t = np.arange(0.0, sc.time.duration_s + 1e-9, step_s)
-    path = evaluate_trajectory(sc.trajectory, t, sc.cleaning)
+    path = evaluate_trajectory(sc.trajectory, t, sc.cleaning, sc.ship)
     c = pose_clearances(sc.robot, [], path.x_PC_C, path.R_PC)
     return float(min(c.cable_cable.min(initial=np.inf), c.cable_platform.min(initial=np.inf)))
 

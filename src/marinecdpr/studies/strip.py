@@ -44,7 +44,10 @@ Continuous runs
     V = lane spacing / (a lane and a step) so that the platform's path in C is a sawtooth in
     the panel; planned with the carriage moving over the horizon, the brush's contact carried
     to the hull by the carriage's pose at each step and rastered in the run's first C. Its
-    hours are its path's; "fastest" takes, per stretch, the fewer hours.
+    hours are its path's; "fastest" takes, per stretch, the fewer hours. The first run is also
+    flown closed loop over the horizon (:func:`fly_continuous`: the controller flies the path
+    held on the ship, the brush slides over the hull), its flown brush carried onto the hull
+    the same way and its cleaned cells counted there beside the plan's.
 
 Hours
     Each rail station's cleaning is the panel's coverage path; the carriage's move to the next
@@ -65,7 +68,7 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["RailStrip", "StripCoverage", "CraneStretch", "ContinuousRun", "StretchChoice", "ContinuousError", "RAIL_MODES",
-           "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+           "RunOnHull", "RunFlight", "run_on_hull", "fly_continuous", "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
 MAX_STRIP_CELLS = 10_000_000
@@ -389,6 +392,8 @@ class RailStrip:
         Each followed stretch of the rail: the hours stepped and continuous, the mode taken.
     mode : {"stepped", "continuous", "fastest"}
         The mode asked.
+    flight : RunFlight, optional
+        The first continuous run flown closed loop (:func:`fly_continuous`).
     """
 
     s_m: np.ndarray
@@ -414,6 +419,7 @@ class RailStrip:
     runs: tuple = ()
     choices: tuple = ()
     mode: str = "stepped"
+    flight: "RunFlight | None" = None
 
     @property
     def beyond_tolerance(self) -> np.ndarray:
@@ -477,7 +483,8 @@ class RailStrip:
                 "hours": self.hours, "hours_by_part": self.parts_h(),
                 "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else []),
                 "rail_mode": self.mode, "rail_stretches": [c.as_dict() for c in self.choices],
-                "continuous_runs": [r.as_dict() for r in self.runs]}
+                "continuous_runs": [r.as_dict() for r in self.runs]} | (
+                    {"continuous_flight": self.flight.as_dict()} if self.flight is not None else {})
 
 
 RAIL_MODES = ("stepped", "continuous", "fastest")
@@ -503,7 +510,7 @@ class ContinuousRun:
     carriage runs from the first station to the last, a double-S move at the speed V = lane
     spacing / (one lane and one step) within ``[ship.carriage]``'s acceleration and jerk,
     starting ``start_s`` after the path, so that the platform's path in C (the brush held on
-    the ship, :func:`~marinecdpr.motion.carriage.held_on_ship`) is a sawtooth that stays within
+    the ship, :func:`~marinecdpr.motion.trajectory.evaluate_trajectory` given the ship) is a sawtooth that stays within
     the panel; after the carriage stops, the brush cleans the last station's panel.
 
     Attributes
@@ -722,6 +729,265 @@ def continuous_run(scenario: Scenario, rail, s_a: float, s_b: float, stretch: in
                          panel_m=np.asarray(cleaning.panel_m, dtype=float), origin_S=r0[0], axes_S=R0[0], end_S=end)
 
 
+@dataclass(frozen=True)
+class RunOnHull:
+    """A continuous run's brush carried onto the hull (:func:`run_on_hull`); arrays (n_steps, ...).
+
+    Attributes
+    ----------
+    stand_off_m : ndarray, shape (n_steps,)
+        The hull's offset from the frame's plane under the brush along C's y, m.
+    force_N : ndarray, shape (n_steps,)
+        The normal force on the hull, F_n cos(beta), N.
+    contact : ndarray of bool, shape (n_steps,)
+        The brush cleans: the stand-off within the tolerance, the force in ``normal_force_N``.
+    on_ship : ndarray, shape (n_steps, 3)
+        The brush's contact point on the hull in the run's first C (the panel on the ship), m.
+    """
+
+    stand_off_m: np.ndarray
+    force_N: np.ndarray
+    contact: np.ndarray
+    on_ship: np.ndarray
+
+    def coverage_map(self, brush_diameter_m: float):
+        """The contact's discs rastered in the run's first C (:func:`~marinecdpr.studies.coverage.
+        coverage_map`) over the box they span: the brush stays in the panel of the frame that
+        carries it, but where the rail bends the frame turns and its discs land off the first
+        C's panel."""
+        from marinecdpr.studies.coverage import coverage_map
+
+        r_b = 0.5 * brush_diameter_m
+        xz = self.on_ship[:, [0, 2]]
+        (x_a, z_a), (x_b, z_b) = xz.min(axis=0) - r_b, xz.max(axis=0) + r_b
+        box = np.array([[x_a, z_a], [x_b, z_a], [x_b, z_b], [x_a, z_b]])
+        return coverage_map(box, [], xz, self.contact, width_m=brush_diameter_m)
+
+
+def run_on_hull(run: "ContinuousRun", scenario: Scenario, t: np.ndarray, pose: np.ndarray, F_n: np.ndarray
+                ) -> RunOnHull:
+    """A continuous run's brush on the hull: each brush centre (x, 0, z) in C (from the
+    platform's ``pose``) carried to S by the carriage's pose at its time, then along C's y onto
+    the hull (:func:`surface_hits`), its normal force ``F_n`` pressing the hull by cos(beta).
+
+    Parameters
+    ----------
+    run : ContinuousRun
+    scenario : Scenario
+        The run's (:func:`run_scenario`: its carriage's motion, ``[cleaning.surface]``).
+    t : ndarray, shape (n_steps,)
+        Times, s.
+    pose : ndarray, shape (n_steps, 6)
+        The platform's pose in C (planned or flown), m and rad.
+    F_n : ndarray, shape (n_steps,)
+        The brush's normal force along C's y, N.
+
+    Raises
+    ------
+    ScenarioError
+        Where the brush's path meets no side of the surface (key ship.carriage.rail_m).
+    """
+    from marinecdpr.motion.carriage import carriage_motion
+    from marinecdpr.studies.cleaning import brush_positions
+    from marinecdpr.studies.surface import surface_function
+
+    cleaning = scenario.cleaning
+    surface = cleaning.surface
+    f, _ = surface_function(surface)
+    sign = 1.0 if surface.side == "port" else -1.0
+    tol = float(surface.stand_off_tolerance_m)
+    lo, hi = cleaning.band_N
+    b = brush_positions(pose, cleaning.brush_offset_m)[:, [0, 2]]
+    r_t, _, _, R_t, _, _ = carriage_motion(scenario.ship, t)
+    pts = r_t + b[:, :1] * R_t[:, :, 0] + b[:, 1:] * R_t[:, :, 2]
+    n_S = float(cleaning.hull_normal[1]) * R_t[:, :, 1]
+    off, N = surface_hits(f, sign, pts, n_S)
+    if not np.isfinite(off).all():
+        raise ScenarioError(f"the rail leaves the hull: in the run from s = {run.s_m[0]:.4g} m the brush's path "
+                            "meets no side of the surface", key="ship.carriage.rail_m")
+    F_hull = F_n * np.einsum("ni,ni->n", N, n_S)
+    contact = (np.abs(off) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
+    on_ship = ((pts + off[:, None] * n_S) - run.origin_S) @ run.axes_S  # the contact in the run's first C
+    return RunOnHull(stand_off_m=off, force_N=F_hull, contact=contact, on_ship=on_ship)
+
+
+@dataclass(frozen=True)
+class RunFlight:
+    """A continuous run flown closed loop on the virtual prototype over the scenario's horizon
+    (:func:`fly_continuous`), the flown brush carried onto the hull. Arrays share ``n_steps``.
+
+    Attributes
+    ----------
+    stretch : int
+        The run's stretch of the rail (:class:`ContinuousRun`).
+    plant : str
+    t : ndarray, shape (n_steps,)
+        s.
+    pose, pose_planned : ndarray, shape (n_steps, 6)
+        The platform's pose in C flown and planned (the path held on the ship), m and rad.
+    hull, planned : RunOnHull
+        The flown brush on the hull, and the plan's over the same steps.
+    tracking_m : ndarray, shape (n_steps,)
+        The flown brush's distance from the planned one in C's x-z plane, m.
+    cross_track_m : ndarray, shape (n_steps,)
+        Its part across the planned brush's direction of travel on the hull (its velocity in C
+        with the carriage's added, :func:`~marinecdpr.planning.planner.twist_on_hull`), m.
+    tensions : ndarray, shape (n_steps, m)
+        The cables' applied tensions, N.
+    coverage, planned_coverage : StripCoverage
+        The band's cells the flown (planned) brush cleaned, counted on the hull over the run's reach
+        along the ship (:func:`strip_coverage`).
+    path_s : float
+        The run's whole path, s (``partial`` where the horizon ends before it).
+    step_s : float
+        The exchange's step, s.
+    controller_fallbacks : int
+    controller_bypassed_share : float
+    controller_verdict : str
+        :func:`~marinecdpr.studies.prototype_runs.controller_verdict`'s.
+    """
+
+    stretch: int
+    plant: str
+    t: np.ndarray
+    pose: np.ndarray
+    pose_planned: np.ndarray
+    hull: RunOnHull
+    planned: RunOnHull
+    tracking_m: np.ndarray
+    cross_track_m: np.ndarray
+    tensions: np.ndarray
+    coverage: StripCoverage
+    planned_coverage: StripCoverage
+    path_s: float
+    step_s: float
+    controller_fallbacks: int
+    controller_bypassed_share: float
+    controller_verdict: str
+
+    @property
+    def flown_s(self) -> float:
+        """The horizon flown, s (its steps' exchanges)."""
+        return float(self.t.size * self.step_s)
+
+    @property
+    def partial(self) -> bool:
+        """The horizon ends before the run's path."""
+        return self.flown_s < self.path_s * (1.0 - 1e-9)
+
+    @property
+    def in_band_pct(self) -> float:
+        """The share of the steps the flown brush cleans (stand-off and force in band), %."""
+        return 100.0 * float(self.hull.contact.mean())
+
+    @property
+    def force_range_N(self) -> tuple[float, float]:
+        """The least and largest normal force on the hull, N."""
+        return float(self.hull.force_N.min()), float(self.hull.force_N.max())
+
+    @property
+    def stand_off_range_m(self) -> tuple[float, float]:
+        """The least and largest stand-off under the flown brush, m."""
+        return float(self.hull.stand_off_m.min()), float(self.hull.stand_off_m.max())
+
+    @property
+    def tension_range_N(self) -> tuple[float, float]:
+        return float(self.tensions.min()), float(self.tensions.max())
+
+    @property
+    def cleaned_of_planned_pct(self) -> float:
+        """The flown record's cleaned area on the hull over the plan's, %."""
+        planned = self.planned_coverage.cleaned_area_m2
+        return 100.0 * self.coverage.cleaned_area_m2 / planned if planned > 0 else 0.0
+
+    def as_dict(self) -> dict:
+        """For summary.json's ``strip`` (``continuous_flight``): forces N, lengths m, areas m^2, %."""
+        return {"stretch": self.stretch, "plant": self.plant, "steps": int(self.t.size), "flown_s": self.flown_s,
+                "run_s": self.path_s, "partial": self.partial, "normal_force_in_band_pct": self.in_band_pct,
+                "normal_force_N": list(self.force_range_N), "stand_off_m": list(self.stand_off_range_m),
+                "max_tracking_error_m": float(self.tracking_m.max()),
+                "p95_tracking_error_m": float(np.percentile(self.tracking_m, 95)),
+                "max_cross_track_error_m": float(self.cross_track_m.max()),
+                "p95_cross_track_error_m": float(np.percentile(self.cross_track_m, 95)),
+                "tension_min_N": self.tension_range_N[0], "tension_max_N": self.tension_range_N[1],
+                "cleaned_area_m2": self.coverage.cleaned_area_m2,
+                "planned_cleaned_area_m2": self.planned_coverage.cleaned_area_m2,
+                "cleaned_of_planned_pct": self.cleaned_of_planned_pct, "overlap_pct": self.coverage.overlap_pct,
+                "coverage_resolution_m": self.coverage.resolution_m, "controller_fallbacks": self.controller_fallbacks,
+                "controller_bypassed_share": self.controller_bypassed_share,
+                "controller_verdict": self.controller_verdict}
+
+
+def fly_continuous(strip: "RailStrip", scenario: Scenario, *, plant: str | None = None,
+                   progress: Callable[[int, int], None] | None = None) -> "RailStrip":
+    """The strip with its first continuous run flown closed loop (:attr:`RailStrip.flight`),
+    as the stepped job's closed loop is flown: planned with the carriage moving (:func:`run_scenario`,
+    the carriage starting as :func:`rail_strip` found), over ``scenario``'s horizon, on the
+    virtual prototype (the controller flying the path held on the ship, the brush sliding over
+    the hull); the flown brush carried onto the hull by the carriage's pose at each step
+    (:func:`run_on_hull`, the plan's normal force) and its cleaned cells counted there. The
+    strip unchanged where it has no continuous run.
+
+    Parameters
+    ----------
+    strip : RailStrip
+        :func:`rail_strip`'s of ``scenario``.
+    plant : {"mujoco", "own"}, optional
+        Default the scenario's ``simulation.plant``.
+    progress : callable(done, total), optional
+        Steps flown.
+
+    Raises
+    ------
+    InfeasibleError, SimulationDivergedError, ScenarioError
+        As the run's plan and flight raise them.
+    """
+    if not strip.runs:
+        return strip
+    from marinecdpr.geometry.rotations import matrix_from_euler
+    from marinecdpr.model.brush import brush_velocity
+    from marinecdpr.planning.planner import plan, twist_on_hull
+    from marinecdpr.prototype.parts.brush import normal_force
+    from marinecdpr.prototype.simulation import simulate
+    from marinecdpr.prototype.warmup import compile_apart
+    from marinecdpr.studies.cleaning import brush_positions, cross_track_error
+    from marinecdpr.studies.prototype_runs import controller_verdict
+    from marinecdpr.studies.surface import surface_function
+
+    run = strip.runs[0]
+    sc = run_scenario(scenario, *run.s_m, dwell_s=scenario.trajectory.start_time_s + run.start_s,
+                      speed_m_s=run.speed_m_s)
+    compile_apart(sc, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
+    p = plan(sc)
+    res = simulate(sc, run="closed_loop", reference=p, plant=plant, progress=progress)
+    n, cleaning = res.t.size, sc.cleaning
+    F = normal_force(p, sc)[:n]
+    flown = run_on_hull(run, sc, res.t, res.pose, F)
+    planned = run_on_hull(run, sc, res.t, res.pose_planned, F)
+    offset = cleaning.brush_offset_m
+    e = (brush_positions(res.pose, offset) - brush_positions(res.pose_planned, offset))[:, [0, 2]]
+    twist = twist_on_hull(sc, p.pose[:n, :3], p.twist[:n], res.t)
+    v_hull = brush_velocity(twist[:, :3], twist[:, 3:], matrix_from_euler(p.pose[:n, 3:]), offset)
+    cross = cross_track_error(e, np.zeros_like(e), v_hull[:, [0, 2]])
+    # the band's cells along the ship the run's discs reach (both records'): counted on the hull
+    f, _ = surface_function(cleaning.surface)
+    sign = 1.0 if cleaning.surface.side == "port" else -1.0
+    maps = [flown.coverage_map(cleaning.brush_diameter_m), planned.coverage_map(cleaning.brush_diameter_m)]
+    corners = np.array([[m.x[i], m.z[j]] for m in maps for i in (0, -1) for j in (0, -1)])  # in the first C
+    xs = run.origin_S[0] + corners @ run.axes_S[0, [0, 2]]
+    (X0, X1), (Z0, Z1) = strip.band_m
+    margin = cleaning.brush_diameter_m
+    x_range = (max(X0, float(xs.min()) - margin), min(X1, float(xs.max()) + margin))
+    cov = [strip_coverage(f, sign, x_range, (Z0, Z1), run.origin_S[None], run.axes_S[None], [m],
+                          width_m=cleaning.brush_diameter_m) for m in maps]
+    flight = RunFlight(stretch=run.stretch, plant=res.plant, t=res.t, pose=res.pose, pose_planned=res.pose_planned,
+                       hull=flown, planned=planned,
+                       tracking_m=np.linalg.norm(e, axis=1), cross_track_m=cross, tensions=res.tensions,
+                       coverage=cov[0], planned_coverage=cov[1], path_s=run.duration_s, step_s=sc.time.step_s,
+                       controller_fallbacks=int(res.controller_fallbacks), **controller_verdict(res, sc))
+    return replace(strip, flight=flight)
+
+
 def _check_scenario(scenario: Scenario):
     """The rail strip's inputs: ``[cleaning.surface]``, ``[ship.carriage]``, a hull normal
     along C's y, one robot. ScenarioError (one line, the key) otherwise."""
@@ -785,8 +1051,6 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
     from marinecdpr.studies.coverage import coverage_map
     from marinecdpr.studies.relocation import crane_move_s, visit_order
     from marinecdpr.studies.surface import MAX_SURFACE_PATCHES, _panel_times, frame_panel, surface_function
-
-    from marinecdpr.motion.carriage import carriage_motion
 
     if mode not in RAIL_MODES:
         raise ScenarioError(f"unknown rail mode {mode!r}: expected stepped, continuous or fastest", key="rail_mode")
@@ -880,27 +1144,13 @@ def rail_strip(scenario: Scenario, *, progress: Callable[[float], None] | None =
         sc = run_scenario(scenario, *run.s_m, dwell_s=scenario.trajectory.start_time_s + run.start_s,
                           speed_m_s=run.speed_m_s)
         p = plan(sc)
-        F = normal_force(p, sc)
-        b = brush_positions(p.pose, cleaning.brush_offset_m)[:, [0, 2]]
-        r_t, _, _, R_t, _, _ = carriage_motion(sc.ship, p.t)
-        pts = r_t + b[:, :1] * R_t[:, :, 0] + b[:, 1:] * R_t[:, :, 2]
-        n_S = n_y * R_t[:, :, 1]
-        t, N = surface_hits(f, sign, pts, n_S)
-        if not np.isfinite(t).all():
-            raise ScenarioError(f"the rail leaves the hull: in the run from s = {run.s_m[0]:.4g} m the brush's path "
-                                "meets no side of the surface", key="ship.carriage.rail_m")
-        F_hull = F * np.einsum("ni,ni->n", N, n_S)
-        contact = (np.abs(t) <= tol) & (F_hull >= lo - 1e-9 * max(hi, 1.0)) & (F_hull <= hi + 1e-9 * max(hi, 1.0))
-        on_ship = ((pts + t[:, None] * n_S) - run.origin_S) @ run.axes_S  # the contact in the run's first C
-        # its raster spans the contact's discs: the brush stays in the panel of the frame that carries
-        # it, but where the rail bends, the frame turns and its discs land off the first C's panel
-        r_b = 0.5 * cleaning.brush_diameter_m
-        (x_a, z_a), (x_b, z_b) = on_ship[:, [0, 2]].min(axis=0) - r_b, on_ship[:, [0, 2]].max(axis=0) + r_b
-        box = np.array([[x_a, z_a], [x_b, z_a], [x_b, z_b], [x_a, z_b]])
-        maps.append(coverage_map(box, [], on_ship[:, [0, 2]], contact, width_m=cleaning.brush_diameter_m))
+        hull = run_on_hull(run, sc, p.t, p.pose, normal_force(p, sc))
+        maps.append(hull.coverage_map(cleaning.brush_diameter_m))
+        t, F_hull = hull.stand_off_m, hull.force_N
         run_touch.append(bool((np.abs(t) <= tol).any()))
         runs[j] = replace(run, stand_off_m=(float(t.min()), float(t.max())),
-                          force_N=(float(F_hull.min()), float(F_hull.max())), in_band_pct=100.0 * float(contact.mean()))
+                          force_N=(float(F_hull.min()), float(F_hull.max())),
+                          in_band_pct=100.0 * float(hull.contact.mean()))
         if progress is not None:
             progress((s.size + j + 1) / planned)
     if not touches.any() and not any(run_touch):

@@ -3,6 +3,11 @@
 model already holds, onto the bus's ``f_ext``, ``m_ext`` (in C, about P; held over the
 step by the plant).
 
+Where the brush's path is held on the ship while the carriage carries the frame
+(``trajectory.on_hull``) the brush slides over the hull, not over C: the part is then
+:class:`BrushOnHull`, whose velocity relative to the hull adds the carriage's (the plan's
+:func:`~marinecdpr.planning.planner.twist_on_hull` at the plant's state).
+
 A ``brush_contact_loss`` fault (``[[faults]]``) is the part's mode: its normal force is zero
 over the fault's window (:func:`contact_lost`), so that the brush presses and drags nothing
 there; the controller's load model still holds the plan's brush loads (it is not told)."""
@@ -17,16 +22,23 @@ from numba import njit
 from marinecdpr.model.brush import BrushParams, brush_velocity_step, brush_wrench_step
 from marinecdpr.prototype.parts import part
 
-__all__ = ["BrushContact", "build", "contact_force", "contact_lost", "normal_force"]
+__all__ = ["BrushContact", "BrushOnHull", "build", "contact_force", "contact_lost", "normal_force"]
+
+
+@njit(cache=True)
+def _brush_loads(k, brush, v, w, bus):
+    """The brush's loads at exchange k, the platform moving over the hull with twist (v, w) in C,
+    less the plan's, onto the bus's f_ext, m_ext."""
+    brush_velocity_step(v, w, bus.R, brush.params.offset_P, brush.v)
+    brush_wrench_step(brush.v, brush.n_C, brush.F_n[k], bus.R, brush.params, bus.f_ext, bus.m_ext)
+    for i in range(3):
+        bus.f_ext[i] -= brush.f_plan[k, i]
+        bus.m_ext[i] -= brush.m_plan[k, i]
 
 
 @njit(cache=True)
 def brush_step(k, h, part, bus):
-    brush_velocity_step(bus.v, bus.w, bus.R, part.params.offset_P, part.v)
-    brush_wrench_step(part.v, part.n_C, part.F_n[k], bus.R, part.params, bus.f_ext, bus.m_ext)
-    for i in range(3):
-        bus.f_ext[i] -= part.f_plan[k, i]
-        bus.m_ext[i] -= part.m_plan[k, i]
+    _brush_loads(k, part, bus.v, bus.w, bus)
 
 
 @part(step=brush_step, order=50, reads=("R", "v", "w"), writes=("f_ext", "m_ext"))
@@ -42,6 +54,31 @@ class BrushContact(NamedTuple):
     f_plan: np.ndarray
     m_plan: np.ndarray
     v: np.ndarray
+
+
+@njit(cache=True)
+def brush_on_hull_step(k, h, part, bus):
+    x, v, w, vc, wc, vh, wh = bus.x, bus.v, bus.w, part.v_c[k], part.w_c[k], part.v_h, part.w_h
+    vh[0] = v[0] + vc[0] + (wc[1] * x[2] - wc[2] * x[1])  # v_PC + R_SC^T v_S + omega_CS x x_PC
+    vh[1] = v[1] + vc[1] + (wc[2] * x[0] - wc[0] * x[2])
+    vh[2] = v[2] + vc[2] + (wc[0] * x[1] - wc[1] * x[0])
+    for i in range(3):
+        wh[i] = w[i] + wc[i]
+    _brush_loads(k, part.brush, vh, wh, bus)
+
+
+@part(step=brush_on_hull_step, order=50, reads=("x", "R", "v", "w"), writes=("f_ext", "m_ext"))
+class BrushOnHull(NamedTuple):
+    """A :class:`BrushContact` (``brush``) on a hull that moves under the frame
+    (``trajectory.on_hull``); v_c, w_c : (n_steps, 3) the carriage's R_SC^T v_S (m/s) and
+    omega_CS (rad/s) in C at t_k (:func:`~marinecdpr.motion.carriage.carriage_motion`); v_h,
+    w_h (3,): scratch, the platform's twist relative to the hull."""
+
+    brush: BrushContact
+    v_c: np.ndarray
+    w_c: np.ndarray
+    v_h: np.ndarray
+    w_h: np.ndarray
 
 
 def normal_force(p, scenario) -> np.ndarray:
@@ -106,7 +143,8 @@ def contact_lost(F_n, faults, h: float) -> np.ndarray:
 def build(context) -> list:
     """The brush's contact part (none without ``[cleaning]``): its planned loads at t_k
     (``context.brush_h``'s every other row) and the normal force (:func:`normal_force`; zero
-    where the contact is lost, :func:`contact_lost`)."""
+    where the contact is lost, :func:`contact_lost`); a :class:`BrushOnHull` where the path is
+    held on the ship (``trajectory.on_hull``), with the carriage's motion at t_k."""
     from marinecdpr.model.brush import cleaning_brush
 
     scenario, n = context.scenario, context.n_steps
@@ -114,8 +152,15 @@ def build(context) -> list:
     if cleaning is None:
         return []
     f_b, m_b = context.brush_h.f, context.brush_h.m
-    return [BrushContact(params=cleaning_brush(cleaning), n_C=np.asarray(cleaning.hull_normal, dtype=float),
+    brush = BrushContact(params=cleaning_brush(cleaning), n_C=np.asarray(cleaning.hull_normal, dtype=float),
                          F_n=np.ascontiguousarray(contact_lost(normal_force(context.plan, scenario)[:n],
                                                                scenario.faults, scenario.time.step_s)),
                          f_plan=np.ascontiguousarray(f_b[::2][:n]), m_plan=np.ascontiguousarray(m_b[::2][:n]),
-                         v=np.zeros(3))]
+                         v=np.zeros(3))
+    if not getattr(scenario.trajectory, "on_hull", False):
+        return [brush]
+    from marinecdpr.motion.carriage import carriage_motion
+
+    _, v_S, _, R_SC, omega, _ = carriage_motion(scenario.ship, np.arange(n) * scenario.time.step_s)
+    return [BrushOnHull(brush=brush, v_c=np.ascontiguousarray(np.einsum("nji,nj->ni", R_SC, v_S)),
+                        w_c=np.ascontiguousarray(omega, dtype=float), v_h=np.zeros(3), w_h=np.zeros(3))]
