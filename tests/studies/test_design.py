@@ -22,7 +22,8 @@ from marinecdpr.cli.app import app  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
 from marinecdpr.geometry.rotations import matrix_from_euler  # noqa: E402
 from marinecdpr.studies.design import (  # noqa: E402
-    baseline, candidate_scenario, clearance, evaluate, frame_placements, load_design, pareto_mask, search, study_cells,
+    baseline, candidate_scenario, clearance, evaluate, frame_placements, load_design, pareto_mask, search, sea_columns,
+    study_cells,
 )
 from marinecdpr.studies.screen import screen_cells  # noqa: E402
 from marinecdpr.studies.surface import surface_job  # noqa: E402
@@ -402,12 +403,46 @@ def test_a_column_of_the_scatter_is_flown_about_its_boundary(tmp_path, monkeypat
     assert set(edge.reasons) <= set(every.reasons) and edge.td_expected_hours == every.td_expected_hours
 
 
+def test_the_least_likely_columns_left_unflown_count_as_failing_and_are_said(tmp_path, monkeypatch):
+    """``[sea] unflown_share``: a column of 0.1 of the probability under a share of 0.1 is not
+    flown; the time domain's share is the flown column's, the unjudged sea states and their
+    probability are said, and the verdicts are compared over the judged ones only. (The
+    flights stood in for by a rule, Hs below 2.5 m works: the claim is the bookkeeping.)"""
+    from marinecdpr.studies import cleaning
+    from marinecdpr.studies.design import study_scatter, verify
+
+    path = _small_band(tmp_path, SMALL.replace("generations = 3", "generations = 1").replace("finalists = 2", "finalists = 1")
+                  .replace("frame_width_m = 6.0", "frame_width_m = 2.0").replace("frame_height_m = 3.0",
+                                                                                  "frame_height_m = 1.5")
+                  .replace("headings_deg = [90.0]", 'headings_deg = [90.0]\nverify = "boundary"\nunflown_share = 0.1'))
+    (tmp_path / "seas.csv").write_text("hs_m,tp_s,probability\n1.0,8.0,0.3\n2.0,8.0,0.3\n3.0,8.0,0.3\n"
+                                       "1.0,12.0,0.04\n2.0,12.0,0.03\n3.0,12.0,0.03\n")
+    spec, template = load_design(path)
+    study = one_candidate_study(spec, template, study_cells(spec, tmp_path))
+    asked = []
+
+    def rule(sc, cell, **kw):
+        asked.append(cell.tp)
+        return cleaning.CleaningCellResult(cell=cell, operable=cell.hs < 2.5, reason="" if cell.hs < 2.5 else "high",
+                                           coverage_pct=99.0, reachable_coverage_pct=99.0, in_band_pct=99.0,
+                                           tension_min_N=1.0, tension_max_N=2.0, job_time_s=1.0, hours=1.0)
+
+    monkeypatch.setattr(cleaning, "evaluate_cleaning_cell", rule)
+    (v,) = verify(study, template, study_scatter(spec, tmp_path))
+    assert asked and set(asked) == {8.0}
+    assert (v.unjudged, v.td_share) == (3, pytest.approx(0.6, rel=1e-12))
+    assert v.unjudged_share == pytest.approx(0.1, rel=1e-12)
+    assert v.agree + v.screen_works_td_fails + v.screen_fails_td_works == 3
+    assert v.td_expected_hours == pytest.approx(study.evaluations[0].surface_hours / 0.6, rel=1e-12)
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.lists(st.integers(0, 17), min_size=1, max_size=12), st.data())
 def test_the_boundary_search_finds_every_monotone_column_s_verdicts(bounds, data):
     """Columns of 1-17 heights, each working below its own boundary and failing from it, with
     any screen verdicts: the search returns every verdict and flies at most 2 + ceil(log2 n)
-    seas of a column of n, each once; with the screen's verdicts right, at most two a column."""
+    seas of a column of n, each once; with the screen's verdicts right, at most two a column;
+    with columns skipped, none of theirs."""
     from marinecdpr.studies.design import fly_boundary
     from marinecdpr.studies.operability import Cell
 
@@ -441,6 +476,35 @@ def test_the_boundary_search_finds_every_monotone_column_s_verdicts(bounds, data
     for k in range(len(bounds)):
         mine = [c for c in cells if c.index in asked and int(c.tp - 5.0) == k]
         assert len(mine) <= 2 and sum(c.hs - 0.5 < first_fail[k] for c in mine) <= 1
+    # columns skipped: none of their seas flown, each taken to fail; the others' verdicts as before
+    columns = sea_columns(cells)
+    skip = set(data.draw(st.sets(st.integers(0, len(columns) - 1))))
+    asked.clear()
+    works, flown = fly_boundary(Session(), None, cells, screen, {}, skip=skip)
+    unflown = {i for k in skip for i in columns[k]}
+    assert not unflown & {cells.index(c) for c in cells if c.index in asked}
+    assert works.tolist() == [t and i not in unflown for i, t in enumerate(truth.tolist())]
+
+
+def test_the_columns_left_unflown_are_the_least_likely_within_the_share(tmp_path):
+    """Columns of probability 0.5, 0.3, 0.15 and 0.05 (two heights each): a share of 0.2
+    leaves the last two (0.2, to rounding), 0.19 the last only, 0 none; a study asking for
+    it without flying about the boundaries is refused in one line."""
+    from marinecdpr.studies.design import unflown_columns
+    from marinecdpr.studies.operability import Cell
+
+    mass = {6.0: 0.5, 8.0: 0.3, 10.0: 0.15, 12.0: 0.05}
+    cells = [Cell(2 * k + j, 1.0 + j, tp, 180.0, p / 2) for k, (tp, p) in enumerate(mass.items()) for j in (0, 1)]
+    columns = sea_columns(cells)
+    tp_of = {k: cells[col[0]].tp for k, col in enumerate(columns)}
+    assert {tp_of[k] for k in unflown_columns(cells, 0.2)} == {10.0, 12.0}
+    assert {tp_of[k] for k in unflown_columns(cells, 0.19)} == {12.0}
+    assert unflown_columns(cells, 0.0) == set()
+    path = _small_band(tmp_path, SMALL.replace("headings_deg = [90.0]", "headings_deg = [90.0]\nunflown_share = 0.01"))
+    with pytest.raises(ScenarioError) as err:
+        load_design(path)
+    assert str(err.value) == (f'{path}: sea.unflown_share: leaves columns of the diagram unflown: it needs [sea] '
+                              'verify = "boundary"')
 
 
 def test_a_staged_folder_replaces_the_last_run_s_folder(tmp_path):
@@ -908,10 +972,23 @@ def test_the_study_key_is_the_content_of_its_files_not_their_paths(tiny, journal
         read_journal(journal, key).keys()
 
 
-SHIP_SIDE_KEY = "ed838c876f6c7535"
+SHIP_SIDE_KEY = "6a473b3bb77f5136"
 """The shipped ship_side study's key as computed before a cable's breaking load
 (``breaking_load_N``, issue 40 item 4) was a scenario key (commit ba01b22), and before the
-motors' current watch (``[simulation.control.safety] current_fraction``, ``current_delay_s``)."""
+motors' current watch (``[simulation.control.safety] current_fraction``, ``current_delay_s``);
+since the finalists' flights' own options (``finalists``, ``plant``, ``[sea] verify``,
+``unflown_share``) left the key (ed838c876f6c7535 before)."""
+
+
+def test_what_only_the_finalists_flights_read_leaves_the_study_s_key_as_it_was():
+    """The finalists, their plant and which sea states they fly judge no candidate: a journal
+    resumes whatever they are; the search's seed does not."""
+    spec, template = load_design(study_path("ship_side"))
+    cells = study_cells(spec, study_path("ship_side").parent)
+    other = spec.model_copy(update={"finalists": 1, "plant": "mujoco" if spec.plant == "own" else "own",
+                                    "sea": spec.sea.model_copy(update={"verify": "all", "unflown_share": 0.0})})
+    assert study_key(other, template, cells) == study_key(spec, template, cells) == SHIP_SIDE_KEY
+    assert study_key(spec.model_copy(update={"seed": spec.seed + 1}), template, cells) != SHIP_SIDE_KEY
 
 
 def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was():

@@ -88,11 +88,11 @@ def design(
         if est.finalists and study.front:
             compile_notice(options.plant or study_spec.plant or template.simulation.plant)
             with progress_bar("finalists", "sea states") as bar:
-                from marinecdpr.studies.design import sea_columns
+                from marinecdpr.studies.design import sea_columns, unflown_columns
 
                 n = min(est.finalists, len(study.front))  # about each column's boundary: two seas each, first
-                task = bar.add_task("", total=n * (len(cells) if study_spec.sea.verify == "all"
-                                                   else 2 * len(sea_columns(cells))))
+                flying = len(sea_columns(cells)) - len(unflown_columns(cells, study_spec.sea.unflown_share))
+                task = bar.add_task("", total=n * (len(cells) if study_spec.sea.verify == "all" else 2 * flying))
                 with run_errors(spec):
                     checked = command.verify(options, est, study,
                                              progress=lambda d, tot: bar.update(task, completed=d, total=tot))
@@ -141,10 +141,13 @@ def design(
             f"finalist {v.rank} (candidate {v.index}) in the time domain as built "
             f"({'MuJoCo' if v.plant == 'mujoco' else 'own plant'}, its rope's stretch, motor winches): works in {100 * v.td_share:.1f} % of the "
             f"seas (the screen: {100 * v.screen_share:.1f} %), {v.td_expected_hours:.4g} expected h (the screen: "
-            f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells)} sea states, the screen "
+            f"{v.screen_expected_hours:.4g} h); verdicts agree in {v.agree} of {len(cells) - v.unjudged} sea states, the screen "
             f"passed {v.screen_works_td_fails} the time domain failed"
             + (f" ({v.flown} judged about each column's boundary, {v.planned_only} of them failing in their plan "
-               f"and not flown; the rest taken from it)" if v.flown < len(cells) else "")),
+               f"and not flown; the rest taken from it)" if v.flown < len(cells) else "")
+            + (f"; {v.unjudged} sea states of the least likely columns ({100 * v.unjudged_share:.2f} % of the "
+               f"probability, [sea] unflown_share) not flown, counted as failing: at most "
+               f"{100 * (v.td_share + v.unjudged_share):.1f} %" if v.unjudged else "")),
             highlight=False, soft_wrap=True)
         if v.rail_move is not None:
             from marinecdpr.report.design import rail_move_text

@@ -149,7 +149,7 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
     from marinecdpr.commands.base import SpecError, headings
     from marinecdpr.errors import ScenarioError
     from marinecdpr.studies.design import (load_design, read_journal, sea_columns, study_cells, study_key, study_path,
-                                           study_scatter, with_options)
+                                           study_scatter, unflown_columns, with_options)
     from marinecdpr.studies.executor import Executor
     from marinecdpr.studies.operability import CLOSED_LOOP_STEP_COST
 
@@ -168,7 +168,8 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
     finalists = design.finalists if spec.verify else 0
     # about: each finalist's every sea state flown closed loop over the template's duration (or,
     # about each column's boundary, some four of its seas)
-    flights = len(cells) if design.sea.verify == "all" else min(len(cells), 4 * len(sea_columns(cells)))
+    flown_columns = len(sea_columns(cells)) - len(unflown_columns(cells, design.sea.unflown_share))
+    flights = len(cells) if design.sea.verify == "all" else min(len(cells), 4 * flown_columns)
     steps = finalists * flights * template.time.n_steps * CLOSED_LOOP_STEP_COST
     verify_executor = spec.executor(steps) if finalists else Executor.serial()
     asked = not spec.serial and (spec.workers is not None or bool(spec.scheduler))

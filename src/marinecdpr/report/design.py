@@ -491,7 +491,9 @@ def _report_html(study, verification, figures: dict | None, path: Path) -> Path:
                  "in the sea states about each column's boundary (one period, one heading: bisected from the "
                  "screen's verdicts to the height where the job first fails; the column's lower seas taken to work "
                  "and its higher ones to fail; a sea state whose plan fails judged by its plan, not flown; " +
-                 ", ".join(f"{v.flown} judged for finalist {v.rank} ({v.planned_only} by the plan alone)"
+                 ", ".join(f"{v.flown} judged for finalist {v.rank} ({v.planned_only} by the plan alone"
+                           + (f"; {v.unjudged} of the least likely columns, {100 * v.unjudged_share:.2f} % of the "
+                              "probability, not flown and counted as failing" if v.unjudged else "") + ")"
                            for v in verification) + ")")
         flown = (f"The finalists were also flown as built (their rope's weight and stretch, their winches' "
                  f"dynamics and limits) through the cleaning job {where}, closed loop on the prototype "

@@ -204,6 +204,11 @@ class Sea(_Model):
     first fails, found by bisection from the screen's verdicts; the column's lower seas are
     taken to work and its higher ones to fail (the sea's response grows with Hs at one Tp
     and heading). For diagrams of hundreds of sea states."""
+    unflown_share: _ranged(0.0, 0.5, "", "a share of the sea states' probability, in [0, 0.5]") = 0.0
+    """With ``verify = "boundary"``: the most probability the time domain may leave unjudged.
+    The columns of least probability whose sum is at most this are not flown; the time
+    domain's share counts their sea states as failing (a lower bound, its expected hours an
+    upper bound) and says how much they hold."""
 
 
 class PlatformMass(_Model):
@@ -298,6 +303,9 @@ class DesignSpec(_Model):
             if "rail" not in self.choices("relocation"):
                 raise _KeyedError(f"variables.{key}", "sets the carriage's limits, but no candidate moves by rail: "
                                                      "list \"rail\" in variables.relocation")
+        if self.sea.unflown_share > 0.0 and self.sea.verify != "boundary":
+            raise _KeyedError("sea.unflown_share", "leaves columns of the diagram unflown: it needs "
+                                                   "[sea] verify = \"boundary\"")
         for i, mode in enumerate(self.variables.relocation or []):
             if mode != "fixed" and getattr(self.relocation, mode, None) is None:
                 raise _KeyedError(f"variables.relocation[{i + 1}]", f"{mode!r} needs its figures in "

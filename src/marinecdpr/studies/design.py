@@ -55,7 +55,7 @@ __all__ = ["Evaluation", "DesignStudy", "Verification", "load_design", "candidat
            "study_cells", "study_scatter", "read_journal", "study_key", "builtin_studies", "study_path", "with_options",
            "CONSTRAINTS", "CAPACITIES", "as_built", "span_sag", "SAG_SHARE", "relocation_of", "RAIL_CONSTRAINT",
            "study_constraints", "candidate_rail", "rail_held_acceleration", "FAILURE_CONSTRAINT", "cable_count",
-           "rail_single_failure"]
+           "rail_single_failure", "sea_columns", "column_boundary", "unflown_columns", "fly_boundary"]
 
 CONSTRAINTS = ("sea_share", "winch_speed_m_s", "winch_power_W", "sag_m", "stretch_m", "panel_m", "clearance_m")
 """The constraint margins each candidate reports (>= 0 to be feasible), in candidates.csv's order."""
@@ -964,7 +964,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     """What a journal's candidates were judged under, by content: the study, its template
     with each file it reads (its RAOs, its surface's mesh) by the SHA-256 of its bytes (not
     by its path: a copy of the study's folder resumes; a file changed since does not), and
-    its sea states (the scatter diagram's cells at each heading). A study whose candidates
+    its sea states (the scatter diagram's cells at each heading); not what only the
+    finalists' flights read (``finalists``, ``plant``, ``[sea] verify`` and
+    ``unflown_share``). A study whose candidates
     may move by rail keys its constraints too (since the carriage's ``rail_accel_m_s2``): a
     journal judged without that margin does not resume."""
     import hashlib
@@ -984,6 +986,10 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
         return value
 
     study, scenario = spec.model_dump(mode="json"), template.model_dump(mode="json")
+    for key in ("finalists", "plant"):  # the finalists' flights judge no candidate
+        study.pop(key, None)
+    for key in ("verify", "unflown_share"):
+        study["sea"].pop(key, None)
     # the relocation's keys where unset, as before they were known: an older journal still resumes
     for node, key in ((study, "relocation"), (study["variables"], "relocation"), (study["variables"], "robots"),
                       (((scenario.get("cleaning") or {}).get("surface") or {}), "relocation")):
@@ -1330,6 +1336,11 @@ class Verification:
     planned_only: int = 0
     """Of those, how many failed in their plan and were not flown (``verify = "boundary"``:
     :func:`~marinecdpr.studies.cleaning.evaluate_cleaning_cell`'s ``plan_first``)."""
+    unjudged: int = 0
+    """Sea states left unjudged (``[sea] unflown_share``: the columns of least probability):
+    counted as failing in ``td_share``, and in neither ``agree`` nor the disagreements."""
+    unjudged_share: float = 0.0
+    """Their probability: the time domain's share is at most ``td_share`` plus it."""
     rail_move: "RailMoveCheck | None" = None
     """A finalist on a rail: its frame carried along the rail in the time domain
     (:func:`fly_rail_move`); None for other moves, or where no sea state works."""
@@ -1439,8 +1450,20 @@ def column_boundary(verdicts: dict[int, bool], n: int) -> tuple[int, int]:
     return lo, hi
 
 
+def unflown_columns(cells: list, share: float) -> set[int]:
+    """The columns (:func:`sea_columns`' indices) of least probability whose sum is at most
+    ``share`` of the cells' whole: those :func:`fly_boundary` leaves unflown
+    (``[sea] unflown_share``); the empty set for 0."""
+    p = np.array([c.probability for c in cells], dtype=float)
+    mass = np.array([p[col].sum() for col in sea_columns(cells)]) / max(p.sum(), 1e-300)
+    order = np.argsort(mass, kind="stable")
+    within = np.cumsum(mass[order]) <= share * (1.0 + 1e-12)
+    return {int(k) for k in order[within]}
+
+
 def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndarray, kwargs: dict,
-                 progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, dict]:
+                 progress: Callable[[int], None] | None = None, *, skip: set[int] = frozenset()
+                 ) -> tuple[np.ndarray, dict]:
     """The time domain's verdict in every sea state, flying only those about each column's
     boundary (:func:`sea_columns`): first the sea just above the highest of the column's
     lowest seas the screen passes (the top sea where it passes them all); where that fails,
@@ -1460,6 +1483,9 @@ def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndar
     kwargs : dict
         :func:`~marinecdpr.studies.cleaning.evaluate_cleaning_cell`'s options.
     progress : callable(n_flown), optional
+    skip : set of int
+        Columns (:func:`sea_columns`' indices) not flown (:func:`unflown_columns`): their sea
+        states' ``works`` are False.
 
     Returns
     -------
@@ -1476,7 +1502,7 @@ def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndar
     for col in columns:
         ok = screen_works[col]
         guess.append(int(np.argmin(ok)) - 1 if not ok.all() else len(col) - 1)
-    probes = [(k, min(s + 1, len(col) - 1)) for k, (s, col) in enumerate(zip(guess, columns))]
+    probes = [(k, min(s + 1, len(col) - 1)) for k, (s, col) in enumerate(zip(guess, columns)) if k not in skip]
     while probes:
         before = len(flown)
         results = session.map(evaluate_cleaning_cell, template, [cells[columns[k][j]] for k, j in probes], kwargs,
@@ -1487,10 +1513,12 @@ def fly_boundary(session, template: Scenario, cells: list, screen_works: np.ndar
         probes = []
         for k, col in enumerate(columns):
             lo, hi = column_boundary(verdicts[k], len(col))
-            if hi > lo + 1:
+            if hi > lo + 1 and k not in skip:
                 probes.append((k, guess[k] if hi == guess[k] + 1 and lo < guess[k] else (lo + hi) // 2))
     works = np.zeros(len(cells), dtype=bool)
     for k, col in enumerate(columns):
+        if k in skip:
+            continue
         lo, hi = column_boundary(verdicts[k], len(col))
         for j, i in enumerate(col):
             works[i] = verdicts[k][j] if j in verdicts[k] else j < hi
@@ -1507,7 +1535,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     and stretch, the winches' dynamics and limits) at the placement where the screen found
     the seas hardest; the time-domain share and hours beside the screen's there. With
     ``[sea] verify = "boundary"`` only the seas about each column's boundary fly
-    (:func:`fly_boundary`). A finalist on a rail also flies a move of its frame along the rail
+    (:func:`fly_boundary`), and with ``[sea] unflown_share`` not those of the columns of least
+    probability (:func:`unflown_columns`: left unjudged, counted as failing in the time
+    domain's share). A finalist on a rail also flies a move of its frame along the rail
     in the highest sea flown that works (:func:`fly_rail_move`). There a sea state whose
     plan already fails (its tensions, or its normal force's share of time in band: a flown
     job takes both from its plan) is judged by its plan and not flown (``plan_first``).
@@ -1532,8 +1562,13 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     total = len(chosen) * len(cells)
     boundary = spec.sea.verify == "boundary"
     weight = np.array([c.probability / len(heads) for c in cells])
+    skip = unflown_columns(cells, spec.sea.unflown_share) if boundary else set()
+    judged = np.ones(len(cells), dtype=bool)
+    for k in skip:
+        judged[sea_columns(cells)[k]] = False
+    flying = len(sea_columns(cells)) - len(skip)
     if boundary:  # about two seas per column and finalist first; more as the bisections ask
-        total = 2 * len(chosen) * len(sea_columns(cells))
+        total = 2 * len(chosen) * flying
     executor = executor or Executor.serial()
     out = []
     done_before = 0
@@ -1549,11 +1584,12 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
 
             def seen(n, before=done_before, left=len(chosen) - rank):
                 nonlocal total
-                total = max(total, before + n + 2 * left * len(sea_columns(cells)))
+                total = max(total, before + n + 2 * left * flying)
                 progress(before + n, total)
 
             with executor.session() as session:
-                td, results = fly_boundary(session, sc, cells, works, kwargs, None if progress is None else seen)
+                td, results = fly_boundary(session, sc, cells, works, kwargs, None if progress is None else seen,
+                                           skip=skip)
             done_before += len(results)
             share = float(weight[td].sum())
             failed = [results[j] for j in sorted(results) if not results[j].operable]
@@ -1576,8 +1612,9 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
             index=i, rank=rank, surface_hours=e.surface_hours, screen_share=screened.share, td_share=share,
             screen_expected_hours=e.expected_hours,
             td_expected_hours=e.surface_hours / share if share > 0 else float("inf"),
-            agree=int((works == td).sum()), screen_works_td_fails=int((works & ~td).sum()),
-            screen_fails_td_works=int((~works & td).sum()),
+            agree=int((judged & (works == td)).sum()), screen_works_td_fails=int((judged & works & ~td).sum()),
+            screen_fails_td_works=int((judged & ~works & td).sum()),
+            unjudged=int((~judged).sum()), unjudged_share=float(weight[~judged].sum()),
             reasons=[f"Hs {r.cell.hs:g} m, Tp {r.cell.tp:g} s, heading {r.cell.heading_deg:g} deg: {r.reason}"
                      for r in failed], plant=flown,
             screen_reasons=[why for why in screened.reasons if why], flown=n_flown, planned_only=planned_only,
