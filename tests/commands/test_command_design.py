@@ -22,6 +22,7 @@ from marinecdpr.commands import SpecError  # noqa: E402
 from marinecdpr.commands import design as command  # noqa: E402
 from marinecdpr.commands.design import DesignCommandSpec  # noqa: E402
 from marinecdpr.errors import ScenarioError  # noqa: E402
+from marinecdpr.studies.design import unflown_columns  # noqa: E402
 from marinecdpr.studies.executor import Executor  # noqa: E402
 from tests.conftest import judged_once, tiny_study_folder  # noqa: E402
 from command_pages import cli_default  # noqa: E402
@@ -64,16 +65,17 @@ def test_a_bad_option_is_one_error_naming_its_field(options, field, words):
 
 
 def test_the_estimate_reads_the_study_and_chooses_the_executors():
-    """ship_side: the North Atlantic's 197 sea states x 3 headings; its 2 finalists flown about
-    each of its 48 columns' boundary (some four seas a column) closed loop are 2 x 192 x
-    n_steps x 100 steps, far beyond auto's 20 M: a local cluster; the candidates on Dask only
-    where asked."""
+    """ship_side: the North Atlantic's 197 sea states x 3 headings; its finalist flown about
+    the boundary of each of the 27 of its 48 columns it flies (``unflown_share``: the 21 least
+    likely left; some four seas a column) closed loop are 108 x n_steps x 100 steps, far beyond
+    auto's 20 M: a local cluster; the candidates on Dask only where asked."""
     spec = DesignCommandSpec(population=4, generations=2, seed=5)
     est = command.estimate(spec)
     assert (est.study.population, est.study.generations, est.study.seed) == (4, 2, 5)
-    assert est.candidates == 8 and len(est.cells) == 591 and est.finalists == est.study.finalists == 2
+    assert est.candidates == 8 and len(est.cells) == 591 and est.finalists == est.study.finalists == 1
+    assert len(unflown_columns(est.cells, est.study.sea.unflown_share)) == 21
     assert est.search_executor == Executor.serial()
-    assert 2 * 192 * est.template.time.n_steps * 100 >= 20_000_000
+    assert 4 * 27 * est.template.time.n_steps * 100 >= 20_000_000
     assert (est.verify_executor.kind, est.verify_executor.why) == ("local", "large")
     quiet = command.estimate(DesignCommandSpec(verify=False))
     assert quiet.finalists == 0 and quiet.verify_executor == Executor.serial()

@@ -1562,11 +1562,12 @@ def verify(study: DesignStudy, template: Scenario, scatter, *, executor: Executo
     total = len(chosen) * len(cells)
     boundary = spec.sea.verify == "boundary"
     weight = np.array([c.probability / len(heads) for c in cells])
+    columns = sea_columns(cells)
     skip = unflown_columns(cells, spec.sea.unflown_share) if boundary else set()
     judged = np.ones(len(cells), dtype=bool)
     for k in skip:
-        judged[sea_columns(cells)[k]] = False
-    flying = len(sea_columns(cells)) - len(skip)
+        judged[columns[k]] = False
+    flying = len(columns) - len(skip)
     if boundary:  # about two seas per column and finalist first; more as the bisections ask
         total = 2 * len(chosen) * flying
     executor = executor or Executor.serial()
