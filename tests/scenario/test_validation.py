@@ -224,6 +224,12 @@ CASES = {
     "infinite Hs": ("sea", at("base_motion.hs_m", INF), "base_motion.hs_m", "a finite number between 0.01 and 30 m"),
     "NaN noise": ("paper", at("simulation.noise.ship_angle_deg", NAN), "simulation.noise.ship_angle_deg",
                   "a finite number between 0 and 30 deg"),
+    "negative motor torque noise": ("paper", at("simulation.noise.motor_torque_N_m", -0.01),
+                                    "simulation.noise.motor_torque_N_m", "between 0 and 1e6 N m"),
+    "NaN motor torque noise": ("paper", at("simulation.noise.motor_torque_N_m", NAN),
+                               "simulation.noise.motor_torque_N_m", "a finite number between 0 and 1e6 N m"),
+    "motor torque noise as a word": ("paper", at("simulation.noise.motor_torque_N_m", "2 %"),
+                                     "simulation.noise.motor_torque_N_m", ""),
     "-inf orientation": ("cube", lambda d: d["trajectory"]["waypoints"][1].update(orientation_deg=[0.0, -INF, 0.0]),
                          "trajectory.waypoints[2].orientation_deg", "got ry = -inf"),
     # degenerate geometry
@@ -252,6 +258,25 @@ def test_a_value_nobody_could_mean_is_refused_with_its_range(name):
     assert text.startswith(f"test: {key}: "), text
     assert says in text and "\n" not in text, text
     assert info.value.key == key
+
+
+@pytest.mark.parametrize("winch, noise, says", [
+    ("length", 0.04, "needs motor winches (simulation.cables.winch = \"motor\"), got 0.04 N m"),
+    ("motor", 2.0, "must be below the motor's torque limit (robot.winch.torque_max_Nm = 2 N m)"),
+])
+def test_a_motor_torque_noise_without_a_motor_or_as_large_as_its_torque_is_one_line(winch, noise, says):
+    """The noise on a motor's measured torque (issue 40) needs motor winches, and is a sensor's
+    standard deviation, below the motor's torque limit (paper_as_built's 2 N m)."""
+    data = _builtin("paper_as_built")
+    data["simulation"]["cables"]["winch"] = winch
+    data["simulation"]["noise"] = {"motor_torque_N_m": noise}
+    with pytest.raises(ScenarioError) as err:
+        scenario_from_dict(data)
+    text = str(err.value)
+    assert "\n" not in text and "simulation.noise.motor_torque_N_m" in text and says in text, text
+    data["simulation"]["noise"] = {"motor_torque_N_m": 1.99}
+    if winch == "motor":
+        assert scenario_from_dict(data).simulation.noise.motor_torque_N_m == 1.99
 
 
 # the edge of a range passes, just beyond it is refused: (base, edit at the edge, edit beyond, the key)

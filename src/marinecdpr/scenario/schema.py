@@ -381,6 +381,9 @@ class Noise(_Model):
     ship_rate_deg_s: _noise(360.0, "deg/s") = 0.0
     ship_acceleration_m_s2: _noise(100.0, "m/s^2") = 0.0
     ship_angular_acceleration_deg_s2: _noise(3600.0, "deg/s^2") = 0.0
+    motor_torque_N_m: _noise(1e6, "N m") = 0.0
+    """On each motor winch's torque as its drive's current measures it, N m at the motor
+    (motor winches, closed loop): what the controller's current watch reads, not what acts."""
 
 
 MRU_UNITS = {
@@ -594,6 +597,23 @@ class Scenario(_Model):
         speed, direction = sea_wind(wind, hs_m=sea.hs_m, heading_deg=sea.heading_deg,
                                     gravity_m_s2=self.environment.gravity_m_s2)
         object.__setattr__(self, "wind", wind.model_copy(update={"speed_m_s": speed, "direction_deg": direction}))
+        return self
+
+    @model_validator(mode="after")
+    def _check_motor_noise(self) -> "Scenario":
+        noise = self.simulation.noise.motor_torque_N_m
+        if noise == 0.0:
+            return self
+        if self.simulation.cables.winch != "motor":
+            raise _KeyedError("simulation.noise.motor_torque_N_m", "is the noise on a motor's measured torque: it "
+                                                                   "needs motor winches (simulation.cables.winch = "
+                                                                   f"\"motor\"), got {_num(noise)} N m")
+        limit = None if self.robot.winch is None else self.robot.winch.torque_max_Nm  # its absence: said elsewhere
+        if limit is not None and noise >= limit:
+            raise _KeyedError("simulation.noise.motor_torque_N_m", f"must be below the motor's torque limit "
+                                                                   f"(robot.winch.torque_max_Nm = {_num(limit)} N m): "
+                                                                   f"a sensor's standard deviation, not what it "
+                                                                   f"measures, got {_num(noise)} N m")
         return self
 
     @model_validator(mode="after")
