@@ -34,6 +34,8 @@ def _variants():
             "simulation.cables", winch="motor"),
         "clean": marinecdpr.load_scenario("paper_clean"),
         "camera": paper.with_updates("simulation.camera", latency_s=0.01, noise_m=0.001, weight=0.4),
+        "motor_currents": marinecdpr.load_scenario("paper_as_built").with_updates(  # the drives' current sensors
+            "simulation.noise", motor_torque_N_m=0.04),
         "carriage": paper.with_changes(ship={"carriage": {  # the frame on a rail: the carriage drive's part
             "rail_m": [[-0.78, 0.0, 2.2], [3.0, 0.0, 2.2]], "speed_max_m_s": 0.5, "accel_max_m_s2": 0.4,
             "jerk_max_m_s3": 2.0, "stations_m": [0.0, 1.0], "mass_kg": 40.0}}),
@@ -126,6 +128,9 @@ def test_every_declared_signal_is_on_the_bus_and_the_parts_run_in_their_declared
     heavy = [type(p).__name__ for p in _parts("catenary_motor").system.parts]
     # the catenaries' tensions at both ends over the drums' length now, then the motors
     assert heavy.index("CatenaryCables") < heavy.index("CatenaryMotorWinch") and "MotorWinch" not in heavy
+    noisy = [type(p).__name__ for p in _parts("motor_currents").system.parts]
+    # the measured currents: the torques the motors gave over this exchange, then their noise
+    assert noisy.index("MotorWinch") + 1 == noisy.index("MotorCurrents") and "MotorCurrents" not in motor
 
 
 def test_a_part_reading_what_no_part_writes_is_refused():

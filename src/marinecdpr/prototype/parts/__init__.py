@@ -32,7 +32,8 @@ order  part (module)                       writes
 30     winch with a lag (``winches``)      L0 (held), T_hold
 40     cables (``cables``)                 T_app (held, elastic or catenary); T_winch
                                            (catenary: the tension at the winch end)
-45     motor winch (``winches``)           L0 (held and drum)
+45     motor winch (``winches``)           L0 (held and drum), meas.tau, meas.tau_set
+46     motor currents (``sensors``)        meas.tau: its noise (motor winches, closed loop)
 50     brush contact (``brush``)           f_ext, m_ext
 60     carriage drive (``carriage``)       nothing: its force along the rail, recorded
 90     log (``log``)                       the run's time series

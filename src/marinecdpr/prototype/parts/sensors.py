@@ -1,5 +1,7 @@
 """The sensors: the pose sensor, the load cells, the winches' encoders and the motion
-reference unit (MRU), each writing its part of the controller's measurement ``meas``.
+reference unit (MRU), each writing its part of the controller's measurement ``meas``; with
+motor winches and ``[simulation.noise] motor_torque_N_m``, the drives' current sensors
+(:class:`MotorCurrents`: noise on the motor torques the controller reads).
 
 Their errors are drawn in advance from ``[simulation.noise]`` (seeded, one stream in a
 fixed order: a scenario's noise is the same whatever else changes): the closed loop
@@ -27,7 +29,8 @@ from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.prototype.parts import part
 from marinecdpr.scenario.schema import MRU_UNITS
 
-__all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "SensorFaults", "sensor_parts", "sensor_faults", "build"]
+__all__ = ["PoseSensor", "LoadCells", "Encoders", "Mru", "MotorCurrents", "SensorFaults", "sensor_parts",
+           "motor_currents", "sensor_faults", "CURRENT_STREAM", "build"]
 
 
 @njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
@@ -133,12 +136,50 @@ class Mru(NamedTuple):
     latest: np.ndarray
 
 
+@njit(cache=True, inline="always")  # a few lines: inlined into its one caller, part_step
+def motor_currents_step(k, h, part, bus):
+    meas = bus.meas
+    for i in range(meas.tau.shape[0]):  # the motor winch part wrote the true torque this exchange
+        meas.tau[i] += part.noise[k, i]
+
+
+@part(step=motor_currents_step, order=46, reads=("meas.tau",), writes=("meas.tau",))
+class MotorCurrents(NamedTuple):
+    """The motor winches' current sensors: noise (n_steps, m) on the torque each motor gave
+    over the step as its drive's current measures it, N m at the motor, added to ``meas.tau``
+    after the motor winch part has written the true torque (order 45, every exchange): what
+    the controller's current watch reads next exchange. Not on the drives' demands
+    (``meas.tau_set``), nor on what acts on the drums."""
+
+    noise: np.ndarray
+
+
+CURRENT_STREAM = 1
+"""The spawn key of the current sensors' own stream of ``[simulation.noise] seed``
+(``numpy.random.SeedSequence(seed, spawn_key=(CURRENT_STREAM,))``): drawing it changes no
+other sensor's noise."""
+
+
+def motor_currents(scenario, run: str, n: int) -> MotorCurrents | None:
+    """The motor winches' current sensors of ``run`` over n steps, their noise (n, m) drawn at
+    once, N m, from ``[simulation.noise] motor_torque_N_m`` (a standard deviation) on the
+    seed's own stream (:data:`CURRENT_STREAM`); None where nothing reads them noisy (not the
+    closed loop, no motor winches, or no noise: the measured torque then the true one)."""
+    sigma = scenario.simulation.noise.motor_torque_N_m
+    if run != "closed_loop" or scenario.simulation.cables.winch != "motor" or sigma == 0.0:
+        return None
+    seq = np.random.SeedSequence(scenario.simulation.noise.seed, spawn_key=(CURRENT_STREAM,))
+    return MotorCurrents(noise=np.random.default_rng(seq).normal(0.0, sigma, (n, scenario.robot.n_cables)))
+
+
 def build(context) -> list:
     """The four sensors (:func:`sensor_parts`), the load cells reading the plan's first tensions;
-    with a sensor's faults, their part (:class:`SensorFaults`) after them."""
+    with a sensor's faults, their part (:class:`SensorFaults`) after them; with noisy motor
+    currents, their sensors (:func:`motor_currents`, after the motor winches)."""
     parts = sensor_parts(context.scenario, context.run, context.ship_h, context.n_steps, T0=context.ctl.ref.T[0])
     faults = sensor_faults(context.scenario.faults, context.scenario.time.step_s)
-    return parts if faults is None else parts + [faults]
+    currents = motor_currents(context.scenario, context.run, context.n_steps)
+    return parts + [p for p in (faults, currents) if p is not None]
 
 
 def sensor_parts(scenario, run: str, ship_h, n: int, *, T0=None) -> list:
