@@ -256,7 +256,8 @@ def test_both_plants_agree_over_a_continuous_cleaning_run():
     """A strip cleaned while the carriage moves (issue 39, item 3): examples/rail_strip.toml's
     brush path held on the ship (``trajectory.on_hull``), the carriage starting at 0.5 s at
     2 cm/s along its bent rail, in its sea: the closed loop on MuJoCo and on the own plant.
-    Measured over 3 s: 3.4e-6 m in x, 5.3e-6 m in z, 5.7e-9 rad (the stepped job at the rail's
+    Measured over 3 s: 3.1e-6 m in x, 5.8e-6 m in z, 5.5e-9 rad (3.4e-6 m, 5.3e-6 m, 5.7e-9 rad
+    when MuJoCo's frame hung from a carriage body on a ship body; the stepped job at the rail's
     start, its frame standing: 3.4e-6 m, 5.3e-6 m, 5.6e-9 rad: the brush's drag reversing at
     the lanes' ends); 1e-5 m and 1e-8 rad allowed."""
     from marinecdpr.motion.carriage import carriage_travel, rail_of

@@ -255,7 +255,7 @@ def known_loads(scenario: Scenario, ship_h, brush_h: BrushLoads | None, wind_h: 
     plant and the controller turn them with the platform's actual (measured) orientation.
     """
     dist = scenario.disturbance
-    t_h = np.arange(ship_h.eta.shape[0]) * (0.5 * scenario.time.step_s)
+    t_h = np.arange(ship_h.x_SO_O.shape[0]) * (0.5 * scenario.time.step_s)  # not eta: a body's derives its angles
     f, m = evaluate_disturbance(dist, t_h)
     in_P = dist.frame == "P"
     if not in_P:

@@ -7,21 +7,20 @@ and its first two time derivatives; :func:`~marinecdpr.motion.ship.ship_motion` 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.motion.carriage import carriage_motion, carriage_motion_and_joints, carried_motion
+from marinecdpr.motion.carriage import carriage_motion, carried_motion
 from marinecdpr.motion.ship import (
     ShipMotion, frame_axes, frame_origin_in_axes, in_frame_axes, ship_motion, still_ship,
 )
 from marinecdpr.scenario.fields import SHIP_DOFS
 from marinecdpr.scenario.schema import RecordedMotion, SeaStateMotion, SinusoidalMotion, StillMotion
 
-__all__ = ["evaluate_base_motion", "seen_by_frame", "frame_ship_motion", "CarriedFrame", "carried_frame_motion",
-           "fixed_ship_motion", "frame_origin_of", "rao_from_source"]
+__all__ = ["evaluate_base_motion", "seen_by_frame", "frame_ship_motion", "fixed_ship_motion", "frame_origin_of",
+           "rao_from_source"]
 
 
 def seen_by_frame(ship: ShipMotion, scenario) -> ShipMotion:
@@ -41,35 +40,6 @@ def frame_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
     if scenario.ship.carriage is None:
         return seen_by_frame(ship, scenario)
     return carried_motion(ship, *carriage_motion(scenario.ship, t))
-
-
-@dataclass(frozen=True)
-class CarriedFrame:
-    """A carried frame's motion in its pieces (:func:`carried_frame_motion`).
-
-    Attributes
-    ----------
-    frame : ShipMotion
-        C's motion in O (:func:`frame_ship_motion`'s).
-    ship : ShipMotion
-        S's own motion in O (the scenario's ``base_motion``).
-    joints : tuple of ndarray, each shape (n_steps, 4)
-        The carriage's pose on S as joint coordinates and their rates
-        (:func:`~marinecdpr.motion.carriage.carriage_joints`).
-    """
-
-    frame: ShipMotion
-    ship: ShipMotion
-    joints: tuple
-
-
-def carried_frame_motion(scenario, t: np.ndarray) -> CarriedFrame:
-    """A frame on a carriage (``[ship.carriage]``): C's motion in O (the same numbers as
-    :func:`frame_ship_motion`'s), the ship's own and the carriage's joint coordinates on it,
-    the rail evaluated once (a prototype whose ship and carriage are bodies of their own)."""
-    ship = evaluate_base_motion(scenario.base_motion, t)
-    rel, joints = carriage_motion_and_joints(scenario.ship, t)
-    return CarriedFrame(frame=carried_motion(ship, *rel), ship=ship, joints=joints)
 
 
 def frame_origin_of(scenario) -> np.ndarray:

@@ -40,7 +40,7 @@ if TYPE_CHECKING:
     from marinecdpr.motion.rail import Rail
 
 __all__ = ["carried_motion", "on_rail", "carriage_travel", "frame_yaw", "rail_of", "carriage_motion", "rail_tangent_C",
-           "carriage_joints", "carriage_motion_and_joints", "forget_carriage_motions", "CACHED_STEPS"]
+           "forget_carriage_motions", "CACHED_STEPS"]
 
 
 def frame_yaw(rail, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -282,33 +282,6 @@ def carriage_motion(ship, t: np.ndarray
     return _on_its_rail(ship, t)[1]
 
 
-def carriage_joints(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The carriage's pose on S as joint coordinates, at times ``t``: C's origin in S and the
-    frame's yaw about S's z from its start, R_SC = Rz(yaw) R_SC0 (a body on slides along S's
-    x, y, z and a hinge about its z, in that order, has these coordinates: MuJoCo's carriage),
-    and their first two time derivatives (``ship`` and ``t`` as :func:`carriage_motion`'s).
-
-    Returns
-    -------
-    q, q_dot, q_ddot : ndarray, shape (n_steps, 4)
-        (x, y, z, yaw): m, rad; m/s, rad/s; m/s^2, rad/s^2. The position's are
-        :func:`on_rail`'s r, v, a; the yaw's rates are the components of C's angular velocity
-        and acceleration on S along S's z (the yaw turns C about it alone).
-    """
-    return carriage_motion_and_joints(ship, t)[1]
-
-
-def carriage_motion_and_joints(ship, t: np.ndarray) -> tuple[tuple, tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """:func:`carriage_motion` and :func:`carriage_joints` at once (the rail evaluated once)."""
-    _, motion, yaw = _on_its_rail(ship, t, with_yaw=True)
-    r, v, a, R_SC, omega, alpha = motion
-    z_C = R_SC[:, 2, :]  # S's z in C
-    q = np.concatenate([r, yaw[:, None]], axis=1)
-    q_dot = np.concatenate([v, np.einsum("ni,ni->n", omega, z_C)[:, None]], axis=1)
-    q_ddot = np.concatenate([a, np.einsum("ni,ni->n", alpha, z_C)[:, None]], axis=1)
-    return motion, (q, q_dot, q_ddot)
-
-
 def rail_tangent_C(ship, t: np.ndarray) -> np.ndarray:
     """The rail's unit tangent at the carriage's place at times ``t``, in C: shape (n_steps, 3)
     (``ship`` and ``t`` as :func:`carriage_motion`'s)."""
@@ -321,11 +294,10 @@ CACHED_STEPS = 1 << 17
 most for each of the 4 kept."""
 
 
-def _on_its_rail(ship, t: np.ndarray, *, with_yaw: bool = False):
-    """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there (and
-    the frame's yaw from its start, rad, ``with_yaw``): read-only arrays, kept for the last
-    few grids of at most :data:`CACHED_STEPS` times, as a run evaluates the same grid for its
-    plan, its plant, its controller and its drive."""
+def _on_its_rail(ship, t: np.ndarray):
+    """The rail at the carriage's arc lengths at times ``t``, and C's motion on S there:
+    read-only arrays, kept for the last few grids of at most :data:`CACHED_STEPS` times, as a
+    run evaluates the same grid for its plan, its plant, its controller and its drive."""
     t = np.asarray(t, dtype=float)
     if t.size > CACHED_STEPS:
         out = _evaluate_on_rail(ship, t)
@@ -333,7 +305,7 @@ def _on_its_rail(ship, t: np.ndarray, *, with_yaw: bool = False):
         key = (ship.carriage.model_dump_json(), tuple(float(v) for v in ship.frame_orientation_deg), t.shape,
                t.tobytes())
         out = _kept_on_rail(_Keyed(key, ship, t))
-    return out if with_yaw else out[:2]
+    return out
 
 
 def forget_carriage_motions() -> None:
@@ -358,8 +330,8 @@ class _Keyed:
 
 @lru_cache(maxsize=4)
 def _kept_on_rail(keyed: _Keyed):
-    points, rel, yaw = out = _evaluate_on_rail(keyed.ship, keyed.t)
-    for a in (points.r, points.t, points.dt, points.ddt, *rel, yaw):
+    points, rel = out = _evaluate_on_rail(keyed.ship, keyed.t)
+    for a in (points.r, points.t, points.dt, points.ddt, *rel):
         a.flags.writeable = False
     return out
 
@@ -373,5 +345,4 @@ def _evaluate_on_rail(ship, t: np.ndarray):
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
                                            c.accel_max_m_s2, c.jerk_max_m_s3, t)
     points = rail.at(s, heading=False)
-    yaw = frame_yaw(rail, s)
-    return points, on_rail(points, yaw, s_dot, s_ddot, frame_axes(ship.frame_orientation_deg)), yaw[0]
+    return points, on_rail(points, frame_yaw(rail, s), s_dot, s_ddot, frame_axes(ship.frame_orientation_deg))

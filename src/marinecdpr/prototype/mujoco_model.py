@@ -4,8 +4,7 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
 
 ``ship``
     A very heavy rigid body (:data:`SHIP_MASS_KG`, isotropic inertia
-    :data:`SHIP_INERTIA_KG_M2`, more with a carriage far from S's origin: :func:`ship_inertia`;
-    gravity compensated) on six joints in the order
+    :data:`SHIP_INERTIA_KG_M2`; gravity compensated) on six joints in the order
     slide x, slide y, slide z, hinge z (yaw), hinge y (pitch), hinge x (roll): MuJoCo
     applies a body's joints in order, each about the axes left by the previous ones,
     so the ship's orientation is Rz(yaw) Ry(pitch) Rx(roll) = R_SO and its joint
@@ -15,22 +14,19 @@ World frame = O (z up, gravity (0, 0, -g)). Bodies:
     simulation drives these joints with generalised forces (feed-forward of the
     analytic motion plus a stiff servo), so the ship has true velocity and
     acceleration; the cables' reaction barely moves a ship this heavy.
+
+    A frame carried on a rail (``[ship.carriage]``): the same body on the same six joints
+    moves as C itself, driven along C's composed motion in O (the ship's composed with the
+    carriage's, :func:`~marinecdpr.motion.basemotion.frame_ship_motion`, the motion the own
+    plant and the planner take): its joints are C's origin in O and the Euler angles of R_CO
+    (:func:`~marinecdpr.motion.ship.body_coordinates`). The model then has the standing
+    frame's bodies and DOFs (a ship body and a carriage body on four more driven joints cost
+    MuJoCo's RK4 a fifth more per step); the carriage's drive force is the carriage part's
+    record (:mod:`~marinecdpr.prototype.parts.carriage`), not a joint's.
 ``frame``
-    Robot frame C, fixed to the ship at ``ship.frame_origin_m`` (in S'); holds the frame anchors.
-``carriage`` (a frame carried on a rail, ``[ship.carriage]``)
-    Then the ship body moves as S itself (its joints are S's eta) and the frame hangs from
-    a carriage body on it: as heavy as the ship (:data:`CARRIAGE_MASS_KG`, isotropic
-    :data:`CARRIAGE_INERTIA_KG_M2`, gravity compensated), on joints relative to the ship in
-    the order slide x, slide y, slide z, hinge z (all along S's axes), so that its joint
-    positions are C's origin in S and the frame's yaw from its start
-    (:func:`~marinecdpr.motion.carriage.carriage_joints`); a coordinate the carriage's moves
-    do not change (:func:`carriage_coordinates`: a level rail's z, a straight rail's yaw) is
-    no joint but the body's constant place (each joint costs MuJoCo's RK4 about 0.7 us a
-    step). The ``frame`` body sits on it turned by the frame's lean at the rail's start
-    (R_SC0, ``ship.frame_orientation_deg``).
-    The simulation drives the carriage's joints as it drives the ship's (exact feed-forward
-    of the two bodies' motion and a stiff servo), so C moves as the composed motion the
-    own plant takes (:func:`~marinecdpr.motion.basemotion.frame_ship_motion`).
+    Robot frame C, fixed to the ship at ``ship.frame_origin_m`` (in S'; at the body's origin
+    for a carried frame, :func:`~marinecdpr.motion.basemotion.frame_origin_of`); holds the
+    frame anchors.
 ``platform``
     The platform, origin at its centre of mass: slide x, slide z, hinge y relative to
     C for a planar robot; slide x, y, z and a ball joint for a spatial one.
@@ -45,32 +41,20 @@ longer than the planner's length (``MujocoModel.tendon_offset``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.geometry.rotations import quaternion_from_matrix
 from marinecdpr.motion.basemotion import frame_origin_of
-from marinecdpr.motion.ship import frame_axes
 from marinecdpr.scenario.schema import Scenario
 
-__all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2", "CARRIAGE_MASS_KG",
-           "CARRIAGE_INERTIA_KG_M2", "CARRIAGE_JOINTS", "CARRIAGE_REACH_SHARE", "carriage_coordinates", "ship_inertia"]
+__all__ = ["MujocoModel", "build_model", "SHIP_MASS_KG", "SHIP_INERTIA_KG_M2"]
 
 PULLEY_INLET_M = 0.05
 """How far back along its arrival direction a pulley cable's tendon starts, m."""
 SHIP_MASS_KG = 1.0e7
 SHIP_INERTIA_KG_M2 = 1.0e8
-CARRIAGE_MASS_KG = SHIP_MASS_KG
-"""MuJoCo's carriage body: as heavy as the ship, so that the cables' pull barely moves it off
-its trajectory (its servo's error ~ pull / (mass (2 pi 10 Hz)^2), 1e-8 m for 500 N); the
-drive's real force is the carriage part's record (:mod:`~marinecdpr.prototype.parts.carriage`)."""
-CARRIAGE_INERTIA_KG_M2 = SHIP_INERTIA_KG_M2
-CARRIAGE_REACH_SHARE = 0.1
-"""With a carriage, the ship's inertia is at least the carriage's mass at its farthest reach
-from S's origin over this share, squared (:func:`ship_inertia`)."""
-CARRIAGE_JOINTS = ("carriage_x", "carriage_y", "carriage_z", "carriage_yaw")
 INTEGRATORS = {"RK4": "RK4", "Euler": "Euler", "implicitfast": "implicitfast"}
 
 
@@ -100,31 +84,6 @@ class MujocoModel:
     platform_dofs: np.ndarray
     platform_body: int
     tendon_offset: np.ndarray
-    carriage_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
-    """DOF addresses of the carriage's joints on the ship; empty without a carriage."""
-    carriage_coords: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
-    """Which of the carriage's (x, y, z, yaw) on S (0..3) those joints are, in order."""
-    ship_inertia_kg_m2: float = SHIP_INERTIA_KG_M2
-    """The ship body's isotropic inertia (:func:`ship_inertia`), kg m^2."""
-
-
-def ship_inertia(scenario: Scenario) -> float:
-    """The ship body's isotropic inertia, kg m^2: :data:`SHIP_INERTIA_KG_M2`, or with a
-    carriage at least CARRIAGE_MASS_KG (r / CARRIAGE_REACH_SHARE)^2, r the rail's farthest
-    point from S's origin.
-
-    The ship's and the carriage's servos act on each joint as if it moved its own body alone;
-    a carriage of the ship's mass r from the ship's hinges adds M r^2 to what they turn, so
-    that a force on a carriage slide across r also turns the ship: the slide's effective mass
-    1 / (1/M_c + 1/M_s + r^2/I_s) falls to I_s / r^2 (1.4e4 kg at 85 m) and its stiff servo,
-    tuned for M_c, is unstable under RK4. With I_s >= M_c (r / 0.1)^2 that mass stays above
-    M_c / 2.01.
-    """
-    carriage = scenario.ship.carriage
-    if carriage is None:
-        return SHIP_INERTIA_KG_M2
-    reach = float(np.linalg.norm(np.asarray(carriage.rail_m, dtype=float), axis=1).max())
-    return max(SHIP_INERTIA_KG_M2, CARRIAGE_MASS_KG * (reach / CARRIAGE_REACH_SHARE) ** 2)
 
 
 def _v(x) -> str:
@@ -201,7 +160,7 @@ def build_xml(scenario: Scenario) -> str:
     frame_sites += "".join("\n" + x for x in pulleys)
     motors = "\n".join(f'    <motor name="T{i}" tendon="cable{i}" gear="-1"/>'
                        for i in range(1, r.n_cables + 1))
-    Ms, Is = SHIP_MASS_KG, ship_inertia(scenario)
+    Ms, Is = SHIP_MASS_KG, SHIP_INERTIA_KG_M2
     frame = f"""      <body name="frame" pos="{_v(frame_origin_of(scenario))}">
 {frame_sites}
         <body name="platform" pos="0 0 0">
@@ -210,8 +169,6 @@ def build_xml(scenario: Scenario) -> str:
 {plat_sites}
         </body>
       </body>"""
-    if scenario.ship.carriage is not None:
-        frame = _carried(frame, scenario)
     return f"""<mujoco model="{scenario.name}">
   <compiler angle="radian" autolimits="true"/>
   <option timestep="{step:.17g}" gravity="0 0 {-g:.17g}" integrator="{integ}">
@@ -237,53 +194,6 @@ def build_xml(scenario: Scenario) -> str:
   </actuator>
 </mujoco>
 """
-
-
-def carriage_coordinates(scenario: Scenario) -> tuple[np.ndarray, np.ndarray]:
-    """Which of the carriage's coordinates on S, (x, y, z, yaw) (:func:`~marinecdpr.motion.carriage.carriage_joints`),
-    its moves change, and their values at the start.
-
-    A position coordinate changes only if the rail's points differ in it (its arcs lie in
-    the planes of its corners), the yaw only if the rail bends; none if the carriage has
-    one place to be.
-
-    Returns
-    -------
-    moving : ndarray of int
-        The indices (0..3) of those that change, in order: MuJoCo's carriage joints.
-    start : ndarray, shape (4,)
-        All four at t = 0, m and rad (the others' constant values).
-    """
-    from marinecdpr.motion.carriage import carriage_joints, rail_of
-
-    c = scenario.ship.carriage
-    start = carriage_joints(scenario.ship, np.zeros(1))[0][0]
-    if np.ptp(c.stations_m) == 0:
-        return np.zeros(0, dtype=int), start
-    points = np.asarray(c.rail_m, dtype=float)
-    _, _, turn_a, turn_b = rail_of(scenario.ship).bends
-    moving = [i for i in range(3) if np.ptp(points[:, i]) > 0] + ([3] if np.any(turn_a != turn_b) else [])
-    return np.array(moving, dtype=int), start
-
-
-def _carried(frame: str, scenario: Scenario) -> str:
-    """The frame's body hung from the carriage's (see the module docstring), turned on it by
-    the frame's lean at the rail's start (and its yaw there, where the yaw is no joint)."""
-    Mc, Ic = CARRIAGE_MASS_KG, CARRIAGE_INERTIA_KG_M2
-    axes = ("1 0 0", "0 1 0", "0 0 1")
-    moving, start = carriage_coordinates(scenario)
-    joints = "".join(f'\n        <joint name="{CARRIAGE_JOINTS[i]}" type="{"hinge" if i == 3 else "slide"}" '
-                     f'axis="{axes[min(i, 2)]}"/>' for i in moving)
-    place = np.where(np.isin(np.arange(3), moving), 0.0, start[:3])
-    R = frame_axes(scenario.ship.frame_orientation_deg)
-    if 3 not in moving and start[3] != 0.0:
-        c, s = np.cos(start[3]), np.sin(start[3])
-        R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ R
-    quat = quaternion_from_matrix(R)
-    frame = frame.replace('<body name="frame" pos="0 0 0">', f'<body name="frame" pos="0 0 0" quat="{_v(quat)}">', 1)
-    return (f'      <body name="carriage" pos="{_v(place)}" gravcomp="1">{joints}\n'
-            f'        <inertial pos="0 0 0" mass="{Mc:.17g}" diaginertia="{Ic:.17g} {Ic:.17g} {Ic:.17g}"/>\n'
-            f'{frame}\n      </body>')
 
 
 def quiet_mujoco_log() -> None:
@@ -319,8 +229,5 @@ def build_model(scenario: Scenario) -> MujocoModel:
                                      model.jnt_dofadr[jid(n)] + (3 if n == "pball" else 1)) for n in names])
     body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "platform")
     offset = np.where(scenario.robot.pulley_radii > 0, PULLEY_INLET_M, 0.0)
-    coords = carriage_coordinates(scenario)[0] if scenario.ship.carriage is not None else np.zeros(0, dtype=int)
-    carriage = np.array([model.jnt_dofadr[jid(CARRIAGE_JOINTS[i])] for i in coords], dtype=int)
     return MujocoModel(model=model, xml=xml, ship_dofs=ship, platform_qpos=qpos, platform_dofs=dofs,
-                       platform_body=body, tendon_offset=offset, carriage_dofs=carriage, carriage_coords=coords,
-                       ship_inertia_kg_m2=ship_inertia(scenario))
+                       platform_body=body, tendon_offset=offset)

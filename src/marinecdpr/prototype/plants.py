@@ -124,10 +124,9 @@ class MujocoPlant(NamedTuple):
     the tendons' stiffness, spring length range and damping (elastic cables on
     length-controlled winches are MuJoCo springs). planar: the platform's joints are
     (x, z, theta_y) slides and a hinge, else a free joint. pq, pd: the platform's qpos and
-    dof indices; body: its body id; ship_dofs: the ship's six dof indices, then a carriage's
-    four (x, y, z, yaw on the ship) where the frame is carried on a rail.
-    ship_err (2,): the largest deviation of the ship, and of the carriage, from its motion so
-    far (m or rad).
+    dof indices; body: its body id; ship_dofs: the ship body's six dof indices (a frame carried
+    on a rail: the body moves as C, :mod:`~marinecdpr.prototype.mujoco_model`).
+    ship_err (1,): the largest deviation of the ship body from its motion so far (m or rad).
     x, v, w (3,), R (3, 3): the platform's state in C, read each step; R_PO (3, 3), q (4,) scratch.
     offset (m,): each tendon's length beyond its cable's (a pulley's inlet), m.
     """
@@ -158,9 +157,8 @@ class MujocoPlant(NamedTuple):
 class ShipDrive(NamedTuple):
     """What moves MuJoCo's ship along its motion, and the disturbance in O, per step.
 
-    tau_ff : (n, d) feed-forward joint forces at mid-step; q_des, qd_des : (n, d) the ship
-    joints' positions and rates at t_k; kp, kd : (d,) servo gains (d = 6, or 10 with a
-    carriage's joints after the ship's); f_O, m_O : (n, 3) the
+    tau_ff : (n, 6) feed-forward joint forces at mid-step; q_des, qd_des : (n, 6) the ship
+    joints' positions and rates at t_k; kp, kd : (6,) servo gains; f_O, m_O : (n, 3) the
     disturbance in O (loads given in C); R_SO : (n, 3, 3) the ship's rotation at t_k;
     f_P, m_P : (n, 3) the disturbance in P where ``in_P`` (turned with the platform's
     actual orientation at each exchange).
@@ -234,10 +232,9 @@ def _mujoco_inputs(k, R, mj, drive, law, bus):
     mj, drive, bus = borrowed(mj), borrowed(drive), borrowed(bus)
     if call_stored(law[0], (data_address(law) + 8,)) != 0:
         return 1
-    for j in range(mj.ship_dofs.shape[0]):  # the ship's six, then a carriage's four
+    for j in range(mj.ship_dofs.shape[0]):  # the ship body's six
         dof = mj.ship_dofs[j]
-        e = 0 if j < 6 else 1
-        mj.ship_err[e] = max(mj.ship_err[e], abs(mj.qpos[dof] - drive.q_des[k, j]))
+        mj.ship_err[0] = max(mj.ship_err[0], abs(mj.qpos[dof] - drive.q_des[k, j]))
         mj.qfrc[dof] = (drive.tau_ff[k, j] + drive.kp[j] * (drive.q_des[k, j] - mj.qpos[dof])
                         + drive.kd[j] * (drive.qd_des[k, j] - mj.qvel[dof]))
     if drive.in_P:  # a load fixed to the platform turns with its actual orientation

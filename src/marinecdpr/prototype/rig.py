@@ -59,7 +59,7 @@ class Rig:
         mm = build_model(sc)
         self._model = mm.model
         self._data = mujoco.MjData(mm.model)
-        self._drive = _ship_drive(ship_h, proto.held, n, proto.carried_h, mm.carriage_coords, mm.ship_inertia_kg_m2)
+        self._drive = _ship_drive(ship_h, proto.held, n, carried=sc.ship.carriage is not None)
         self._mj = _mujoco_plant(sc, mm.model, self._data, mm, _initial_state(sc, ref), self._drive)
         self._mj_step = mujoco.mj_step
         # the records' types found once, not at every step (compiled_cache.bound)

@@ -37,7 +37,7 @@ from marinecdpr.control.controller import (
     stand_in_plans, step_loads,
 )
 from marinecdpr.control.records import RESIDUALS, Loads
-from marinecdpr.motion.basemotion import carried_frame_motion, frame_ship_motion
+from marinecdpr.motion.basemotion import frame_ship_motion
 from marinecdpr.prototype import builder
 from marinecdpr.prototype.parts import DIVERGENCE_M, law_pointer
 from marinecdpr.prototype.parts.brush import normal_force
@@ -76,14 +76,16 @@ class SimResult:
         limits and the feed-forward tensions were commanded instead.
     ship_tracking_error : float
         Largest deviation of the plant's ship from its prescribed motion (m or rad;
-        0 for the own plant, which moves the ship exactly).
+        0 for the own plant, which moves the ship exactly); a carried frame's ship body moves
+        as C (:mod:`~marinecdpr.prototype.mujoco_model`).
     winch_limited_steps, winch_overspeed_steps : int
         Motor winches (``simulation.cables.winch = "motor"``): the steps where any motor's
         torque was cut to its torque, power or speed limit, and where any turned past its
         speed limit; 0 for other winches.
     carriage_tracking_error : float
-        A frame carried on a rail, on MuJoCo: the largest deviation of the carriage's joints
-        (x, y, z on the ship, m; yaw, rad) from the carriage's trajectory (0 otherwise).
+        A frame carried on a rail, on MuJoCo: the largest deviation of C from its composed
+        motion (the ship body, which moves as C: its origin in O, m; the Euler angles of R_CO,
+        rad), the same as ``ship_tracking_error`` (0 otherwise).
     detections : tuple of Detection
         What the closed loop's controller detected (``[simulation.control.safety]``;
         :class:`~marinecdpr.control.controller.Detection`: step, time, kind, sensor, cable), in
@@ -277,9 +279,7 @@ class Prototype(builder.Assembly):
     or in P if ``in_P``) that the own plant applies; at t_k ``known`` (the controller's model
     of them: the same, but with ``[wind]`` the wind the plan holds where the plants meet the
     gust series); ``held``, what MuJoCo's ship drive holds over each step (the loads at t_k;
-    with ``[wind]``, the wind's at mid-step); for a frame on a carriage, ``carried_h``, the
-    pieces of ``ship_h`` (:class:`~marinecdpr.motion.basemotion.CarriedFrame`: the ship's own
-    motion and the carriage's joints), else None; ``ctl``, the controller's records
+    with ``[wind]``, the wind's at mid-step); ``ctl``, the controller's records
     (:class:`~marinecdpr.control.records.ControllerParts`; what its watch detected is in
     their ``safety``)."""
 
@@ -289,7 +289,6 @@ class Prototype(builder.Assembly):
     loads_h: Loads
     known: Loads
     held: Loads
-    carried_h: Any = None
     ctl: Any = None
 
 
@@ -304,12 +303,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
     h = scenario.time.step_s
     # the ship's motion and the loads on the half-step grid: j = 2k is t_k, j = 2k + 1 is t_k + h/2
     t_h = np.arange(2 * n + 1) * (0.5 * h)
-    carried = None
-    if scenario.ship.carriage is None:
-        ship_h = frame_ship_motion(scenario, t_h)
-    else:  # C's motion, and the ship's and the carriage's on their own (MuJoCo's bodies)
-        carried = carried_frame_motion(scenario, t_h)
-        ship_h = carried.frame
+    ship_h = frame_ship_motion(scenario, t_h)  # C's own motion for a frame on a carriage
     base_model = "fixed" if run == "fixed_base_open_loop" else "moving"
     if stand_in:
         p = stand_in_plans(scenario, n, base_model=base_model, ship_h=ship_h)
@@ -330,7 +324,7 @@ def prototype(scenario: Scenario, run: str, n: int, *, reference: Plan | None = 
                           x0=x0, R0=R0)
     asm = builder.assemble(ctx, include=include, given=given)
     return Prototype(system=asm.system, by_name=asm.by_name, wired=asm.wired, ship_h=ship_h, ref=ref, ff=ff, loads_h=loads_h,
-                     known=loads, held=held, carried_h=carried, ctl=ctl)
+                     known=loads, held=held, ctl=ctl)
 
 
 def _held_with_wind(calm_h: Loads, loads_h: Loads, n: int) -> Loads:
@@ -408,33 +402,25 @@ def _diverged_message(scenario: Scenario, run: str, t: float) -> str:
 
 
 # ----------------------------------------------------------------------- MuJoCo plant
-def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=(), ship_inertia: float | None = None) -> ShipDrive:
+def _ship_drive(ship_h, loads: Loads, n: int, carried: bool = False) -> ShipDrive:
     """Feed-forward forces that move the (gravity-compensated, isotropic) MuJoCo ship along
     eta, evaluated at mid-step; a servo acts on the error at the step's start. Loads in C
     are applied in O (a load given in P is turned at each exchange).
 
-    For a frame on a carriage, ``ship_h`` is C's composed motion and ``carried`` its pieces on
-    the same grid (:class:`~marinecdpr.motion.basemotion.CarriedFrame`); the ship's joints
-    then follow S's own motion (``base_motion``) and the carriage's joints, ``coords`` of
-    its (x, y, z, yaw) (:attr:`~marinecdpr.prototype.mujoco_model.MujocoModel.carriage_coords`),
-    C's motion on S (:func:`~marinecdpr.motion.carriage.carriage_joints`): joints 6.. of the drive. The
-    feed-forward is the two bodies' exact Newton-Euler forces (each isotropic, gravity
-    compensated): the carriage's m a_OC and I alpha_C along its joints, and the ship's
-    joints carry them too (about the ship's hinges with the carriage's moment arm).
-    ``ship_inertia``: the ship body's (:func:`~marinecdpr.prototype.mujoco_model.ship_inertia`),
-    kg m^2; default :data:`~marinecdpr.prototype.mujoco_model.SHIP_INERTIA_KG_M2`."""
+    For a frame on a carriage (``carried``), ``ship_h`` is C's composed motion (a body's,
+    :func:`~marinecdpr.motion.ship.body_motion`) and the ship body moves as C
+    (:mod:`~marinecdpr.prototype.mujoco_model`): its eta is C's origin and the Euler angles of
+    R_CO, and the yaw that turns its pitch axis at mid-step is R_CO's own (atan2 of its first
+    column), so that C's angles are derived at t_k alone (the motion reference unit reads the
+    same)."""
     from marinecdpr.prototype.mujoco_model import SHIP_INERTIA_KG_M2, SHIP_MASS_KG
 
-    Is = SHIP_INERTIA_KG_M2 if ship_inertia is None else float(ship_inertia)
-
-    frame_h = ship_h
-    if carried is not None:  # the ship body moves as S; ship_h (C's motion) stays the loads' frame
-        ship_h = carried.ship
+    Is = SHIP_INERTIA_KG_M2
     perm = [0, 1, 2, 5, 4, 3]  # eta (x, y, z, roll, pitch, yaw) -> joints (x, y, z, yaw, pitch, roll)
     mid = slice(1, 2 * n, 2)
     R_mid = ship_h.R_SO[mid]
     alpha_O = np.einsum("nij,nj->ni", R_mid, ship_h.alpha_SO_S[mid])
-    yaw = ship_h.eta[mid][:, 5]
+    yaw = np.arctan2(R_mid[:, 1, 0], R_mid[:, 0, 0]) if carried else ship_h.eta[mid][:, 5]
     axes = np.stack([np.broadcast_to([0.0, 0.0, 1.0], (n, 3)),
                      np.stack([-np.sin(yaw), np.cos(yaw), np.zeros(n)], axis=1),
                      R_mid[:, :, 0]], axis=1)  # yaw, pitch, roll axes in O
@@ -445,10 +431,7 @@ def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=(), ship_iner
     inertia = np.array([SHIP_MASS_KG] * 3 + [Is] * 3)
     q_des = np.ascontiguousarray(ship_h.eta[0:2 * n:2][:, perm])
     qd_des = np.ascontiguousarray(ship_h.eta_dot[0:2 * n:2][:, perm])
-    if carried is not None:
-        tau_ff, q_des, qd_des, inertia = _carriage_drive(carried.joints, coords, frame_h, ship_h, axes, tau_ff,
-                                                         q_des, qd_des, inertia, n)
-    R_SO = np.ascontiguousarray(frame_h.R_SO[0:2 * n:2])
+    R_SO = np.ascontiguousarray(ship_h.R_SO[0:2 * n:2])
     return ShipDrive(
         tau_ff=tau_ff, q_des=q_des, qd_des=qd_des, kp=inertia * wn * wn,
         kd=inertia * 2.0 * wn, f_O=np.ascontiguousarray(np.einsum("nij,nj->ni", R_SO, loads.f)),
@@ -456,37 +439,10 @@ def _ship_drive(ship_h, loads: Loads, n: int, carried=None, coords=(), ship_iner
         f_P=loads.f, m_P=loads.m, in_P=bool(loads.in_P))
 
 
-def _carriage_drive(joints, coords, frame_h, ship_h, axes, tau_ff, q_des, qd_des, inertia, n: int):
-    """:func:`_ship_drive`'s arrays with the carriage's joints (``coords`` of its x, y, z, yaw) appended, the ship's
-    feed-forward carrying the carriage body (mass m, inertia I, at C's origin): its force
-    F = m a_OC and moment M = I alpha_C (in O) along the ship's slides, about its hinges
-    (through S's origin) with the moment of F at C's place, and along the carriage's own
-    slides (S's axes) and hinge (S's z)."""
-    from marinecdpr.prototype.mujoco_model import CARRIAGE_INERTIA_KG_M2, CARRIAGE_MASS_KG
-
-    mid = slice(1, 2 * n, 2)
-    q, qd, _ = joints
-    F = CARRIAGE_MASS_KG * frame_h.a_SO_O[mid]
-    M = CARRIAGE_INERTIA_KG_M2 * np.einsum("nij,nj->ni", frame_h.R_SO[mid], frame_h.alpha_SO_S[mid])
-    arm = frame_h.eta[mid][:, :3] - ship_h.eta[mid][:, :3]  # S's origin to C's, in O
-    tau = np.empty((n, 10))
-    tau[:, :3] = tau_ff[:, :3] + F
-    tau[:, 3:6] = tau_ff[:, 3:] + np.einsum("nja,na->nj", axes, M + np.cross(arm, F))
-    R_OS = ship_h.R_SO[mid]
-    tau[:, 6:9] = np.einsum("nji,nj->ni", R_OS, F)
-    tau[:, 9] = np.einsum("ni,ni->n", R_OS[:, :, 2], M)
-    coords = np.asarray(coords, dtype=int)
-    tau = np.ascontiguousarray(tau[:, np.concatenate([np.arange(6), 6 + coords])])
-    inertia = np.concatenate([inertia, np.array([CARRIAGE_MASS_KG] * 3 + [CARRIAGE_INERTIA_KG_M2])[coords]])
-    q_des = np.ascontiguousarray(np.concatenate([q_des, q[0:2 * n:2][:, coords]], axis=1))
-    qd_des = np.ascontiguousarray(np.concatenate([qd_des, qd[0:2 * n:2][:, coords]], axis=1))
-    return tau, q_des, qd_des, inertia
-
-
 def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive) -> MujocoPlant:
     """MuJoCo's arrays as a record, the ship and the platform put at their initial state."""
     x0, R0, v0, w0 = state0
-    ship_dofs = np.concatenate([mm.ship_dofs, mm.carriage_dofs]).astype(np.int64)  # as the drive's joints
+    ship_dofs = mm.ship_dofs.astype(np.int64)
     data.qpos[ship_dofs] = drive.q_des[0]
     data.qvel[ship_dofs] = drive.qd_des[0]
     planar = scenario.robot.dofs == "planar"
@@ -502,7 +458,7 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
     return MujocoPlant(qpos=data.qpos, qvel=data.qvel, ctrl=data.ctrl, qfrc=data.qfrc_applied,
                        xfrc=data.xfrc_applied, ten_k=model.tendon_stiffness, ten_spring=model.tendon_lengthspring,
                        ten_c=model.tendon_damping, planar=planar, pq=pq, pd=pd, body=mm.platform_body,
-                       ship_dofs=ship_dofs, ship_err=np.zeros(2), x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3),
+                       ship_dofs=ship_dofs, ship_err=np.zeros(1), x=np.empty(3), R=np.empty((3, 3)), v=np.empty(3),
                        w=np.empty(3), R_PO=np.empty((3, 3)), q=np.empty(4),
                        offset=np.ascontiguousarray(mm.tendon_offset))
 
@@ -510,7 +466,8 @@ def _mujoco_plant(scenario: Scenario, model, data, mm, state0, drive: ShipDrive)
 def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm: Prototype, progress):
     """Fly on MuJoCo: the compiled loop calls mj_step itself where MuJoCo's library can be
     loaded by name, else a Python loop calls the compiled exchange and mj_step. Returns the
-    fallbacks and the ship's largest deviation from its motion."""
+    fallbacks, the ship body's largest deviation from its motion and a carried frame's (the
+    same: the body moves as C; 0 without a carriage)."""
     import mujoco
 
     from marinecdpr.prototype.mujoco_model import build_model
@@ -519,7 +476,7 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
     mm = build_model(scenario)
     model = mm.model
     data = mujoco.MjData(model)
-    drive = _ship_drive(ship_h, asm.held, n, asm.carried_h, mm.carriage_coords, mm.ship_inertia_kg_m2)
+    drive = _ship_drive(ship_h, asm.held, n, carried=scenario.ship.carriage is not None)
     system = asm.wired
     mj = _mujoco_plant(scenario, model, data, mm, state0, drive)
     addresses = (model._address, data._address) if mujoco_library() else None
@@ -547,4 +504,5 @@ def _run_mujoco(scenario: Scenario, run: str, t: np.ndarray, ship_h, state0, asm
         return fb, bad
 
     fallbacks = _blocks(scenario, run, t, progress, loop, asm)
-    return fallbacks, float(mj.ship_err[0]), float(mj.ship_err[1])
+    ship_error = float(mj.ship_err[0])  # a carried frame's: C's (the ship body moves as C)
+    return fallbacks, ship_error, ship_error if scenario.ship.carriage is not None else 0.0
