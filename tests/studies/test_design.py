@@ -975,7 +975,8 @@ def test_the_study_key_is_the_content_of_its_files_not_their_paths(tiny, journal
 SHIP_SIDE_KEY = "6a473b3bb77f5136"
 """The shipped ship_side study's key as computed before a cable's breaking load
 (``breaking_load_N``, issue 40 item 4) was a scenario key (commit ba01b22), and before the
-motors' current watch (``[simulation.control.safety] current_fraction``, ``current_delay_s``);
+motors' current watch (``[simulation.control.safety] current_fraction``, ``current_delay_s``)
+and its noise (``[simulation.noise] motor_torque_N_m``);
 since the finalists' flights' own options (``finalists``, ``plant``, ``[sea] verify``,
 ``unflown_share``) left the key (ed838c876f6c7535 before)."""
 
@@ -1001,6 +1002,8 @@ def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was
     assert study_key(spec, rope, cells) != SHIP_SIDE_KEY
     watch = template.with_updates("simulation.control.safety", current_fraction=0.3)
     assert study_key(spec, watch, cells) != SHIP_SIDE_KEY
+    noisy = template.with_updates("simulation.noise", motor_torque_N_m=0.1)
+    assert study_key(spec, noisy, cells) != SHIP_SIDE_KEY
 
 
 @pytest.mark.parametrize("file, edit", [

@@ -1007,6 +1007,9 @@ def study_key(spec: DesignSpec, template: Scenario, cells: list) -> str:
     for key in ("current_fraction", "current_delay_s"):  # the motors' current watch as shipped: as before it was
         if watch.get(key) == shipped[key].default:
             del watch[key]
+    noise = scenario["simulation"]["noise"]
+    if noise.get("motor_torque_N_m") == 0.0:  # no noise on the motors' currents: as before it was known
+        del noise["motor_torque_N_m"]
     for key in RAIL_VARIABLES:  # the carriage's limits as variables, where unset: as before they were known
         if study["variables"].get(key, 0) is None:
             del study["variables"][key]
