@@ -1002,7 +1002,9 @@ def test_a_key_the_scenario_did_not_know_leaves_an_older_journal_s_key_as_it_was
     assert study_key(spec, rope, cells) != SHIP_SIDE_KEY
     watch = template.with_updates("simulation.control.safety", current_fraction=0.3)
     assert study_key(spec, watch, cells) != SHIP_SIDE_KEY
-    noisy = template.with_updates("simulation.noise", motor_torque_N_m=0.1)
+    sim = template.simulation  # the key reads the dump: a noise set without the motor winches it needs will do
+    noisy = template.model_copy(update={"simulation": sim.model_copy(update={
+        "noise": sim.noise.model_copy(update={"motor_torque_N_m": 0.1})})})
     assert study_key(spec, noisy, cells) != SHIP_SIDE_KEY
 
 
