@@ -73,7 +73,7 @@ def test_the_estimate_reads_the_study_and_chooses_the_executors():
     est = command.estimate(spec)
     assert (est.study.population, est.study.generations, est.study.seed) == (4, 2, 5)
     assert est.candidates == 8 and len(est.cells) == 591 and est.finalists == est.study.finalists == 1
-    assert len(unflown_columns(est.cells, est.study.sea.unflown_share)) == 21
+    assert len(unflown_columns(est.cells, est.study.sea.unflown_share)) == 21 and est.columns_flown == 48 - 21
     assert est.search_executor == Executor.serial()
     assert 4 * 27 * est.template.time.n_steps * 100 >= 20_000_000
     assert (est.verify_executor.kind, est.verify_executor.why) == ("local", "large")

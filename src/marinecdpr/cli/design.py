@@ -88,11 +88,9 @@ def design(
         if est.finalists and study.front:
             compile_notice(options.plant or study_spec.plant or template.simulation.plant)
             with progress_bar("finalists", "sea states") as bar:
-                from marinecdpr.studies.design import sea_columns, unflown_columns
-
                 n = min(est.finalists, len(study.front))  # about each column's boundary: two seas each, first
-                flying = len(sea_columns(cells)) - len(unflown_columns(cells, study_spec.sea.unflown_share))
-                task = bar.add_task("", total=n * (len(cells) if study_spec.sea.verify == "all" else 2 * flying))
+                task = bar.add_task("", total=n * (len(cells) if study_spec.sea.verify == "all"
+                                                   else 2 * est.columns_flown))
                 with run_errors(spec):
                     checked = command.verify(options, est, study,
                                              progress=lambda d, tot: bar.update(task, completed=d, total=tot))

@@ -108,6 +108,9 @@ class DesignEstimate:
         Where the search keeps its candidates.
     resumed : int
         Candidates the journal holds that ``resume`` takes.
+    columns_flown : int
+        The diagram's columns (one period, one heading) the finalists fly about their
+        boundary: all of them less ``[sea] unflown_share``'s (with ``verify = "boundary"``).
     """
 
     path: Path
@@ -121,6 +124,7 @@ class DesignEstimate:
     verify_executor: Any
     journal: Path | None = None
     resumed: int = 0
+    columns_flown: int = 0
 
 
 def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
@@ -183,7 +187,7 @@ def estimate(spec: DesignCommandSpec, study: str | Path = "ship_side", *,
     return DesignEstimate(path=path, study=design, template=template, cells=cells,
                           scatter=study_scatter(design, path.parent, template), candidates=design.population * design.generations,
                           finalists=finalists, search_executor=search_executor, verify_executor=verify_executor,
-                          journal=journal, resumed=resumed)
+                          journal=journal, resumed=resumed, columns_flown=flown_columns)
 
 
 @dataclass(frozen=True)
