@@ -43,7 +43,9 @@ from _common import best_of, machine  # benchmarks/_common.py
 
 import marinecdpr
 from marinecdpr.motion.basemotion import evaluate_base_motion, frame_ship_motion
-from marinecdpr.motion.carriage import carriage_motion, carried_motion, forget_carriage_motions, frame_yaw, rail_of
+from marinecdpr.motion.carriage import (
+    carriage_motion, carried_frame_motion, carried_motion, forget_carriage_motions, frame_yaw, rail_of,
+)
 from marinecdpr.motion.rail import carriage_profile
 
 RAIL = {"rail_m": [[-0.78, 0.0, 2.2], [3.0, 0.0, 2.2], [6.0, 3.0, 2.2]], "corner_radius_m": 2.0,
@@ -101,7 +103,9 @@ def main() -> None:
              "the frame's yaw": lambda: frame_yaw(rail, s),
              "C's motion on S afresh (carriage_motion, all of the above but the ship)":
                  lambda: (forget_carriage_motions(), carriage_motion(carried.ship, t)),
-             "composed with the ship's (carried_motion)": lambda: carried_motion(ship, *rel)}
+             "composed with the ship's (carried_motion)": lambda: carried_motion(ship, *rel),
+             "all of it in one pass, as the models take it (carried_frame_motion)":
+                 lambda: carried_frame_motion(ship, carried.ship, t)}
     for what, f in parts.items():
         _, dt = best_of(7, f)
         print(f"  {what}: {dt * 1e3:.2f} ms for {t.size} steps")

@@ -230,3 +230,50 @@ def test_the_kept_carriage_motion_is_its_own_carriage_s_and_read_only():
         assert np.array_equal(a, b) and np.array_equal(a, c) and c is not a
         with pytest.raises(ValueError, match="read-only"):
             a[0] = 0.0
+
+
+@pytest.mark.parametrize("case", range(6))
+def test_the_one_pass_carried_motion_is_the_series_composition_to_the_bit(case):
+    """``carried_frame_motion`` (the carriage's profile, the rail, the yaw, C on S and the
+    composition in one compiled pass, C on S once for a run of rest) against the series it
+    fuses, ``carried_motion(ship, *carriage_motion(...))``: random rails (straight pieces and
+    arcs, rising), stations (back and forth, repeated, the ends), dwells, the frame leaning 10
+    deg at any yaw, on a moving ship and a still one, at times in order, reversed and
+    shuffled: every array the same to the bit; and the same refusal of times before 0 or NaN."""
+    from marinecdpr.motion.basemotion import evaluate_base_motion
+    from marinecdpr.motion.carriage import carriage_motion, carried_frame_motion, rail_of
+    from marinecdpr.motion.rail import RailError
+    from marinecdpr.motion.ship import still_ship
+
+    rng = np.random.default_rng(1000 + case)
+    n_points = int(rng.integers(2, 6))
+    heading = np.cumsum(rng.uniform(-1.2, 1.2, n_points - 1))
+    steps = rng.uniform(2.0, 5.0, n_points - 1)
+    points = np.zeros((n_points, 3))
+    points[1:, 0] = np.cumsum(steps * np.cos(heading))
+    points[1:, 1] = np.cumsum(steps * np.sin(heading))
+    points[1:, 2] = np.cumsum(rng.uniform(-0.3, 0.3, n_points - 1))
+    probe = _rail_scenario(rail_m=points.tolist(), corner_radius_m=0.5, stations_m=[0.0])
+    length = rail_of(probe.ship).length_m
+    n_st = int(rng.integers(2, 5))
+    stations = rng.uniform(0.0, length, n_st).tolist()
+    if case % 2:
+        stations += [stations[-1], 0.0, length]  # a repeated station, the rail's two ends
+    dwell = rng.uniform(0.0, 0.4, len(stations)).tolist() if case % 3 else 0.25
+    sc = _rail_scenario(yaw_deg=float(rng.uniform(-180, 180)), rail_m=points.tolist(), corner_radius_m=0.5,
+                        stations_m=stations, dwell_s=dwell, speed_max_m_s=float(rng.uniform(0.5, 3.0)),
+                        accel_max_m_s2=float(rng.uniform(0.5, 3.0)), jerk_max_m_s3=float(rng.uniform(1.0, 10.0)))
+    t = np.arange(6000) * 0.004
+    for times in (t, t[::-1].copy(), rng.permutation(t)):
+        for ship in (evaluate_base_motion(sc.base_motion, times), still_ship(times.size)):
+            fused = carried_frame_motion(ship, sc.ship, times)
+            series = carried_motion(ship, *carriage_motion(sc.ship, times))
+            for name in ("x_SO_O", "v_SO_O", "a_SO_O", "R_SO", "omega_SO_S", "alpha_SO_S"):
+                assert np.array_equal(getattr(fused, name), getattr(series, name)), name
+    assert np.ptp(carriage_motion(sc.ship, t)[0], axis=0).max() > 0.1  # the carriage did move
+    for bad in (np.array([0.0, -1.0]), np.array([0.0, np.nan])):
+        with pytest.raises(RailError) as fused_error:
+            carried_frame_motion(still_ship(2), sc.ship, bad)
+        with pytest.raises(RailError) as series_error:
+            carriage_motion(sc.ship, bad)
+        assert str(fused_error.value) == str(series_error.value)

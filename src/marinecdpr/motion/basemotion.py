@@ -12,7 +12,7 @@ from functools import lru_cache
 import numpy as np
 
 from marinecdpr.errors import ScenarioError
-from marinecdpr.motion.carriage import carriage_motion, carried_motion
+from marinecdpr.motion.carriage import carried_frame_motion
 from marinecdpr.motion.ship import (
     ShipMotion, frame_axes, frame_origin_in_axes, in_frame_axes, ship_motion, still_ship,
 )
@@ -34,12 +34,12 @@ def frame_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
     """The scenario's base motion at times ``t`` as its robot's models take it: seen in the
     frame's axes (:func:`seen_by_frame`), or, for a frame carried on a rail
     (``[ship.carriage]``), the motion of C itself, the ship's composed with the carriage's
-    (:func:`~marinecdpr.motion.carriage.carried_motion`; C's origin then at
+    (:func:`~marinecdpr.motion.carriage.carried_frame_motion`; C's origin then at
     :func:`frame_origin_of`'s zero)."""
     ship = evaluate_base_motion(scenario.base_motion, t)
     if scenario.ship.carriage is None:
         return seen_by_frame(ship, scenario)
-    return carried_motion(ship, *carriage_motion(scenario.ship, t))
+    return carried_frame_motion(ship, scenario.ship, t)
 
 
 def frame_origin_of(scenario) -> np.ndarray:
@@ -61,7 +61,7 @@ def fixed_ship_motion(scenario, t: np.ndarray) -> ShipMotion:
     t = np.asarray(t, dtype=float)
     if scenario.ship.carriage is None:
         return seen_by_frame(still_ship(t.size), scenario)
-    return carried_motion(still_ship(t.size), *carriage_motion(scenario.ship, t))
+    return carried_frame_motion(still_ship(t.size), scenario.ship, t)
 
 
 def evaluate_base_motion(

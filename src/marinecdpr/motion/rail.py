@@ -213,16 +213,9 @@ class Rail:
         """
         s = _on_rail(_vector(s, "s"), self._length, "arc lengths", "s")
         s0, a0, u, nrm, kappa, psi0 = self._pieces
-        k = np.clip(np.searchsorted(s0, s, side="right") - 1, 0, s0.size - 1)
-        sigma = s - s0[k]
-        kap = kappa[k]
-        phi = sigma * kap
+        k = np.empty(s.size, dtype=np.int64)
         r, t, dt, ddt = (np.empty((s.size, 3)) for _ in range(4))
-        c, sn, h = np.ones(s.size), np.zeros(s.size), np.zeros(s.size)  # on a straight piece phi = 0
-        arc = kap > 0.0
-        if arc.any():
-            c[arc], sn[arc], h[arc] = np.cos(phi[arc]), np.sin(phi[arc]), np.sin(0.5 * phi[arc])
-        _piece_series(k, sigma, kap, c, sn, h, a0, u, nrm, r, t, dt, ddt)
+        _rail_series(s, s0, kappa, a0, u, nrm, k, r, t, dt, ddt)
         if not heading:
             return RailPoints(r=r, t=t, dt=dt, ddt=ddt, heading=None, dheading=None, ddheading=None)
         # heading: exact on each piece, continued from the piece's unwrapped start value
@@ -238,25 +231,48 @@ class Rail:
 
 
 @njit(cache=True)
-def _piece_series(k, sigma, kap, c, sn, h, a0, u, nrm, r, t, dt, ddt):
-    """The rail's point at each sample j on its piece k[j], sigma[j] along it (curvature kap[j];
-    c, sn, h: cos, sin of kap sigma and sin of half of it): r, t, dt, ddt (n, 3) (the pieces'
-    a0, u, nrm as :meth:`Rail.at` reads them). On an arc the point is sin(k sigma)/k along
-    the start's tangent and (1 - cos(k sigma))/k = 2 sin^2(k sigma / 2)/k across towards the
-    centre; on a straight piece sigma along and 0 across."""
-    for j in range(k.size):
-        p, kj = k[j], kap[j]
-        if kj > 0.0:
-            along, across = sn[j] / kj, 2.0 * (h[j] * h[j]) / kj
-        else:
-            along, across = sigma[j], 0.0
-        for i in range(3):
-            ui, ni = u[p, i], nrm[p, i]
-            r[j, i] = a0[p, i] + along * ui + across * ni
-            ti = c[j] * ui + sn[j] * ni
-            t[j, i] = ti
-            dt[j, i] = kj * (c[j] * ni - sn[j] * ui)
-            ddt[j, i] = -kj * kj * ti
+def _rail_series(s, s0, kappa, a0, u, nrm, k, r, t, dt, ddt):
+    """:func:`_rail_point` at each arc length s[j] (on the rail): its piece k[j] and r, t, dt,
+    ddt (n, 3) (the pieces' s0, kappa, a0, u, nrm as :meth:`Rail.at` reads them)."""
+    p, last, c, sn, h = 0, np.nan, 0.0, 0.0, 0.0
+    for j in range(s.size):
+        p, last, c, sn, h = _rail_point(s0, kappa, a0, u, nrm, s[j], p, last, c, sn, h, r, t, dt, ddt, j)
+        k[j] = p
+
+
+@njit(cache=True, inline="always")
+def _rail_point(s0, kappa, a0, u, nrm, x, p, last, c, sn, h, r, t, dt, ddt, j):
+    """The rail at one arc length x (on it), written in row j of r, t, dt, ddt (n, 3); returns
+    its piece, the one starting at or before x (as ``searchsorted(s0, x, "right") - 1``, the
+    first for x = 0), looked for only where the piece p of the point before is not it, and
+    the last arc's angle and trigonometry (below).
+
+    On an arc of curvature kap, sigma = x - s0 along it, the point is sin(kap sigma)/kap along
+    the start's tangent and (1 - cos(kap sigma))/kap = 2 sin^2(kap sigma / 2)/kap across
+    towards the centre; on a straight piece sigma along and 0 across. last, c, sn, h: the last
+    arc point's kap sigma, its cosine, sine and sine of half, taken again only for a new angle
+    (a carriage at rest takes them once; NaN for none)."""
+    if not ((p == 0 or s0[p] <= x) and (p + 1 == s0.size or x < s0[p + 1])):
+        p = min(max(np.searchsorted(s0, x, side="right") - 1, 0), s0.size - 1)
+    sigma = x - s0[p]
+    kj = kappa[p]
+    if kj > 0.0:
+        phi = sigma * kj
+        if phi != last:
+            last, c, sn, h = phi, np.cos(phi), np.sin(phi), np.sin(0.5 * phi)
+        cj, sj = c, sn
+        along, across = sj / kj, 2.0 * (h * h) / kj
+    else:
+        along, across = sigma, 0.0
+        cj, sj = 1.0, 0.0
+    for i in range(3):
+        ui, ni = u[p, i], nrm[p, i]
+        r[j, i] = a0[p, i] + along * ui + across * ni
+        ti = cj * ui + sj * ni
+        t[j, i] = ti
+        dt[j, i] = kj * (cj * ni - sj * ui)
+        ddt[j, i] = -kj * kj * ti
+    return p, last, c, sn, h
 
 
 def check_rail(points_S, corner_radius_m) -> Rail:
@@ -633,13 +649,30 @@ def carriage_profile(stations_m, dwell_s, v_max, a_max, j_max, t):
     early = np.flatnonzero(t < 0.0)
     if early.size:
         raise RailError(f"times before 0: {_listed(t, early)}", key="t")
-    k = np.searchsorted(start, t, side="right") - 1
-    tau = t - start[k]
-    j = jerk[k]
-    s = s0[k] + tau * (v0[k] + tau * (0.5 * a0[k] + tau * j / 6.0))
-    v = v0[k] + tau * (a0[k] + 0.5 * tau * j)
-    a = a0[k] + tau * j
-    return s, v, a, j.copy()
+    s, v, a, j = (np.empty(t.size) for _ in range(4))
+    _profile_series(start, s0, v0, a0, jerk, t, s, v, a, j)
+    return s, v, a, j
+
+
+@njit(cache=True)
+def _profile_series(start, s0, v0, a0, jerk, t, s, v, a, j):
+    """:func:`_profile_point` at each time t[n] >= 0: s, v, a, j (n,)."""
+    k = 0
+    for n in range(t.size):
+        k, s[n], v[n], a[n], j[n] = _profile_point(start, s0, v0, a0, jerk, t[n], k)
+
+
+@njit(cache=True, inline="always")
+def _profile_point(start, s0, v0, a0, jerk, time, k):
+    """:func:`carriage_profile` at one time >= 0: its phase (the one starting at or before it,
+    looked for only where the phase k of the time before is not it) evaluated tau = time -
+    start into it (a cubic in tau); returns the phase, s, v, a, j."""
+    if not (start[k] <= time and (k + 1 == start.size or time < start[k + 1])):
+        k = np.searchsorted(start, time, side="right") - 1
+    tau = time - start[k]
+    jk = jerk[k]
+    return (k, s0[k] + tau * (v0[k] + tau * (0.5 * a0[k] + tau * jk / 6.0)), v0[k] + tau * (a0[k] + 0.5 * tau * jk),
+            a0[k] + tau * jk, jk)
 
 
 def profile_schedule(stations_m, dwell_s, v_max, a_max, j_max) -> np.ndarray:
