@@ -9,30 +9,37 @@ carriage moving it 4 m along a rail with a bend, and the parts of the carried fr
 motion (the rail, the carriage's profile, the composition with the ship's motion). The issue
 asks the carried plan and closed loop within 1.1x the standing ones; the closed loop (MuJoCo,
 the 15 s job) is timed five times each way after a run that compiles, the plans seven times,
-standing and carried in turn (the best of each). C's motion on S is kept per
-carriage and time grid (``motion.carriage.carriage_motion``; a run evaluates one grid for its
-plan, its plant, its controller and its drive): the carried plan is timed as a repeated plan
-finds it (kept) and afresh (``forget_carriage_motions`` before each plan), and so are the
-base motion and C's motion on S.
+standing and carried in turn (the best of each). The models take C's motion in O from one
+compiled pass over the time grid (``motion.carriage.carried_frame_motion``: the carriage's
+profile, the rail, the frame's yaw and C on S where the carriage moves, the composition with
+the ship's motion at every sample); C's motion on S alone (``carriage_motion``, which the
+brush, the strip and the 3D view read) is kept per carriage and time grid. The carried plan
+is timed again and afresh (``forget_carriage_motions`` before each plan), as are the base
+motion and its parts.
 
-Measured (AMD EPYC, 2 cores shared, load average 0.8-0.9, 2026-12-07 18:53-18:54 UTC, three runs
-of this script, PYTHONPATH at 73ec0e0's src and at 1d9d768's (the code before) in turn; medians):
+Measured (AMD EPYC, 2 cores shared, load average 0.7-1.0, 2026-12-07 19:56-19:58 UTC, three runs
+of this script each, at 4948798 and at eecc0a5 (before: C on S as numpy and kept, composed by a
+second kernel) in turn; the range and the median):
 
-================================  ============  ============
-carried / standing                 before        after
-================================  ============  ============
-closed loop, upright frame         1.22x         1.02x (0.29-0.32 s against 0.29-0.31 s)
-closed loop, frame leaning 10 deg  1.14x         0.98x
-plan, upright (kept / afresh)      1.07x / 1.31x 1.08x / 1.32x (8.3 ms standing)
-plan, leaning 10 deg               0.52x / 0.62x 0.52x / 0.63x
-================================  ============  ============
+==================================  ========================  ========================
+carried / standing                   before (eecc0a5)          after (4948798)
+==================================  ========================  ========================
+closed loop, upright frame           1.00-1.03x (1.02x)        0.99-1.03x (0.99x)
+closed loop, frame leaning 10 deg    0.95-0.97x (0.96x)        0.95-0.96x (0.96x)
+plan afresh (a first plan), upright  1.24-1.30x (1.29x)        1.06-1.15x (1.08x)
+plan again, upright                  1.07-1.10x (1.07x)        1.08-1.16x (1.11x)
+plan afresh, leaning 10 deg          0.60-0.63x                0.52-0.53x
+==================================  ========================  ========================
 
-The closed loop's carried frame had been a carriage body on up to four more driven joints under
-MuJoCo's ship body (RK4 a fifth slower a step: 12 DOFs against 9) and derived C's Euler angles
-with LAPACK's 3 x 3 solves (13 ms of 30 001 half-steps, now 4 ms); MuJoCo's ship body now moves as C itself
-(:mod:`marinecdpr.prototype.mujoco_model`). A plan afresh pays C's motion on S (2.3 ms: the
-rail at s 1.3 ms, the profile 0.3, the yaw and ``on_rail`` 0.5) and its composition with the
-ship's (0.5 ms) once per time grid: above 1.1x of an 8 ms plan; a repeated plan keeps them.
+(The upright standing plan took 7.2-8.8 ms.) The carried frame's base motion is the ship's
+(1.15 ms, as the standing frame's) and C's motion in O in one pass, 0.65-0.67 ms: the
+composition alone 0.35 ms (some 200 flops a sample, scalar: numba does not vectorise it), C on S
+where the carriage moves the rest (5 sines and cosines a sample on the rail's arc). Before, C
+on S afresh took 2.1-2.3 ms (the base motion afresh 3.2-3.5 ms; numpy's temporaries and gathers, its sines and cosines at every
+sample) and a repeated plan found it kept; now a plan evaluates it each time, in the pass, for
+0.3 ms more than the composition alone (a repeated plan is 0.03x slower than before; a first
+one 0.2x faster). A frame standing turned on the ship pays its own composition with LAPACK's
+Euler rates (``in_frame_axes``), hence the leaning frame's ratio below 1.
 """
 
 from __future__ import annotations
