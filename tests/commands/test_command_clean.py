@@ -48,6 +48,10 @@ def paper_clean():
     ({"surface": True, "move_time": 1e308}, "move_time", "move_time 1e+308: must be a number of seconds from 0 to "
                                                          "1e+06 to move the frame to its next placement"),
     ({"hull_aera": 5.0}, "hull_aera", "no such option of CleanSpec"),
+    ({"fly_runs": "some"}, "fly_runs", "fly_runs some: expected first or all"),
+    ({"fly_runs": "all"}, "fly_runs", "fly_runs all: goes with --rail and a --rail-mode that runs the carriage"),
+    ({"surface": True, "rail": True, "rail_mode": "stepped", "fly_runs": "all"}, "fly_runs",
+     "goes with --rail and a --rail-mode that runs the carriage continuously (fastest or continuous)"),
 ])
 def test_a_bad_option_is_one_error_naming_its_field(options, field, words):
     with pytest.raises(SpecError) as err:

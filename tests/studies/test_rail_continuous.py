@@ -284,6 +284,48 @@ def test_the_flown_coverage_recounted_on_the_hull(flown):
     assert f.coverage.cleaned_area_m2 == pytest.approx(f.planned_coverage.cleaned_area_m2, rel=1e-4)
 
 
+def test_every_continuous_run_flown_each_on_its_own_stretch(example):
+    """``fly_continuous(runs="all")`` on the example's side with its rail's middle bend (R =
+    200 m) tighter than the carriage follows (250 m): two stretches of the rail, two runs, each
+    flown over the 1 s horizon. The first flight is runs="first"'s to the bit; the second is
+    the second run's: its brush carried onto the hull by its own carriage's pose (C's origin
+    at s = 6.61 m along the rail), its stand-off recounted on the Wigley side by bisection (to
+    1e-9 m) and its contacts along the ship beyond the first stretch's end; the estimate of
+    ``clean --fly-runs all`` counts a flight for each stretch."""
+    from dataclasses import replace
+
+    from marinecdpr.commands import clean as command
+    from marinecdpr.commands.clean import CleanSpec
+    from marinecdpr.studies.strip import followed_stretches
+
+    sc = example.with_updates("ship.carriage", rail_m=[[-10.3, 15.83, 0.7028], [-5.3, 15.9553, 0.7028],
+                                                       [-0.3, 16.0003, 0.7028]])
+    sc = sc.with_updates("cleaning.surface.relocation.rail", min_radius_m=250.0).with_updates("time", duration_s=1.0)
+    st = rail_strip(sc, mode="continuous")
+    assert followed_stretches(sc) == 2 and [r.stretch for r in st.runs] == [0, 1]
+    every = fly_continuous(st, sc, runs="all", plant="own")
+    first = fly_continuous(st, sc, plant="own")
+    assert len(every.flights) == 2 and len(first.flights) == 1 and first.flight is first.flights[0]
+    for name in ("t", "pose", "pose_planned", "tensions", "tracking_m", "cross_track_m"):
+        assert np.array_equal(getattr(every.flights[0], name), getattr(first.flight, name))
+    assert every.flights[0].as_dict() == first.flight.as_dict()
+    f, run = every.flights[1], st.runs[1]
+    assert f.stretch == 1 and f.path_s == run.duration_s and f.t.size == 1001
+    assert run.s_m[0] == pytest.approx(6.607, abs=1e-3)
+    rs = run_scenario(sc, *run.s_m, dwell_s=run.start_s, speed_m_s=run.speed_m_s)
+    r_t, _, _, R_t, _, _ = carriage_motion(rs.ship, f.t)
+    offset, contact = _onto_the_side(sc.cleaning.surface, f.pose[:, [0, 2]], r_t, R_t)
+    np.testing.assert_allclose(offset, f.hull.stand_off_m, rtol=0, atol=1e-9)
+    end_of_first = rail_of(sc.ship).at(np.array([st.runs[0].s_m[1]])).r[0, 0]
+    assert contact[:, 0].min() > end_of_first and f.coverage.cleaned_area_m2 > 0.0
+    assert f.as_dict() != every.flights[0].as_dict()
+    spec = CleanSpec(plant="own", surface=True, rail=True, rail_mode="continuous", fly_runs="all", compare=False)
+    assert command.estimate(spec, sc).runs == 1 + 2
+    assert command.estimate(spec.model_copy(update={"fly_runs": "first"}), sc).runs == 1 + 1
+    with pytest.raises(ValueError, match="runs must be first or all, got 'some'"):
+        fly_continuous(replace(st), sc, runs="some")
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_the_platforms_path_in_C_stays_in_the_panel(example, tmp_path, seed):
     """Random runs on a straight rail (its length, the brush's width and overlap, its speed and

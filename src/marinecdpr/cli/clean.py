@@ -49,6 +49,8 @@ def clean(
     rail_mode: str = typer.Option(CleanSpec.default("rail_mode"), "--rail-mode", help="With --rail: stepped (the "
                                   "carriage steps the frame panel by panel), continuous (it moves without stopping, "
                                   "the platform's path compensating) or fastest (the faster on each stretch)."),
+    fly_runs: str = typer.Option(CleanSpec.default("fly_runs"), "--fly-runs", help="With --rail, not stepped: the "
+                                 "continuous runs flown closed loop over the horizon: first or all."),
     seas: bool = typer.Option(CleanSpec.default("seas"), "--seas", help="Fly the job in every sea state of a scatter "
                               "diagram (the scenario's sea_state with each Hs, Tp and heading) and say where it works."),
     scatter: Optional[Path] = typer.Option(CleanSpec.default("scatter"), help="With --seas: the scatter diagram CSV "
@@ -77,8 +79,8 @@ def clean(
     from marinecdpr.commands import clean as command
 
     spec = spec_of(CleanSpec, plant=plant, duration=duration, guarantee=guarantee, hull_area=hull_area,
-                   move_time=move_time, surface=surface, rail=rail, rail_mode=rail_mode, seas=seas, scatter=scatter, headings=headings,
-                   coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
+                   move_time=move_time, surface=surface, rail=rail, rail_mode=rail_mode, fly_runs=fly_runs, seas=seas,
+                   scatter=scatter, headings=headings, coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
                    scheduler=scheduler, compare=compare, figures=figures)
     sc = load(scenario, None, None)
     try:  # before any work: no cleaning job, no sea state, a diagram that cannot be read, too big, the executor
@@ -192,10 +194,10 @@ def _print_strip(st) -> None:
                             f"{min(r.force_N[0] for r in st.runs):.4g} to {max(r.force_N[1] for r in st.runs):.4g} N"
                             + (f"; {int(st.run_beyond_tolerance.sum())} beyond the tool's stand-off tolerance"
                                if st.run_beyond_tolerance.any() else "")), highlight=False, soft_wrap=True)
-    if st.flight is not None:
-        fl = st.flight
+    for j, fl in enumerate(st.flights):
         (f_lo, f_hi), (t_lo, t_hi) = fl.force_range_N, fl.tension_range_N
-        console.print(plain(f"continuous run flown closed loop ({fl.plant}, {fl.flown_s:.4g} s of its "
+        which = "continuous run" if len(st.flights) == 1 else f"continuous run {j + 1}"
+        console.print(plain(f"{which} flown closed loop ({fl.plant}, {fl.flown_s:.4g} s of its "
                             f"{fl.path_s:.4g} s{', PARTIAL' if fl.partial else ''}): normal force in band "
                             f"{fl.in_band_pct:.4g} % ({f_lo:.4g} to {f_hi:.4g} N on the hull), tracking "
                             f"{1e3 * fl.tracking_m.max():.3g} mm (cross-track {1e3 * fl.cross_track_m.max():.3g} mm), "

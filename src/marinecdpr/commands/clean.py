@@ -70,6 +70,11 @@ class CleanSpec(ExecutorOptions):
         panel by panel, moving it without stopping (the platform's path in C compensating), or
         whichever is the faster on each stretch (the default: the job the user wants done in the
         fewest hours; both hours are reported either way).
+    fly_runs : {"first", "all"}
+        With ``rail`` (not stepped): the continuous runs flown closed loop, each over the
+        horizon: the first (the default: one run tells how the controller holds the moving
+        frame) or every one (:func:`~marinecdpr.studies.strip.fly_continuous`; a run's flight
+        costs a closed loop of the horizon).
     seas : bool
         Fly the job in every sea state of a scatter diagram and say where it works.
     scatter : Path, optional
@@ -102,6 +107,7 @@ class CleanSpec(ExecutorOptions):
     surface: bool = False
     rail: bool = False
     rail_mode: str = "fastest"
+    fly_runs: str = "first"
     seas: bool = False
     scatter: Path | None = None
     headings: tuple[float, ...] = (180.0,)
@@ -122,6 +128,13 @@ class CleanSpec(ExecutorOptions):
     def _rail_mode(cls, v):
         if v not in ("fastest", "stepped", "continuous"):
             raise ValueError("expected fastest, stepped or continuous")
+        return v
+
+    @field_validator("fly_runs")
+    @classmethod
+    def _fly_runs(cls, v):
+        if v not in ("first", "all"):
+            raise ValueError("expected first or all")
         return v
 
     @field_validator("duration", "hull_area")
@@ -170,6 +183,9 @@ class CleanSpec(ExecutorOptions):
                             "carriage's rail: give --surface too")
         if self.rail_mode != "fastest" and not self.rail:
             raise SpecError("rail_mode", self.rail_mode, "goes with --rail: it says how the carriage carries the frame")
+        if self.fly_runs != "first" and (not self.rail or self.rail_mode == "stepped"):
+            raise SpecError("fly_runs", self.fly_runs, "goes with --rail and a --rail-mode that runs the carriage "
+                            "continuously (fastest or continuous): it says which continuous runs are flown")
         if self.rail and self.move_time is not None:
             raise SpecError("move_time", self.move_time, "goes without --rail: the carriage and the crane time "
                             "the moves along the rail")
@@ -215,8 +231,8 @@ class CleanEstimate(Estimate):
         The scenario as flown: its first ``duration`` seconds where the spec gives fewer.
     runs : int
         The most closed-loop runs of the whole job (the guarantee's two, the compared
-        variants, with ``rail`` not stepped the first continuous run's), each of
-        ``flown.time.n_steps`` steps.
+        variants, with ``rail`` not stepped the first continuous run's, or with ``fly_runs``
+        "all" one for each stretch the carriage follows), each of ``flown.time.n_steps`` steps.
     asked, lasts : float, optional
         Where the spec's ``duration`` asked for more than the scenario lasts: that duration
         and the scenario's own, s (the scenario's is flown).
@@ -293,8 +309,12 @@ def estimate(spec: CleanSpec, scenario: Scenario) -> CleanEstimate:
     if not spec.over_seas:
         from marinecdpr.studies.cleaning import job_variants
 
-        runs = ((2 if spec.guarantee else 1) + (len(job_variants(sc)) - 1 if spec.compare else 0)
-                + (1 if spec.rail and spec.rail_mode != "stepped" else 0))  # the first continuous run's flight
+        flights = 0  # the continuous runs flown: the first, or at most one a followed stretch
+        if spec.rail and spec.rail_mode != "stepped":
+            from marinecdpr.studies.strip import followed_stretches
+
+            flights = followed_stretches(sc) if spec.fly_runs == "all" else 1
+        runs = (2 if spec.guarantee else 1) + (len(job_variants(sc)) - 1 if spec.compare else 0) + flights
         return CleanEstimate(scenario=sc.name, size=size, flown=sc, runs=runs, asked=asked, lasts=lasts)
 
     from marinecdpr.motion.trajectory import cleaning_path
@@ -365,7 +385,8 @@ class CleanResult:
         With ``surface``: the frame's placements on the curved band.
     strip : RailStrip, optional
         With ``rail``: the band cleaned from the carriage's stations, its first continuous run
-        flown closed loop (:attr:`~marinecdpr.studies.strip.RailStrip.flight`) where it has one.
+        (or every one, the spec's ``fly_runs``) flown closed loop
+        (:attr:`~marinecdpr.studies.strip.RailStrip.flights`) where it has one.
     """
 
     spec: CleanSpec
@@ -398,7 +419,7 @@ class CleanResult:
 
     def bypassed(self) -> list[tuple[str, int, int]]:
         """The closed loops whose controller was bypassed: (name, bypassed steps, steps) of the
-        job, the guarantee's first run, the compared variants and the strip's continuous run (beyond
+        job, the guarantee's first run, the compared variants and the strip's continuous runs (beyond
         ``simulation.max_bypassed_share``)."""
         f = self.job.figures
         share = self.scenario.simulation.max_bypassed_share
@@ -410,17 +431,20 @@ class CleanResult:
             if name != "as asked" and figures["controller_bypassed_share"] > share:
                 runs.append((f"the job in {name}" if name == "calm water" else f"the job with {name}",
                              figures["controller_fallbacks"], f.steps))
-        flight = None if self.strip is None else self.strip.flight
-        if flight is not None and flight.controller_verdict == "bypassed":
-            runs.append(("the continuous run", flight.controller_fallbacks, int(flight.t.size)))
+        flights = () if self.strip is None else self.strip.flights
+        for j, flight in enumerate(flights):
+            if flight.controller_verdict == "bypassed":
+                runs.append(("the continuous run" if len(flights) == 1 else f"continuous run {j + 1}",
+                             flight.controller_fallbacks, int(flight.t.size)))
         return runs
 
     def write(self, folder: str | Path) -> list[Path]:
         """``clean.csv``, ``coverage.png``, ``cleaning.png``, ``summary.json``, ``report.html``
         (:func:`~marinecdpr.report.cleaning.write_cleaning`), with ``surface``
         ``placements.csv``, ``surface.png`` (:func:`~marinecdpr.report.cleaning.write_surface`),
-        with ``rail`` ``stations.csv``, ``stretches.csv`` and, where a continuous run was flown,
-        ``continuous_flight.csv`` (:func:`~marinecdpr.report.cleaning.write_strip`) in
+        with ``rail`` ``stations.csv``, ``stretches.csv`` and, where continuous runs were flown,
+        ``continuous_flight.csv`` (the first) and ``continuous_flight_2.csv``, ... (the others)
+        (:func:`~marinecdpr.report.cleaning.write_strip`) in
         ``folder``, the PNGs only with the spec's ``figures``; returns the paths."""
         from marinecdpr.report.cleaning import write_cleaning, write_strip, write_surface
 
@@ -470,8 +494,8 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
         executor: Executor | None = None) -> CleanResult | CleanSeasResult:
     """The cleaning job of the spec (:func:`~marinecdpr.studies.cleaning.cleaning_job`, or
     :func:`~marinecdpr.studies.cleaning.guaranteed_job`), the compared variants, the hull's
-    hours and the surface's placements (with ``rail``, the strip's first continuous run flown,
-    :func:`~marinecdpr.studies.strip.fly_continuous`); with ``seas`` the job over the scatter diagram. The
+    hours and the surface's placements (with ``rail``, the strip's first continuous run or every
+    one flown, :func:`~marinecdpr.studies.strip.fly_continuous`); with ``seas`` the job over the scatter diagram. The
     spec is checked against the scenario first (:func:`estimate`).
 
     Parameters
@@ -513,10 +537,10 @@ def run(spec: CleanSpec, scenario: Scenario, *, estimated: CleanEstimate | None 
 
     job = (guaranteed_job if spec.guarantee else cleaning_job)(sc, plant=spec.plant, progress=step)
     comparison = compare_conditions(job, plant=spec.plant, progress=step) if spec.compare else None
-    if spec.rail:  # the first continuous run flown closed loop, where the strip has one
+    if spec.rail:  # the first continuous run (or every one) flown closed loop, where the strip has one
         from marinecdpr.studies.strip import fly_continuous
 
-        placed = fly_continuous(placed, sc, plant=spec.plant, progress=step)
+        placed = fly_continuous(placed, sc, runs=spec.fly_runs, plant=spec.plant, progress=step)
     if progress is not None:
         progress(done[0], done[0])  # the runs that were flown
     hull = None

@@ -435,9 +435,10 @@ def write_strip(strip, folder: Path) -> list[Path]:
     they are tiled as ``clean --surface`` tiles them), whether the stand-off passes the
     tool's tolerance, and whether a crane made the move into it; a continuous run's row is
     its first station's, its cleaning the whole run's. ``stretches.csv``: each followed stretch
-    of the rail, its hours either way and the mode taken (:data:`STRETCH_COLUMNS`). With the
-    first continuous run flown (:attr:`~marinecdpr.studies.strip.RailStrip.flight`),
-    ``continuous_flight.csv``: a row per step (:func:`flight_columns`)."""
+    of the rail, its hours either way and the mode taken (:data:`STRETCH_COLUMNS`). With
+    continuous runs flown (:attr:`~marinecdpr.studies.strip.RailStrip.flights`),
+    ``continuous_flight.csv`` the first's, ``continuous_flight_2.csv``, ... the others': a row
+    per step (:func:`flight_columns`)."""
     from marinecdpr.geometry.rotations import euler_from_matrix
 
     rows = []
@@ -470,8 +471,9 @@ def write_strip(strip, folder: Path) -> list[Path]:
                            float(c.mode == "continuous")] for c in strip.choices], dtype=float)
     tail = [_write_csv(list(STRETCH_COLUMNS), stretches.reshape(-1, len(STRETCH_COLUMNS)),
                        Path(folder) / "stretches.csv", int_last=True, int_columns=(0, 3))]
-    if strip.flight is not None:
-        tail.append(_write_flight(strip.flight, Path(folder)))
+    for j, flight in enumerate(strip.flights):
+        tail.append(_write_flight(flight, Path(folder) / ("continuous_flight.csv" if j == 0
+                                                          else f"continuous_flight_{j + 1}.csv")))
     return [_write_csv(list(STRIP_COLUMNS), values, Path(folder) / "stations.csv", int_last=True,
                        int_columns=(0, STRIP_COLUMNS.index("beyond_tolerance")))] + tail
 
@@ -485,11 +487,10 @@ def flight_columns(n_cables: int) -> list[str]:
              "in_band", "tracking_error_m", "cross_track_error_m"] + [f"T{i + 1}_N" for i in range(n_cables)])
 
 
-def _write_flight(flight, folder: Path) -> Path:
-    """``continuous_flight.csv`` of a :class:`~marinecdpr.studies.strip.RunFlight`."""
+def _write_flight(flight, path: Path) -> Path:
+    """``continuous_flight.csv`` (at ``path``) of a :class:`~marinecdpr.studies.strip.RunFlight`."""
     h, p = flight.hull, flight.planned
     values = np.column_stack([flight.t, h.on_ship[:, 0], h.on_ship[:, 2], p.on_ship[:, 0], p.on_ship[:, 2],
                               h.stand_off_m, h.force_N, h.contact.astype(float), flight.tracking_m,
                               flight.cross_track_m, flight.tensions])
-    return _write_csv(flight_columns(flight.tensions.shape[1]), values, folder / "continuous_flight.csv",
-                      int_last=False, int_columns=(7,))
+    return _write_csv(flight_columns(flight.tensions.shape[1]), values, path, int_last=False, int_columns=(7,))

@@ -44,10 +44,11 @@ Continuous runs
     V = lane spacing / (a lane and a step) so that the platform's path in C is a sawtooth in
     the panel; planned with the carriage moving over the horizon, the brush's contact carried
     to the hull by the carriage's pose at each step and rastered in the run's first C. Its
-    hours are its path's; "fastest" takes, per stretch, the fewer hours. The first run is also
-    flown closed loop over the horizon (:func:`fly_continuous`: the controller flies the path
-    held on the ship, the brush slides over the hull), its flown brush carried onto the hull
-    the same way and its cleaned cells counted there beside the plan's.
+    hours are its path's; "fastest" takes, per stretch, the fewer hours. The first run (or
+    every one) is also flown closed loop over the horizon (:func:`fly_continuous`: the
+    controller flies the path held on the ship, the brush slides over the hull), its flown
+    brush carried onto the hull the same way and its cleaned cells counted there beside the
+    plan's.
 
 Hours
     Each rail station's cleaning is the panel's coverage path; the carriage's move to the next
@@ -68,7 +69,8 @@ from marinecdpr.errors import ScenarioError
 from marinecdpr.scenario.schema import Scenario
 
 __all__ = ["RailStrip", "StripCoverage", "CraneStretch", "ContinuousRun", "StretchChoice", "ContinuousError", "RAIL_MODES",
-           "RunOnHull", "RunFlight", "run_on_hull", "fly_continuous", "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
+           "RunOnHull", "RunFlight", "run_on_hull", "fly_continuous", "FLY_RUNS", "followed_stretches",
+           "continuous_run", "run_scenario", "rail_stations", "station_poses", "surface_hits", "strip_coverage",
            "rail_strip", "MAX_STRIP_CELLS", "STRIP_CELLS_PER_BRUSH"]
 
 MAX_STRIP_CELLS = 10_000_000
@@ -392,8 +394,9 @@ class RailStrip:
         Each followed stretch of the rail: the hours stepped and continuous, the mode taken.
     mode : {"stepped", "continuous", "fastest"}
         The mode asked.
-    flight : RunFlight, optional
-        The first continuous run flown closed loop (:func:`fly_continuous`).
+    flights : tuple of RunFlight
+        The continuous runs flown closed loop (:func:`fly_continuous`), in the runs' order: the
+        first, or every one.
     """
 
     s_m: np.ndarray
@@ -419,7 +422,12 @@ class RailStrip:
     runs: tuple = ()
     choices: tuple = ()
     mode: str = "stepped"
-    flight: "RunFlight | None" = None
+    flights: tuple = ()
+
+    @property
+    def flight(self) -> "RunFlight | None":
+        """The first run's flight (:attr:`flights`), or None."""
+        return self.flights[0] if self.flights else None
 
     @property
     def beyond_tolerance(self) -> np.ndarray:
@@ -484,7 +492,8 @@ class RailStrip:
                 "first_pose_deg": (np.degrees(euler_from_matrix(self.axes_S[0])).tolist() if self.s_m.size else []),
                 "rail_mode": self.mode, "rail_stretches": [c.as_dict() for c in self.choices],
                 "continuous_runs": [r.as_dict() for r in self.runs]} | (
-                    {"continuous_flight": self.flight.as_dict()} if self.flight is not None else {})
+                    {"continuous_flight": self.flight.as_dict(),
+                     "continuous_flights": [f.as_dict() for f in self.flights]} if self.flights else {})
 
 
 RAIL_MODES = ("stepped", "continuous", "fastest")
@@ -918,10 +927,15 @@ class RunFlight:
                 "controller_verdict": self.controller_verdict}
 
 
-def fly_continuous(strip: "RailStrip", scenario: Scenario, *, plant: str | None = None,
+FLY_RUNS = ("first", "all")
+"""Which of a strip's continuous runs :func:`fly_continuous` flies closed loop: its first, or
+every one (each over the scenario's horizon)."""
+
+
+def fly_continuous(strip: "RailStrip", scenario: Scenario, *, runs: str = "first", plant: str | None = None,
                    progress: Callable[[int, int], None] | None = None) -> "RailStrip":
-    """The strip with its first continuous run flown closed loop (:attr:`RailStrip.flight`),
-    as the stepped job's closed loop is flown: planned with the carriage moving (:func:`run_scenario`,
+    """The strip with its continuous runs flown closed loop (:attr:`RailStrip.flights`), as the
+    stepped job's closed loop is flown: each planned with the carriage moving (:func:`run_scenario`,
     the carriage starting as :func:`rail_strip` found), over ``scenario``'s horizon, on the
     virtual prototype (the controller flying the path held on the ship, the brush sliding over
     the hull); the flown brush carried onto the hull by the carriage's pose at each step
@@ -932,18 +946,45 @@ def fly_continuous(strip: "RailStrip", scenario: Scenario, *, plant: str | None 
     ----------
     strip : RailStrip
         :func:`rail_strip`'s of ``scenario``.
+    runs : {"first", "all"}
+        The first run, or every one (:data:`FLY_RUNS`), one after the other.
     plant : {"mujoco", "own"}, optional
         Default the scenario's ``simulation.plant``.
     progress : callable(done, total), optional
-        Steps flown.
+        Steps flown, each run's from 0 to its ``n_steps``.
 
     Raises
     ------
     InfeasibleError, SimulationDivergedError, ScenarioError
-        As the run's plan and flight raise them.
+        As the runs' plans and flights raise them.
+    ValueError
+        ``runs`` not one of :data:`FLY_RUNS`.
     """
+    if runs not in FLY_RUNS:
+        raise ValueError(f"runs must be first or all, got {runs!r}")
     if not strip.runs:
         return strip
+    flights = tuple(_fly_run(strip, scenario, run, plant=plant, progress=progress)
+                    for run in (strip.runs if runs == "all" else strip.runs[:1]))
+    return replace(strip, flights=flights)
+
+
+def followed_stretches(scenario: Scenario) -> int:
+    """How many stretches of ``scenario``'s rail the carriage follows (:func:`rail_stations`,
+    the bends tighter than ``[cleaning.surface.relocation.rail] min_radius_m`` left out): the
+    most continuous runs its strip can have."""
+    from marinecdpr.motion.carriage import rail_of
+
+    _check_scenario(scenario)
+    relocation = scenario.cleaning.surface.relocation
+    min_radius = relocation.rail.min_radius_m if relocation is not None and relocation.rail is not None else 0.0
+    _, stretch, _ = rail_stations(rail_of(scenario.ship), 1.0, min_radius)  # every stretch has a station at any step
+    return int(np.unique(stretch).size)
+
+
+def _fly_run(strip: "RailStrip", scenario: Scenario, run: "ContinuousRun", *, plant: str | None,
+             progress: Callable[[int, int], None] | None) -> RunFlight:
+    """One continuous run of ``strip`` flown closed loop (:func:`fly_continuous`)."""
     from marinecdpr.geometry.rotations import matrix_from_euler
     from marinecdpr.model.brush import brush_velocity
     from marinecdpr.planning.planner import plan, twist_on_hull
@@ -954,7 +995,6 @@ def fly_continuous(strip: "RailStrip", scenario: Scenario, *, plant: str | None 
     from marinecdpr.studies.prototype_runs import controller_verdict
     from marinecdpr.studies.surface import surface_function
 
-    run = strip.runs[0]
     sc = run_scenario(scenario, *run.s_m, dwell_s=scenario.trajectory.start_time_s + run.start_s,
                       speed_m_s=run.speed_m_s)
     compile_apart(sc, plant=plant)  # on a cold cache: the planner, the controller and the loop at once
@@ -980,12 +1020,11 @@ def fly_continuous(strip: "RailStrip", scenario: Scenario, *, plant: str | None 
     x_range = (max(X0, float(xs.min()) - margin), min(X1, float(xs.max()) + margin))
     cov = [strip_coverage(f, sign, x_range, (Z0, Z1), run.origin_S[None], run.axes_S[None], [m],
                           width_m=cleaning.brush_diameter_m) for m in maps]
-    flight = RunFlight(stretch=run.stretch, plant=res.plant, t=res.t, pose=res.pose, pose_planned=res.pose_planned,
-                       hull=flown, planned=planned,
-                       tracking_m=np.linalg.norm(e, axis=1), cross_track_m=cross, tensions=res.tensions,
-                       coverage=cov[0], planned_coverage=cov[1], path_s=run.duration_s, step_s=sc.time.step_s,
-                       controller_fallbacks=int(res.controller_fallbacks), **controller_verdict(res, sc))
-    return replace(strip, flight=flight)
+    return RunFlight(stretch=run.stretch, plant=res.plant, t=res.t, pose=res.pose, pose_planned=res.pose_planned,
+                     hull=flown, planned=planned,
+                     tracking_m=np.linalg.norm(e, axis=1), cross_track_m=cross, tensions=res.tensions,
+                     coverage=cov[0], planned_coverage=cov[1], path_s=run.duration_s, step_s=sc.time.step_s,
+                     controller_fallbacks=int(res.controller_fallbacks), **controller_verdict(res, sc))
 
 
 def _check_scenario(scenario: Scenario):
