@@ -239,7 +239,8 @@ def test_the_one_pass_carried_motion_is_the_series_composition_to_the_bit(case):
     fuses, ``carried_motion(ship, *carriage_motion(...))``: random rails (straight pieces and
     arcs, rising), stations (back and forth, repeated, the ends), dwells, the frame leaning 10
     deg at any yaw, on a moving ship and a still one, at times in order, reversed and
-    shuffled: every array the same to the bit; and the same refusal of times before 0 or NaN."""
+    shuffled: every array the same to the bit; and the same refusal of times before 0 or NaN
+    (a ship's motion of another length refused in one line)."""
     from marinecdpr.motion.basemotion import evaluate_base_motion
     from marinecdpr.motion.carriage import carriage_motion, carried_frame_motion, rail_of
     from marinecdpr.motion.rail import RailError
@@ -277,3 +278,5 @@ def test_the_one_pass_carried_motion_is_the_series_composition_to_the_bit(case):
         with pytest.raises(RailError) as series_error:
             carriage_motion(sc.ship, bad)
         assert str(fused_error.value) == str(series_error.value)
+    with pytest.raises(ValueError, match="the ship's motion has 2 samples and t 3: give one a time"):
+        carried_frame_motion(still_ship(2), sc.ship, np.array([0.0, 1.0, 2.0]))

@@ -273,10 +273,19 @@ def carried_frame_motion(ship: ShipMotion, carried, t: np.ndarray) -> ShipMotion
     -------
     ShipMotion
         As :func:`carried_motion`'s.
+
+    Raises
+    ------
+    RailError
+        As :func:`carriage_motion`'s (times before 0 or not numbers).
+    ValueError
+        ``ship`` and ``t`` of different lengths.
     """
     t = np.asarray(t, dtype=float)
     if t.ndim != 1 or t.size == 0:  # the series' own refusals
         return carried_motion(ship, *carriage_motion(carried, t))
+    if np.shape(ship.R_SO)[0] != t.size:
+        raise ValueError(f"the ship's motion has {np.shape(ship.R_SO)[0]} samples and t {t.size}: give one a time")
     out = np.empty((24, t.size))
     if _carried_series(t, *_carriage_tables(carried), *_time_last(ship), out) >= 0:
         return carried_motion(ship, *carriage_motion(carried, t))  # a time before 0 or NaN, or off the rail: they say which
