@@ -240,9 +240,10 @@ def test_the_one_pass_carried_motion_is_the_series_composition_to_the_bit(case):
     arcs, rising), stations (back and forth, repeated, the ends), dwells, the frame leaning 10
     deg at any yaw, on a moving ship and a still one, at times in order, reversed and
     shuffled: every array the same to the bit; and the same refusal of times before 0 or NaN
-    (a ship's motion of another length refused in one line)."""
+    (a ship's motion of another length refused in one line). The frame's yaw, summed over the
+    bends sample by sample, is numpy's sums of whole arrays, to the bit."""
     from marinecdpr.motion.basemotion import evaluate_base_motion
-    from marinecdpr.motion.carriage import carriage_motion, carried_frame_motion, rail_of
+    from marinecdpr.motion.carriage import carriage_motion, carried_frame_motion, frame_yaw, rail_of
     from marinecdpr.motion.rail import RailError
     from marinecdpr.motion.ship import still_ship
 
@@ -272,6 +273,18 @@ def test_the_one_pass_carried_motion_is_the_series_composition_to_the_bit(case):
             for name in ("x_SO_O", "v_SO_O", "a_SO_O", "R_SO", "omega_SO_S", "alpha_SO_S"):
                 assert np.array_equal(getattr(fused, name), getattr(series, name)), name
     assert np.ptp(carriage_motion(sc.ship, t)[0], axis=0).max() > 0.1  # the carriage did move
+    rail = rail_of(sc.ship)  # the yaw's sums over the bends, as whole arrays
+    a, b, psi_a, psi_b = rail.bends
+    s = np.concatenate([rng.uniform(0.0, rail.length_m, 2000), a, b, [0.0, rail.length_m]])
+    u = np.clip((s[:, None] - a) / (b - a), 0.0, 1.0)
+    d, w = psi_b - psi_a, b - a
+    whole = [np.zeros(s.size) for _ in range(3)]
+    for k in range(a.size):  # in the bends' order, as the sums are taken
+        whole[0] += d[k] * u[:, k] ** 2 * u[:, k] * (10.0 + u[:, k] * (6.0 * u[:, k] - 15.0))
+        whole[1] += d[k] / w[k] * 30.0 * u[:, k] ** 2 * (1.0 + u[:, k] * (u[:, k] - 2.0))
+        whole[2] += d[k] / (w[k] * w[k]) * 60.0 * u[:, k] * (1.0 + u[:, k] * (2.0 * u[:, k] - 3.0))
+    for got, want in zip(frame_yaw(rail, s), whole):
+        assert np.array_equal(got, want)
     for bad in (np.array([0.0, -1.0]), np.array([0.0, np.nan])):
         with pytest.raises(RailError) as fused_error:
             carried_frame_motion(still_ship(2), sc.ship, bad)
