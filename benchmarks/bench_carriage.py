@@ -35,10 +35,10 @@ plan afresh, leaning 10 deg          0.60-0.63x                0.52-0.53x
 (1.15 ms, as the standing frame's) and C's motion in O in one pass, 0.65-0.67 ms: the
 composition alone 0.35 ms (some 200 flops a sample, scalar: numba does not vectorise it), C on S
 where the carriage moves the rest (5 sines and cosines a sample on the rail's arc). Before, C
-on S afresh took 2.1-2.3 ms (the base motion afresh 3.2-3.5 ms; numpy's temporaries and gathers, its sines and cosines at every
-sample) and a repeated plan found it kept; now a plan evaluates it each time, in the pass, for
-0.3 ms more than the composition alone (a repeated plan is 0.03x slower than before; a first
-one 0.2x faster). A frame standing turned on the ship pays its own composition with LAPACK's
+on S afresh took 2.1-2.3 ms (the base motion afresh 3.2-3.5 ms: numpy's temporaries and
+gathers, its sines and cosines at every sample) and a repeated plan found it kept; now a plan
+evaluates it each time, in the pass, for 0.3 ms more than the composition alone (a repeated
+plan is 0.04x slower than before, a first one 0.2x faster). A frame standing turned on the ship pays its own composition with LAPACK's
 Euler rates (``in_frame_axes``), hence the leaning frame's ratio below 1.
 """
 

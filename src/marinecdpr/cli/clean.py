@@ -80,8 +80,8 @@ def clean(
 
     spec = spec_of(CleanSpec, plant=plant, duration=duration, guarantee=guarantee, hull_area=hull_area,
                    move_time=move_time, surface=surface, rail=rail, rail_mode=rail_mode, fly_runs=fly_runs, seas=seas,
-                   scatter=scatter, headings=headings, coverage_target=coverage_target, in_band_target=in_band_target, serial=serial, workers=workers,
-                   scheduler=scheduler, compare=compare, figures=figures)
+                   scatter=scatter, headings=headings, coverage_target=coverage_target, in_band_target=in_band_target,
+                   serial=serial, workers=workers, scheduler=scheduler, compare=compare, figures=figures)
     sc = load(scenario, None, None)
     try:  # before any work: no cleaning job, no sea state, a diagram that cannot be read, too big, the executor
         est = command.estimate(spec, sc)

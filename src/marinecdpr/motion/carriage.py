@@ -248,9 +248,12 @@ def _compose_point(x0, v0, a0, R, w, al, k, r, v, a, Q, wq, aq, j, out):
     o0, o1, o2 = wq[j, 0], wq[j, 1], wq[j, 2]
     out[18, k], out[19, k], out[20, k] = c0 + o0, c1 + o1, c2 + o2
     # R_SC^T alpha + (R_SC^T omega) x omega_CS + alpha_CS
-    out[21, k] = (Q[j, 0, 0] * al[0, k] + Q[j, 1, 0] * al[1, k] + Q[j, 2, 0] * al[2, k]) + (c1 * o2 - c2 * o1) + aq[j, 0]
-    out[22, k] = (Q[j, 0, 1] * al[0, k] + Q[j, 1, 1] * al[1, k] + Q[j, 2, 1] * al[2, k]) + (c2 * o0 - c0 * o2) + aq[j, 1]
-    out[23, k] = (Q[j, 0, 2] * al[0, k] + Q[j, 1, 2] * al[1, k] + Q[j, 2, 2] * al[2, k]) + (c0 * o1 - c1 * o0) + aq[j, 2]
+    out[21, k] = (Q[j, 0, 0] * al[0, k] + Q[j, 1, 0] * al[1, k] + Q[j, 2, 0] * al[2, k]) \
+        + (c1 * o2 - c2 * o1) + aq[j, 0]
+    out[22, k] = (Q[j, 0, 1] * al[0, k] + Q[j, 1, 1] * al[1, k] + Q[j, 2, 1] * al[2, k]) \
+        + (c2 * o0 - c0 * o2) + aq[j, 1]
+    out[23, k] = (Q[j, 0, 2] * al[0, k] + Q[j, 1, 2] * al[1, k] + Q[j, 2, 2] * al[2, k]) \
+        + (c0 * o1 - c1 * o0) + aq[j, 2]
 
 
 def carried_frame_motion(ship: ShipMotion, carried, t: np.ndarray) -> ShipMotion:
@@ -288,7 +291,8 @@ def carried_frame_motion(ship: ShipMotion, carried, t: np.ndarray) -> ShipMotion
         raise ValueError(f"the ship's motion has {np.shape(ship.R_SO)[0]} samples and t {t.size}: give one a time")
     out = np.empty((24, t.size))
     if _carried_series(t, *_carriage_tables(carried), *_time_last(ship), out) >= 0:
-        return carried_motion(ship, *carriage_motion(carried, t))  # a time before 0 or NaN, or off the rail: they say which
+        # a time before 0 or not a number, or the carriage off its rail: the series say which
+        return carried_motion(ship, *carriage_motion(carried, t))
     return _as_motion(out)
 
 
