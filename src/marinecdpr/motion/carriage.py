@@ -29,16 +29,16 @@ drive gives).
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
 
-from marinecdpr.motion.rail import _profile_point, _rail_point
-from marinecdpr.motion.ship import ShipMotion, body_motion
+from marinecdpr.errors import ScenarioError
+from marinecdpr.motion.rail import (
+    _S_TOL_M, Rail, RailError, _phase_table, _profile_point, _rail_point, carriage_profile, check_rail, check_stations,
+)
+from marinecdpr.motion.ship import ShipMotion, body_motion, frame_axes
 
-if TYPE_CHECKING:
-    from marinecdpr.motion.rail import Rail
 
 __all__ = ["carried_motion", "carried_frame_motion", "on_rail", "carriage_travel", "frame_yaw", "rail_of",
            "carriage_motion", "rail_tangent_C", "forget_carriage_motions", "CACHED_STEPS"]
@@ -309,9 +309,6 @@ def _carriage_tables(carried) -> tuple:
 
 @lru_cache(maxsize=16)
 def _tables(rail_key: tuple, dwell, v_max: float, a_max: float, j_max: float, orientation: tuple) -> tuple:
-    from marinecdpr.motion.rail import _S_TOL_M, _phase_table
-    from marinecdpr.motion.ship import frame_axes
-
     rail = _rail(*rail_key)
     stations = np.array(rail_key[2])
     phases, _ = _phase_table(stations, dwell if isinstance(dwell, float) else list(dwell), v_max, a_max, j_max)
@@ -375,8 +372,6 @@ def carriage_travel(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     travel, speed, accel : ndarray, shape (n_steps,)
         m, m/s, m/s^2 along the rail.
     """
-    from marinecdpr.motion.rail import carriage_profile
-
     c = ship.carriage
     stations = np.asarray(c.stations_m, dtype=float)
     s, s_dot, s_ddot, _ = carriage_profile(stations, c.dwell_s, c.speed_max_m_s, c.accel_max_m_s2, c.jerk_max_m_s3,
@@ -384,7 +379,7 @@ def carriage_travel(ship, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     return s - stations[0], s_dot, s_ddot
 
 
-def rail_of(ship) -> "Rail":
+def rail_of(ship) -> Rail:
     """The rail of a scenario's ``[ship.carriage]``, checked (:func:`~marinecdpr.motion.rail.check_rail`);
     a rail that cannot be built raises the ScenarioError naming the key. Built once per rail
     (its points, corner radius and stations; :class:`~marinecdpr.motion.rail.Rail` is immutable)."""
@@ -398,10 +393,7 @@ def _rail_key(c) -> tuple:
 
 
 @lru_cache(maxsize=16)
-def _rail(points: tuple, corner_radius_m: float, stations: tuple) -> "Rail":
-    from marinecdpr.errors import ScenarioError
-    from marinecdpr.motion.rail import RailError, check_rail, check_stations
-
+def _rail(points: tuple, corner_radius_m: float, stations: tuple) -> Rail:
     def where(e: RailError) -> str:  # the rail's own key as the scenario's
         key = (e.key or "rail_m").replace("points_S", "rail_m")
         return f"ship.carriage.{key}"
@@ -492,9 +484,6 @@ def _kept_on_rail(keyed: _Keyed):
 
 
 def _evaluate_on_rail(ship, t: np.ndarray):
-    from marinecdpr.motion.rail import carriage_profile
-    from marinecdpr.motion.ship import frame_axes
-
     c = ship.carriage
     rail = rail_of(ship)
     s, s_dot, s_ddot, _ = carriage_profile(np.asarray(c.stations_m, dtype=float), c.dwell_s, c.speed_max_m_s,
